@@ -1,0 +1,288 @@
+/*
+ * ddof.h - diffusion depth of field (Kass, Lefohn, Owens 2006) as a C library.
+ *
+ * The one header a user includes. It turns a pinhole render (linear colour + depth) into a
+ * depth-of-field image by simulating heat diffusion: the circle of confusion (CoC) becomes heat
+ * conductivity, and an alternating-direction implicit step solves one tridiagonal system per row
+ * and per column, so blur of any size costs the same per pixel and stops at in-focus edges.
+ *
+ * Conventions
+ *  - Every function returns a ddof_status; ddof_status_string() explains a code, and
+ *    ddof_context_last_error() says what exactly was wrong in the last failed call.
+ *  - The library never prints, exits or aborts. Bad input is reported with a status and leaves
+ *    the output untouched (every check runs before the first output pixel is written).
+ *  - Images are owned by the caller and described by ddof_image; no pointer is kept past a call.
+ *  - Parameter structs carry their size in `struct_size`; fill them with their *_init function
+ *    first, then change what you need. Fields are only ever appended.
+ *  - One context per thread. The library has no global mutable state.
+ *
+ * Stable API: everything in this header outside the DDOF_EXPERIMENTAL section. Symbols in that
+ * section may change between minor versions.
+ */
+#ifndef DDOF_H
+#define DDOF_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(_WIN32) && defined(DDOF_SHARED_BUILD)
+#  define DDOF_API __declspec(dllexport)
+#elif defined(__GNUC__) && __GNUC__ >= 4
+#  define DDOF_API __attribute__((visibility("default")))
+#else
+#  define DDOF_API
+#endif
+
+/* ------------------------------------------------------------------------------------------ */
+/* Version                                                                                      */
+
+#define DDOF_VERSION_MAJOR 0
+#define DDOF_VERSION_MINOR 1
+#define DDOF_VERSION_PATCH 0
+#define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
+
+/* The version of the library actually loaded; compare with DDOF_VERSION_NUMBER. */
+DDOF_API unsigned ddof_version_number(void);
+/* "MAJOR.MINOR.PATCH" */
+DDOF_API const char *ddof_version_string(void);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Status codes                                                                                 */
+
+typedef enum ddof_status {
+    DDOF_OK = 0,
+    DDOF_ERROR_NULL_POINTER,  /* a required pointer argument is NULL                          */
+    DDOF_ERROR_BAD_PARAMETER, /* a parameter struct is malformed or a value is out of range   */
+    DDOF_ERROR_BAD_SIZE,      /* width/height zero, above DDOF_MAX_DIMENSION or DDOF_MAX_PIXELS */
+    DDOF_ERROR_BAD_STRIDE,    /* row stride smaller than a row, not a multiple of 4, overflows */
+    DDOF_ERROR_BAD_CHANNELS,  /* channel count outside 1..4                                    */
+    DDOF_ERROR_SIZE_MISMATCH, /* images of one call differ in size or channel count            */
+    DDOF_ERROR_BAD_COLOR,     /* NaN or infinity in the colour image                           */
+    DDOF_ERROR_BAD_DEPTH,     /* NaN, -inf, negative or zero depth (+inf is valid: the sky)    */
+    DDOF_ERROR_BAD_COC,       /* NaN, infinite, negative CoC, or above DDOF_MAX_COC_PX         */
+    DDOF_ERROR_BAD_CAMERA,    /* f-number <= 0, focus not beyond the focal length, ...         */
+    DDOF_ERROR_OUT_OF_MEMORY, /* an allocation failed; nothing was written                     */
+    DDOF_ERROR_THREADS,       /* a worker thread could not be started                          */
+    DDOF_ERROR_CANCELLED,     /* the progress callback asked to stop                           */
+    DDOF_STATUS_COUNT_        /* not a status: the number of codes                             */
+} ddof_status;
+
+/* A short English sentence for any code (also for unknown values); never NULL. */
+DDOF_API const char *ddof_status_string(ddof_status status);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Limits                                                                                       */
+
+#define DDOF_MAX_DIMENSION 65536u          /* width and height, each                        */
+#define DDOF_MAX_PIXELS (1u << 28)         /* width * height (268 megapixels)               */
+#define DDOF_MAX_COC_PX 100000.0f          /* a CoC diameter larger than this is an error;   */
+                                           /* CoC computed from a camera is clamped to it    */
+
+/* ------------------------------------------------------------------------------------------ */
+/* Images: caller-owned, 32-bit float, interleaved channels, rows `row_stride` bytes apart.      */
+
+typedef struct ddof_image {
+    float *pixels;        /* first channel of the top-left pixel                               */
+    uint32_t width;       /* pixels per row, 1..DDOF_MAX_DIMENSION                             */
+    uint32_t height;      /* rows, 1..DDOF_MAX_DIMENSION                                       */
+    uint32_t channels;    /* 1..4 interleaved floats per pixel (RGBA is 4)                     */
+    size_t row_stride;    /* bytes from one row to the next; 0 means tightly packed            */
+} ddof_image;
+
+/* An input image: the same, read only. */
+typedef struct ddof_image_in {
+    const float *pixels;
+    uint32_t width;
+    uint32_t height;
+    uint32_t channels;
+    size_t row_stride;
+} ddof_image_in;
+
+/* ------------------------------------------------------------------------------------------ */
+/* Memory and progress hooks                                                                    */
+
+/* Optional allocator. alloc returns NULL on failure; free accepts NULL. The library asks for
+ * sizes up to about 3x the colour image and aligns what it gets itself. */
+typedef struct ddof_allocator {
+    void *(*alloc)(void *user, size_t size);
+    void (*free)(void *user, void *ptr);
+    void *user;
+} ddof_allocator;
+
+/* Called from the thread that made the call, with progress in [0, 1] growing monotonically.
+ * Return non-zero to cancel: the call then returns DDOF_ERROR_CANCELLED soon after, and the
+ * output holds finite values (the input, or a partly diffused image), never garbage. */
+typedef int (*ddof_progress_fn)(void *user, float fraction);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Context                                                                                      */
+
+typedef struct ddof_context ddof_context;
+
+typedef struct ddof_context_options {
+    uint32_t struct_size;            /* sizeof(ddof_context_options)                        */
+    uint32_t thread_count;           /* 0 = number of online cores; 1 = no worker threads    */
+    const ddof_allocator *allocator; /* NULL = malloc/free; copied, need not outlive call    */
+} ddof_context_options;
+
+DDOF_API void ddof_context_options_init(ddof_context_options *options);
+
+/* options may be NULL for the defaults. On success *out_context is a new context. */
+DDOF_API ddof_status ddof_context_create(const ddof_context_options *options,
+                                         ddof_context **out_context);
+/* Accepts NULL. */
+DDOF_API void ddof_context_free(ddof_context *context);
+/* The number of threads the context works with (the caller's thread included). */
+DDOF_API uint32_t ddof_context_thread_count(const ddof_context *context);
+/* A sentence about the last error in this context ("" after a success); never NULL. */
+DDOF_API const char *ddof_context_last_error(const ddof_context *context);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Circle of confusion                                                                          */
+
+typedef enum ddof_lens_model {
+    /* Blender/Cycles: fixed pinhole projection and a planar focus plane,
+     * c = f^2 / (N * S1) * |Z - S1| / Z. Matches Cycles renders; the default. */
+    DDOF_LENS_CYCLES = 0,
+    /* Textbook thin lens: c = (f / N) * |S2 - S1| / S2 * f / (S1 - f).
+     * Larger than the Cycles model by S1 / (S1 - f). */
+    DDOF_LENS_THIN_LENS = 1
+} ddof_lens_model;
+
+typedef enum ddof_depth_kind {
+    DDOF_DEPTH_PLANAR = 0, /* camera-space Z along the optical axis (Blender's Depth pass)  */
+    DDOF_DEPTH_RADIAL = 1  /* distance from the centre of projection; converted to planar   */
+} ddof_depth_kind;
+
+typedef enum ddof_sensor_fit {
+    DDOF_SENSOR_FIT_AUTO = 0,       /* sensor width spans the larger image dimension         */
+    DDOF_SENSOR_FIT_HORIZONTAL = 1, /* sensor width spans the image width                    */
+    DDOF_SENSOR_FIT_VERTICAL = 2    /* sensor width spans the image height                   */
+} ddof_sensor_fit;
+
+/* The camera sidecar of DESIGN.md in C. Lengths: focal length and sensor in millimetres, focus
+ * distance in metres, depth values in scene units of `depth_unit_m` metres each. */
+typedef struct ddof_camera {
+    uint32_t struct_size;         /* sizeof(ddof_camera)                                     */
+    ddof_lens_model lens_model;   /* default DDOF_LENS_CYCLES                                */
+    ddof_depth_kind depth_kind;   /* default DDOF_DEPTH_PLANAR                               */
+    ddof_sensor_fit sensor_fit;   /* default DDOF_SENSOR_FIT_AUTO                            */
+    double focal_length_mm;       /* default 50; > 0                                         */
+    double sensor_width_mm;       /* default 36; > 0                                         */
+    double fstop;                 /* default 2.8; > 0 (N)                                     */
+    double focus_distance_m;      /* default 10; must exceed the focal length                */
+    double pixel_aspect;          /* pixel width / pixel height, default 1; > 0              */
+    double depth_unit_m;          /* metres per depth unit, default 1; > 0                   */
+} ddof_camera;
+
+DDOF_API void ddof_camera_init(ddof_camera *camera);
+
+/* Fills `coc` (1 channel, same size as depth) with CoC diameters in horizontal pixels.
+ * depth: its first channel is read. +inf depth (sky) is valid and gets the far-limit CoC.
+ * NaN, -inf, zero or negative depth: DDOF_ERROR_BAD_DEPTH, coc untouched. CoC values above
+ * DDOF_MAX_COC_PX (depth very close to the lens) are clamped to it. */
+DDOF_API ddof_status ddof_coc_from_camera(ddof_context *context, const ddof_camera *camera,
+                                          const ddof_image_in *depth, const ddof_image *coc);
+
+/* The artist curve (GPU Gems 3 ch. 28): piecewise linear in depth. Blur is near_blur_px up to
+ * near_start, falls linearly to 0 at near_end, stays 0 up to far_start, rises linearly to
+ * far_blur_px at far_end and stays there. Distances in depth units, non-decreasing in that
+ * order; blur sizes in pixels, 0..DDOF_MAX_COC_PX. */
+typedef struct ddof_curve {
+    uint32_t struct_size; /* sizeof(ddof_curve)                                               */
+    double near_blur_px;  /* default 0                                                        */
+    double near_start;    /* default 0                                                        */
+    double near_end;      /* default 0                                                        */
+    double far_start;     /* default 10                                                       */
+    double far_end;       /* default 100                                                      */
+    double far_blur_px;   /* default 16                                                       */
+} ddof_curve;
+
+DDOF_API void ddof_curve_init(ddof_curve *curve);
+
+/* As ddof_coc_from_camera, with the curve. Depth must not be NaN or negative (+inf is far). */
+DDOF_API ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
+                                         const ddof_image_in *depth, const ddof_image *coc);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Diffusion                                                                                    */
+
+typedef enum ddof_solver {
+    DDOF_SOLVER_THOMAS = 0,          /* LU forward/back substitution; default on the CPU      */
+    DDOF_SOLVER_CYCLIC_REDUCTION = 1,/* Kass et al. fig. 5: odd/even reduction, back-subst.   */
+    DDOF_SOLVER_PCR = 2,             /* parallel cyclic reduction (Zhang, Cohen, Owens 2010)  */
+    DDOF_SOLVER_JACOBI = 3,          /* approximate: `jacobi_iterations` sweeps from the input */
+    DDOF_SOLVER_REFERENCE_F64 = 4,   /* double precision throughout, one thread; for tests    */
+    DDOF_SOLVER_COUNT_               /* not a solver                                          */
+} ddof_solver;
+
+/* The name of a solver ("thomas", "cr", "pcr", "jacobi", "reference"); NULL if unknown. */
+DDOF_API const char *ddof_solver_name(ddof_solver solver);
+
+#define DDOF_DEFAULT_BETA_SCALE (1.0f / 32.0f)
+
+typedef struct ddof_params {
+    uint32_t struct_size;      /* sizeof(ddof_params)                                         */
+    ddof_solver solver;        /* default DDOF_SOLVER_THOMAS                                  */
+    uint32_t substeps;         /* n >= 1 ADI steps of beta/n each; more approaches a Gaussian  */
+                               /* kernel at linear cost. Default 1.                            */
+    float beta_scale;          /* k in beta = k * d^2 (d: CoC diameter in pixels). 1/32 makes  */
+                               /* the kernel's per-axis variance (2 beta) equal a uniform     */
+                               /* disk's (d^2 / 16). Default DDOF_DEFAULT_BETA_SCALE; > 0.    */
+    float pixel_aspect;        /* pixel width / height: column links use d * pixel_aspect.    */
+                               /* Default 1; > 0.                                             */
+    uint32_t jacobi_iterations;/* sweeps for DDOF_SOLVER_JACOBI, >= 1; default 50             */
+    ddof_progress_fn progress; /* optional; NULL for none                                     */
+    void *progress_user;       /* passed to progress                                          */
+} ddof_params;
+
+DDOF_API void ddof_params_init(ddof_params *params);
+
+/* What a call simulated, skipped, and how long each stage took. */
+typedef struct ddof_stats {
+    uint32_t struct_size;      /* set by the caller to sizeof(ddof_stats) before the call     */
+    uint32_t solver;           /* the ddof_solver that ran                                    */
+    uint32_t threads;          /* threads that worked on the call                             */
+    uint32_t substeps;         /* ADI steps run (0 when nothing was out of focus)             */
+    uint64_t lines_solved;     /* tridiagonal systems solved, rows and columns, all substeps  */
+    uint64_t lines_skipped;    /* lines with no conductive link: copied, not solved           */
+    float max_coc_px;          /* largest CoC in the input                                    */
+    uint32_t copied_only;      /* 1 when nothing was out of focus: output = input, 0 solves   */
+    double seconds_total;      /* wall time of the call                                       */
+    double seconds_coc;        /* computing or validating the CoC                             */
+    double seconds_rows;       /* the row passes                                              */
+    double seconds_columns;    /* the column passes                                           */
+} ddof_stats;
+
+/* Diffuses `color` (1..4 channels) with the CoC diameters in pixels in the first channel of
+ * `coc` (same size) into `out` (same size and channels as color). out may be the very same buffer as color (in place);
+ * any other overlap is undefined. stats may be NULL; if given, set its struct_size first.
+ *  - NULL context/params/images: DDOF_ERROR_NULL_POINTER. params NULL is *not* allowed: call
+ *    ddof_params_init so that the defaults are explicit.
+ *  - NaN/inf in colour: DDOF_ERROR_BAD_COLOR. NaN/inf/negative CoC or CoC > DDOF_MAX_COC_PX:
+ *    DDOF_ERROR_BAD_COC. Sizes, strides, channels: as their status codes say.
+ *    In each case out is untouched and ddof_context_last_error() names the first bad pixel.
+ *  - A pixel with CoC 0 is left exactly unchanged and nothing diffuses across it.
+ *  - Output is a convex combination of the input along each row then each column: it never
+ *    leaves the input's range, and each row sum is conserved by the row pass (and each column
+ *    sum by the column pass). */
+DDOF_API ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
+                                  const ddof_image_in *color, const ddof_image_in *coc,
+                                  const ddof_image *out, ddof_stats *stats);
+
+/* The main job in one call: CoC from the camera and depth, then ddof_diffuse with
+ * params->pixel_aspect taken from the camera. stats->seconds_coc includes the CoC stage. */
+DDOF_API ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
+                                         const ddof_camera *camera, const ddof_image_in *color,
+                                         const ddof_image_in *depth, const ddof_image *out,
+                                         ddof_stats *stats);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DDOF_H */

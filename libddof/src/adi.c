@@ -1,0 +1,343 @@
+/* adi.c - the ADI driver for the float solvers: batches of lines, gathered, solved, scattered.
+ *
+ * A pass (all rows, or all columns) is cut into batches of DDOF_LANES consecutive lines. Each
+ * batch first computes its links' beta from the CoC alone; lines without a conductive link are
+ * not solved (a row is copied from source to destination; a column pass works in place, so an
+ * idle column needs nothing). Active batches are gathered into the solver's [i][lane][channel]
+ * layout, solved, and scattered back. Batches run on the context's threads, each thread with its
+ * own scratch, so no two threads ever touch the same line. */
+#include "adi.h"
+
+#include "solver.h"
+
+#include <float.h>
+#include <string.h>
+
+#define L DDOF_LANES
+
+float ddof_link_beta(float scale, float coc_a, float coc_b)
+{
+    const float m = ddof_minf(coc_a, coc_b);
+    const float beta = scale * m * m;
+    return beta >= FLT_MIN ? beta : 0.0f;
+}
+
+static const solver_ops *float_solver(ddof_solver solver)
+{
+    switch (solver) {
+    case DDOF_SOLVER_CYCLIC_REDUCTION: return &ddof_solver_cr;
+    case DDOF_SOLVER_PCR: return &ddof_solver_pcr;
+    case DDOF_SOLVER_JACOBI: return &ddof_solver_jacobi;
+    default: return &ddof_solver_thomas;
+    }
+}
+
+/* Per-thread working memory and tallies. */
+typedef struct thread_state {
+    float *x;        /* [n_max][L][C] */
+    float *beta;     /* [n_max][L]    */
+    float *gamma;    /* [n_max][L], all 1: plain diffusion */
+    float *scratch;  /* the solver's  */
+    uint64_t lines_solved;
+    float max_coc;
+} thread_state;
+
+typedef struct pass_job {
+    const adi_request *request;
+    const solver_ops *solver;
+    const float *src;
+    size_t src_stride;
+    float *dst;
+    size_t dst_stride;
+    float beta_scale;
+    thread_state *threads;
+} pass_job;
+
+static size_t align16(size_t floats)
+{
+    return (floats + 15) & ~(size_t)15; /* keep every array 64-byte aligned */
+}
+
+/* ---- moving pixels between an image line and a batch lane -------------------------------- */
+
+/* Row lines into the batch and back, a chunk of ROW_CHUNK pixels at a time: within a chunk
+ * each lane's row is read (or written) as one contiguous burst, which the hardware prefetchers
+ * follow, while the chunk's batch side (ROW_CHUNK * L * C floats, 16 KB for RGBA) stays in L1.
+ * Element-by-element across the lanes would be sixteen interleaved streams, which they do not
+ * follow; lane by lane over the whole row would miss L1 on every store. C is a constant in each
+ * instance (a runtime-sized memcpy per pixel would be a library call). */
+#define ROW_CHUNK 64u
+
+static DDOF_ALWAYS_INLINE void rows_in_c(float *restrict x, const float *const *rows,
+                                         uint32_t n, const uint32_t C)
+{
+    for (uint32_t i0 = 0; i0 < n; i0 += ROW_CHUNK) {
+        const uint32_t i1 = n - i0 < ROW_CHUNK ? n : i0 + ROW_CHUNK;
+        for (uint32_t l = 0; l < L; l++) {
+            const float *restrict row = rows[l];
+            if (row) {
+                for (uint32_t i = i0; i < i1; i++)
+                    for (uint32_t c = 0; c < C; c++)
+                        x[((size_t)i * L + l) * C + c] = row[(size_t)i * C + c];
+            } else {
+                for (uint32_t i = i0; i < i1; i++)
+                    for (uint32_t c = 0; c < C; c++)
+                        x[((size_t)i * L + l) * C + c] = 0.0f;
+            }
+        }
+    }
+}
+
+static DDOF_ALWAYS_INLINE void rows_out_c(float *const *rows, const float *restrict x,
+                                          uint32_t n, const uint32_t C)
+{
+    for (uint32_t i0 = 0; i0 < n; i0 += ROW_CHUNK) {
+        const uint32_t i1 = n - i0 < ROW_CHUNK ? n : i0 + ROW_CHUNK;
+        for (uint32_t l = 0; l < L; l++) {
+            float *restrict row = rows[l];
+            if (!row)
+                continue;
+            for (uint32_t i = i0; i < i1; i++)
+                for (uint32_t c = 0; c < C; c++)
+                    row[(size_t)i * C + c] = x[((size_t)i * L + l) * C + c];
+        }
+    }
+}
+
+/* rows[l] is lane l's image row, or NULL for a lane that is not solved (zeros in, not out). */
+static void rows_in(float *x, const float *const *rows, uint32_t n, uint32_t C)
+{
+    switch (C) {
+    case 1: rows_in_c(x, rows, n, 1); break;
+    case 2: rows_in_c(x, rows, n, 2); break;
+    case 3: rows_in_c(x, rows, n, 3); break;
+    default: rows_in_c(x, rows, n, 4); break;
+    }
+}
+
+static void rows_out(float *const *rows, const float *x, uint32_t n, uint32_t C)
+{
+    switch (C) {
+    case 1: rows_out_c(rows, x, n, 1); break;
+    case 2: rows_out_c(rows, x, n, 2); break;
+    case 3: rows_out_c(rows, x, n, 3); break;
+    default: rows_out_c(rows, x, n, 4); break;
+    }
+}
+
+/* ---- rows: lanes are neighbouring rows, unknowns run along x ---------------------------- */
+
+static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+{
+    const pass_job *job = user;
+    const adi_request *r = job->request;
+    thread_state *ts = &job->threads[thread_index];
+    const uint32_t n = r->width, C = r->channels, y0 = batch_index * L;
+    const uint32_t lanes = r->height - y0 < L ? r->height - y0 : L;
+    int active[L] = {0};
+    int any_active = 0;
+
+    /* Links element by element across the lanes (contiguous writes, in-order reads). */
+    const uint32_t cc = r->coc_channels;
+    const float *coc[L];
+    for (uint32_t l = 0; l < L; l++)
+        coc[l] = r->coc + (size_t)(y0 + (l < lanes ? l : 0)) * r->coc_stride;
+    float max_coc[L] = {0};
+    for (uint32_t i = 0; i < n; i++) {
+        float *beta = ts->beta + (size_t)i * L;
+        for (uint32_t l = 0; l < L; l++) {
+            const float here = coc[l][(size_t)i * cc];
+            const float next = i + 1 < n ? coc[l][(size_t)(i + 1) * cc] : 0.0f;
+            beta[l] = l < lanes ? ddof_link_beta(job->beta_scale, here, next) : 0.0f;
+            active[l] |= beta[l] > 0.0f;
+            max_coc[l] = ddof_maxf(max_coc[l], here);
+        }
+    }
+    for (uint32_t l = 0; l < lanes; l++) {
+        ts->max_coc = ddof_maxf(ts->max_coc, max_coc[l]);
+        any_active |= active[l];
+    }
+
+    const size_t row_floats = (size_t)n * C;
+    for (uint32_t l = 0; l < lanes; l++) {
+        const float *src = job->src + (size_t)(y0 + l) * job->src_stride;
+        float *dst = job->dst + (size_t)(y0 + l) * job->dst_stride;
+        if (!active[l] && src != dst)
+            memcpy(dst, src, row_floats * sizeof(float));
+    }
+    if (!any_active)
+        return;
+
+    const float *src_rows[L];
+    float *dst_rows[L];
+    for (uint32_t l = 0; l < L; l++) {
+        const int used = l < lanes && active[l];
+        src_rows[l] = used ? job->src + (size_t)(y0 + l) * job->src_stride : NULL;
+        dst_rows[l] = used ? job->dst + (size_t)(y0 + l) * job->dst_stride : NULL;
+        ts->lines_solved += (uint64_t)used;
+    }
+    rows_in(ts->x, src_rows, n, C);
+    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations};
+    job->solver->solve(&batch);
+    rows_out(dst_rows, ts->x, n, C);
+}
+
+/* ---- columns: lanes are neighbouring columns, unknowns run along y; in place on dst ------ */
+
+static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+{
+    const pass_job *job = user;
+    const adi_request *r = job->request;
+    thread_state *ts = &job->threads[thread_index];
+    const uint32_t n = r->height, C = r->channels, x0 = batch_index * L;
+    const uint32_t lanes = r->width - x0 < L ? r->width - x0 : L;
+    const uint32_t cc = r->coc_channels;
+    int active[L] = {0};
+    int any_active = 0;
+
+    for (uint32_t i = 0; i + 1 < n; i++) {
+        const float *coc = r->coc + (size_t)i * r->coc_stride + (size_t)x0 * cc;
+        const float *below = coc + r->coc_stride;
+        float *beta = ts->beta + (size_t)i * L;
+        for (uint32_t l = 0; l < L; l++) {
+            beta[l] = l < lanes ? ddof_link_beta(job->beta_scale, coc[l * cc], below[l * cc])
+                                : 0.0f;
+            active[l] |= beta[l] > 0.0f;
+        }
+    }
+    for (uint32_t l = 0; l < L; l++) {
+        ts->beta[(size_t)(n - 1) * L + l] = 0.0f;
+        any_active |= active[l];
+    }
+    if (!any_active)
+        return;
+
+    const size_t lane_floats = (size_t)lanes * C;
+    for (uint32_t i = 0; i < n; i++) {
+        float *x = ts->x + (size_t)i * L * C;
+        memcpy(x, job->src + (size_t)i * job->src_stride + (size_t)x0 * C,
+               lane_floats * sizeof(float));
+        memset(x + lane_floats, 0, ((size_t)L * C - lane_floats) * sizeof(float));
+    }
+    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations};
+    job->solver->solve(&batch);
+    /* Idle lanes come back bit-identical (beta 0 leaves x exact), so the block is copied whole. */
+    for (uint32_t i = 0; i < n; i++)
+        memcpy(job->dst + (size_t)i * job->dst_stride + (size_t)x0 * C,
+               ts->x + (size_t)i * L * C, lane_floats * sizeof(float));
+    for (uint32_t l = 0; l < lanes; l++)
+        ts->lines_solved += (uint64_t)active[l];
+}
+
+/* ---- the run ------------------------------------------------------------------------------ */
+
+typedef struct progress_state {
+    const adi_request *request;
+    uint32_t pass, passes;
+} progress_state;
+
+static int pass_progress(void *user, uint32_t done, uint32_t total)
+{
+    const progress_state *p = user;
+    float fraction = ((float)p->pass + (float)done / (float)total) / (float)p->passes;
+    return p->request->progress(p->request->progress_user, fraction);
+}
+
+static uint64_t total_solved(const thread_state *threads, uint32_t count)
+{
+    uint64_t sum = 0;
+    for (uint32_t t = 0; t < count; t++)
+        sum += threads[t].lines_solved;
+    return sum;
+}
+
+ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report *report)
+{
+    const solver_ops *solver = float_solver(r->solver);
+    const uint32_t C = r->channels;
+    const uint32_t n_max = r->width > r->height ? r->width : r->height;
+    const uint32_t thread_count = thread_pool_threads(context->pool);
+
+    const size_t x_floats = align16((size_t)n_max * L * C);
+    const size_t coef_floats = align16((size_t)n_max * L);
+    const size_t scratch_floats = align16(solver->scratch_floats(n_max, C));
+    const size_t per_thread = x_floats + 2 * coef_floats + scratch_floats;
+    if (per_thread > SIZE_MAX / sizeof(float) / thread_count)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "scratch size overflows");
+    const size_t state_floats = align16(thread_count * sizeof(thread_state) / sizeof(float) + 1);
+    const size_t bytes = (state_floats + per_thread * thread_count) * sizeof(float);
+    float *memory = ddof_scratch_get(context, DDOF_SCRATCH_SOLVER, bytes);
+    if (!memory)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate %zu bytes of solver scratch", bytes);
+    thread_state *threads = (thread_state *)(void *)memory;
+    memory += state_floats;
+    for (uint32_t t = 0; t < thread_count; t++) {
+        float *base = memory + per_thread * t;
+        threads[t] = (thread_state){.x = base, .beta = base + x_floats,
+                                    .gamma = base + x_floats + coef_floats,
+                                    .scratch = base + x_floats + 2 * coef_floats};
+        for (size_t i = 0; i < (size_t)n_max * L; i++)
+            threads[t].gamma[i] = 1.0f;
+    }
+
+    *report = (adi_report){.threads = thread_count};
+    const float row_scale = r->beta_scale / (float)r->substeps;
+    const float column_scale = row_scale * r->pixel_aspect * r->pixel_aspect;
+    const uint32_t row_batches = (r->height + L - 1) / L;
+    const uint32_t column_batches = (r->width + L - 1) / L;
+    progress_state progress = {r, 0, 2 * r->substeps};
+    thread_progress_fn progress_fn = r->progress ? pass_progress : NULL;
+    ddof_status status = DDOF_OK;
+
+    for (uint32_t step = 0; step < r->substeps; step++) {
+        double t0 = ddof_seconds();
+        uint64_t solved_before = total_solved(threads, thread_count);
+        pass_job rows = {r, solver, step == 0 ? r->color : r->out,
+                         step == 0 ? r->color_stride : r->out_stride,
+                         r->out, r->out_stride, row_scale, threads};
+        progress.pass = 2 * step;
+        if (thread_pool_run(context->pool, row_batches, row_batch, &rows, progress_fn,
+                            &progress)) {
+            status = DDOF_ERROR_CANCELLED;
+            break;
+        }
+        uint64_t rows_solved = total_solved(threads, thread_count) - solved_before;
+        double t1 = ddof_seconds();
+        pass_job columns = {r, solver, r->out, r->out_stride, r->out, r->out_stride,
+                            column_scale, threads};
+        progress.pass = 2 * step + 1;
+        if (thread_pool_run(context->pool, column_batches, column_batch, &columns, progress_fn,
+                            &progress)) {
+            status = DDOF_ERROR_CANCELLED;
+            break;
+        }
+        uint64_t columns_solved =
+            total_solved(threads, thread_count) - solved_before - rows_solved;
+        double t2 = ddof_seconds();
+        report->seconds_rows += t1 - t0;
+        report->seconds_columns += t2 - t1;
+        report->lines_solved += rows_solved + columns_solved;
+        report->lines_skipped += (uint64_t)r->height + r->width - rows_solved - columns_solved;
+        report->substeps_run++;
+        /* The CoC is the same for every substep: if nothing conducted, nothing ever will. */
+        if (rows_solved + columns_solved == 0) {
+            report->substeps_run = 0;
+            break;
+        }
+    }
+    for (uint32_t t = 0; t < thread_count; t++)
+        report->max_coc = ddof_maxf(report->max_coc, threads[t].max_coc);
+    if (status == DDOF_ERROR_CANCELLED) {
+        /* Rows the first pass never reached hold whatever the caller's buffer held; give back
+         * the input instead, so a cancelled frame is still a valid image. */
+        if (r->out != r->color)
+            for (uint32_t y = 0; y < r->height; y++)
+                memcpy(r->out + (size_t)y * r->out_stride, r->color + (size_t)y * r->color_stride,
+                       (size_t)r->width * C * sizeof(float));
+        ddof_fail(context, status, "cancelled by the progress callback");
+    }
+    else if (r->progress)
+        r->progress(r->progress_user, 1.0f);
+    return status;
+}

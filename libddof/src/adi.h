@@ -1,0 +1,47 @@
+/* adi.h - alternating-direction implicit diffusion of an image: rows, then columns, n times. */
+#ifndef DDOF_ADI_H
+#define DDOF_ADI_H
+
+#include "internal.h"
+
+/* A validated request: images are checked, strides are in floats. */
+typedef struct adi_request {
+    const float *color;
+    size_t color_stride;
+    const float *coc; /* diameters in pixels, first of coc_channels floats per pixel */
+    size_t coc_stride;
+    uint32_t coc_channels;
+    float *out; /* may equal color (then out_stride == color_stride) */
+    size_t out_stride;
+    uint32_t width, height, channels;
+    ddof_solver solver;
+    uint32_t substeps;
+    uint32_t jacobi_iterations;
+    float beta_scale;   /* k in beta = k d^2                          */
+    float pixel_aspect; /* column links use (d * pixel_aspect)          */
+    ddof_progress_fn progress;
+    void *progress_user;
+} adi_request;
+
+typedef struct adi_report {
+    uint64_t lines_solved;
+    uint64_t lines_skipped;
+    uint32_t substeps_run; /* 0 when nothing conducted (output is a copy) */
+    uint32_t threads;
+    float max_coc;
+    double seconds_rows;
+    double seconds_columns;
+} adi_report;
+
+/* Conductance of the link between two pixels: k * min(d_a, d_b)^2, flushed to 0 below FLT_MIN
+ * so that "no conductive link" has one meaning everywhere (and no denormals reach a solver). */
+float ddof_link_beta(float scale, float coc_a, float coc_b);
+
+/* The float solvers (Thomas, CR, PCR, Jacobi), multi-threaded. */
+ddof_status ddof_adi_run(ddof_context *context, const adi_request *request, adi_report *report);
+
+/* The double-precision reference: whole image in double, textbook Thomas, one thread. */
+ddof_status ddof_adi_reference(ddof_context *context, const adi_request *request,
+                               adi_report *report);
+
+#endif

@@ -1,0 +1,76 @@
+/* api.c - version, defaults of the parameter structs, names. */
+#include "internal.h"
+
+unsigned ddof_version_number(void)
+{
+    return DDOF_VERSION_NUMBER;
+}
+
+#define DDOF_STR2(x) #x
+#define DDOF_STR(x) DDOF_STR2(x)
+
+const char *ddof_version_string(void)
+{
+    return DDOF_STR(DDOF_VERSION_MAJOR) "." DDOF_STR(DDOF_VERSION_MINOR) "." DDOF_STR(
+        DDOF_VERSION_PATCH);
+}
+
+void ddof_params_init(ddof_params *params)
+{
+    if (!params)
+        return;
+    *params = (ddof_params){
+        .struct_size = sizeof *params,
+        .solver = DDOF_SOLVER_THOMAS,
+        .substeps = 1,
+        .beta_scale = DDOF_DEFAULT_BETA_SCALE,
+        .pixel_aspect = 1.0f,
+        .jacobi_iterations = 50,
+    };
+}
+
+void ddof_camera_init(ddof_camera *camera)
+{
+    if (!camera)
+        return;
+    *camera = (ddof_camera){
+        .struct_size = sizeof *camera,
+        .lens_model = DDOF_LENS_CYCLES,
+        .depth_kind = DDOF_DEPTH_PLANAR,
+        .sensor_fit = DDOF_SENSOR_FIT_AUTO,
+        .focal_length_mm = 50.0,
+        .sensor_width_mm = 36.0,
+        .fstop = 2.8,
+        .focus_distance_m = 10.0,
+        .pixel_aspect = 1.0,
+        .depth_unit_m = 1.0,
+    };
+}
+
+void ddof_curve_init(ddof_curve *curve)
+{
+    if (!curve)
+        return;
+    *curve = (ddof_curve){
+        .struct_size = sizeof *curve,
+        .near_blur_px = 0.0,
+        .near_start = 0.0,
+        .near_end = 0.0,
+        .far_start = 10.0,
+        .far_end = 100.0,
+        .far_blur_px = 16.0,
+    };
+}
+
+const char *ddof_solver_name(ddof_solver solver)
+{
+    switch (solver) {
+    case DDOF_SOLVER_THOMAS: return "thomas";
+    case DDOF_SOLVER_CYCLIC_REDUCTION: return "cr";
+    case DDOF_SOLVER_PCR: return "pcr";
+    case DDOF_SOLVER_JACOBI: return "jacobi";
+    case DDOF_SOLVER_REFERENCE_F64: return "reference";
+    case DDOF_SOLVER_COUNT_: break;
+    }
+    return NULL;
+}

@@ -1,0 +1,24 @@
+/* coc.h - circle of confusion: parameter checks and the computation on validated images. */
+#ifndef DDOF_COC_H
+#define DDOF_COC_H
+
+#include "internal.h"
+
+ddof_status ddof_check_camera(ddof_context *context, const ddof_camera *camera);
+ddof_status ddof_check_curve(ddof_context *context, const ddof_curve *curve);
+
+/* Size of one pixel on the sensor, in mm, for the camera's sensor fit and pixel aspect. */
+void ddof_camera_pixel_size(const ddof_camera *camera, uint32_t width, uint32_t height,
+                            double *pixel_width_mm, double *pixel_height_mm);
+
+/* Validate the depth values (first channel), then write CoC diameters in horizontal pixels to
+ * `coc` (width x height floats, rows coc_stride floats apart). The image descriptions must
+ * already be valid; strides are in floats. On a bad depth nothing is written. */
+ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *camera,
+                                    const ddof_image_in *depth, size_t depth_stride,
+                                    float *coc, size_t coc_stride);
+ddof_status ddof_compute_coc_curve(ddof_context *context, const ddof_curve *curve,
+                                   const ddof_image_in *depth, size_t depth_stride, float *coc,
+                                   size_t coc_stride);
+
+#endif

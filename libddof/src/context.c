@@ -1,0 +1,93 @@
+/* context.c - context lifetime: allocator, worker threads, last error. */
+#include "internal.h"
+
+#include <stdlib.h>
+#include <unistd.h>
+
+static void *default_alloc(void *user, size_t size)
+{
+    (void)user;
+    return malloc(size);
+}
+
+static void default_free(void *user, void *ptr)
+{
+    (void)user;
+    free(ptr);
+}
+
+void ddof_context_options_init(ddof_context_options *options)
+{
+    if (options)
+        *options = (ddof_context_options){.struct_size = sizeof *options};
+}
+
+static uint32_t online_cores(void)
+{
+    long n = sysconf(_SC_NPROCESSORS_ONLN);
+    return n < 1 ? 1u : n > 256 ? 256u : (uint32_t)n;
+}
+
+ddof_status ddof_context_create(const ddof_context_options *options, ddof_context **out_context)
+{
+    if (!out_context)
+        return DDOF_ERROR_NULL_POINTER;
+    *out_context = NULL;
+    ddof_context_options defaults;
+    ddof_context_options_init(&defaults);
+    if (!options)
+        options = &defaults;
+    if (options->struct_size < sizeof(ddof_context_options))
+        return DDOF_ERROR_BAD_PARAMETER;
+    if (options->allocator && (!options->allocator->alloc || !options->allocator->free))
+        return DDOF_ERROR_NULL_POINTER;
+    if (options->thread_count > 1024)
+        return DDOF_ERROR_BAD_PARAMETER;
+
+    ddof_allocator allocator = {default_alloc, default_free, NULL};
+    if (options->allocator)
+        allocator = *options->allocator;
+    ddof_context *context = ddof_alloc(&allocator, sizeof *context);
+    if (!context)
+        return DDOF_ERROR_OUT_OF_MEMORY;
+    *context = (ddof_context){.allocator = allocator, .thread_count = 1};
+
+    uint32_t threads = options->thread_count ? options->thread_count : online_cores();
+    if (threads > 1) {
+        ddof_status status = thread_pool_create(&allocator, threads - 1, &context->pool);
+        if (status != DDOF_OK) {
+            ddof_free(&allocator, context);
+            return status;
+        }
+        context->thread_count = threads;
+    }
+    *out_context = context;
+    return DDOF_OK;
+}
+
+void ddof_context_free(ddof_context *context)
+{
+    if (!context)
+        return;
+    thread_pool_free(context->pool);
+    ddof_allocator allocator = context->allocator;
+    for (int i = 0; i < DDOF_SCRATCH_COUNT; i++)
+        ddof_free(&allocator, context->scratch[i].memory);
+    ddof_free(&allocator, context);
+}
+
+uint32_t ddof_context_thread_count(const ddof_context *context)
+{
+    return context ? context->thread_count : 0;
+}
+
+void *ddof_scratch_get(ddof_context *context, int slot, size_t size)
+{
+    ddof_scratch *scratch = &context->scratch[slot];
+    if (scratch->size >= size)
+        return scratch->memory;
+    ddof_free(&context->allocator, scratch->memory);
+    scratch->memory = ddof_alloc(&context->allocator, size);
+    scratch->size = scratch->memory ? size : 0;
+    return scratch->memory;
+}

@@ -1,0 +1,47 @@
+/* image_check.c - validation of caller-described images and versioned structs. */
+#include "internal.h"
+
+ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min_size,
+                              const char *what)
+{
+    if (!ptr)
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL", what);
+    uint32_t size = *(const uint32_t *)ptr;
+    if (size < min_size)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "%s.struct_size is %u, expected at least %zu (call its _init function)",
+                         what, size, min_size);
+    return DDOF_OK;
+}
+
+ddof_status ddof_check_image(ddof_context *context, const char *what, const float *pixels,
+                             uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
+                             size_t *stride_floats)
+{
+    if (!pixels)
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s.pixels is NULL", what);
+    if (width == 0 || height == 0 || width > DDOF_MAX_DIMENSION || height > DDOF_MAX_DIMENSION)
+        return ddof_fail(context, DDOF_ERROR_BAD_SIZE, "%s is %ux%u; each side must be 1..%u",
+                         what, width, height, DDOF_MAX_DIMENSION);
+    if ((uint64_t)width * height > DDOF_MAX_PIXELS)
+        return ddof_fail(context, DDOF_ERROR_BAD_SIZE, "%s is %ux%u, more than %u pixels", what,
+                         width, height, DDOF_MAX_PIXELS);
+    if (channels < 1 || channels > 4)
+        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS, "%s has %u channels; 1..4 allowed",
+                         what, channels);
+    const size_t row_bytes = (size_t)width * channels * sizeof(float);
+    const size_t stride = row_stride ? row_stride : row_bytes;
+    if (stride < row_bytes)
+        return ddof_fail(context, DDOF_ERROR_BAD_STRIDE,
+                         "%s row stride %zu bytes is smaller than a row (%zu bytes)", what,
+                         stride, row_bytes);
+    if (stride % sizeof(float))
+        return ddof_fail(context, DDOF_ERROR_BAD_STRIDE,
+                         "%s row stride %zu bytes is not a multiple of 4", what, stride);
+    if ((height - 1) > (SIZE_MAX - row_bytes) / stride)
+        return ddof_fail(context, DDOF_ERROR_BAD_STRIDE,
+                         "%s row stride %zu bytes times %u rows overflows the address space",
+                         what, stride, height);
+    *stride_floats = stride / sizeof(float);
+    return DDOF_OK;
+}

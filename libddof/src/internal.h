@@ -1,0 +1,71 @@
+/* internal.h - what the library's source files share: the context, errors, memory, timing. */
+#ifndef DDOF_INTERNAL_H
+#define DDOF_INTERNAL_H
+
+#include "ddof.h"
+#include "float_ops.h"
+#include "thread_pool.h"
+
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+
+#if defined(__GNUC__)
+#  define DDOF_PRINTF(fmt, args) __attribute__((format(printf, fmt, args)))
+#else
+#  define DDOF_PRINTF(fmt, args)
+#endif
+
+/* Working memory kept by the context between calls: a batch of frames of one size allocates
+ * (and page-faults) once instead of once per frame. Grows, never shrinks, freed with the
+ * context. */
+typedef struct ddof_scratch {
+    void *memory;
+    size_t size;
+} ddof_scratch;
+
+enum { DDOF_SCRATCH_SOLVER, DDOF_SCRATCH_COC, DDOF_SCRATCH_COUNT };
+
+struct ddof_context {
+    ddof_allocator allocator;
+    thread_pool *pool;      /* NULL when the context works on the caller's thread only */
+    uint32_t thread_count;  /* workers + the caller                                    */
+    ddof_scratch scratch[DDOF_SCRATCH_COUNT];
+    char last_error[256];
+};
+
+/* At least `size` bytes of 64-byte aligned memory in the context's slot, or NULL. */
+void *ddof_scratch_get(ddof_context *context, int slot, size_t size);
+
+
+/* Records a message for ddof_context_last_error() and returns `status` (for `return fail(...)`). */
+ddof_status ddof_fail(ddof_context *context, ddof_status status, const char *format, ...)
+    DDOF_PRINTF(3, 4);
+void ddof_clear_error(ddof_context *context);
+
+/* 64-byte aligned memory from the context's allocator; NULL on failure or on size overflow. */
+void *ddof_alloc(const ddof_allocator *allocator, size_t size);
+void ddof_free(const ddof_allocator *allocator, void *ptr);
+
+/* Monotonic seconds. */
+double ddof_seconds(void);
+
+/* Validates a struct that starts with `uint32_t struct_size`: non-NULL and at least as large
+ * as the first version of the struct, `min_size`. */
+ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min_size,
+                              const char *what);
+
+/* Validates an image description; on success *stride_floats is its row stride in floats. */
+ddof_status ddof_check_image(ddof_context *context, const char *what, const float *pixels,
+                             uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
+                             size_t *stride_floats);
+
+/* ddof_image and ddof_image_in share their layout; this is the read-only view of an output. */
+static inline ddof_image_in ddof_as_input(const ddof_image *image)
+{
+    ddof_image_in in = {image->pixels, image->width, image->height, image->channels,
+                        image->row_stride};
+    return in;
+}
+
+#endif

@@ -1,0 +1,55 @@
+/* solver.h - the tridiagonal line solvers behind one table of function pointers.
+ *
+ * A solver works on a batch of DDOF_LANES independent lines of n unknowns each, solving per lane
+ *
+ *     gamma_i (y_i - x_i) = beta_i (y_{i+1} - y_i) - beta_{i-1} (y_i - y_{i-1})
+ *
+ * i.e. the unnormalised system a_i = -beta_{i-1}, b_i = gamma_i + beta_{i-1} + beta_i,
+ * c_i = -beta_i, rhs_i = gamma_i x_i, with beta_{-1} = beta_{n-1} = 0 (insulated ends).
+ *
+ * Layout: element i of lane l is at [i * DDOF_LANES + l] for the coefficients and at
+ * [(i * DDOF_LANES + l) * channels + c] for the values. This is the image's own memory order for
+ * a column pass (lanes = neighbouring columns) and a few memcpys away for a row pass (lanes =
+ * neighbouring rows), and lets every inner loop run across lanes (and channels) in SIMD.
+ *
+ * Numerical contract (all solvers): never form b_i - (something) by subtraction. Keep each row's
+ * *excess* e_i = b_i + a_i + c_i (its row sum, >= 0) and build diagonals as sums of non-negative
+ * terms; row operations of elimination add rows with non-negative weights, so the excess of a
+ * combined row is the same combination of excesses. This keeps beta ~ 1e8 exact enough in float
+ * (1 + 2e8 would otherwise drop the 1) and makes every output a convex combination of inputs.
+ * A diagonal that is exactly 0 (gamma = 0 with no conductive neighbour) must not produce NaN or
+ * Inf: treat the division as giving weight 0.
+ */
+#ifndef DDOF_SOLVER_H
+#define DDOF_SOLVER_H
+
+#include "float_ops.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* Lines solved together. 16 floats = one AVX-512 register, two AVX2 registers. */
+#define DDOF_LANES 16
+
+typedef struct line_batch {
+    uint32_t n;          /* unknowns per line, >= 1                                            */
+    uint32_t channels;   /* values per unknown, 1..4                                           */
+    const float *beta;   /* [n][LANES] link i -> i+1, >= 0, finite; beta[n-1][*] is 0          */
+    const float *gamma;  /* [n][LANES] >= 0, finite (1 for plain diffusion)                    */
+    float *x;            /* [n][LANES][channels] finite input in, solution y out               */
+    float *scratch;      /* scratch_floats(n, channels) floats, 64-byte aligned, uninitialised */
+    uint32_t iterations; /* Jacobi sweeps (>= 1); ignored by exact solvers                     */
+} line_batch;
+
+typedef struct solver_ops {
+    const char *name;
+    size_t (*scratch_floats)(uint32_t n, uint32_t channels);
+    void (*solve)(const line_batch *batch);
+} solver_ops;
+
+extern const solver_ops ddof_solver_thomas;
+extern const solver_ops ddof_solver_cr;
+extern const solver_ops ddof_solver_pcr;
+extern const solver_ops ddof_solver_jacobi;
+
+#endif

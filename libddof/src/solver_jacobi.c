@@ -1,0 +1,103 @@
+/* solver_jacobi.c - batch->iterations Jacobi sweeps, starting from y = x.
+ *
+ *     y_i <- (gamma_i x_i + A_i y_{i-1} + C_i y_{i+1}) / (gamma_i + A_i + C_i)
+ *
+ * with A_i = beta_{i-1}, C_i = beta_i. Approximate by design: it exists to show what an
+ * approximate solver costs in accuracy (the error shrinks by about 2 beta / (gamma + 2 beta) per
+ * sweep, so large CoCs need very many). Every sweep reads only the previous sweep's values
+ * (double-buffered, Jacobi rather than Gauss-Seidel): each unknown is independent within a sweep,
+ * as it would be on a GPU.
+ *
+ * The update is written y_i <- x_i + wlo (y_{i-1} - x_i) + whi (y_{i+1} - x_i) with
+ * wlo = A / (gamma + A + C), whi = C / (gamma + A + C): the diagonal is a sum of non-negatives
+ * (never a difference), the weights are computed once, and with no links the output is x bit for
+ * bit (gamma x / gamma would not be).
+ */
+#include "solver.h"
+
+#include <float.h>
+#include <string.h>
+
+enum { L = DDOF_LANES };
+
+/* The links past either end of the line: none. */
+static _Alignas(64) const float zero_links[L] = {0.0f};
+
+/* num / den for a share num of a sum den of non-negatives, 0 for 0 / 0; branch-free so it
+ * vectorises (see solver_cr.c). */
+static DDOF_ALWAYS_INLINE float ratio(float num, float den)
+{
+    return num / ddof_maxf(den, FLT_TRUE_MIN);
+}
+
+/* Scratch: weights [n][2][L], source x [n][ch][L], two solution buffers [n + 2][ch][L]. The
+ * solution buffers have a zero row before and after the line, so the ends need no special case
+ * (their weight towards it is 0). */
+static size_t jacobi_scratch_floats(uint32_t n, uint32_t channels)
+{
+    return (size_t)n * 2 * L + ((size_t)n + 2 * ((size_t)n + 2)) * channels * L;
+}
+
+static DDOF_ALWAYS_INLINE void jacobi_solve_channels(const line_batch *batch, const uint32_t ch)
+{
+    const uint32_t n = batch->n;
+    const size_t vf = (size_t)ch * L; /* floats per unknown, all lanes */
+    float *w = batch->scratch;
+    float *src = w + (size_t)n * 2 * L;
+    float *cur = src + n * vf, *next = cur + (n + 2) * vf;
+
+    for (uint32_t i = 0; i < n; i++) {
+        const float *beta = batch->beta + (size_t)i * L, *gamma = batch->gamma + (size_t)i * L;
+        const float *left = i > 0 ? beta - L : zero_links, *right = i + 1 < n ? beta : zero_links;
+        const float *x = batch->x + i * vf;
+        float *wlo = w + (2 * i) * L, *whi = wlo + L, *s = src + i * vf;
+        for (int l = 0; l < L; l++) {
+            const float b = gamma[l] + left[l] + right[l];
+            wlo[l] = ratio(left[l], b);
+            whi[l] = ratio(right[l], b);
+            for (uint32_t c = 0; c < ch; c++) s[c * L + l] = x[l * ch + c];
+        }
+    }
+    memcpy(cur + vf, src, n * vf * sizeof(float));
+    memset(cur, 0, vf * sizeof(float));
+    memset(cur + (n + 1) * vf, 0, vf * sizeof(float));
+    memset(next, 0, vf * sizeof(float));
+    memset(next + (n + 1) * vf, 0, vf * sizeof(float));
+
+    for (uint32_t it = 0; it < batch->iterations; it++) {
+        for (uint32_t i = 0; i < n; i++) {
+            const float *wlo = w + (2 * i) * L, *whi = w + (2 * i + 1) * L;
+            const float *s = src + i * vf, *ylo = cur + i * vf, *yhi = cur + (i + 2) * vf;
+            float *restrict y = next + (i + 1) * vf; /* never one of the buffers read */
+            for (uint32_t c = 0; c < ch; c++)
+                for (int l = 0; l < L; l++) {
+                    const size_t k = c * L + l;
+                    y[k] = s[k] + wlo[l] * (ylo[k] - s[k]) + whi[l] * (yhi[k] - s[k]);
+                }
+        }
+        float *t = cur;
+        cur = next;
+        next = t;
+    }
+
+    for (uint32_t i = 0; i < n; i++) {
+        const float *y = cur + (i + 1) * vf;
+        float *x = batch->x + i * vf;
+        for (int l = 0; l < L; l++)
+            for (uint32_t c = 0; c < ch; c++) x[l * ch + c] = y[c * L + l];
+    }
+}
+
+/* One copy of the solver per channel count, so every inner loop has a constant trip count. */
+static void jacobi_solve(const line_batch *batch)
+{
+    switch (batch->channels) {
+    case 1: jacobi_solve_channels(batch, 1); break;
+    case 2: jacobi_solve_channels(batch, 2); break;
+    case 3: jacobi_solve_channels(batch, 3); break;
+    case 4: jacobi_solve_channels(batch, 4); break;
+    default: break;
+    }
+}
+
+const solver_ops ddof_solver_jacobi = {"jacobi", jacobi_scratch_floats, jacobi_solve};

@@ -1,0 +1,52 @@
+#!/usr/bin/env bash
+# Builds ddof with warnings as errors and runs every test. Installs what is missing first.
+#
+#   bash scripts/test.sh              Release build, all ctest tests (the README's test command)
+#   bash scripts/test.sh --sanitize   the same under AddressSanitizer + UndefinedBehaviorSanitizer
+#   bash scripts/test.sh --valgrind   the unit tests under valgrind memcheck (reduced sizes)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+source scripts/deps.sh
+
+mode=${1:-}
+jobs=$(nproc 2>/dev/null || echo 2)
+case "$mode" in
+"")
+    ensure_packages "${BUILD_PACKAGES[@]}"
+    cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DDDOF_WERROR=ON
+    cmake --build build/test -j "$jobs"
+    ctest --test-dir build/test --output-on-failure -j "$jobs"
+    ;;
+--sanitize)
+    ensure_packages "${BUILD_PACKAGES[@]}"
+    cmake -S . -B build/sanitize -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
+        -DDDOF_SANITIZE=ON -DDDOF_BUILD_BENCH=OFF
+    cmake --build build/sanitize -j "$jobs"
+    ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
+        ctest --test-dir build/sanitize --output-on-failure -j "$jobs" -E consumer
+    ;;
+--valgrind)
+    ensure_packages "${BUILD_PACKAGES[@]}" valgrind
+    cmake -S . -B build/valgrind -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
+        -DDDOF_BUILD_BENCH=OFF -DDDOF_BUILD_TOOLS=OFF
+    cmake --build build/valgrind -j "$jobs"
+    passed=0
+    failed=0
+    for exe in build/valgrind/tests/test_*; do
+        [ -x "$exe" ] || continue
+        if DDOF_TEST_QUICK=1 valgrind --quiet --error-exitcode=99 --leak-check=full \
+            --errors-for-leak-kinds=definite,indirect "$exe" >/dev/null; then
+            passed=$((passed + 1))
+        else
+            echo "valgrind: $exe failed" >&2
+            failed=$((failed + 1))
+        fi
+    done
+    echo "valgrind: $passed passed, $failed failed"
+    [ "$failed" -eq 0 ]
+    ;;
+*)
+    echo "usage: bash scripts/test.sh [--sanitize|--valgrind]" >&2
+    exit 2
+    ;;
+esac

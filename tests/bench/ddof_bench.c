@@ -1,0 +1,193 @@
+/* ddof-bench - speed figures measured in one run, printed one per line as `name value`.
+ *
+ * Every figure is a ratio of two times taken in this run on this machine, so it means the same
+ * on any machine: diffusion time over one memcpy of the same image, time at CoC 200 px over
+ * time at 2 px, one thread's time over two threads'. Each time is the median of --reps runs
+ * after one warm-up. Absolute milliseconds are printed too (as *_ms) for the notes.
+ *
+ *   ddof-bench [--size WxH] [--reps N] [--solver NAME|all]
+ */
+#include "ddof.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+typedef struct bench {
+    uint32_t width, height, reps;
+    float *color, *coc_scene, *coc_2, *coc_200, *out;
+} bench;
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+static int compare_doubles(const void *a, const void *b)
+{
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+static double median(double *t, uint32_t n)
+{
+    qsort(t, n, sizeof *t, compare_doubles);
+    return n % 2 ? t[n / 2] : 0.5 * (t[n / 2 - 1] + t[n / 2]);
+}
+
+static double time_memcpy(const bench *b)
+{
+    const size_t bytes = (size_t)b->width * b->height * 4 * sizeof(float);
+    double t[64];
+    memcpy(b->out, b->color, bytes); /* warm-up: fault in the pages */
+    for (uint32_t i = 0; i < b->reps; i++) {
+        double t0 = now();
+        memcpy(b->out, b->color, bytes);
+        t[i] = now() - t0;
+        b->out[i] += 1.0f; /* keep the copy observable */
+    }
+    return median(t, b->reps);
+}
+
+/* Median seconds of one ddof_diffuse call; exits on error (a benchmark has nothing to hide). */
+static double time_diffuse(const bench *b, ddof_context *context, ddof_solver solver,
+                           const float *coc)
+{
+    ddof_params params;
+    ddof_params_init(&params);
+    params.solver = solver;
+    ddof_image_in color = {b->color, b->width, b->height, 4, 0};
+    ddof_image_in coc_image = {coc, b->width, b->height, 1, 0};
+    ddof_image out = {b->out, b->width, b->height, 4, 0};
+    double t[64];
+    for (uint32_t i = 0; i <= b->reps; i++) {
+        double t0 = now();
+        ddof_status status = ddof_diffuse(context, &params, &color, &coc_image, &out, NULL);
+        double seconds = now() - t0;
+        if (status != DDOF_OK) {
+            fprintf(stderr, "ddof-bench: %s: %s\n", ddof_status_string(status),
+                    ddof_context_last_error(context));
+            exit(1);
+        }
+        if (i > 0)
+            t[i - 1] = seconds; /* run 0 is the warm-up */
+    }
+    return median(t, b->reps);
+}
+
+static ddof_context *make_context(uint32_t threads)
+{
+    ddof_context_options options;
+    ddof_context_options_init(&options);
+    options.thread_count = threads;
+    ddof_context *context = NULL;
+    if (ddof_context_create(&options, &context) != DDOF_OK) {
+        fprintf(stderr, "ddof-bench: cannot create a context with %u threads\n", threads);
+        exit(1);
+    }
+    return context;
+}
+
+/* A render-like scene: textured colour; CoC 0 on an in-focus band, growing to 40 px behind and
+ * 25 px in front, with a sharp object whose edges are discontinuities. */
+static void make_scene(bench *b)
+{
+    const size_t pixels = (size_t)b->width * b->height;
+    b->color = malloc(pixels * 4 * sizeof(float));
+    b->out = malloc(pixels * 4 * sizeof(float));
+    b->coc_scene = malloc(pixels * sizeof(float));
+    b->coc_2 = malloc(pixels * sizeof(float));
+    b->coc_200 = malloc(pixels * sizeof(float));
+    if (!b->color || !b->out || !b->coc_scene || !b->coc_2 || !b->coc_200) {
+        fprintf(stderr, "ddof-bench: out of memory\n");
+        exit(1);
+    }
+    for (uint32_t y = 0; y < b->height; y++)
+        for (uint32_t x = 0; x < b->width; x++) {
+            const size_t i = (size_t)y * b->width + x;
+            const float u = (float)x / b->width, v = (float)y / b->height;
+            float *c = b->color + 4 * i;
+            c[0] = ((x / 16 + y / 16) % 2) ? 0.8f : 0.1f;
+            c[1] = u;
+            c[2] = v;
+            c[3] = 1.0f;
+            float depth_coc = v < 0.4f ? 40.0f * (0.4f - v) / 0.4f * 1.0f
+                                       : (v > 0.6f ? 25.0f * (v - 0.6f) / 0.4f : 0.0f);
+            const int in_object = u > 0.45f && u < 0.55f && v > 0.2f && v < 0.8f;
+            b->coc_scene[i] = in_object ? 0.0f : depth_coc;
+            b->coc_2[i] = 2.0f;
+            b->coc_200[i] = 200.0f;
+        }
+}
+
+static int parse_size(const char *s, uint32_t *w, uint32_t *h)
+{
+    unsigned a, c;
+    if (sscanf(s, "%ux%u", &a, &c) != 2 || a == 0 || c == 0 || a > 16384 || c > 16384)
+        return 0;
+    *w = a;
+    *h = c;
+    return 1;
+}
+
+int main(int argc, char **argv)
+{
+    bench b = {.width = 1920, .height = 1080, .reps = 9};
+    const char *only = "all";
+    for (int i = 1; i < argc; i++) {
+        if (!strcmp(argv[i], "--size") && i + 1 < argc && parse_size(argv[i + 1], &b.width, &b.height))
+            i++;
+        else if (!strcmp(argv[i], "--reps") && i + 1 < argc && atoi(argv[i + 1]) >= 1 &&
+                 atoi(argv[i + 1]) <= 63)
+            b.reps = (uint32_t)atoi(argv[++i]);
+        else if (!strcmp(argv[i], "--solver") && i + 1 < argc)
+            only = argv[++i];
+        else {
+            fprintf(stderr,
+                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|all]\n"
+                    "Prints `name value` lines: times as ratios measured in this run.\n");
+            return 2;
+        }
+    }
+    make_scene(&b);
+    ddof_context *one = make_context(1), *two = make_context(2), *all = make_context(0);
+
+    printf("image %ux%u_rgba_f32\n", b.width, b.height);
+    printf("threads_default %u\n", ddof_context_thread_count(all));
+    const double memcpy_s = time_memcpy(&b);
+    printf("memcpy_ms %.3f\n", 1e3 * memcpy_s);
+
+    for (int s = 0; s < DDOF_SOLVER_COUNT_; s++) {
+        const char *name = ddof_solver_name((ddof_solver)s);
+        if (strcmp(only, "all") && strcmp(only, name))
+            continue;
+        /* The reference is single-threaded and slow: one thread, fewer figures. */
+        const int reference = s == DDOF_SOLVER_REFERENCE_F64;
+        const double scene = time_diffuse(&b, reference ? one : all, (ddof_solver)s, b.coc_scene);
+        const double coc2 = time_diffuse(&b, reference ? one : all, (ddof_solver)s, b.coc_2);
+        const double coc200 = time_diffuse(&b, reference ? one : all, (ddof_solver)s, b.coc_200);
+        const char *prefix = s == DDOF_SOLVER_THOMAS ? "" : name;
+        const char *sep = s == DDOF_SOLVER_THOMAS ? "" : "_";
+        printf("%s%ssingle_layer_ms %.3f\n", prefix, sep, 1e3 * scene);
+        printf("%s%ssingle_layer_vs_memcpy %.3f\n", prefix, sep, scene / memcpy_s);
+        printf("%s%scoc200_vs_coc2 %.3f\n", prefix, sep, coc200 / coc2);
+        if (!reference) {
+            const double t1 = time_diffuse(&b, one, (ddof_solver)s, b.coc_scene);
+            const double t2 = time_diffuse(&b, two, (ddof_solver)s, b.coc_scene);
+            printf("%s%sthreads2_vs_threads1 %.3f\n", prefix, sep, t1 / t2);
+        }
+        fflush(stdout);
+    }
+    ddof_context_free(one);
+    ddof_context_free(two);
+    ddof_context_free(all);
+    free(b.color);
+    free(b.out);
+    free(b.coc_scene);
+    free(b.coc_2);
+    free(b.coc_200);
+    return 0;
+}

@@ -1,0 +1,757 @@
+/* test_bad_input.c - every bad input gets its documented status, leaves the output bitwise
+ * untouched (ddof.h: "every check runs before the first output pixel is written") and leaves a
+ * message in ddof_context_last_error(); a success clears it to "".
+ *
+ * Readings of the header where it does not name one code (accepted alternatives noted inline):
+ *  - the CoC is read from the first channel of a 1..4-channel image; the other channels are not
+ *    read, so NaN there is no error;
+ *  - camera depth_unit_m <= 0 and out-of-range camera enums: BAD_CAMERA or BAD_PARAMETER;
+ *  - curve out of order / blur out of range: BAD_PARAMETER ("a value is out of range");
+ *  - CoC -0.0 is not negative (it compares equal to 0): accepted. */
+#include "ddof.h"
+#include "test_util.h"
+
+#include <float.h>
+#include <math.h>
+#include <stdint.h>
+#include <string.h>
+
+#define W 40u
+#define H 30u
+#define CH 4u
+#define BUF_FLOATS (W * H * CH * 2 + 64) /* big enough for every description used below */
+
+static ddof_context *ctx;
+static float color_buf[BUF_FLOATS], coc_buf[BUF_FLOATS], out_buf[BUF_FLOATS];
+static float sentinel_buf[BUF_FLOATS];
+static ddof_params good_params;
+
+static void fill_sentinel(void)
+{
+    const uint32_t bits = 0x7FC0DEADu; /* a NaN payload nothing computes by accident */
+    for (size_t i = 0; i < BUF_FLOATS; i++)
+        memcpy(&sentinel_buf[i], &bits, 4);
+    memcpy(out_buf, sentinel_buf, sizeof out_buf);
+}
+
+static int out_untouched(void) { return !memcmp(out_buf, sentinel_buf, sizeof out_buf); }
+
+static void reset_inputs(void)
+{
+    test_rng rng = {12345};
+    for (size_t i = 0; i < BUF_FLOATS; i++) {
+        color_buf[i] = (float)test_uniform(&rng);
+        coc_buf[i] = (float)(10.0 * test_uniform(&rng));
+    }
+}
+
+/* One ddof_diffuse call, described field by field so each case changes one thing. */
+typedef struct call {
+    ddof_context *ctx;
+    const ddof_params *params;
+    ddof_image_in color, coc;
+    ddof_image out;
+    int null_color, null_coc, null_out;
+} call;
+
+static call good_call(void)
+{
+    call c;
+    memset(&c, 0, sizeof c);
+    c.ctx = ctx;
+    c.params = &good_params;
+    c.color = (ddof_image_in){color_buf, W, H, CH, 0};
+    c.coc = (ddof_image_in){coc_buf, W, H, 1, 0};
+    c.out = (ddof_image){out_buf, W, H, CH, 0};
+    return c;
+}
+
+static ddof_status run_call(const call *c)
+{
+    return ddof_diffuse(c->ctx, c->params, c->null_color ? NULL : &c->color,
+                        c->null_coc ? NULL : &c->coc, c->null_out ? NULL : &c->out, NULL);
+}
+
+/* A successful call first (on its own clean images), so the message checked afterwards is the
+ * failure's own. */
+static void clear_error_by_success(void)
+{
+    static float color[8 * 4], coc[8], out[8 * 4];
+    for (int i = 0; i < 8; i++)
+        coc[i] = (float)i;
+    ddof_image_in ci = {color, 4, 2, 4, 0}, zi = {coc, 4, 2, 1, 0};
+    ddof_image oi = {out, 4, 2, 4, 0};
+    ddof_status s = ddof_diffuse(ctx, &good_params, &ci, &zi, &oi, NULL);
+    CHECK_MSG(s == DDOF_OK, "the good call failed: %d (%s)", (int)s, ddof_context_last_error(ctx));
+    CHECK_MSG(ddof_context_last_error(ctx)[0] == '\0', "last error after a success: \"%s\"",
+              ddof_context_last_error(ctx));
+}
+
+static void check_failure(const char *what, ddof_status got, ddof_status want, ddof_status alt)
+{
+    CHECK_MSG(got == want || got == alt, "%s: status %d (%s), expected %d", what, (int)got,
+              ddof_status_string(got), (int)want);
+    CHECK_MSG(out_untouched(), "%s: the output was written", what);
+    const char *msg = ddof_context_last_error(ctx);
+    CHECK_MSG(msg && msg[0], "%s: no last-error message", what);
+}
+
+static void expect2(const char *what, const call *c, ddof_status want, ddof_status alt)
+{
+    clear_error_by_success();
+    fill_sentinel();
+    ddof_status s = run_call(c);
+    check_failure(what, s, want, alt);
+}
+
+static void expect(const char *what, const call *c, ddof_status want)
+{
+    expect2(what, c, want, want);
+}
+
+static void test_status_strings(void)
+{
+    for (int a = 0; a < DDOF_STATUS_COUNT_; a++) {
+        const char *sa = ddof_status_string((ddof_status)a);
+        CHECK_MSG(sa && sa[0], "status %d has no string", a);
+        for (int b = 0; b < a; b++)
+            CHECK_MSG(!sa || strcmp(sa, ddof_status_string((ddof_status)b)),
+                      "status %d and %d share \"%s\"", a, b, sa);
+    }
+    CHECK(ddof_status_string(DDOF_STATUS_COUNT_) != NULL);
+    CHECK(ddof_status_string((ddof_status)999) != NULL);
+    CHECK(ddof_status_string((ddof_status)-1) != NULL);
+
+    const char *names[] = {"thomas", "cr", "pcr", "jacobi", "reference"};
+    for (int i = 0; i < DDOF_SOLVER_COUNT_; i++) {
+        const char *n = ddof_solver_name((ddof_solver)i);
+        CHECK_MSG(n && !strcmp(n, names[i]), "solver %d name \"%s\"", i, n ? n : "(null)");
+    }
+    CHECK(ddof_solver_name(DDOF_SOLVER_COUNT_) == NULL);
+    CHECK(ddof_solver_name((ddof_solver)-1) == NULL);
+
+    CHECK_EQ_INT(ddof_version_number(), DDOF_VERSION_NUMBER);
+    CHECK(ddof_version_string() && !strcmp(ddof_version_string(), "0.1.0"));
+}
+
+static void test_context(void)
+{
+    ddof_context_free(NULL); /* must be a no-op */
+    CHECK(ddof_context_last_error(NULL) != NULL);
+
+    ddof_context *c = NULL;
+    CHECK_EQ_INT(ddof_context_create(NULL, &c), DDOF_OK); /* NULL options: defaults */
+    CHECK(c != NULL);
+    CHECK(c && ddof_context_thread_count(c) >= 1);
+    CHECK(c && ddof_context_last_error(c) && ddof_context_last_error(c)[0] == '\0');
+    ddof_context_free(c);
+
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    CHECK_EQ_INT(o.struct_size, sizeof o);
+    CHECK_EQ_INT(ddof_context_create(&o, NULL), DDOF_ERROR_NULL_POINTER);
+    o.struct_size = 0;
+    c = (ddof_context *)&o; /* a value the call must not leave as a context */
+    CHECK_EQ_INT(ddof_context_create(&o, &c), DDOF_ERROR_BAD_PARAMETER);
+    CHECK(c == NULL || c == (ddof_context *)&o);
+}
+
+static void test_null_pointers(void)
+{
+    call c = good_call();
+    c.ctx = NULL;
+    fill_sentinel();
+    ddof_status s = run_call(&c);
+    CHECK_EQ_INT(s, DDOF_ERROR_NULL_POINTER);
+    CHECK(out_untouched());
+
+    c = good_call();
+    c.params = NULL;
+    expect("params NULL", &c, DDOF_ERROR_NULL_POINTER);
+    c = good_call();
+    c.null_color = 1;
+    expect("color NULL", &c, DDOF_ERROR_NULL_POINTER);
+    c = good_call();
+    c.null_coc = 1;
+    expect("coc NULL", &c, DDOF_ERROR_NULL_POINTER);
+    c = good_call();
+    c.null_out = 1;
+    expect("out NULL", &c, DDOF_ERROR_NULL_POINTER);
+    c = good_call();
+    c.color.pixels = NULL;
+    expect("color pixels NULL", &c, DDOF_ERROR_NULL_POINTER);
+    c = good_call();
+    c.coc.pixels = NULL;
+    expect("coc pixels NULL", &c, DDOF_ERROR_NULL_POINTER);
+    c = good_call();
+    c.out.pixels = NULL;
+    fill_sentinel();
+    clear_error_by_success();
+    CHECK_EQ_INT(run_call(&c), DDOF_ERROR_NULL_POINTER);
+    CHECK(ddof_context_last_error(ctx)[0] != '\0');
+}
+
+/* Sizes: all three images agree, so the size itself is the only defect. The buffers are far
+ * too small for the claimed sizes: the check must come before any pixel is read. */
+static void set_size(call *c, uint32_t w, uint32_t h)
+{
+    c->color.width = c->coc.width = c->out.width = w;
+    c->color.height = c->coc.height = c->out.height = h;
+}
+
+static void test_sizes(void)
+{
+    call c = good_call();
+    set_size(&c, 0, H);
+    expect("width 0", &c, DDOF_ERROR_BAD_SIZE);
+    c = good_call();
+    set_size(&c, W, 0);
+    expect("height 0", &c, DDOF_ERROR_BAD_SIZE);
+    c = good_call();
+    set_size(&c, DDOF_MAX_DIMENSION + 1, 1);
+    expect("width > max", &c, DDOF_ERROR_BAD_SIZE);
+    c = good_call();
+    set_size(&c, 1, DDOF_MAX_DIMENSION + 1);
+    expect("height > max", &c, DDOF_ERROR_BAD_SIZE);
+    c = good_call();
+    set_size(&c, DDOF_MAX_DIMENSION, DDOF_MAX_PIXELS / DDOF_MAX_DIMENSION + 1);
+    expect("width * height > max pixels", &c, DDOF_ERROR_BAD_SIZE);
+    c = good_call();
+    set_size(&c, UINT32_MAX, UINT32_MAX);
+    expect("width, height UINT32_MAX", &c, DDOF_ERROR_BAD_SIZE);
+
+    c = good_call();
+    c.color.channels = c.out.channels = 0;
+    expect("channels 0", &c, DDOF_ERROR_BAD_CHANNELS);
+    c = good_call();
+    c.color.channels = c.out.channels = 5;
+    expect("channels 5", &c, DDOF_ERROR_BAD_CHANNELS);
+    c = good_call();
+    c.coc.channels = 0;
+    expect("coc channels 0", &c, DDOF_ERROR_BAD_CHANNELS);
+    c = good_call();
+    c.coc.channels = 5;
+    expect("coc channels 5", &c, DDOF_ERROR_BAD_CHANNELS);
+
+    c = good_call();
+    c.coc.width = W - 1;
+    expect("coc narrower", &c, DDOF_ERROR_SIZE_MISMATCH);
+    c = good_call();
+    c.coc.height = H + 1;
+    expect("coc taller", &c, DDOF_ERROR_SIZE_MISMATCH);
+    c = good_call();
+    c.out.width = W + 1;
+    expect("out wider", &c, DDOF_ERROR_SIZE_MISMATCH);
+    c = good_call();
+    c.out.height = H - 1;
+    expect("out shorter", &c, DDOF_ERROR_SIZE_MISMATCH);
+    c = good_call();
+    c.out.channels = 3;
+    expect("out 3 channels, colour 4", &c, DDOF_ERROR_SIZE_MISMATCH);
+    c = good_call();
+    c.color.channels = 1;
+    expect("colour 1 channel, out 4", &c, DDOF_ERROR_SIZE_MISMATCH);
+}
+
+static void test_strides(void)
+{
+    const size_t row = W * CH * sizeof(float), crow = W * sizeof(float);
+    const size_t huge = (SIZE_MAX / 2 + 1); /* 2^63 on 64-bit: a multiple of 4 */
+    for (int which = 0; which < 3; which++) {
+        const char *names[] = {"colour", "coc", "out"};
+        size_t r = which == 1 ? crow : row;
+        const size_t strides[] = {r - 4, 4, r + 2, r + 1, huge, SIZE_MAX - 3};
+        const char *what[] = {"stride one float short", "stride 4", "stride +2 bytes",
+                              "stride +1 byte", "stride 2^63 x 3 rows overflows",
+                              "stride SIZE_MAX-3 overflows"};
+        for (int i = 0; i < 6; i++) {
+            call c = good_call();
+            if (i >= 4)
+                set_size(&c, W, 3);
+            size_t *s = which == 0 ? &c.color.row_stride
+                        : which == 1 ? &c.coc.row_stride
+                                     : &c.out.row_stride;
+            *s = strides[i];
+            char msg[96];
+            snprintf(msg, sizeof msg, "%s %s", names[which], what[i]);
+            expect(msg, &c, DDOF_ERROR_BAD_STRIDE);
+        }
+    }
+    /* A valid padded stride is fine (and stride == row is fine). */
+    call c = good_call();
+    c.color.row_stride = row;
+    c.coc.row_stride = crow + 16;
+    c.out.row_stride = row;
+    clear_error_by_success();
+    CHECK_EQ_INT(run_call(&c), DDOF_OK);
+}
+
+static void test_bad_values(void)
+{
+    static const struct { uint32_t x, y; } at = {27, 13}, later = {30, 20};
+    const float bad_color[] = {NAN, INFINITY, -INFINITY};
+    const char *names[] = {"NaN", "+inf", "-inf"};
+    for (int i = 0; i < 3; i++) {
+        reset_inputs();
+        color_buf[(at.y * W + at.x) * CH + 2] = bad_color[i];
+        color_buf[(later.y * W + later.x) * CH + 0] = bad_color[i];
+        call c = good_call();
+        char what[64];
+        snprintf(what, sizeof what, "colour %s", names[i]);
+        expect(what, &c, DDOF_ERROR_BAD_COLOR);
+        const char *msg = ddof_context_last_error(ctx);
+        CHECK_MSG(strstr(msg, "27") && strstr(msg, "13"),
+                  "%s: message does not name the first bad pixel (27, 13): \"%s\"", what, msg);
+        /* In place, the colour (= output) buffer is untouched as well. */
+        float saved[W * H * CH];
+        memcpy(saved, color_buf, sizeof saved);
+        c.out.pixels = color_buf;
+        CHECK_EQ_INT(run_call(&c), DDOF_ERROR_BAD_COLOR);
+        CHECK(!memcmp(saved, color_buf, sizeof saved));
+    }
+    /* NaN in the padding of a strided colour image is not a pixel: accepted. */
+    reset_inputs();
+    {
+        call c = good_call();
+        c.color.row_stride = W * CH * sizeof(float) + 8;
+        for (uint32_t y = 0; y < H; y++) {
+            color_buf[y * (W * CH + 2) + W * CH] = NAN;
+            color_buf[y * (W * CH + 2) + W * CH + 1] = INFINITY;
+        }
+        clear_error_by_success();
+        ddof_status s = run_call(&c);
+        CHECK_MSG(s == DDOF_OK, "NaN in the colour padding rejected: %d (%s)", (int)s,
+                  ddof_context_last_error(ctx));
+    }
+
+    /* A 2- or 4-channel CoC image: only the first channel counts (NaN in the others is never
+     * read), the result equals that of the 1-channel CoC bitwise. */
+    reset_inputs();
+    {
+        static float ref[W * H * CH], coc_multi[W * H * 4];
+        call c = good_call();
+        CHECK_EQ_INT(run_call(&c), DDOF_OK);
+        memcpy(ref, out_buf, sizeof ref);
+        for (uint32_t cc = 2; cc <= 4; cc += 2) {
+            for (size_t i = 0; i < W * H; i++) {
+                coc_multi[i * cc] = coc_buf[i];
+                for (uint32_t k = 1; k < cc; k++)
+                    coc_multi[i * cc + k] = NAN;
+            }
+            c.coc = (ddof_image_in){coc_multi, W, H, cc, 0};
+            fill_sentinel();
+            ddof_status s = run_call(&c);
+            CHECK_MSG(s == DDOF_OK, "%u-channel CoC: %d (%s)", cc, (int)s,
+                      ddof_context_last_error(ctx));
+            CHECK_MSG(!memcmp(ref, out_buf, sizeof ref),
+                      "%u-channel CoC gives another result than its first channel alone", cc);
+        }
+    }
+
+    const float bad_coc[] = {NAN, -1.0f, -FLT_MIN, INFINITY, -INFINITY,
+                             nextafterf(DDOF_MAX_COC_PX, INFINITY), 2 * DDOF_MAX_COC_PX};
+    const char *coc_names[] = {"NaN", "-1", "-FLT_MIN", "+inf", "-inf", "just above max",
+                               "2x max"};
+    for (int i = 0; i < 7; i++) {
+        reset_inputs();
+        coc_buf[at.y * W + at.x] = bad_coc[i];
+        coc_buf[later.y * W + later.x] = bad_coc[i];
+        call c = good_call();
+        char what[64];
+        snprintf(what, sizeof what, "CoC %s", coc_names[i]);
+        expect(what, &c, DDOF_ERROR_BAD_COC);
+        const char *msg = ddof_context_last_error(ctx);
+        CHECK_MSG(strstr(msg, "27") && strstr(msg, "13"),
+                  "%s: message does not name the first bad pixel (27, 13): \"%s\"", what, msg);
+    }
+    /* Edge values that are valid: exactly the maximum, 0 and -0. */
+    const float ok_coc[] = {DDOF_MAX_COC_PX, 0.0f, -0.0f};
+    for (int i = 0; i < 3; i++) {
+        reset_inputs();
+        coc_buf[at.y * W + at.x] = ok_coc[i];
+        call c = good_call();
+        ddof_status s = run_call(&c);
+        CHECK_MSG(s == DDOF_OK, "CoC %g rejected: %d (%s)", (double)ok_coc[i], (int)s,
+                  ddof_context_last_error(ctx));
+    }
+    reset_inputs();
+}
+
+static void test_params(void)
+{
+    ddof_params p;
+    ddof_params_init(&p);
+    CHECK_EQ_INT(p.struct_size, sizeof p);
+    CHECK_EQ_INT(p.solver, DDOF_SOLVER_THOMAS);
+    CHECK_EQ_INT(p.substeps, 1);
+    CHECK(p.beta_scale == DDOF_DEFAULT_BETA_SCALE);
+    CHECK(p.pixel_aspect == 1.0f);
+    CHECK_EQ_INT(p.jacobi_iterations, 50);
+    CHECK(p.progress == NULL);
+
+    call c = good_call();
+    c.params = &p;
+#define BAD_PARAM(what, stmt)                                                                  \
+    do {                                                                                       \
+        ddof_params_init(&p);                                                                  \
+        stmt;                                                                                  \
+        expect(what, &c, DDOF_ERROR_BAD_PARAMETER);                                            \
+    } while (0)
+    BAD_PARAM("params struct_size 0", p.struct_size = 0);
+    BAD_PARAM("params struct_size 4", p.struct_size = 4);
+    BAD_PARAM("params struct_size sizeof - 1", p.struct_size = sizeof p - 1);
+    BAD_PARAM("solver COUNT_", p.solver = DDOF_SOLVER_COUNT_);
+    BAD_PARAM("solver -1", p.solver = (ddof_solver)-1);
+    BAD_PARAM("substeps 0", p.substeps = 0);
+    BAD_PARAM("beta_scale 0", p.beta_scale = 0.0f);
+    BAD_PARAM("beta_scale -1", p.beta_scale = -1.0f);
+    BAD_PARAM("beta_scale NaN", p.beta_scale = NAN);
+    BAD_PARAM("beta_scale inf", p.beta_scale = INFINITY);
+    BAD_PARAM("pixel_aspect 0", p.pixel_aspect = 0.0f);
+    BAD_PARAM("pixel_aspect -1", p.pixel_aspect = -1.0f);
+    BAD_PARAM("pixel_aspect NaN", p.pixel_aspect = NAN);
+    BAD_PARAM("pixel_aspect inf", p.pixel_aspect = INFINITY);
+    BAD_PARAM("jacobi_iterations 0", (p.solver = DDOF_SOLVER_JACOBI, p.jacobi_iterations = 0));
+#undef BAD_PARAM
+}
+
+/* Counting allocator: balance check, and failure injection (the allocation after `budget`
+ * successful ones fails; budget < 0: never fails). */
+typedef struct counting {
+    long allocs, frees, live;
+    long budget;
+} counting;
+
+static void *c_alloc(void *user, size_t size)
+{
+    counting *c = user;
+    if (c->budget == 0)
+        return NULL;
+    if (c->budget > 0)
+        c->budget--;
+    void *p = malloc(size);
+    if (p) {
+        c->allocs++;
+        c->live++;
+    }
+    return p;
+}
+
+static void c_free(void *user, void *ptr)
+{
+    counting *c = user;
+    if (ptr) {
+        c->frees++;
+        c->live--;
+        free(ptr);
+    }
+}
+
+static void test_allocator(void)
+{
+    counting cnt = {0, 0, 0, -1};
+    ddof_allocator a = {c_alloc, c_free, &cnt};
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    o.allocator = &a;
+    o.thread_count = 2;
+
+    /* Context creation with the k-th allocation failing: OOM ("an allocation failed"), no leak,
+     * no context. */
+    for (long k = 0; k < 8; k++) {
+        cnt = (counting){0, 0, 0, k};
+        ddof_context *c = (ddof_context *)&cnt;
+        ddof_status s = ddof_context_create(&o, &c);
+        if (s == DDOF_OK) {
+            ddof_context_free(c);
+        } else {
+            CHECK_MSG(s == DDOF_ERROR_OUT_OF_MEMORY,
+                      "create, allocation %ld fails: status %d (%s)", k, (int)s,
+                      ddof_status_string(s));
+            CHECK(c == NULL);
+        }
+        CHECK_MSG(cnt.live == 0, "create, allocation %ld fails: %ld blocks leaked", k, cnt.live);
+    }
+
+    ddof_image_in ci = {color_buf, W, H, CH, 0}, zi = {coc_buf, W, H, 1, 0};
+    ddof_image oi = {out_buf, W, H, CH, 0};
+    ddof_params p;
+    ddof_params_init(&p);
+    for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+        /* A fresh context whose allocator dies right after creation: the first call needs
+         * scratch memory and must fail cleanly before writing anything. */
+        cnt = (counting){0, 0, 0, -1};
+        ddof_context *c = NULL;
+        CHECK_EQ_INT(ddof_context_create(&o, &c), DDOF_OK);
+        if (!c)
+            return;
+        cnt.budget = 0;
+        p.solver = (ddof_solver)solver;
+        fill_sentinel();
+        ddof_status s = ddof_diffuse(c, &p, &ci, &zi, &oi, NULL);
+        CHECK_MSG(s == DDOF_ERROR_OUT_OF_MEMORY, "%s without memory: %d",
+                  ddof_solver_name(p.solver), (int)s);
+        CHECK_MSG(out_untouched(), "%s: out written before the allocation failed",
+                  ddof_solver_name(p.solver));
+        CHECK(ddof_context_last_error(c)[0] != '\0');
+        /* ... and works again once memory is back. */
+        cnt.budget = -1;
+        CHECK_EQ_INT(ddof_diffuse(c, &p, &ci, &zi, &oi, NULL), DDOF_OK);
+        CHECK_MSG(cnt.allocs > 1, "the custom allocator was not used for the solve");
+        ddof_context_free(c);
+        CHECK_MSG(cnt.live == 0, "allocator: %ld allocations, %ld frees", cnt.allocs,
+                  cnt.frees);
+    }
+
+    /* ddof_depth_of_field without memory. */
+    cnt = (counting){0, 0, 0, -1};
+    ddof_context *c = NULL;
+    CHECK_EQ_INT(ddof_context_create(&o, &c), DDOF_OK);
+    if (!c)
+        return;
+    float depth[W * H];
+    for (size_t i = 0; i < W * H; i++)
+        depth[i] = 1.0f + (float)(i % 17);
+    ddof_image_in di = {depth, W, H, 1, 0};
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    p.solver = DDOF_SOLVER_THOMAS;
+    cnt.budget = 0;
+    fill_sentinel();
+    ddof_status s = ddof_depth_of_field(c, &p, &cam, &ci, &di, &oi, NULL);
+    CHECK_EQ_INT(s, DDOF_ERROR_OUT_OF_MEMORY);
+    CHECK(out_untouched());
+    cnt.budget = 1; /* the CoC buffer, then nothing for the solver */
+    s = ddof_depth_of_field(c, &p, &cam, &ci, &di, &oi, NULL);
+    CHECK_MSG(s == DDOF_ERROR_OUT_OF_MEMORY, "depth_of_field, 2nd allocation fails: %d", (int)s);
+    CHECK(out_untouched());
+    cnt.budget = -1;
+    CHECK_EQ_INT(ddof_depth_of_field(c, &p, &cam, &ci, &di, &oi, NULL), DDOF_OK);
+    ddof_context_free(c);
+    CHECK_MSG(cnt.live == 0, "allocator: %ld allocations, %ld frees", cnt.allocs, cnt.frees);
+}
+
+/* ---------------------------------------------------------------------------------------- */
+/* CoC from camera and curve                                                                  */
+
+static int coc_untouched(void) { return !memcmp(coc_buf, sentinel_buf, W * H * sizeof(float)); }
+
+static void reset_depth(float v)
+{
+    for (size_t i = 0; i < W * H; i++)
+        color_buf[i] = v + 0.01f * (float)(i % 7);
+}
+
+static void test_camera(void)
+{
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    ddof_image_in depth = {color_buf, W, H, 1, 0};
+    ddof_image coc = {coc_buf, W, H, 1, 0};
+
+    const float bad_depth[] = {NAN, 0.0f, -0.0f, -1.0f, -INFINITY};
+    const char *names[] = {"NaN", "0", "-0", "-1", "-inf"};
+    for (int i = 0; i < 5; i++) {
+        reset_depth(5.0f);
+        color_buf[13 * W + 27] = bad_depth[i];
+        memcpy(coc_buf, sentinel_buf, sizeof coc_buf);
+        ddof_status s = ddof_coc_from_camera(ctx, &cam, &depth, &coc);
+        CHECK_MSG(s == DDOF_ERROR_BAD_DEPTH, "camera, depth %s: status %d", names[i], (int)s);
+        CHECK_MSG(coc_untouched(), "camera, depth %s: coc written", names[i]);
+        CHECK(ddof_context_last_error(ctx)[0] != '\0');
+    }
+    reset_depth(5.0f);
+    color_buf[13 * W + 27] = INFINITY;
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &depth, &coc), DDOF_OK);
+    CHECK(ddof_context_last_error(ctx)[0] == '\0');
+    CHECK(isfinite(coc_buf[13 * W + 27]) && coc_buf[13 * W + 27] > 0.0f);
+
+#define BAD_CAM(what, stmt, alt)                                                               \
+    do {                                                                                       \
+        ddof_camera_init(&cam);                                                                \
+        stmt;                                                                                  \
+        memcpy(coc_buf, sentinel_buf, sizeof coc_buf);                                         \
+        ddof_status s_ = ddof_coc_from_camera(ctx, &cam, &depth, &coc);                        \
+        CHECK_MSG(s_ == DDOF_ERROR_BAD_CAMERA || s_ == (alt), "%s: status %d", what, (int)s_); \
+        CHECK_MSG(coc_untouched(), "%s: coc written", what);                                   \
+        CHECK(ddof_context_last_error(ctx)[0] != '\0');                                        \
+    } while (0)
+    reset_depth(5.0f);
+    BAD_CAM("fstop 0", cam.fstop = 0, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("fstop -2", cam.fstop = -2, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("fstop NaN", cam.fstop = NAN, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focal length 0", cam.focal_length_mm = 0, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focal length -50", cam.focal_length_mm = -50, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focal length NaN", cam.focal_length_mm = NAN, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focus = focal length", (cam.focal_length_mm = 50, cam.focus_distance_m = 0.05),
+            DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focus < focal length", (cam.focal_length_mm = 50, cam.focus_distance_m = 0.03),
+            DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focus 0", cam.focus_distance_m = 0, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focus -1", cam.focus_distance_m = -1, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("focus NaN", cam.focus_distance_m = NAN, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("sensor 0", cam.sensor_width_mm = 0, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("sensor -36", cam.sensor_width_mm = -36, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("pixel_aspect 0", cam.pixel_aspect = 0, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("pixel_aspect -1", cam.pixel_aspect = -1, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("pixel_aspect NaN", cam.pixel_aspect = NAN, DDOF_ERROR_BAD_CAMERA);
+    BAD_CAM("depth_unit_m 0", cam.depth_unit_m = 0, DDOF_ERROR_BAD_PARAMETER);
+    BAD_CAM("depth_unit_m -1", cam.depth_unit_m = -1, DDOF_ERROR_BAD_PARAMETER);
+    BAD_CAM("lens model 7", cam.lens_model = (ddof_lens_model)7, DDOF_ERROR_BAD_PARAMETER);
+    BAD_CAM("depth kind 7", cam.depth_kind = (ddof_depth_kind)7, DDOF_ERROR_BAD_PARAMETER);
+    BAD_CAM("sensor fit 7", cam.sensor_fit = (ddof_sensor_fit)7, DDOF_ERROR_BAD_PARAMETER);
+#undef BAD_CAM
+
+    /* Malformed structs and images. */
+    ddof_camera_init(&cam);
+    memcpy(coc_buf, sentinel_buf, sizeof coc_buf);
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, NULL, &depth, &coc), DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_coc_from_camera(NULL, &cam, &depth, &coc), DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, NULL, &coc), DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &depth, NULL), DDOF_ERROR_NULL_POINTER);
+    cam.struct_size = 0;
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &depth, &coc), DDOF_ERROR_BAD_PARAMETER);
+    ddof_camera_init(&cam);
+    ddof_image coc2 = coc;
+    coc2.width = W - 1;
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &depth, &coc2), DDOF_ERROR_SIZE_MISMATCH);
+    coc2 = coc;
+    coc2.channels = 2;
+    ddof_status s = ddof_coc_from_camera(ctx, &cam, &depth, &coc2);
+    CHECK_MSG(s == DDOF_ERROR_BAD_CHANNELS || s == DDOF_ERROR_SIZE_MISMATCH,
+              "2-channel coc output: %d", (int)s);
+    coc2 = coc;
+    coc2.row_stride = W * 4 - 4;
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &depth, &coc2), DDOF_ERROR_BAD_STRIDE);
+    ddof_image_in d2 = depth;
+    d2.width = DDOF_MAX_DIMENSION + 1;
+    coc2 = coc;
+    coc2.width = DDOF_MAX_DIMENSION + 1;
+    CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &d2, &coc2), DDOF_ERROR_BAD_SIZE);
+    CHECK_MSG(coc_untouched(), "coc written by a failing ddof_coc_from_camera");
+}
+
+static void test_curve(void)
+{
+    ddof_curve cv;
+    ddof_image_in depth = {color_buf, W, H, 1, 0};
+    ddof_image coc = {coc_buf, W, H, 1, 0};
+    reset_depth(5.0f);
+#define BAD_CURVE(what, stmt)                                                                  \
+    do {                                                                                       \
+        ddof_curve_init(&cv);                                                                  \
+        cv.near_blur_px = 4;                                                                   \
+        cv.near_start = 1;                                                                     \
+        cv.near_end = 2;                                                                       \
+        cv.far_start = 10;                                                                     \
+        cv.far_end = 20;                                                                       \
+        cv.far_blur_px = 8;                                                                    \
+        CHECK_EQ_INT(ddof_coc_from_curve(ctx, &cv, &depth, &coc), DDOF_OK);                    \
+        stmt;                                                                                  \
+        memcpy(coc_buf, sentinel_buf, sizeof coc_buf);                                         \
+        ddof_status s_ = ddof_coc_from_curve(ctx, &cv, &depth, &coc);                          \
+        CHECK_MSG(s_ == DDOF_ERROR_BAD_PARAMETER, "curve %s: status %d", what, (int)s_);       \
+        CHECK_MSG(coc_untouched(), "curve %s: coc written", what);                             \
+        CHECK(ddof_context_last_error(ctx)[0] != '\0');                                       \
+    } while (0)
+    BAD_CURVE("near_start > near_end", cv.near_start = 3);
+    BAD_CURVE("near_end > far_start", cv.near_end = 11);
+    BAD_CURVE("far_start > far_end", cv.far_start = 21);
+    BAD_CURVE("near_start < 0", cv.near_start = -1);
+    BAD_CURVE("near_blur < 0", cv.near_blur_px = -1);
+    BAD_CURVE("far_blur < 0", cv.far_blur_px = -0.5);
+    BAD_CURVE("far_blur > max", cv.far_blur_px = 2.0 * DDOF_MAX_COC_PX);
+    BAD_CURVE("near_blur NaN", cv.near_blur_px = NAN);
+    BAD_CURVE("far_end NaN", cv.far_end = NAN);
+    BAD_CURVE("struct_size 0", cv.struct_size = 0);
+#undef BAD_CURVE
+
+    ddof_curve_init(&cv);
+    const float bad_depth[] = {NAN, -1.0f, -INFINITY};
+    const char *names[] = {"NaN", "-1", "-inf"};
+    for (int i = 0; i < 3; i++) {
+        reset_depth(5.0f);
+        color_buf[13 * W + 27] = bad_depth[i];
+        memcpy(coc_buf, sentinel_buf, sizeof coc_buf);
+        ddof_status s = ddof_coc_from_curve(ctx, &cv, &depth, &coc);
+        CHECK_MSG(s == DDOF_ERROR_BAD_DEPTH, "curve, depth %s: status %d", names[i], (int)s);
+        CHECK_MSG(coc_untouched(), "curve, depth %s: coc written", names[i]);
+    }
+    /* 0 and +inf depth are valid for the curve. */
+    reset_depth(5.0f);
+    color_buf[0] = 0.0f;
+    color_buf[1] = INFINITY;
+    CHECK_EQ_INT(ddof_coc_from_curve(ctx, &cv, &depth, &coc), DDOF_OK);
+    CHECK_EQ_INT(ddof_coc_from_curve(ctx, NULL, &depth, &coc), DDOF_ERROR_NULL_POINTER);
+}
+
+static void test_depth_of_field(void)
+{
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    ddof_params p;
+    ddof_params_init(&p);
+    float depth_buf[W * H];
+    for (size_t i = 0; i < W * H; i++)
+        depth_buf[i] = 2.0f + (float)(i % 13);
+    reset_inputs();
+    ddof_image_in ci = {color_buf, W, H, CH, 0}, di = {depth_buf, W, H, 1, 0};
+    ddof_image oi = {out_buf, W, H, CH, 0};
+    CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL), DDOF_OK);
+
+#define BAD_DOF(what, want, stmt, undo)                                                        \
+    do {                                                                                       \
+        stmt;                                                                                  \
+        fill_sentinel();                                                                       \
+        ddof_status s_ = ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL);              \
+        check_failure(what, s_, want, want);                                                   \
+        undo;                                                                                  \
+        CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL), DDOF_OK);        \
+    } while (0)
+    BAD_DOF("dof: depth NaN", DDOF_ERROR_BAD_DEPTH, depth_buf[77] = NAN, depth_buf[77] = 3);
+    BAD_DOF("dof: depth 0", DDOF_ERROR_BAD_DEPTH, depth_buf[77] = 0, depth_buf[77] = 3);
+    BAD_DOF("dof: colour NaN", DDOF_ERROR_BAD_COLOR, color_buf[77] = NAN, color_buf[77] = 0.5f);
+    BAD_DOF("dof: fstop 0", DDOF_ERROR_BAD_CAMERA, cam.fstop = 0, cam.fstop = 2.8);
+    BAD_DOF("dof: depth size", DDOF_ERROR_SIZE_MISMATCH, di.width = W - 1, di.width = W);
+    BAD_DOF("dof: substeps 0", DDOF_ERROR_BAD_PARAMETER, p.substeps = 0, p.substeps = 1);
+    BAD_DOF("dof: depth NULL pixels", DDOF_ERROR_NULL_POINTER, di.pixels = NULL,
+            di.pixels = depth_buf);
+#undef BAD_DOF
+    fill_sentinel();
+    CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, NULL, &ci, &di, &oi, NULL),
+                 DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_depth_of_field(ctx, NULL, &cam, &ci, &di, &oi, NULL),
+                 DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, NULL, &oi, NULL),
+                 DDOF_ERROR_NULL_POINTER);
+    CHECK(out_untouched());
+}
+
+int main(void)
+{
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    o.thread_count = 2;
+    if (ddof_context_create(&o, &ctx) != DDOF_OK || !ctx) {
+        fprintf(stderr, "ddof_context_create failed\n");
+        return 2;
+    }
+    ddof_params_init(&good_params);
+    reset_inputs();
+    fill_sentinel();
+
+    test_status_strings();
+    test_context();
+    test_null_pointers();
+    test_sizes();
+    test_strides();
+    test_bad_values();
+    test_params();
+    test_allocator();
+    test_camera();
+    test_curve();
+    test_depth_of_field();
+
+    ddof_context_free(ctx);
+    return test_report("test_bad_input");
+}
