@@ -177,7 +177,7 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
         ts->lines_solved += (uint64_t)used;
     }
     rows_in(ts->x, src_rows, n, C);
-    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations};
+    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0};
     job->solver->solve(&batch);
     rows_out(dst_rows, ts->x, n, C);
 }
@@ -212,19 +212,28 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
     if (!any_active)
         return;
 
-    const size_t lane_floats = (size_t)lanes * C;
-    for (uint32_t i = 0; i < n; i++) {
-        float *x = ts->x + (size_t)i * L * C;
-        memcpy(x, job->src + (size_t)i * job->src_stride + (size_t)x0 * C,
-               lane_floats * sizeof(float));
-        memset(x + lane_floats, 0, ((size_t)L * C - lane_floats) * sizeof(float));
+    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0};
+    if (lanes == L) {
+        /* A full block is solved where it lies: element i is row i of the image, and idle lanes
+         * come back bit-identical (beta 0 leaves x exact). The column pass works in place, so
+         * src is dst. */
+        batch.x = job->dst + (size_t)x0 * C;
+        batch.x_stride = job->dst_stride;
+        job->solver->solve(&batch);
+    } else {
+        /* The image's last, narrower block: through the scratch, padded with idle lanes. */
+        const size_t lane_floats = (size_t)lanes * C;
+        for (uint32_t i = 0; i < n; i++) {
+            float *x = ts->x + (size_t)i * L * C;
+            memcpy(x, job->src + (size_t)i * job->src_stride + (size_t)x0 * C,
+                   lane_floats * sizeof(float));
+            memset(x + lane_floats, 0, ((size_t)L * C - lane_floats) * sizeof(float));
+        }
+        job->solver->solve(&batch);
+        for (uint32_t i = 0; i < n; i++)
+            memcpy(job->dst + (size_t)i * job->dst_stride + (size_t)x0 * C,
+                   ts->x + (size_t)i * L * C, lane_floats * sizeof(float));
     }
-    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations};
-    job->solver->solve(&batch);
-    /* Idle lanes come back bit-identical (beta 0 leaves x exact), so the block is copied whole. */
-    for (uint32_t i = 0; i < n; i++)
-        memcpy(job->dst + (size_t)i * job->dst_stride + (size_t)x0 * C,
-               ts->x + (size_t)i * L * C, lane_floats * sizeof(float));
     for (uint32_t l = 0; l < lanes; l++)
         ts->lines_solved += (uint64_t)active[l];
 }

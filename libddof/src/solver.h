@@ -8,8 +8,9 @@
  * c_i = -beta_i, rhs_i = gamma_i x_i, with beta_{-1} = beta_{n-1} = 0 (insulated ends).
  *
  * Layout: element i of lane l is at [i * DDOF_LANES + l] for the coefficients and at
- * [(i * DDOF_LANES + l) * channels + c] for the values. This is the image's own memory order for
- * a column pass (lanes = neighbouring columns) and a few memcpys away for a row pass (lanes =
+ * [i * x_stride + l * channels + c] for the values (x_stride = DDOF_LANES * channels when
+ * packed). This is the image's own memory order for a column pass (lanes = neighbouring columns,
+ * x_stride = the row stride: solved in place) and a gather away for a row pass (lanes =
  * neighbouring rows), and lets every inner loop run across lanes (and channels) in SIMD.
  *
  * Numerical contract (all solvers): never form b_i - (something) by subtraction. Keep each row's
@@ -25,6 +26,7 @@
 
 #include "float_ops.h"
 
+#include <float.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -36,16 +38,32 @@ typedef struct line_batch {
     uint32_t channels;   /* values per unknown, 1..4                                           */
     const float *beta;   /* [n][LANES] link i -> i+1, >= 0, finite; beta[n-1][*] is 0          */
     const float *gamma;  /* [n][LANES] >= 0, finite (1 for plain diffusion)                    */
-    float *x;            /* [n][LANES][channels] finite input in, solution y out               */
+    float *x;            /* [n][x_stride] finite input in, solution y out                      */
     float *scratch;      /* scratch_floats(n, channels) floats, 64-byte aligned, uninitialised */
     uint32_t iterations; /* Jacobi sweeps (>= 1); ignored by exact solvers                     */
+    size_t x_stride;     /* floats from element i to i + 1; 0 means packed (LANES * channels)  */
 } line_batch;
+
+/* The distance between consecutive elements of x. */
+static inline size_t batch_x_stride(const line_batch *batch)
+{
+    return batch->x_stride ? batch->x_stride : (size_t)DDOF_LANES * batch->channels;
+}
 
 typedef struct solver_ops {
     const char *name;
     size_t (*scratch_floats)(uint32_t n, uint32_t channels);
     void (*solve)(const line_batch *batch);
 } solver_ops;
+
+/* num / den for a share num of a sum den of non-negatives (num <= den), and 0 for 0 / 0: the
+ * diagonal of a row with no excess and no links. Clamping den to the smallest subnormal keeps
+ * every positive den exact, and unlike a `den > 0 ? ... : 0` select (which GCC will not
+ * if-convert under the default -ftrapping-math) the loop stays branch-free and vectorises. */
+static inline float solver_share(float num, float den)
+{
+    return num / ddof_maxf(den, FLT_TRUE_MIN);
+}
 
 extern const solver_ops ddof_solver_thomas;
 extern const solver_ops ddof_solver_cr;

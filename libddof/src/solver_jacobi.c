@@ -23,16 +23,6 @@ enum { L = DDOF_LANES };
 /* The links past either end of the line: none. */
 static _Alignas(64) const float zero_links[L] = {0.0f};
 
-/* num / den for a share num of a sum den of non-negatives, 0 for 0 / 0; branch-free so it
- * vectorises (see solver_cr.c). */
-static DDOF_ALWAYS_INLINE float ratio(float num, float den)
-{
-    return num / ddof_maxf(den, FLT_TRUE_MIN);
-}
-
-/* Scratch: weights [n][2][L], source x [n][ch][L], two solution buffers [n + 2][ch][L]. The
- * solution buffers have a zero row before and after the line, so the ends need no special case
- * (their weight towards it is 0). */
 static size_t jacobi_scratch_floats(uint32_t n, uint32_t channels)
 {
     return (size_t)n * 2 * L + ((size_t)n + 2 * ((size_t)n + 2)) * channels * L;
@@ -49,12 +39,12 @@ static DDOF_ALWAYS_INLINE void jacobi_solve_channels(const line_batch *batch, co
     for (uint32_t i = 0; i < n; i++) {
         const float *beta = batch->beta + (size_t)i * L, *gamma = batch->gamma + (size_t)i * L;
         const float *left = i > 0 ? beta - L : zero_links, *right = i + 1 < n ? beta : zero_links;
-        const float *x = batch->x + i * vf;
+        const float *x = batch->x + i * batch_x_stride(batch);
         float *wlo = w + (2 * i) * L, *whi = wlo + L, *s = src + i * vf;
         for (int l = 0; l < L; l++) {
             const float b = gamma[l] + left[l] + right[l];
-            wlo[l] = ratio(left[l], b);
-            whi[l] = ratio(right[l], b);
+            wlo[l] = solver_share(left[l], b);
+            whi[l] = solver_share(right[l], b);
             for (uint32_t c = 0; c < ch; c++) s[c * L + l] = x[l * ch + c];
         }
     }
@@ -82,14 +72,14 @@ static DDOF_ALWAYS_INLINE void jacobi_solve_channels(const line_batch *batch, co
 
     for (uint32_t i = 0; i < n; i++) {
         const float *y = cur + (i + 1) * vf;
-        float *x = batch->x + i * vf;
+        float *x = batch->x + i * batch_x_stride(batch);
         for (int l = 0; l < L; l++)
             for (uint32_t c = 0; c < ch; c++) x[l * ch + c] = y[c * L + l];
     }
 }
 
 /* One copy of the solver per channel count, so every inner loop has a constant trip count. */
-static void jacobi_solve(const line_batch *batch)
+DDOF_MULTIVERSION static void jacobi_solve(const line_batch *batch)
 {
     switch (batch->channels) {
     case 1: jacobi_solve_channels(batch, 1); break;
