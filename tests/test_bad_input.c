@@ -10,10 +10,12 @@
  *  - CoC -0.0 is not negative (it compares equal to 0): accepted. */
 #include "ddof.h"
 #include "test_util.h"
+#include "test_images.h"
 
 #include <float.h>
 #include <math.h>
 #include <stdint.h>
+#include <stddef.h>
 #include <string.h>
 
 #define W 40u
@@ -109,6 +111,15 @@ static void expect(const char *what, const call *c, ddof_status want)
     expect2(what, c, want, want);
 }
 
+/* The good call with one thing changed by `stmt` (which edits the call `c`) must fail with
+ * `want`: one line a case, so the table of cases reads as the list of defects. */
+#define BAD_CALL(what, stmt, want)                                                             \
+    do {                                                                                       \
+        call c = good_call();                                                                  \
+        stmt;                                                                                  \
+        expect(what, &c, want);                                                                \
+    } while (0)
+
 static void test_status_strings(void)
 {
     for (int a = 0; a < DDOF_STATUS_COUNT_; a++) {
@@ -131,7 +142,10 @@ static void test_status_strings(void)
     CHECK(ddof_solver_name((ddof_solver)-1) == NULL);
 
     CHECK_EQ_INT(ddof_version_number(), DDOF_VERSION_NUMBER);
-    CHECK(ddof_version_string() && !strcmp(ddof_version_string(), "0.1.0"));
+    char expected_version[32];
+    snprintf(expected_version, sizeof expected_version, "%d.%d.%d", DDOF_VERSION_MAJOR,
+             DDOF_VERSION_MINOR, DDOF_VERSION_PATCH);
+    CHECK(ddof_version_string() && !strcmp(ddof_version_string(), expected_version));
 }
 
 static void test_context(void)
@@ -158,37 +172,30 @@ static void test_context(void)
 
 static void test_null_pointers(void)
 {
-    call c = good_call();
-    c.ctx = NULL;
-    fill_sentinel();
-    ddof_status s = run_call(&c);
-    CHECK_EQ_INT(s, DDOF_ERROR_NULL_POINTER);
-    CHECK(out_untouched());
-
-    c = good_call();
-    c.params = NULL;
-    expect("params NULL", &c, DDOF_ERROR_NULL_POINTER);
-    c = good_call();
-    c.null_color = 1;
-    expect("color NULL", &c, DDOF_ERROR_NULL_POINTER);
-    c = good_call();
-    c.null_coc = 1;
-    expect("coc NULL", &c, DDOF_ERROR_NULL_POINTER);
-    c = good_call();
-    c.null_out = 1;
-    expect("out NULL", &c, DDOF_ERROR_NULL_POINTER);
-    c = good_call();
-    c.color.pixels = NULL;
-    expect("color pixels NULL", &c, DDOF_ERROR_NULL_POINTER);
-    c = good_call();
-    c.coc.pixels = NULL;
-    expect("coc pixels NULL", &c, DDOF_ERROR_NULL_POINTER);
-    c = good_call();
-    c.out.pixels = NULL;
-    fill_sentinel();
-    clear_error_by_success();
-    CHECK_EQ_INT(run_call(&c), DDOF_ERROR_NULL_POINTER);
-    CHECK(ddof_context_last_error(ctx)[0] != '\0');
+    /* No context: no message to check, only the status and the output. */
+    {
+        call c = good_call();
+        c.ctx = NULL;
+        fill_sentinel();
+        ddof_status s = run_call(&c);
+        CHECK_EQ_INT(s, DDOF_ERROR_NULL_POINTER);
+        CHECK(out_untouched());
+    }
+    BAD_CALL("params NULL", c.params = NULL, DDOF_ERROR_NULL_POINTER);
+    BAD_CALL("color NULL", c.null_color = 1, DDOF_ERROR_NULL_POINTER);
+    BAD_CALL("coc NULL", c.null_coc = 1, DDOF_ERROR_NULL_POINTER);
+    BAD_CALL("out NULL", c.null_out = 1, DDOF_ERROR_NULL_POINTER);
+    BAD_CALL("color pixels NULL", c.color.pixels = NULL, DDOF_ERROR_NULL_POINTER);
+    BAD_CALL("coc pixels NULL", c.coc.pixels = NULL, DDOF_ERROR_NULL_POINTER);
+    /* No output pixels: nothing to check for writes, only the status and the message. */
+    {
+        call c = good_call();
+        c.out.pixels = NULL;
+        fill_sentinel();
+        clear_error_by_success();
+        CHECK_EQ_INT(run_call(&c), DDOF_ERROR_NULL_POINTER);
+        CHECK(ddof_context_last_error(ctx)[0] != '\0');
+    }
 }
 
 /* Sizes: all three images agree, so the size itself is the only defect. The buffers are far
@@ -201,56 +208,32 @@ static void set_size(call *c, uint32_t w, uint32_t h)
 
 static void test_sizes(void)
 {
-    call c = good_call();
-    set_size(&c, 0, H);
-    expect("width 0", &c, DDOF_ERROR_BAD_SIZE);
-    c = good_call();
-    set_size(&c, W, 0);
-    expect("height 0", &c, DDOF_ERROR_BAD_SIZE);
-    c = good_call();
-    set_size(&c, DDOF_MAX_DIMENSION + 1, 1);
-    expect("width > max", &c, DDOF_ERROR_BAD_SIZE);
-    c = good_call();
-    set_size(&c, 1, DDOF_MAX_DIMENSION + 1);
-    expect("height > max", &c, DDOF_ERROR_BAD_SIZE);
-    c = good_call();
-    set_size(&c, DDOF_MAX_DIMENSION, DDOF_MAX_PIXELS / DDOF_MAX_DIMENSION + 1);
-    expect("width * height > max pixels", &c, DDOF_ERROR_BAD_SIZE);
-    c = good_call();
-    set_size(&c, UINT32_MAX, UINT32_MAX);
-    expect("width, height UINT32_MAX", &c, DDOF_ERROR_BAD_SIZE);
+    static const struct {
+        const char *what;
+        uint32_t w, h;
+    } sizes[] = {
+        {"width 0", 0, H},
+        {"height 0", W, 0},
+        {"width > max", DDOF_MAX_DIMENSION + 1, 1},
+        {"height > max", 1, DDOF_MAX_DIMENSION + 1},
+        {"width * height > max pixels", DDOF_MAX_DIMENSION,
+         DDOF_MAX_PIXELS / DDOF_MAX_DIMENSION + 1},
+        {"width, height UINT32_MAX", UINT32_MAX, UINT32_MAX},
+    };
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++)
+        BAD_CALL(sizes[i].what, set_size(&c, sizes[i].w, sizes[i].h), DDOF_ERROR_BAD_SIZE);
 
-    c = good_call();
-    c.color.channels = c.out.channels = 0;
-    expect("channels 0", &c, DDOF_ERROR_BAD_CHANNELS);
-    c = good_call();
-    c.color.channels = c.out.channels = 5;
-    expect("channels 5", &c, DDOF_ERROR_BAD_CHANNELS);
-    c = good_call();
-    c.coc.channels = 0;
-    expect("coc channels 0", &c, DDOF_ERROR_BAD_CHANNELS);
-    c = good_call();
-    c.coc.channels = 5;
-    expect("coc channels 5", &c, DDOF_ERROR_BAD_CHANNELS);
+    BAD_CALL("channels 0", c.color.channels = c.out.channels = 0, DDOF_ERROR_BAD_CHANNELS);
+    BAD_CALL("channels 5", c.color.channels = c.out.channels = 5, DDOF_ERROR_BAD_CHANNELS);
+    BAD_CALL("coc channels 0", c.coc.channels = 0, DDOF_ERROR_BAD_CHANNELS);
+    BAD_CALL("coc channels 5", c.coc.channels = 5, DDOF_ERROR_BAD_CHANNELS);
 
-    c = good_call();
-    c.coc.width = W - 1;
-    expect("coc narrower", &c, DDOF_ERROR_SIZE_MISMATCH);
-    c = good_call();
-    c.coc.height = H + 1;
-    expect("coc taller", &c, DDOF_ERROR_SIZE_MISMATCH);
-    c = good_call();
-    c.out.width = W + 1;
-    expect("out wider", &c, DDOF_ERROR_SIZE_MISMATCH);
-    c = good_call();
-    c.out.height = H - 1;
-    expect("out shorter", &c, DDOF_ERROR_SIZE_MISMATCH);
-    c = good_call();
-    c.out.channels = 3;
-    expect("out 3 channels, colour 4", &c, DDOF_ERROR_SIZE_MISMATCH);
-    c = good_call();
-    c.color.channels = 1;
-    expect("colour 1 channel, out 4", &c, DDOF_ERROR_SIZE_MISMATCH);
+    BAD_CALL("coc narrower", c.coc.width = W - 1, DDOF_ERROR_SIZE_MISMATCH);
+    BAD_CALL("coc taller", c.coc.height = H + 1, DDOF_ERROR_SIZE_MISMATCH);
+    BAD_CALL("out wider", c.out.width = W + 1, DDOF_ERROR_SIZE_MISMATCH);
+    BAD_CALL("out shorter", c.out.height = H - 1, DDOF_ERROR_SIZE_MISMATCH);
+    BAD_CALL("out 3 channels, colour 4", c.out.channels = 3, DDOF_ERROR_SIZE_MISMATCH);
+    BAD_CALL("colour 1 channel, out 4", c.color.channels = 1, DDOF_ERROR_SIZE_MISMATCH);
 }
 
 static void test_strides(void)
@@ -286,6 +269,17 @@ static void test_strides(void)
     CHECK_EQ_INT(run_call(&c), DDOF_OK);
 }
 
+/* The good call over inputs with a bad value planted (by the caller) at (27, 13) and at a later
+ * pixel: `want`, and the message names the first bad pixel. */
+static void expect_bad_pixel(const char *what, ddof_status want)
+{
+    call c = good_call();
+    expect(what, &c, want);
+    const char *msg = ddof_context_last_error(ctx);
+    CHECK_MSG(strstr(msg, "27") && strstr(msg, "13"),
+              "%s: message does not name the first bad pixel (27, 13): \"%s\"", what, msg);
+}
+
 static void test_bad_values(void)
 {
     static const struct { uint32_t x, y; } at = {27, 13}, later = {30, 20};
@@ -295,16 +289,13 @@ static void test_bad_values(void)
         reset_inputs();
         color_buf[(at.y * W + at.x) * CH + 2] = bad_color[i];
         color_buf[(later.y * W + later.x) * CH + 0] = bad_color[i];
-        call c = good_call();
         char what[64];
         snprintf(what, sizeof what, "colour %s", names[i]);
-        expect(what, &c, DDOF_ERROR_BAD_COLOR);
-        const char *msg = ddof_context_last_error(ctx);
-        CHECK_MSG(strstr(msg, "27") && strstr(msg, "13"),
-                  "%s: message does not name the first bad pixel (27, 13): \"%s\"", what, msg);
+        expect_bad_pixel(what, DDOF_ERROR_BAD_COLOR);
         /* In place, the colour (= output) buffer is untouched as well. */
         float saved[W * H * CH];
         memcpy(saved, color_buf, sizeof saved);
+        call c = good_call();
         c.out.pixels = color_buf;
         CHECK_EQ_INT(run_call(&c), DDOF_ERROR_BAD_COLOR);
         CHECK(!memcmp(saved, color_buf, sizeof saved));
@@ -356,13 +347,9 @@ static void test_bad_values(void)
         reset_inputs();
         coc_buf[at.y * W + at.x] = bad_coc[i];
         coc_buf[later.y * W + later.x] = bad_coc[i];
-        call c = good_call();
         char what[64];
         snprintf(what, sizeof what, "CoC %s", coc_names[i]);
-        expect(what, &c, DDOF_ERROR_BAD_COC);
-        const char *msg = ddof_context_last_error(ctx);
-        CHECK_MSG(strstr(msg, "27") && strstr(msg, "13"),
-                  "%s: message does not name the first bad pixel (27, 13): \"%s\"", what, msg);
+        expect_bad_pixel(what, DDOF_ERROR_BAD_COC);
     }
     /* Edge values that are valid: exactly the maximum, 0 and -0. */
     const float ok_coc[] = {DDOF_MAX_COC_PX, 0.0f, -0.0f};
@@ -399,7 +386,9 @@ static void test_params(void)
     } while (0)
     BAD_PARAM("params struct_size 0", p.struct_size = 0);
     BAD_PARAM("params struct_size 4", p.struct_size = 4);
-    BAD_PARAM("params struct_size sizeof - 1", p.struct_size = sizeof p - 1);
+    /* Smaller than the first version of the struct (0.1 ended before coc_signed). */
+    BAD_PARAM("params struct_size below version 0.1",
+              p.struct_size = offsetof(ddof_params, coc_signed) - 1);
     BAD_PARAM("solver COUNT_", p.solver = DDOF_SOLVER_COUNT_);
     BAD_PARAM("solver -1", p.solver = (ddof_solver)-1);
     BAD_PARAM("substeps 0", p.substeps = 0);
@@ -542,6 +531,15 @@ static void reset_depth(float v)
         color_buf[i] = v + 0.01f * (float)(i % 7);
 }
 
+/* The depth image (color_buf, 5 m) with `v` at pixel (27, 13), and the CoC image (coc_buf)
+ * reset to the sentinel so that any write shows. */
+static void plant_depth(float v)
+{
+    reset_depth(5.0f);
+    color_buf[13 * W + 27] = v;
+    memcpy(coc_buf, sentinel_buf, sizeof coc_buf);
+}
+
 static void test_camera(void)
 {
     ddof_camera cam;
@@ -552,9 +550,7 @@ static void test_camera(void)
     const float bad_depth[] = {NAN, 0.0f, -0.0f, -1.0f, -INFINITY};
     const char *names[] = {"NaN", "0", "-0", "-1", "-inf"};
     for (int i = 0; i < 5; i++) {
-        reset_depth(5.0f);
-        color_buf[13 * W + 27] = bad_depth[i];
-        memcpy(coc_buf, sentinel_buf, sizeof coc_buf);
+        plant_depth(bad_depth[i]);
         ddof_status s = ddof_coc_from_camera(ctx, &cam, &depth, &coc);
         CHECK_MSG(s == DDOF_ERROR_BAD_DEPTH, "camera, depth %s: status %d", names[i], (int)s);
         CHECK_MSG(coc_untouched(), "camera, depth %s: coc written", names[i]);
@@ -639,13 +635,7 @@ static void test_curve(void)
     reset_depth(5.0f);
 #define BAD_CURVE(what, stmt)                                                                  \
     do {                                                                                       \
-        ddof_curve_init(&cv);                                                                  \
-        cv.near_blur_px = 4;                                                                   \
-        cv.near_start = 1;                                                                     \
-        cv.near_end = 2;                                                                       \
-        cv.far_start = 10;                                                                     \
-        cv.far_end = 20;                                                                       \
-        cv.far_blur_px = 8;                                                                    \
+        cv = curve_of(4, 1, 2, 10, 20, 8);                                                     \
         CHECK_EQ_INT(ddof_coc_from_curve(ctx, &cv, &depth, &coc), DDOF_OK);                    \
         stmt;                                                                                  \
         memcpy(coc_buf, sentinel_buf, sizeof coc_buf);                                         \
@@ -670,9 +660,7 @@ static void test_curve(void)
     const float bad_depth[] = {NAN, -1.0f, -INFINITY};
     const char *names[] = {"NaN", "-1", "-inf"};
     for (int i = 0; i < 3; i++) {
-        reset_depth(5.0f);
-        color_buf[13 * W + 27] = bad_depth[i];
-        memcpy(coc_buf, sentinel_buf, sizeof coc_buf);
+        plant_depth(bad_depth[i]);
         ddof_status s = ddof_coc_from_curve(ctx, &cv, &depth, &coc);
         CHECK_MSG(s == DDOF_ERROR_BAD_DEPTH, "curve, depth %s: status %d", names[i], (int)s);
         CHECK_MSG(coc_untouched(), "curve, depth %s: coc written", names[i]);
@@ -729,13 +717,7 @@ static void test_depth_of_field(void)
 
 int main(void)
 {
-    ddof_context_options o;
-    ddof_context_options_init(&o);
-    o.thread_count = 2;
-    if (ddof_context_create(&o, &ctx) != DDOF_OK || !ctx) {
-        fprintf(stderr, "ddof_context_create failed\n");
-        return 2;
-    }
+    ctx = make_context(2);
     ddof_params_init(&good_params);
     reset_inputs();
     fill_sentinel();

@@ -13,6 +13,7 @@
  *    Z = r / sqrt(1 + (xs/f)^2 + (ys/f)^2). */
 #include "ddof.h"
 #include "test_util.h"
+#include "test_images.h"
 
 #include <float.h>
 #include <math.h>
@@ -21,16 +22,6 @@
 
 static ddof_context *ctx;
 static double worst_rel; /* measured, printed at the end */
-
-static float *alloc_f(size_t n)
-{
-    float *p = malloc((n ? n : 1) * sizeof(float));
-    if (!p) {
-        fprintf(stderr, "out of memory in the test\n");
-        exit(2);
-    }
-    return p;
-}
 
 /* c in mm on the sensor; Z, S1, f in mm. */
 static double cycles_mm(double f, double N, double S1, double Z)
@@ -128,6 +119,14 @@ static void check_camera_image(const char *what, const ddof_camera *cam, const f
     free(coc);
 }
 
+/* The lens part of a camera: focal length (mm), f-number, focus distance (m). */
+static void set_lens(ddof_camera *cam, double focal_mm, double fstop, double focus_m)
+{
+    cam->focal_length_mm = focal_mm;
+    cam->fstop = fstop;
+    cam->focus_distance_m = focus_m;
+}
+
 static void fill_depth(float *depth, size_t n, test_rng *rng, double lo, double hi)
 {
     for (size_t i = 0; i < n; i++)
@@ -167,9 +166,7 @@ static void test_lens_models(void)
 
     ddof_camera cam;
     ddof_camera_init(&cam);
-    cam.focal_length_mm = 100;
-    cam.fstop = 2;
-    cam.focus_distance_m = 2;
+    set_lens(&cam, 100, 2, 2);
     cam.sensor_width_mm = 36;
     cam.sensor_fit = DDOF_SENSOR_FIT_HORIZONTAL;
     check_camera_image("cycles, f100 N2 S1=2m", &cam, depth, w, h);
@@ -194,15 +191,11 @@ static void test_lens_models(void)
 
     /* Other cameras: a wide angle focused near, a long lens focused far, f/16. */
     cam.lens_model = DDOF_LENS_CYCLES;
-    cam.focal_length_mm = 24;
-    cam.fstop = 1.4;
-    cam.focus_distance_m = 0.5;
+    set_lens(&cam, 24, 1.4, 0.5);
     check_camera_image("cycles, f24 N1.4 S1=0.5m", &cam, depth, w, h);
     cam.lens_model = DDOF_LENS_THIN_LENS;
     check_camera_image("thin lens, f24 N1.4 S1=0.5m", &cam, depth, w, h);
-    cam.focal_length_mm = 300;
-    cam.fstop = 16;
-    cam.focus_distance_m = 50;
+    set_lens(&cam, 300, 16, 50);
     check_camera_image("thin lens, f300 N16 S1=50m", &cam, depth, w, h);
     cam.lens_model = DDOF_LENS_CYCLES;
     check_camera_image("cycles, f300 N16 S1=50m", &cam, depth, w, h);
@@ -305,9 +298,7 @@ static void test_radial(void)
     depth[0] = 10.0f; /* corner: radial 10 m is planar ~7.2 m, a clearly different CoC */
     ddof_camera cam;
     ddof_camera_init(&cam);
-    cam.focal_length_mm = 20; /* wide: corners at ~45 degrees, radial != planar by ~1.4x */
-    cam.focus_distance_m = 3;
-    cam.fstop = 2;
+    set_lens(&cam, 20, 2, 3); /* wide: corners at ~45 degrees, radial != planar by ~1.4x */
     const ddof_sensor_fit fits[] = {DDOF_SENSOR_FIT_HORIZONTAL, DDOF_SENSOR_FIT_VERTICAL};
     for (int f = 0; f < 2; f++) {
         cam.sensor_fit = fits[f];
@@ -360,9 +351,7 @@ static void test_clamp(void)
     float color[4] = {1, 0, 0, 1}, out[4];
     ddof_params p;
     ddof_params_init(&p);
-    ddof_image_in ci = {color, w, 1, 1, 0}, zi = {coc, w, 1, 1, 0};
-    ddof_image oi = {out, w, 1, 1, 0};
-    CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &oi, NULL), DDOF_OK);
+    CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, 1, 1, NULL), DDOF_OK);
 }
 
 /* depth with several channels (only the first is read: the others hold NaN), padded strides on
@@ -374,13 +363,11 @@ static void test_layout(void)
     const size_t dstride = w * dch + 5, cstride = w + 3; /* in floats */
     float *depth = alloc_f(dstride * h), *coc = alloc_f(cstride * h);
     float *plain = alloc_f((size_t)w * h), *ref = alloc_f((size_t)w * h);
-    for (size_t i = 0; i < dstride * h; i++)
-        depth[i] = NAN;
+    fill_const(depth, dstride * h, NAN);
     for (uint32_t y = 0; y < h; y++)
         for (uint32_t x = 0; x < w; x++)
             plain[y * w + x] = depth[y * dstride + x * dch] = (float)(1 + 40 * test_uniform(&rng));
-    for (size_t i = 0; i < cstride * h; i++)
-        coc[i] = -123.0f;
+    fill_const(coc, cstride * h, -123.0f);
     ddof_camera cam;
     ddof_camera_init(&cam);
     ddof_image_in di = {depth, w, h, dch, dstride * 4};
@@ -389,28 +376,17 @@ static void test_layout(void)
     CHECK_MSG(s == DDOF_OK, "3-channel padded depth: %d (%s)", (int)s,
               ddof_context_last_error(ctx));
     CHECK_EQ_INT(coc_from_camera(&cam, plain, ref, w, h), DDOF_OK);
-    size_t diff = 0, pad = 0;
-    for (uint32_t y = 0; y < h; y++) {
-        if (memcmp(coc + y * cstride, ref + (size_t)y * w, w * 4))
-            diff++;
-        for (size_t i = w; i < cstride; i++)
-            if (coc[y * cstride + i] != -123.0f)
-                pad++;
-    }
+    size_t diff = padded_rows_differ(coc, cstride, ref, w, h);
+    size_t pad = padding_changed(coc, cstride, w, h, -123.0f);
     CHECK_MSG(diff == 0, "%zu rows differ between padded 3-channel and plain depth", diff);
     CHECK_MSG(pad == 0, "%zu padding floats of the CoC overwritten", pad);
 
     /* The curve too. */
     ddof_curve cv;
     ddof_curve_init(&cv);
-    for (size_t i = 0; i < cstride * h; i++)
-        coc[i] = -123.0f;
+    fill_const(coc, cstride * h, -123.0f);
     CHECK_EQ_INT(ddof_coc_from_curve(ctx, &cv, &di, &ci), DDOF_OK);
-    pad = 0;
-    for (uint32_t y = 0; y < h; y++)
-        for (size_t i = w; i < cstride; i++)
-            if (coc[y * cstride + i] != -123.0f)
-                pad++;
+    pad = padding_changed(coc, cstride, w, h, -123.0f);
     CHECK_EQ_INT(pad, 0);
     free(depth);
     free(coc);
@@ -420,14 +396,7 @@ static void test_layout(void)
 
 static void test_curve(void)
 {
-    ddof_curve cv;
-    ddof_curve_init(&cv);
-    cv.near_blur_px = 8;
-    cv.near_start = 1;
-    cv.near_end = 2;
-    cv.far_start = 5;
-    cv.far_end = 10;
-    cv.far_blur_px = 20;
+    ddof_curve cv = curve_of(8, 1, 2, 5, 10, 20);
     const float depth[] = {0.0f, 0.5f, 1.0f, 1.25f, 1.5f, 2.0f, 3.0f, 5.0f,
                            6.0f, 7.5f, 10.0f, 11.0f, 1e6f, 1e30f, INFINITY};
     const double want[] = {8, 8, 8, 6, 4, 0, 0, 0, 4, 10, 20, 20, 20, 20, 20};
@@ -452,10 +421,7 @@ static void test_curve(void)
                   (double)coc[i], want_default[i]);
 
     /* Steps: near_start == near_end and far_start == far_end. */
-    cv.near_blur_px = 3;
-    cv.near_start = cv.near_end = 2;
-    cv.far_start = cv.far_end = 6;
-    cv.far_blur_px = 9;
+    cv = curve_of(3, 2, 2, 6, 6, 9);
     const float sd[] = {0.0f, 1.999f, 2.001f, 5.999f, 6.001f, INFINITY};
     const double sw[] = {3, 3, 0, 0, 9, 9};
     float so[6];
@@ -491,11 +457,9 @@ static void test_depth_of_field(void)
     ddof_params p;
     ddof_params_init(&p);
     p.substeps = 2;
-    ddof_image_in ci = {color, w, h, ch, 0}, di = {depth, w, h, 1, 0}, zi = {coc, w, h, 1, 0};
-    ddof_image oa = {a, w, h, ch, 0}, ob = {b, w, h, ch, 0}, cz = {coc, w, h, 1, 0};
-    ddof_stats st;
-    memset(&st, 0, sizeof st);
-    st.struct_size = sizeof st;
+    ddof_image_in ci = {color, w, h, ch, 0}, di = {depth, w, h, 1, 0};
+    ddof_image oa = {a, w, h, ch, 0}, cz = {coc, w, h, 1, 0};
+    ddof_stats st = stats_init();
     CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oa, &st), DDOF_OK);
     CHECK_EQ_INT(ddof_coc_from_camera(ctx, &cam, &di, &cz), DDOF_OK);
     float maxc = 0;
@@ -505,11 +469,11 @@ static void test_depth_of_field(void)
               (double)st.max_coc_px, (double)maxc);
     CHECK(st.seconds_coc >= 0 && st.seconds_coc <= st.seconds_total + 1e-6);
     p.pixel_aspect = 1.5f;
-    CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &ob, NULL), DDOF_OK);
+    CHECK_EQ_INT(diffuse(ctx, &p, color, coc, b, w, h, ch, NULL), DDOF_OK);
     CHECK_MSG(!memcmp(a, b, px * ch * sizeof(float)),
               "depth_of_field differs from coc_from_camera + diffuse(pixel_aspect 1.5)");
     p.pixel_aspect = 1.0f;
-    CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &ob, NULL), DDOF_OK);
+    CHECK_EQ_INT(diffuse(ctx, &p, color, coc, b, w, h, ch, NULL), DDOF_OK);
     CHECK_MSG(memcmp(a, b, px * ch * sizeof(float)) != 0,
               "pixel aspect of the camera had no effect");
     free(color);

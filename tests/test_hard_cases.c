@@ -7,6 +7,7 @@
  * about a 10x margin; DDOF_TEST_VERBOSE=1 prints the measured errors. */
 #include "ddof.h"
 #include "test_util.h"
+#include "test_images.h"
 
 #include <float.h>
 #include <math.h>
@@ -16,7 +17,7 @@
 /* Exact float solvers vs REFERENCE_F64, colour in [0, 1]; measured <= 3e-7 on lines up to
  * 257 px (Thomas, CR, PCR). */
 #define TOL_FLOAT_VS_F64 3e-6
-/* Long lines (4096 px) at beta 1e8: measured <= 2.4e-7 (Thomas, which carries its running
+/* Long lines (4096 px) at beta 1e8: measured <= 6.6e-7 (Thomas, which carries its running
  * value in double; 3.5e-5 before it did), CR and PCR <= 2e-7. */
 #define TOL_FLOAT_VS_F64_LONG 3e-6
 /* REFERENCE_F64 vs the independent double ADI (float output rounding dominates); measured
@@ -24,39 +25,6 @@
 #define TOL_F64_VS_DOUBLE 5e-7
 
 static int verbose;
-
-static float *alloc_f(size_t n)
-{
-    float *p = malloc((n ? n : 1) * sizeof(float));
-    if (!p) {
-        fprintf(stderr, "out of memory in the test\n");
-        exit(2);
-    }
-    return p;
-}
-
-static ddof_status diffuse(ddof_context *ctx, const ddof_params *params, const float *color,
-                          const float *coc, float *out, uint32_t w, uint32_t h, uint32_t c)
-{
-    ddof_image_in ci = {color, w, h, c, 0};
-    ddof_image_in zi = {coc, w, h, 1, 0};
-    ddof_image oi = {out, w, h, c, 0};
-    return ddof_diffuse(ctx, params, &ci, &zi, &oi, NULL);
-}
-
-static void fill_uniform(float *p, size_t n, test_rng *rng, double lo, double hi)
-{
-    for (size_t i = 0; i < n; i++)
-        p[i] = (float)(lo + (hi - lo) * test_uniform(rng));
-}
-
-static double max_abs_diff_ff(const float *a, const float *b, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++)
-        m = fmax(m, fabs((double)a[i] - (double)b[i]));
-    return m;
-}
 
 /* All outputs finite and within the input's [min, max] (over all channels; a few ulps slack). */
 static int in_range(const float *in, const float *out, size_t n)
@@ -73,59 +41,11 @@ static int in_range(const float *in, const float *out, size_t n)
     return 1;
 }
 
-/* The independent double ADI of test_invariants.c (DESIGN.md section 1, excess-form Thomas). */
-static void ref_line(uint32_t n, const double *beta, double *v, double *m, double *dp)
+/* Each value `a` with probability `frac`, else `b` (one draw per value): sparse masks. */
+static void fill_choice(float *p, size_t n, test_rng *rng, double frac, float a, float b)
 {
-    double e = 0, w;
-    for (uint32_t i = 0; i < n; i++) {
-        w = i ? beta[i - 1] / m[i - 1] : 0.0;
-        e = 1.0 + w * e;
-        m[i] = e + beta[i];
-        dp[i] = v[i] + (i ? w * dp[i - 1] : 0.0);
-    }
-    v[n - 1] = dp[n - 1] / m[n - 1];
-    for (uint32_t i = n - 1; i-- > 0;)
-        v[i] = (dp[i] + beta[i] * v[i + 1]) / m[i];
-}
-
-static void ref_adi(double *img, const float *coc, uint32_t w, uint32_t h, uint32_t ch,
-                    double k, uint32_t substeps)
-{
-    uint32_t nmax = w > h ? w : h;
-    double *beta = malloc(nmax * sizeof(double)), *v = malloc(nmax * sizeof(double));
-    double *m = malloc(nmax * sizeof(double)), *dp = malloc(nmax * sizeof(double));
-    for (uint32_t s = 0; s < substeps; s++) {
-        for (uint32_t y = 0; y < h; y++) {
-            for (uint32_t x = 0; x < w; x++) {
-                double d = x + 1 < w ? fmin(coc[y * w + x], coc[y * w + x + 1]) : 0.0;
-                beta[x] = k * d * d / substeps;
-            }
-            for (uint32_t c = 0; c < ch; c++) {
-                for (uint32_t x = 0; x < w; x++)
-                    v[x] = img[((size_t)y * w + x) * ch + c];
-                ref_line(w, beta, v, m, dp);
-                for (uint32_t x = 0; x < w; x++)
-                    img[((size_t)y * w + x) * ch + c] = v[x];
-            }
-        }
-        for (uint32_t x = 0; x < w; x++) {
-            for (uint32_t y = 0; y < h; y++) {
-                double d = y + 1 < h ? fmin(coc[y * w + x], coc[(y + 1) * w + x]) : 0.0;
-                beta[y] = k * d * d / substeps;
-            }
-            for (uint32_t c = 0; c < ch; c++) {
-                for (uint32_t y = 0; y < h; y++)
-                    v[y] = img[((size_t)y * w + x) * ch + c];
-                ref_line(h, beta, v, m, dp);
-                for (uint32_t y = 0; y < h; y++)
-                    img[((size_t)y * w + x) * ch + c] = v[y];
-            }
-        }
-    }
-    free(beta);
-    free(v);
-    free(m);
-    free(dp);
+    for (size_t i = 0; i < n; i++)
+        p[i] = test_uniform(rng) < frac ? a : b;
 }
 
 static const ddof_solver exact_solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
@@ -134,46 +54,40 @@ static const ddof_solver exact_solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCL
 static double worst_float_err, worst_float_err_long, worst_f64_err; /* measured, reported */
 
 /* Runs REFERENCE_F64 (checked against the independent double ADI) and every exact float solver
- * (checked against REFERENCE_F64, in range, finite) on one case. `scale` is the colour range. */
-static void check_case_tol(ddof_context *ctx, const char *name, const float *color,
-                           const float *coc, uint32_t w, uint32_t h, uint32_t ch,
-                           float beta_scale, uint32_t substeps, double scale, double tol)
+ * (checked against REFERENCE_F64, in range, finite) on one case; im->out is scratch. `scale` is
+ * the colour range. */
+static void check_case_tol(ddof_context *ctx, const char *name, test_image *im, float beta_scale,
+                           uint32_t substeps, double scale, double tol)
 {
-    const size_t n = (size_t)w * h * ch;
-    float *ref = alloc_f(n), *out = alloc_f(n);
+    const size_t n = im->n;
+    float *ref = alloc_f(n);
     double *dref = malloc(n * sizeof(double));
-    ddof_params p;
-    ddof_params_init(&p);
+    ddof_params p = params_for(DDOF_SOLVER_REFERENCE_F64, substeps);
     p.beta_scale = beta_scale;
-    p.substeps = substeps;
-    p.solver = DDOF_SOLVER_REFERENCE_F64;
-    ddof_status s = diffuse(ctx, &p, color, coc, ref, w, h, ch);
+    ddof_status s = diffuse(ctx, &p, im->color, im->coc, ref, im->w, im->h, im->ch, NULL);
     CHECK_MSG(s == DDOF_OK, "%s: reference status %d (%s)", name, (int)s,
               ddof_context_last_error(ctx));
     for (size_t i = 0; i < n; i++)
-        dref[i] = color[i];
-    ref_adi(dref, coc, w, h, ch, beta_scale, substeps);
-    double e64 = 0;
-    for (size_t i = 0; i < n; i++)
-        e64 = fmax(e64, fabs((double)ref[i] - dref[i]));
-    e64 /= scale;
+        dref[i] = im->color[i];
+    ref_adi(dref, im->coc, im->w, im->h, im->ch, beta_scale, 1.0, substeps);
+    double e64 = max_abs_diff_fd(ref, dref, n) / scale;
     worst_f64_err = fmax(worst_f64_err, e64);
     CHECK_MSG(e64 <= TOL_F64_VS_DOUBLE, "%s: REFERENCE_F64 vs double ADI %.3g", name, e64);
-    CHECK_MSG(in_range(color, ref, n), "%s: REFERENCE_F64 out of range or not finite", name);
+    CHECK_MSG(in_range(im->color, ref, n), "%s: REFERENCE_F64 out of range or not finite", name);
     for (int i = 0; i < 3; i++) {
         p.solver = exact_solvers[i];
-        s = diffuse(ctx, &p, color, coc, out, w, h, ch);
+        s = image_diffuse(ctx, &p, im, NULL);
         CHECK_MSG(s == DDOF_OK, "%s/%s: status %d (%s)", name, ddof_solver_name(p.solver), (int)s,
                   ddof_context_last_error(ctx));
-        double e = max_abs_diff_ff(out, ref, n) / scale;
+        double e = max_abs_diff_ff(im->out, ref, n) / scale;
         if (tol > TOL_FLOAT_VS_F64)
             worst_float_err_long = fmax(worst_float_err_long, e);
         else
             worst_float_err = fmax(worst_float_err, e);
         CHECK_MSG(e <= tol, "%s/%s vs reference: %.3g (relative to range)", name,
                   ddof_solver_name(p.solver), e);
-        CHECK_MSG(in_range(color, out, n), "%s/%s: output out of range or not finite", name,
-                  ddof_solver_name(p.solver));
+        CHECK_MSG(in_range(im->color, im->out, n), "%s/%s: output out of range or not finite",
+                  name, ddof_solver_name(p.solver));
         if (verbose)
             printf("  %-28s %-7s err %.3g   f64 vs double %.3g\n", name,
                    ddof_solver_name(p.solver), e, e64);
@@ -181,167 +95,145 @@ static void check_case_tol(ddof_context *ctx, const char *name, const float *col
     /* Jacobi is approximate but each sweep is a convex combination: in range, finite. */
     p.solver = DDOF_SOLVER_JACOBI;
     p.jacobi_iterations = 7;
-    CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch), DDOF_OK);
-    CHECK_MSG(in_range(color, out, n), "%s/jacobi: output out of range or not finite", name);
+    CHECK_EQ_INT(image_diffuse(ctx, &p, im, NULL), DDOF_OK);
+    CHECK_MSG(in_range(im->color, im->out, n), "%s/jacobi: output out of range or not finite",
+              name);
     free(ref);
-    free(out);
     free(dref);
 }
 
-static void check_case(ddof_context *ctx, const char *name, const float *color, const float *coc,
-                       uint32_t w, uint32_t h, uint32_t ch, float beta_scale, uint32_t substeps,
-                       double scale)
+static void check_case(ddof_context *ctx, const char *name, test_image *im, float beta_scale,
+                       uint32_t substeps, double scale)
 {
-    check_case_tol(ctx, name, color, coc, w, h, ch, beta_scale, substeps, scale,
-                   TOL_FLOAT_VS_F64);
+    check_case_tol(ctx, name, im, beta_scale, substeps, scale, TOL_FLOAT_VS_F64);
 }
 
 /* Output must equal input bitwise for every solver (no conductive link anywhere). */
-static void check_identity(ddof_context *ctx, const char *name, const float *color,
-                           const float *coc, uint32_t w, uint32_t h, uint32_t ch)
+static void check_identity(ddof_context *ctx, const char *name, test_image *im)
 {
-    const size_t n = (size_t)w * h * ch;
-    float *out = alloc_f(n);
     for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
-        ddof_params p;
-        ddof_params_init(&p);
-        p.solver = (ddof_solver)solver;
-        p.substeps = 2;
+        ddof_params p = params_for((ddof_solver)solver, 2);
         p.beta_scale = 1.0f;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch), DDOF_OK);
-        CHECK_MSG(!memcmp(color, out, n * sizeof(float)), "%s/%s: output differs from input",
-                  name, ddof_solver_name(p.solver));
+        CHECK_EQ_INT(image_diffuse(ctx, &p, im, NULL), DDOF_OK);
+        CHECK_MSG(!memcmp(im->color, im->out, im->n * sizeof(float)),
+                  "%s/%s: output differs from input", name, ddof_solver_name(p.solver));
     }
-    free(out);
 }
 
 static void test_huge_coc(ddof_context *ctx)
 {
     test_rng rng = {0xC0C};
-    const uint32_t w = test_quick() ? 33 : 64, h = test_quick() ? 24 : 48, ch = 3;
-    const size_t px = (size_t)w * h;
-    float *color = alloc_f(px * ch), *coc = alloc_f(px);
-    fill_uniform(color, px * ch, &rng, 0.0, 1.0);
+    const uint32_t w = test_quick() ? 33 : 64, h = test_quick() ? 24 : 48;
+    test_image im = image_alloc(w, h, 3);
+    fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
     const float scales[] = {DDOF_DEFAULT_BETA_SCALE, 1.0f}; /* beta ~3e6 and ~1e8 */
     for (int si = 0; si < 2; si++) {
         char name[64];
-        for (size_t i = 0; i < px; i++)
-            coc[i] = 10000.0f;
+        fill_const(im.coc, im.px, 10000.0f);
         snprintf(name, sizeof name, "uniform 1e4, k=%g", (double)scales[si]);
-        check_case(ctx, name, color, coc, w, h, ch, scales[si], 1, 1.0);
-        for (size_t i = 0; i < px; i++)
-            coc[i] = test_uniform(&rng) < 0.2 ? 0.0f : (float)(10000.0 * test_uniform(&rng));
+        check_case(ctx, name, &im, scales[si], 1, 1.0);
+        fill_coc(im.coc, im.px, &rng, 10000.0, 0.2);
         snprintf(name, sizeof name, "random 0..1e4, k=%g", (double)scales[si]);
-        check_case(ctx, name, color, coc, w, h, ch, scales[si], 1, 1.0);
+        check_case(ctx, name, &im, scales[si], 1, 1.0);
         snprintf(name, sizeof name, "random 0..1e4, n=4, k=%g", (double)scales[si]);
-        check_case(ctx, name, color, coc, w, h, ch, scales[si], 4, 1.0);
-        for (size_t i = 0; i < px; i++)
-            coc[i] = test_uniform(&rng) < 0.5 ? 0.0f : 10000.0f;
+        check_case(ctx, name, &im, scales[si], 4, 1.0);
+        fill_choice(im.coc, im.px, &rng, 0.5, 0.0f, 10000.0f);
         snprintf(name, sizeof name, "mix 0/1e4, k=%g", (double)scales[si]);
-        check_case(ctx, name, color, coc, w, h, ch, scales[si], 1, 1.0);
+        check_case(ctx, name, &im, scales[si], 1, 1.0);
         /* Huge and tiny links side by side: CoC alternating 1e4 and 0.01 per 3-pixel block. */
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++)
-                coc[y * w + x] = ((x / 3 + y / 3) % 2) ? 10000.0f : 0.01f;
+                im.coc[y * w + x] = ((x / 3 + y / 3) % 2) ? 10000.0f : 0.01f;
         snprintf(name, sizeof name, "blocks 1e4/0.01, k=%g", (double)scales[si]);
-        check_case(ctx, name, color, coc, w, h, ch, scales[si], 1, 1.0);
+        check_case(ctx, name, &im, scales[si], 1, 1.0);
     }
+    image_free(&im);
     /* Long lines (a 4K row and a 4K column) at beta 3e6 and 1e8. */
     {
         const uint32_t n = 4096;
-        float *line = alloc_f(n), *lc = alloc_f(n);
-        for (uint32_t i = 0; i < n; i++)
-            lc[i] = 10000.0f;
+        test_image row = image_alloc(n, 1, 1), col = image_alloc(1, n, 1);
+        fill_const(row.coc, n, 10000.0f);
+        fill_const(col.coc, n, 10000.0f);
         /* The error depends on the data: several random fills and a step. */
         for (int fill = 0; fill < 4; fill++) {
             if (fill < 3)
-                fill_uniform(line, n, &rng, 0.0, 1.0);
+                fill_uniform(row.color, n, &rng, 0.0, 1.0);
             else
                 for (uint32_t i = 0; i < n; i++)
-                    line[i] = i < n / 2 ? 1.0f : 0.0f;
+                    row.color[i] = i < n / 2 ? 1.0f : 0.0f;
+            memcpy(col.color, row.color, n * sizeof(float)); /* the same data as a column */
             for (int si = 0; si < 2; si++) {
                 char name[64];
                 snprintf(name, sizeof name, "4096x1 #%d CoC 1e4, k=%g", fill, (double)scales[si]);
-                check_case_tol(ctx, name, line, lc, n, 1, 1, scales[si], 1, 1.0,
-                               TOL_FLOAT_VS_F64_LONG);
+                check_case_tol(ctx, name, &row, scales[si], 1, 1.0, TOL_FLOAT_VS_F64_LONG);
                 snprintf(name, sizeof name, "1x4096 #%d CoC 1e4, k=%g", fill, (double)scales[si]);
-                check_case_tol(ctx, name, line, lc, 1, n, 1, scales[si], 1, 1.0,
-                               TOL_FLOAT_VS_F64_LONG);
+                check_case_tol(ctx, name, &col, scales[si], 1, 1.0, TOL_FLOAT_VS_F64_LONG);
             }
         }
-        free(line);
-        free(lc);
+        image_free(&row);
+        image_free(&col);
     }
     /* Huge uniform CoC on a single row: the row's mean, up to O(n^2 / beta). */
     {
         const uint32_t n = 100;
-        float *row = alloc_f(n), *rc = alloc_f(n), *out = alloc_f(n);
+        test_image row = image_alloc(n, 1, 1);
+        fill_uniform(row.color, n, &rng, 0.0, 1.0);
+        fill_const(row.coc, n, 10000.0f);
         double mean = 0;
-        for (uint32_t i = 0; i < n; i++) {
-            row[i] = (float)test_uniform(&rng);
-            rc[i] = 10000.0f;
-            mean += row[i] / n;
-        }
+        for (uint32_t i = 0; i < n; i++)
+            mean += row.color[i] / n;
         ddof_params p;
         ddof_params_init(&p);
         p.beta_scale = 1.0f; /* beta = 1e8, n^2 / beta = 1e-4 */
         for (int i = 0; i < 3; i++) {
             p.solver = exact_solvers[i];
-            CHECK_EQ_INT(diffuse(ctx, &p, row, rc, out, n, 1, 1), DDOF_OK);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &row, NULL), DDOF_OK);
             double e = 0;
             for (uint32_t j = 0; j < n; j++)
-                e = fmax(e, fabs(out[j] - mean));
+                e = fmax(e, fabs(row.out[j] - mean));
             CHECK_MSG(e <= 1e-4, "%s: a 1e4-px CoC row is not flat: %.3g from the mean",
                       ddof_solver_name(p.solver), e);
         }
-        free(row);
-        free(rc);
-        free(out);
+        image_free(&row);
     }
-    free(color);
-    free(coc);
 }
 
 static void test_insulators(ddof_context *ctx)
 {
     test_rng rng = {3};
     const uint32_t w = 37, h = 29, ch = 4;
-    const size_t px = (size_t)w * h;
-    float *color = alloc_f(px * ch), *coc = alloc_f(px);
-    fill_uniform(color, px * ch, &rng, -5.0, 5.0);
+    test_image im = image_alloc(w, h, ch);
+    float *coc = im.coc;
+    fill_uniform(im.color, im.n, &rng, -5.0, 5.0);
     /* Checkerboard 0 / 1e4: every link has a 0 end, so nothing moves. */
     for (uint32_t y = 0; y < h; y++)
         for (uint32_t x = 0; x < w; x++)
             coc[y * w + x] = ((x + y) % 2) ? 10000.0f : 0.0f;
-    check_identity(ctx, "checkerboard 0/1e4", color, coc, w, h, ch);
+    check_identity(ctx, "checkerboard 0/1e4", &im);
     /* One blurred pixel in a sharp image: it has no partner, nothing moves. */
-    for (size_t i = 0; i < px; i++)
-        coc[i] = 0.0f;
+    fill_const(coc, im.px, 0.0f);
     coc[(h / 2) * w + w / 2] = 10000.0f;
-    check_identity(ctx, "single CoC pixel", color, coc, w, h, ch);
+    check_identity(ctx, "single CoC pixel", &im);
     /* ... two adjacent blurred pixels average (almost exactly, beta = 1e8). */
     coc[(h / 2) * w + w / 2 + 1] = 10000.0f;
-    check_case(ctx, "two CoC pixels", color, coc, w, h, ch, 1.0f, 1, 10.0);
+    check_case(ctx, "two CoC pixels", &im, 1.0f, 1, 10.0);
     {
-        float *out = alloc_f(px * ch);
         ddof_params p;
         ddof_params_init(&p);
         p.beta_scale = 1.0f;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         size_t i0 = ((size_t)(h / 2) * w + w / 2) * ch, i1 = i0 + ch;
         for (uint32_t c = 0; c < ch; c++) {
-            double mean = 0.5 * ((double)color[i0 + c] + color[i1 + c]);
-            CHECK_NEAR(out[i0 + c], mean, 1e-6);
-            CHECK_NEAR(out[i1 + c], mean, 1e-6);
+            double mean = 0.5 * ((double)im.color[i0 + c] + im.color[i1 + c]);
+            CHECK_NEAR(im.out[i0 + c], mean, 1e-6);
+            CHECK_NEAR(im.out[i1 + c], mean, 1e-6);
         }
-        free(out);
     }
     /* Tiny CoC (beta underflows or is denormal in float): finite, in range, near identity. */
-    for (size_t i = 0; i < px; i++)
+    for (size_t i = 0; i < im.px; i++)
         coc[i] = (i % 3) ? 1e-20f : 1e-3f;
-    check_case(ctx, "tiny CoC", color, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, 1, 10.0);
-    free(color);
-    free(coc);
+    check_case(ctx, "tiny CoC", &im, DDOF_DEFAULT_BETA_SCALE, 1, 10.0);
+    image_free(&im);
 }
 
 static void test_sizes(ddof_context *ctx)
@@ -361,84 +253,62 @@ static void test_sizes(ddof_context *ctx)
             h = 33;
         }
         const uint32_t ch = 1 + t % 4;
-        const size_t px = (size_t)w * h;
-        float *color = alloc_f(px * ch), *coc = alloc_f(px);
-        fill_uniform(color, px * ch, &rng, 0.0, 1.0);
+        test_image im = image_alloc(w, h, ch);
+        fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
         char name[64];
-        for (size_t i = 0; i < px; i++)
-            coc[i] = (float)(30.0 * test_uniform(&rng));
+        fill_uniform(im.coc, im.px, &rng, 0.0, 30.0);
         snprintf(name, sizeof name, "%ux%ux%u CoC<30", w, h, ch);
-        check_case(ctx, name, color, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, 2, 1.0);
-        for (size_t i = 0; i < px; i++)
-            coc[i] = 10000.0f;
+        check_case(ctx, name, &im, DDOF_DEFAULT_BETA_SCALE, 2, 1.0);
+        fill_const(im.coc, im.px, 10000.0f);
         snprintf(name, sizeof name, "%ux%ux%u CoC 1e4", w, h, ch);
-        check_case(ctx, name, color, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, 1, 1.0);
+        check_case(ctx, name, &im, DDOF_DEFAULT_BETA_SCALE, 1, 1.0);
         if (w == 1 && h == 1)
-            check_identity(ctx, "1x1", color, coc, w, h, ch);
-        free(color);
-        free(coc);
+            check_identity(ctx, "1x1", &im);
+        image_free(&im);
     }
 }
 
 static void test_max_coc(ddof_context *ctx)
 {
     test_rng rng = {17};
-    const uint32_t w = 40, h = 30, ch = 2;
-    const size_t px = (size_t)w * h;
-    float *color = alloc_f(px * ch), *coc = alloc_f(px);
-    fill_uniform(color, px * ch, &rng, 0.0, 1.0);
-    for (size_t i = 0; i < px; i++)
-        coc[i] = DDOF_MAX_COC_PX;
+    test_image im = image_alloc(40, 30, 2);
+    fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
+    fill_const(im.coc, im.px, DDOF_MAX_COC_PX);
     /* beta = 3.1e8 (k = 1/32) and 1e10 (k = 1). */
-    check_case(ctx, "CoC = MAX, k=1/32", color, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, 1, 1.0);
-    check_case(ctx, "CoC = MAX, k=1", color, coc, w, h, ch, 1.0f, 1, 1.0);
-    for (size_t i = 0; i < px; i++)
-        coc[i] = test_uniform(&rng) < 0.3 ? 0.0f : DDOF_MAX_COC_PX;
-    check_case(ctx, "CoC 0/MAX, k=1", color, coc, w, h, ch, 1.0f, 3, 1.0);
-    free(color);
-    free(coc);
+    check_case(ctx, "CoC = MAX, k=1/32", &im, DDOF_DEFAULT_BETA_SCALE, 1, 1.0);
+    check_case(ctx, "CoC = MAX, k=1", &im, 1.0f, 1, 1.0);
+    fill_choice(im.coc, im.px, &rng, 0.3, 0.0f, DDOF_MAX_COC_PX);
+    check_case(ctx, "CoC 0/MAX, k=1", &im, 1.0f, 3, 1.0);
+    image_free(&im);
 }
 
 static void test_hdr(ddof_context *ctx)
 {
     test_rng rng = {23};
-    const uint32_t w = 80, h = 60, ch = 4;
-    const size_t px = (size_t)w * h;
-    float *color = alloc_f(px * ch), *coc = alloc_f(px);
+    test_image im = image_alloc(80, 60, 4);
+    float *color = im.color;
     /* Sparse 1e4 highlights on black. */
-    for (size_t i = 0; i < px * ch; i++)
-        color[i] = test_uniform(&rng) < 0.02 ? 1e4f : 0.0f;
-    for (size_t i = 0; i < px; i++)
-        coc[i] = (float)(40.0 * test_uniform(&rng));
-    check_case(ctx, "HDR 1e4 on 0", color, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, 2, 1e4);
-    for (size_t i = 0; i < px; i++)
-        coc[i] = 10000.0f;
-    check_case(ctx, "HDR 1e4 on 0, CoC 1e4", color, coc, w, h, ch, 1.0f, 1, 1e4);
+    fill_choice(color, im.n, &rng, 0.02, 1e4f, 0.0f);
+    fill_uniform(im.coc, im.px, &rng, 0.0, 40.0);
+    check_case(ctx, "HDR 1e4 on 0", &im, DDOF_DEFAULT_BETA_SCALE, 2, 1e4);
+    fill_const(im.coc, im.px, 10000.0f);
+    check_case(ctx, "HDR 1e4 on 0, CoC 1e4", &im, 1.0f, 1, 1e4);
     /* Values up to 1e20 with beta 1e8: no intermediate may overflow. */
-    for (size_t i = 0; i < px * ch; i++)
+    for (size_t i = 0; i < im.n; i++)
         color[i] = test_uniform(&rng) < 0.1 ? 1e20f : (float)test_uniform(&rng);
-    check_case(ctx, "values 1e20, CoC 1e4", color, coc, w, h, ch, 1.0f, 1, 1e20);
+    check_case(ctx, "values 1e20, CoC 1e4", &im, 1.0f, 1, 1e20);
     /* Negative (signed) values are colour too. */
-    for (size_t i = 0; i < px * ch; i++)
+    for (size_t i = 0; i < im.n; i++)
         color[i] = (float)(1e4 * (test_uniform(&rng) - 0.5));
-    for (size_t i = 0; i < px; i++)
-        coc[i] = (float)(2000.0 * test_uniform(&rng));
-    check_case(ctx, "signed 1e4", color, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, 1, 1e4);
-    free(color);
-    free(coc);
+    fill_uniform(im.coc, im.px, &rng, 0.0, 2000.0);
+    check_case(ctx, "signed 1e4", &im, DDOF_DEFAULT_BETA_SCALE, 1, 1e4);
+    image_free(&im);
 }
 
 int main(void)
 {
     verbose = getenv("DDOF_TEST_VERBOSE") != NULL;
-    ddof_context *ctx = NULL;
-    ddof_context_options options;
-    ddof_context_options_init(&options);
-    options.thread_count = 2;
-    if (ddof_context_create(&options, &ctx) != DDOF_OK) {
-        fprintf(stderr, "ddof_context_create failed\n");
-        return 2;
-    }
+    ddof_context *ctx = make_context(2);
     test_huge_coc(ctx);
     test_insulators(ctx);
     test_sizes(ctx);

@@ -4,6 +4,7 @@
  * solver and thread-count agreement, stats, strides and channel counts, progress and cancel. */
 #include "ddof.h"
 #include "test_util.h"
+#include "test_images.h"
 
 #include <float.h>
 #include <math.h>
@@ -11,190 +12,37 @@
 #include <stdint.h>
 #include <string.h>
 
-/* ---------------------------------------------------------------------------------------- */
-/* Helpers                                                                                    */
-
-static float *alloc_f(size_t n)
-{
-    float *p = malloc((n ? n : 1) * sizeof(float));
-    if (!p) {
-        fprintf(stderr, "out of memory in the test\n");
-        exit(2);
-    }
-    return p;
-}
-
-static ddof_context *make_context(uint32_t threads)
-{
-    ddof_context_options options;
-    ddof_context_options_init(&options);
-    options.thread_count = threads;
-    ddof_context *ctx = NULL;
-    ddof_status s = ddof_context_create(&options, &ctx);
-    if (s != DDOF_OK || !ctx) {
-        fprintf(stderr, "ddof_context_create failed: %d\n", (int)s);
-        exit(2);
-    }
-    return ctx;
-}
-
-static ddof_params params_for(ddof_solver solver, uint32_t substeps)
-{
-    ddof_params p;
-    ddof_params_init(&p);
-    p.solver = solver;
-    p.substeps = substeps;
-    return p;
-}
-
-/* Tightly packed images (row_stride 0). */
-static ddof_status diffuse(ddof_context *ctx, const ddof_params *params, const float *color,
-                          const float *coc, float *out, uint32_t w, uint32_t h, uint32_t c,
-                          ddof_stats *stats)
-{
-    ddof_image_in ci = {color, w, h, c, 0};
-    ddof_image_in zi = {coc, w, h, 1, 0};
-    ddof_image oi = {out, w, h, c, 0};
-    return ddof_diffuse(ctx, params, &ci, &zi, &oi, stats);
-}
-
-static void fill_uniform(float *p, size_t n, test_rng *rng, double lo, double hi)
-{
-    for (size_t i = 0; i < n; i++)
-        p[i] = (float)(lo + (hi - lo) * test_uniform(rng));
-}
-
-/* CoC in [0, max) with a fraction `zeros` of exact zeros. */
-static void fill_coc(float *p, size_t n, test_rng *rng, double max, double zeros)
-{
-    for (size_t i = 0; i < n; i++)
-        p[i] = test_uniform(rng) < zeros ? 0.0f : (float)(max * test_uniform(rng));
-}
-
-static void fill_const(float *p, size_t n, float v)
-{
-    for (size_t i = 0; i < n; i++)
-        p[i] = v;
-}
-
-static double max_abs_diff_fd(const float *a, const double *b, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++)
-        m = fmax(m, fabs((double)a[i] - b[i]));
-    return m;
-}
-
-static double max_abs_diff_ff(const float *a, const float *b, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++)
-        m = fmax(m, fabs((double)a[i] - (double)b[i]));
-    return m;
-}
-
-static int all_finite(const float *p, size_t n)
-{
-    for (size_t i = 0; i < n; i++)
-        if (!isfinite(p[i]))
-            return 0;
-    return 1;
-}
-
-/* ---------------------------------------------------------------------------------------- */
-/* An independent double-precision ADI step (DESIGN.md section 1), written from the formulas:
- * per line a_i = -beta_{i-1}, b_i = 1 + beta_{i-1} + beta_i, c_i = -beta_i, rhs_i = x_i, with
- * beta_i = k * min(d_i, d_{i+1})^2 / n (columns: d * pixel_aspect) and 0 at the borders.
- * Thomas elimination keeps each row's excess (b + a + c) so nothing is formed by subtraction. */
-
-static void ref_line(uint32_t n, const double *beta, double *v, double *m, double *dp)
-{
-    double e = 0, w;
-    for (uint32_t i = 0; i < n; i++) {
-        w = i ? beta[i - 1] / m[i - 1] : 0.0;
-        e = 1.0 + w * e;
-        m[i] = e + beta[i];
-        dp[i] = v[i] + (i ? w * dp[i - 1] : 0.0);
-    }
-    v[n - 1] = dp[n - 1] / m[n - 1];
-    for (uint32_t i = n - 1; i-- > 0;)
-        v[i] = (dp[i] + beta[i] * v[i + 1]) / m[i];
-}
-
-static void ref_adi(double *img, const float *coc, uint32_t w, uint32_t h, uint32_t ch,
-                    double k, double aspect, uint32_t substeps)
-{
-    uint32_t nmax = w > h ? w : h;
-    double *beta = malloc(nmax * sizeof(double)), *v = malloc(nmax * sizeof(double));
-    double *m = malloc(nmax * sizeof(double)), *dp = malloc(nmax * sizeof(double));
-    for (uint32_t s = 0; s < substeps; s++) {
-        for (uint32_t y = 0; y < h; y++) {
-            for (uint32_t x = 0; x < w; x++) {
-                double d = x + 1 < w ? fmin(coc[y * w + x], coc[y * w + x + 1]) : 0.0;
-                beta[x] = k * d * d / substeps;
-            }
-            for (uint32_t c = 0; c < ch; c++) {
-                for (uint32_t x = 0; x < w; x++)
-                    v[x] = img[((size_t)y * w + x) * ch + c];
-                ref_line(w, beta, v, m, dp);
-                for (uint32_t x = 0; x < w; x++)
-                    img[((size_t)y * w + x) * ch + c] = v[x];
-            }
-        }
-        for (uint32_t x = 0; x < w; x++) {
-            for (uint32_t y = 0; y < h; y++) {
-                double d = y + 1 < h ? fmin(coc[y * w + x], coc[(y + 1) * w + x]) * aspect : 0.0;
-                beta[y] = k * d * d / substeps;
-            }
-            for (uint32_t c = 0; c < ch; c++) {
-                for (uint32_t y = 0; y < h; y++)
-                    v[y] = img[((size_t)y * w + x) * ch + c];
-                ref_line(h, beta, v, m, dp);
-                for (uint32_t y = 0; y < h; y++)
-                    img[((size_t)y * w + x) * ch + c] = v[y];
-            }
-        }
-    }
-    free(beta);
-    free(v);
-    free(m);
-    free(dp);
-}
-
-/* ---------------------------------------------------------------------------------------- */
-
 /* The default path (float Thomas) and REFERENCE_F64 against the independent double ADI. */
 static void test_matches_independent_double(ddof_context *ctx)
 {
-    const uint32_t w = 23, h = 17, ch = 3;
-    const size_t n = (size_t)w * h * ch;
     test_rng rng = {0x1234567ULL};
-    float *color = alloc_f(n), *coc = alloc_f((size_t)w * h), *out = alloc_f(n);
-    double *ref = malloc(n * sizeof(double));
-    fill_uniform(color, n, &rng, 0.0, 1.0);
-    fill_coc(coc, (size_t)w * h, &rng, 12.0, 0.2);
+    test_image im = image_alloc(23, 17, 3);
+    double *ref = malloc(im.n * sizeof(double));
+    fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
+    fill_coc(im.coc, im.px, &rng, 12.0, 0.2);
 
     const uint32_t substeps[] = {1, 3};
     const float aspects[] = {1.0f, 1.5f};
     for (int si = 0; si < 2; si++) {
         for (int ai = 0; ai < 2; ai++) {
-            for (size_t i = 0; i < n; i++)
-                ref[i] = color[i];
-            ref_adi(ref, coc, w, h, ch, DDOF_DEFAULT_BETA_SCALE, aspects[ai], substeps[si]);
+            for (size_t i = 0; i < im.n; i++)
+                ref[i] = im.color[i];
+            ref_adi(ref, im.coc, im.w, im.h, im.ch, DDOF_DEFAULT_BETA_SCALE, aspects[ai],
+                    substeps[si]);
 
             ddof_params p;
             ddof_params_init(&p); /* default solver: Thomas, float */
             p.substeps = substeps[si];
             p.pixel_aspect = aspects[ai];
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
-            double e_default = max_abs_diff_fd(out, ref, n);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+            double e_default = max_abs_diff_fd(im.out, ref, im.n);
             /* Float solve of a well-conditioned system, values in [0, 1]: ~1e-7 expected. */
             CHECK_MSG(e_default <= 2e-6, "default vs double ADI: %.3g (substeps %u, aspect %g)",
                       e_default, substeps[si], (double)aspects[ai]);
 
             p.solver = DDOF_SOLVER_REFERENCE_F64;
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
-            double e_ref = max_abs_diff_fd(out, ref, n);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+            double e_ref = max_abs_diff_fd(im.out, ref, im.n);
             /* Only the final rounding to float (and beta computed from float d) may differ. */
             CHECK_MSG(e_ref <= 3e-7, "REFERENCE_F64 vs double ADI: %.3g (substeps %u, aspect %g)",
                       e_ref, substeps[si], (double)aspects[ai]);
@@ -203,9 +51,7 @@ static void test_matches_independent_double(ddof_context *ctx)
                        e_default, e_ref, substeps[si], (double)aspects[ai]);
         }
     }
-    free(color);
-    free(coc);
-    free(out);
+    image_free(&im);
     free(ref);
 }
 
@@ -241,35 +87,29 @@ static void test_no_overshoot(ddof_context *ctx)
     test_rng rng = {42};
     /* A general image with signed values and a rough CoC field. */
     {
-        const uint32_t w = 64, h = 48, ch = 4;
-        const size_t n = (size_t)w * h * ch;
-        float *color = alloc_f(n), *coc = alloc_f((size_t)w * h), *out = alloc_f(n);
-        fill_uniform(color, n, &rng, -2.0, 5.0);
-        fill_coc(coc, (size_t)w * h, &rng, 30.0, 0.3);
+        test_image im = image_alloc(64, 48, 4);
+        fill_uniform(im.color, im.n, &rng, -2.0, 5.0);
+        fill_coc(im.coc, im.px, &rng, 30.0, 0.3);
         for (uint32_t sub = 1; sub <= 4; sub += 3) {
             ddof_params p = params_for(DDOF_SOLVER_THOMAS, sub);
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
-            check_in_range(color, out, (size_t)w * h, ch, "64x48 image");
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+            check_in_range(im.color, im.out, im.px, im.ch, "64x48 image");
         }
-        free(color);
-        free(coc);
-        free(out);
+        image_free(&im);
     }
     /* A single row: the row's own range; a step edge is the classic ringing trigger. */
     {
         const uint32_t w = 500, ch = 2;
-        float *color = alloc_f(w * ch), *coc = alloc_f(w), *out = alloc_f(w * ch);
+        test_image im = image_alloc(w, 1, ch);
         for (uint32_t x = 0; x < w; x++) {
-            color[x * ch] = x < w / 2 ? 3.0f : -1.0f;
-            color[x * ch + 1] = (float)test_uniform(&rng);
+            im.color[x * ch] = x < w / 2 ? 3.0f : -1.0f;
+            im.color[x * ch + 1] = (float)test_uniform(&rng);
         }
-        fill_coc(coc, w, &rng, 80.0, 0.1);
+        fill_coc(im.coc, w, &rng, 80.0, 0.1);
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 1);
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, 1, ch, NULL), DDOF_OK);
-        check_in_range(color, out, w, ch, "single row");
-        free(color);
-        free(coc);
-        free(out);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+        check_in_range(im.color, im.out, w, ch, "single row");
+        image_free(&im);
     }
 }
 
@@ -290,56 +130,52 @@ static void test_conservation(ddof_context *ctx)
     const uint32_t dims[4][2] = {{1000, 1}, {1, 1000}, {64, 64}, {64, 64}};
     for (int t = 0; t < 4; t++) {
         const uint32_t w = dims[t][0], h = dims[t][1], ch = 2;
-        const size_t px = (size_t)w * h;
-        float *color = alloc_f(px * ch), *coc = alloc_f(px), *out = alloc_f(px * ch);
-        fill_uniform(color, px * ch, &rng, 0.0, 1.0);
+        test_image im = image_alloc(w, h, ch);
+        fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
         if (t == 2)
-            fill_const(coc, px, 20.0f);
+            fill_const(im.coc, im.px, 20.0f);
         else
-            fill_coc(coc, px, &rng, 50.0, 0.1);
+            fill_coc(im.coc, im.px, &rng, 50.0, 0.1);
         for (uint32_t sub = 1; sub <= 3; sub += 2) {
             ddof_params p = params_for(DDOF_SOLVER_THOMAS, sub);
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
             for (uint32_t c = 0; c < ch; c++) {
-                double s0 = sum_channel(color, px, ch, c), s1 = sum_channel(out, px, ch, c);
+                double s0 = sum_channel(im.color, im.px, ch, c);
+                double s1 = sum_channel(im.out, im.px, ch, c);
                 CHECK_MSG(fabs(s1 - s0) <= 1e-5 * fabs(s0),
                           "%ux%u substeps %u channel %u: sum %.9g -> %.9g (rel %.3g)", w, h, sub,
                           c, s0, s1, fabs(s1 - s0) / fabs(s0));
             }
         }
-        free(color);
-        free(coc);
-        free(out);
+        image_free(&im);
     }
     /* Each row sum on its own: every other row in focus cuts all column links, so only the
      * row pass acts and every row keeps its sum; likewise every other column for columns. */
     for (int axis = 0; axis < 2; axis++) {
         const uint32_t w = 48, h = 40;
-        const size_t px = (size_t)w * h;
-        float *color = alloc_f(px), *coc = alloc_f(px), *out = alloc_f(px);
-        fill_uniform(color, px, &rng, 0.0, 1.0);
+        test_image im = image_alloc(w, h, 1);
+        fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++)
-                coc[y * w + x] = ((axis ? x : y) % 2) ? 0.0f : (float)(1 + 40 * test_uniform(&rng));
+                im.coc[y * w + x] =
+                    ((axis ? x : y) % 2) ? 0.0f : (float)(1 + 40 * test_uniform(&rng));
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 2);
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         double worst = 0;
         const uint32_t lines = axis ? w : h, len = axis ? h : w;
         for (uint32_t l = 0; l < lines; l++) {
             double s0 = 0, s1 = 0;
             for (uint32_t i = 0; i < len; i++) {
                 size_t idx = axis ? (size_t)i * w + l : (size_t)l * w + i;
-                s0 += color[idx];
-                s1 += out[idx];
+                s0 += im.color[idx];
+                s1 += im.out[idx];
             }
             worst = fmax(worst, fabs(s1 - s0) / fabs(s0));
         }
         CHECK_MSG(worst <= 1e-5, "%s sums not conserved: worst relative change %.3g",
                   axis ? "column" : "row", worst);
-        CHECK(memcmp(color, out, px * sizeof(float)) != 0); /* it did diffuse */
-        free(color);
-        free(coc);
-        free(out);
+        CHECK(memcmp(im.color, im.out, im.px * sizeof(float)) != 0); /* it did diffuse */
+        image_free(&im);
     }
 }
 
@@ -348,42 +184,39 @@ static void test_coc_zero_insulates(ddof_context *ctx)
     test_rng rng = {99};
     /* Every CoC-0 pixel is bitwise unchanged, whatever its neighbours do. */
     {
-        const uint32_t w = 57, h = 43, ch = 4;
-        const size_t px = (size_t)w * h;
-        float *color = alloc_f(px * ch), *coc = alloc_f(px), *out = alloc_f(px * ch);
-        fill_uniform(color, px * ch, &rng, -1.0, 3.0);
-        fill_coc(coc, px, &rng, 40.0, 0.3);
+        const uint32_t ch = 4;
+        test_image im = image_alloc(57, 43, ch);
+        fill_uniform(im.color, im.n, &rng, -1.0, 3.0);
+        fill_coc(im.coc, im.px, &rng, 40.0, 0.3);
         for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
             ddof_params p = params_for((ddof_solver)solver, 2);
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
             size_t changed = 0;
-            for (size_t i = 0; i < px; i++)
-                if (coc[i] == 0.0f && memcmp(&color[i * ch], &out[i * ch], ch * sizeof(float)))
+            for (size_t i = 0; i < im.px; i++)
+                if (im.coc[i] == 0.0f &&
+                    memcmp(&im.color[i * ch], &im.out[i * ch], ch * sizeof(float)))
                     changed++;
             CHECK_MSG(changed == 0, "solver %s: %zu CoC-0 pixels changed",
                       ddof_solver_name((ddof_solver)solver), changed);
         }
-        free(color);
-        free(coc);
-        free(out);
+        image_free(&im);
     }
     /* A full-height wall of CoC 0 at x = 20: 1.0 left, 0.0 right, 0.5 on the wall. */
     {
         const uint32_t w = 40, h = 30, wall = 20;
-        const size_t px = (size_t)w * h;
-        float *color = alloc_f(px), *coc = alloc_f(px), *out = alloc_f(px);
+        test_image im = image_alloc(w, h, 1);
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                color[y * w + x] = x < wall ? 1.0f : x == wall ? 0.5f : 0.0f;
-                coc[y * w + x] = x == wall ? 0.0f : 10.0f;
+                im.color[y * w + x] = x < wall ? 1.0f : x == wall ? 0.5f : 0.0f;
+                im.coc[y * w + x] = x == wall ? 0.0f : 10.0f;
             }
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 2);
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         size_t leaked = 0, wall_changed = 0;
         double left_err = 0;
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
-                float v = out[y * w + x];
+                float v = im.out[y * w + x];
                 if (x > wall && v != 0.0f)
                     leaked++;
                 if (x == wall && v != 0.5f)
@@ -394,40 +227,35 @@ static void test_coc_zero_insulates(ddof_context *ctx)
         CHECK_MSG(leaked == 0, "%zu pixels right of the wall are not exactly 0", leaked);
         CHECK_MSG(wall_changed == 0, "%zu wall pixels changed", wall_changed);
         CHECK_MSG(left_err <= 1e-6, "a constant region drifted by %.3g", left_err);
-        free(color);
-        free(coc);
-        free(out);
+        image_free(&im);
     }
-    /* The right side of a wall does not depend on the left side at all (bitwise). */
+    /* The right side of a wall does not depend on the left side at all (bitwise): b is a with
+     * the same CoC and another colour left of the wall. */
     {
         const uint32_t w = 33, h = 21, wall = 11, ch = 3;
-        const size_t px = (size_t)w * h;
-        float *a = alloc_f(px * ch), *b = alloc_f(px * ch), *coc = alloc_f(px);
-        float *oa = alloc_f(px * ch), *ob = alloc_f(px * ch);
-        fill_uniform(a, px * ch, &rng, 0.0, 1.0);
-        memcpy(b, a, px * ch * sizeof(float));
-        fill_coc(coc, px, &rng, 25.0, 0.0);
+        test_image a = image_alloc(w, h, ch), b = image_alloc(w, h, ch);
+        fill_uniform(a.color, a.n, &rng, 0.0, 1.0);
+        memcpy(b.color, a.color, a.n * sizeof(float));
+        fill_coc(a.coc, a.px, &rng, 25.0, 0.0);
         for (uint32_t y = 0; y < h; y++) {
-            coc[y * w + wall] = 0.0f;
+            a.coc[y * w + wall] = 0.0f;
             for (uint32_t x = 0; x < wall; x++)
                 for (uint32_t c = 0; c < ch; c++)
-                    b[((size_t)y * w + x) * ch + c] = 1000.0f;
+                    b.color[((size_t)y * w + x) * ch + c] = 1000.0f;
         }
+        memcpy(b.coc, a.coc, a.px * sizeof(float));
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 3);
-        CHECK_EQ_INT(diffuse(ctx, &p, a, coc, oa, w, h, ch, NULL), DDOF_OK);
-        CHECK_EQ_INT(diffuse(ctx, &p, b, coc, ob, w, h, ch, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &a, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &b, NULL), DDOF_OK);
         size_t differ = 0;
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = wall; x < w; x++)
-                if (memcmp(&oa[((size_t)y * w + x) * ch], &ob[((size_t)y * w + x) * ch],
+                if (memcmp(&a.out[((size_t)y * w + x) * ch], &b.out[((size_t)y * w + x) * ch],
                            ch * sizeof(float)))
                     differ++;
         CHECK_MSG(differ == 0, "%zu pixels behind the wall depend on the other side", differ);
-        free(a);
-        free(b);
-        free(coc);
-        free(oa);
-        free(ob);
+        image_free(&a);
+        image_free(&b);
     }
 }
 
@@ -458,17 +286,24 @@ static moments image_moments(const float *p, uint32_t w, uint32_t h)
     return m;
 }
 
+/* A unit impulse at the centre of a w x h one-channel image, uniform CoC d: the kernel. */
+static test_image impulse_image(uint32_t w, uint32_t h, float d)
+{
+    test_image im = image_alloc(w, h, 1);
+    fill_const(im.color, im.px, 0.0f);
+    im.color[(h / 2) * w + w / 2] = 1.0f;
+    fill_const(im.coc, im.px, d);
+    return im;
+}
+
 static void test_symmetry(ddof_context *ctx)
 {
     const uint32_t w = 41, h = 41;
-    const size_t px = (size_t)w * h;
-    float *color = alloc_f(px), *coc = alloc_f(px), *out = alloc_f(px);
-    fill_const(color, px, 0.0f);
-    color[(h / 2) * w + w / 2] = 1.0f;
-    fill_const(coc, px, 10.0f);
+    test_image im = impulse_image(w, h, 10.0f);
+    const float *out = im.out;
     for (uint32_t sub = 1; sub <= 4; sub += 3) {
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, sub);
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         double peak = 0, e_lr = 0, e_ud = 0, e_tr = 0;
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++) {
@@ -490,9 +325,14 @@ static void test_symmetry(ddof_context *ctx)
         CHECK_MSG(fabs(m.vx - m.vy) <= 1e-4 * m.vx, "substeps %u: var x %.9g, var y %.9g", sub,
                   m.vx, m.vy);
     }
-    free(color);
-    free(coc);
-    free(out);
+    image_free(&im);
+}
+
+/* A kernel variance within 1% of the expected one; `what` starts the message. */
+static void check_variance(const char *what, uint32_t sub, char axis, double var, double expect)
+{
+    CHECK_MSG(fabs(var - expect) <= 0.01 * expect, "%ssubsteps %u: var %c %.6g, expected %.6g",
+              what, sub, axis, var, expect);
 }
 
 /* One implicit step has per-axis variance 2 beta = 2 k d^2; with k = 1/32 that is d^2 / 16.
@@ -502,74 +342,61 @@ static void test_second_moment(ddof_context *ctx)
     const int quick = test_quick();
     const uint32_t w = quick ? 161 : 401, h = w;
     const float d = quick ? 16.0f : 40.0f;
-    const size_t px = (size_t)w * h;
-    float *color = alloc_f(px), *coc = alloc_f(px), *out = alloc_f(px);
-    fill_const(color, px, 0.0f);
-    color[(h / 2) * w + w / 2] = 1.0f;
-    fill_const(coc, px, d);
+    test_image im = impulse_image(w, h, d);
     const double expect = (double)d * d / 16.0;
     for (uint32_t sub = 1; sub <= 4; sub += 3) {
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, sub);
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, NULL), DDOF_OK);
-        moments m = image_moments(out, w, h);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+        moments m = image_moments(im.out, w, h);
         CHECK_NEAR(m.mass, 1.0, 1e-5);
-        CHECK_MSG(fabs(m.vx - expect) <= 0.01 * expect, "substeps %u: var x %.6g, expected %.6g",
-                  sub, m.vx, expect);
-        CHECK_MSG(fabs(m.vy - expect) <= 0.01 * expect, "substeps %u: var y %.6g, expected %.6g",
-                  sub, m.vy, expect);
+        check_variance("", sub, 'x', m.vx, expect);
+        check_variance("", sub, 'y', m.vy, expect);
 
         /* pixel_aspect 2: column links use 2d, so the vertical variance is 4x. Uses half the
          * CoC so the vertical spread still fits the image. */
-        fill_const(coc, px, d / 2);
+        fill_const(im.coc, im.px, d / 2);
         p.pixel_aspect = 2.0f;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, NULL), DDOF_OK);
-        m = image_moments(out, w, h);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+        m = image_moments(im.out, w, h);
         CHECK_NEAR(m.mass, 1.0, 1e-5);
-        CHECK_MSG(fabs(m.vx - expect / 4) <= 0.01 * expect / 4,
-                  "aspect 2, substeps %u: var x %.6g, expected %.6g", sub, m.vx, expect / 4);
-        CHECK_MSG(fabs(m.vy - expect) <= 0.01 * expect,
-                  "aspect 2, substeps %u: var y %.6g, expected %.6g", sub, m.vy, expect);
-        fill_const(coc, px, d);
+        check_variance("aspect 2, ", sub, 'x', m.vx, expect / 4);
+        check_variance("aspect 2, ", sub, 'y', m.vy, expect);
+        fill_const(im.coc, im.px, d);
     }
     /* beta_scale is k: doubling it doubles the variance. */
     {
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 1);
         p.beta_scale = 2.0f * DDOF_DEFAULT_BETA_SCALE;
-        fill_const(coc, px, d / 2);
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, NULL), DDOF_OK);
-        moments m = image_moments(out, w, h);
+        fill_const(im.coc, im.px, d / 2);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+        moments m = image_moments(im.out, w, h);
         CHECK_MSG(fabs(m.vx - expect / 2) <= 0.01 * expect / 2,
                   "beta_scale 1/16: var x %.6g, expected %.6g", m.vx, expect / 2);
     }
-    free(color);
-    free(coc);
-    free(out);
+    image_free(&im);
 }
 
 static void test_in_place(ddof_context *ctx)
 {
     test_rng rng = {5};
-    const uint32_t w = 70, h = 37;
     for (uint32_t ch = 1; ch <= 4; ch++) {
-        const size_t px = (size_t)w * h;
-        float *color = alloc_f(px * ch), *coc = alloc_f(px), *out = alloc_f(px * ch);
-        float *inplace = alloc_f(px * ch);
-        fill_uniform(color, px * ch, &rng, 0.0, 2.0);
-        fill_coc(coc, px, &rng, 30.0, 0.2);
-        memcpy(inplace, color, px * ch * sizeof(float));
+        test_image im = image_alloc(70, 37, ch);
+        const size_t bytes = im.n * sizeof(float);
+        float *inplace = alloc_f(im.n);
+        fill_uniform(im.color, im.n, &rng, 0.0, 2.0);
+        fill_coc(im.coc, im.px, &rng, 30.0, 0.2);
         for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
             ddof_params p = params_for((ddof_solver)solver, 2);
-            memcpy(inplace, color, px * ch * sizeof(float));
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
-            CHECK_EQ_INT(diffuse(ctx, &p, inplace, coc, inplace, w, h, ch, NULL), DDOF_OK);
-            CHECK_MSG(!memcmp(out, inplace, px * ch * sizeof(float)),
+            memcpy(inplace, im.color, bytes);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+            CHECK_EQ_INT(diffuse(ctx, &p, inplace, im.coc, inplace, im.w, im.h, ch, NULL),
+                         DDOF_OK);
+            CHECK_MSG(!memcmp(im.out, inplace, bytes),
                       "solver %s, %u channels: in place differs from out of place by %.3g",
                       ddof_solver_name((ddof_solver)solver), ch,
-                      max_abs_diff_ff(out, inplace, px * ch));
+                      max_abs_diff_ff(im.out, inplace, im.n));
         }
-        free(color);
-        free(coc);
-        free(out);
+        image_free(&im);
         free(inplace);
     }
 }
@@ -577,18 +404,15 @@ static void test_in_place(ddof_context *ctx)
 static void test_solvers_agree(ddof_context *ctx)
 {
     test_rng rng = {2024};
-    const uint32_t w = 97, h = 61, ch = 3;
-    const size_t px = (size_t)w * h, n = px * ch;
-    float *color = alloc_f(n), *coc = alloc_f(px), *ref = alloc_f(n), *out = alloc_f(n);
-    fill_uniform(color, n, &rng, 0.0, 1.0);
-    fill_coc(coc, px, &rng, 25.0, 0.15);
+    test_image im = image_alloc(97, 61, 3);
+    float *ref = alloc_f(im.n);
+    fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
+    fill_coc(im.coc, im.px, &rng, 25.0, 0.15);
 
     for (uint32_t sub = 1; sub <= 2; sub++) {
         ddof_params p = params_for(DDOF_SOLVER_REFERENCE_F64, sub);
-        ddof_stats st;
-        memset(&st, 0, sizeof st);
-        st.struct_size = sizeof st;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, ref, w, h, ch, &st), DDOF_OK);
+        ddof_stats st = stats_init();
+        CHECK_EQ_INT(diffuse(ctx, &p, im.color, im.coc, ref, im.w, im.h, im.ch, &st), DDOF_OK);
         CHECK_EQ_INT(st.solver, DDOF_SOLVER_REFERENCE_F64);
         CHECK_EQ_INT(st.threads, 1); /* "double precision throughout, one thread" */
         const ddof_solver exact[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
@@ -596,9 +420,9 @@ static void test_solvers_agree(ddof_context *ctx)
         for (int i = 0; i < 3; i++) {
             p = params_for(exact[i], sub);
             st.struct_size = sizeof st;
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, &st), DDOF_OK);
+            CHECK_EQ_INT(image_diffuse(ctx, &p, &im, &st), DDOF_OK);
             CHECK_EQ_INT(st.solver, exact[i]);
-            double e = max_abs_diff_ff(out, ref, n);
+            double e = max_abs_diff_ff(im.out, ref, im.n);
             /* Values in [0, 1], beta up to 20: float error of an exact solve ~1e-7. */
             CHECK_MSG(e <= 2e-6, "solver %s substeps %u vs reference: %.3g",
                       ddof_solver_name(exact[i]), sub, e);
@@ -610,17 +434,17 @@ static void test_solvers_agree(ddof_context *ctx)
 
     /* Jacobi converges to the exact answer; on small CoC (beta <= 2, spectral radius of the
      * sweep <= 4/5) 300 sweeps are exact to float precision, 3 sweeps clearly are not. */
-    fill_coc(coc, px, &rng, 8.0, 0.1);
+    fill_coc(im.coc, im.px, &rng, 8.0, 0.1);
     ddof_params p = params_for(DDOF_SOLVER_REFERENCE_F64, 1);
-    CHECK_EQ_INT(diffuse(ctx, &p, color, coc, ref, w, h, ch, NULL), DDOF_OK);
+    CHECK_EQ_INT(diffuse(ctx, &p, im.color, im.coc, ref, im.w, im.h, im.ch, NULL), DDOF_OK);
     p = params_for(DDOF_SOLVER_JACOBI, 1);
     const uint32_t iters[] = {3, 20, 300};
     double err[3];
     for (int i = 0; i < 3; i++) {
         p.jacobi_iterations = iters[i];
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
-        err[i] = max_abs_diff_ff(out, ref, n);
-        check_in_range(color, out, px, ch, "jacobi");
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
+        err[i] = max_abs_diff_ff(im.out, ref, im.n);
+        check_in_range(im.color, im.out, im.px, im.ch, "jacobi");
         if (getenv("DDOF_TEST_VERBOSE"))
             printf("  jacobi %u sweeps vs reference: %.3g\n", iters[i], err[i]);
     }
@@ -628,37 +452,34 @@ static void test_solvers_agree(ddof_context *ctx)
     CHECK_MSG(err[1] < err[0], "Jacobi error does not fall: %.3g -> %.3g", err[0], err[1]);
     CHECK_MSG(err[2] <= 2e-6, "300 Jacobi sweeps vs reference: %.3g", err[2]);
 
-    free(color);
-    free(coc);
+    image_free(&im);
     free(ref);
-    free(out);
 }
 
+/* Every solver gives the same bits on 1, 2 and the default number of threads. */
 static void test_thread_counts(void)
 {
     test_rng rng = {31337};
-    const uint32_t w = test_quick() ? 90 : 300, h = test_quick() ? 70 : 200, ch = 4;
-    const size_t px = (size_t)w * h, n = px * ch;
-    float *color = alloc_f(n), *coc = alloc_f(px), *o1 = alloc_f(n), *o2 = alloc_f(n);
-    fill_uniform(color, n, &rng, 0.0, 1.0);
-    fill_coc(coc, px, &rng, 60.0, 0.2);
+    test_image im = image_alloc(test_quick() ? 90 : 300, test_quick() ? 70 : 200, 4);
+    const size_t n = im.n;
+    float *o1 = im.out, *o2 = alloc_f(n);
+    fill_uniform(im.color, n, &rng, 0.0, 1.0);
+    fill_coc(im.coc, im.px, &rng, 60.0, 0.2);
     ddof_context *c1 = make_context(1), *c2 = make_context(2), *c0 = make_context(0);
     CHECK_EQ_INT(ddof_context_thread_count(c1), 1);
     CHECK_EQ_INT(ddof_context_thread_count(c2), 2);
     CHECK(ddof_context_thread_count(c0) >= 1);
     for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
         ddof_params p = params_for((ddof_solver)solver, 2);
-        ddof_stats st;
-        memset(&st, 0, sizeof st);
-        st.struct_size = sizeof st;
-        CHECK_EQ_INT(diffuse(c1, &p, color, coc, o1, w, h, ch, &st), DDOF_OK);
+        ddof_stats st = stats_init();
+        CHECK_EQ_INT(image_diffuse(c1, &p, &im, &st), DDOF_OK); /* into o1 */
         CHECK_EQ_INT(st.threads, 1);
         st.struct_size = sizeof st;
-        CHECK_EQ_INT(diffuse(c2, &p, color, coc, o2, w, h, ch, &st), DDOF_OK);
+        CHECK_EQ_INT(diffuse(c2, &p, im.color, im.coc, o2, im.w, im.h, im.ch, &st), DDOF_OK);
         CHECK(st.threads >= 1 && st.threads <= 2);
         CHECK_MSG(!memcmp(o1, o2, n * sizeof(float)), "solver %s: 1 vs 2 threads differ by %.3g",
                   ddof_solver_name((ddof_solver)solver), max_abs_diff_ff(o1, o2, n));
-        CHECK_EQ_INT(diffuse(c0, &p, color, coc, o2, w, h, ch, NULL), DDOF_OK);
+        CHECK_EQ_INT(diffuse(c0, &p, im.color, im.coc, o2, im.w, im.h, im.ch, NULL), DDOF_OK);
         CHECK_MSG(!memcmp(o1, o2, n * sizeof(float)),
                   "solver %s: 1 vs default threads differ by %.3g",
                   ddof_solver_name((ddof_solver)solver), max_abs_diff_ff(o1, o2, n));
@@ -666,9 +487,7 @@ static void test_thread_counts(void)
     ddof_context_free(c1);
     ddof_context_free(c2);
     ddof_context_free(c0);
-    free(color);
-    free(coc);
-    free(o1);
+    image_free(&im);
     free(o2);
 }
 
@@ -677,7 +496,9 @@ static void test_stats(ddof_context *ctx)
     test_rng rng = {11};
     const uint32_t w = 64, h = 64;
     const size_t px = (size_t)w * h;
-    float *color = alloc_f(px * 4), *coc = alloc_f(px), *out = alloc_f(px * 4);
+    /* RGBA buffers; the line counts below are taken on their first channel alone (ch = 1). */
+    test_image im = image_alloc(w, h, 4);
+    float *color = im.color, *coc = im.coc, *out = im.out;
     fill_uniform(color, px * 4, &rng, 0.0, 1.0);
     ddof_stats st;
 
@@ -747,9 +568,7 @@ static void test_stats(ddof_context *ctx)
     CHECK_EQ_INT(st.lines_solved, (uint64_t)(w + h));
     CHECK_EQ_INT(st.lines_skipped, 0);
     CHECK(st.max_coc_px == 3.0f);
-    free(color);
-    free(coc);
-    free(out);
+    image_free(&im);
 }
 
 /* Padded strides (colour, CoC and output each with their own padding) give the same pixels as
@@ -777,12 +596,9 @@ static void test_strides_and_channels(ddof_context *ctx)
         const size_t ostride = (size_t)w * ch * 4 + 12;
         float *pc = alloc_f(cstride / 4 * h), *pz = alloc_f(zstride / 4 * h);
         float *po = alloc_f(ostride / 4 * h);
-        for (size_t i = 0; i < cstride / 4 * h; i++)
-            pc[i] = NAN;
-        for (size_t i = 0; i < zstride / 4 * h; i++)
-            pz[i] = NAN;
-        for (size_t i = 0; i < ostride / 4 * h; i++)
-            po[i] = sentinel;
+        fill_const(pc, cstride / 4 * h, NAN);
+        fill_const(pz, zstride / 4 * h, NAN);
+        fill_const(po, ostride / 4 * h, sentinel);
         for (uint32_t y = 0; y < h; y++) {
             memcpy(pc + y * cstride / 4, color + (size_t)y * w * ch, (size_t)w * ch * 4);
             memcpy(pz + y * zstride / 4, coc + (size_t)y * w, (size_t)w * 4);
@@ -791,15 +607,8 @@ static void test_strides_and_channels(ddof_context *ctx)
         ddof_image_in zi = {pz, w, h, 1, zstride};
         ddof_image oi = {po, w, h, ch, ostride};
         CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &oi, NULL), DDOF_OK);
-        size_t pix_diff = 0, pad_touched = 0;
-        for (uint32_t y = 0; y < h; y++) {
-            const float *row = po + y * ostride / 4;
-            if (memcmp(row, tight + (size_t)y * w * ch, (size_t)w * ch * 4))
-                pix_diff++;
-            for (size_t i = (size_t)w * ch; i < ostride / 4; i++)
-                if (memcmp(&row[i], &sentinel, 4))
-                    pad_touched++;
-        }
+        size_t pix_diff = padded_rows_differ(po, ostride / 4, tight, (size_t)w * ch, h);
+        size_t pad_touched = padding_changed(po, ostride / 4, (size_t)w * ch, h, sentinel);
         CHECK_MSG(pix_diff == 0, "%u channels: %zu padded rows differ from tight packing", ch,
                   pix_diff);
         CHECK_MSG(pad_touched == 0, "%u channels: %zu padding floats overwritten", ch,
@@ -808,10 +617,7 @@ static void test_strides_and_channels(ddof_context *ctx)
         /* In place on the padded buffer too (padding of NaN must stay NaN, unread). */
         CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &(ddof_image){pc, w, h, ch, cstride}, NULL),
                      DDOF_OK);
-        pix_diff = 0;
-        for (uint32_t y = 0; y < h; y++)
-            if (memcmp(pc + y * cstride / 4, tight + (size_t)y * w * ch, (size_t)w * ch * 4))
-                pix_diff++;
+        pix_diff = padded_rows_differ(pc, cstride / 4, tight, (size_t)w * ch, h);
         CHECK_MSG(pix_diff == 0, "%u channels: padded in-place rows differ: %zu", ch, pix_diff);
 
         /* Channels are independent: each equals the 1-channel diffusion of that channel
@@ -866,11 +672,9 @@ static int progress_cb(void *user, float fraction)
 static void test_progress(void)
 {
     test_rng rng = {8};
-    const uint32_t w = test_quick() ? 96 : 256, h = test_quick() ? 80 : 256, ch = 4;
-    const size_t px = (size_t)w * h, n = px * ch;
-    float *color = alloc_f(n), *coc = alloc_f(px), *out = alloc_f(n);
-    fill_uniform(color, n, &rng, 0.0, 1.0);
-    fill_coc(coc, px, &rng, 40.0, 0.1);
+    test_image im = image_alloc(test_quick() ? 96 : 256, test_quick() ? 80 : 256, 4);
+    fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
+    fill_coc(im.coc, im.px, &rng, 40.0, 0.1);
     ddof_context *ctx = make_context(2);
     for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
         progress_log log;
@@ -879,7 +683,7 @@ static void test_progress(void)
         ddof_params p = params_for((ddof_solver)solver, 3);
         p.progress = progress_cb;
         p.progress_user = &log;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         CHECK_MSG(log.calls >= 2, "solver %s: progress called %d times",
                   ddof_solver_name((ddof_solver)solver), log.calls);
         CHECK_EQ_INT(log.decreasing, 0);
@@ -893,23 +697,21 @@ static void test_progress(void)
             memset(&log, 0, sizeof log);
             log.caller = pthread_self();
             log.cancel_at = at;
-            fill_const(out, n, NAN); /* e.g. uninitialised memory: must not survive */
-            ddof_status s = diffuse(ctx, &p, color, coc, out, w, h, ch, NULL);
+            fill_const(im.out, im.n, NAN); /* e.g. uninitialised memory: must not survive */
+            ddof_status s = image_diffuse(ctx, &p, &im, NULL);
             CHECK_MSG(s == DDOF_ERROR_CANCELLED, "solver %s, cancel at call %d: status %d",
                       ddof_solver_name((ddof_solver)solver), at, (int)s);
-            CHECK_MSG(all_finite(out, n), "solver %s, cancel at call %d: output not finite",
+            CHECK_MSG(all_finite(im.out, im.n), "solver %s, cancel at call %d: output not finite",
                       ddof_solver_name((ddof_solver)solver), at);
             CHECK(ddof_context_last_error(ctx)[0] != '\0');
         }
         /* The context still works after a cancel. */
         p.progress = NULL;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, ch, NULL), DDOF_OK);
+        CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         CHECK(ddof_context_last_error(ctx)[0] == '\0');
     }
     ddof_context_free(ctx);
-    free(color);
-    free(coc);
-    free(out);
+    image_free(&im);
 }
 
 int main(void)

@@ -41,7 +41,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 1
+#define DDOF_VERSION_MINOR 2
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -177,6 +177,8 @@ typedef struct ddof_camera {
     double focus_distance_m;      /* default 10; must exceed the focal length                */
     double pixel_aspect;          /* pixel width / pixel height, default 1; > 0              */
     double depth_unit_m;          /* metres per depth unit, default 1; > 0                   */
+    uint32_t signed_coc;          /* 1: write the CoC of points nearer than the focus plane  */
+                                  /* negative (see ddof_params.coc_signed). Default 0.       */
 } ddof_camera;
 
 DDOF_API void ddof_camera_init(ddof_camera *camera);
@@ -200,6 +202,7 @@ typedef struct ddof_curve {
     double far_start;     /* default 10                                                       */
     double far_end;       /* default 100                                                      */
     double far_blur_px;   /* default 16                                                       */
+    uint32_t signed_coc;  /* 1: the near part of the curve is written negative. Default 0.    */
 } ddof_curve;
 
 DDOF_API void ddof_curve_init(ddof_curve *curve);
@@ -225,6 +228,20 @@ DDOF_API const char *ddof_solver_name(ddof_solver solver);
 
 #define DDOF_DEFAULT_BETA_SCALE (1.0f / 32.0f)
 
+/* Whether an optional effect runs: AUTO lets the planner decide from the CoC field (and says
+ * why in ddof_stats.plan); ON and OFF force it. */
+typedef enum ddof_layer_mode {
+    DDOF_LAYER_AUTO = 0,
+    DDOF_LAYER_OFF = 1,
+    DDOF_LAYER_ON = 2
+} ddof_layer_mode;
+
+/* Bits of ddof_stats.effects: what a call simulated. */
+#define DDOF_EFFECT_MIDGROUND 1u   /* the single-layer diffusion                               */
+#define DDOF_EFFECT_BACKGROUND 2u  /* blurring underneath (Kass et al. 3.1)                    */
+#define DDOF_EFFECT_FOREGROUND 4u  /* a separate foreground element blurred on top (3.2)       */
+#define DDOF_EFFECT_NEAR_SPREAD 8u /* one image: near-CoC dilation (GPU Gems 3 ch. 28)         */
+
 typedef struct ddof_params {
     uint32_t struct_size;      /* sizeof(ddof_params)                                         */
     ddof_solver solver;        /* default DDOF_SOLVER_THOMAS                                  */
@@ -238,11 +255,33 @@ typedef struct ddof_params {
     uint32_t jacobi_iterations;/* sweeps for DDOF_SOLVER_JACOBI, >= 1; default 50             */
     ddof_progress_fn progress; /* optional; NULL for none                                     */
     void *progress_user;       /* passed to progress                                          */
+
+    /* --- layers (version 0.2 of this struct; older callers get the defaults) --------------- */
+    uint32_t coc_signed;       /* 1: negative CoC marks the near field (in front of the focus */
+                               /* plane), diameter |CoC|. 0: negative CoC is an error.         */
+                               /* Default 0; ddof_depth_of_field always uses signed CoC.       */
+    ddof_layer_mode background;     /* blurring underneath: in-focus midground pixels become   */
+                                    /* holes the background is diffused across. Default AUTO: */
+                                    /* on when a CoC >= threshold borders an in-focus pixel.   */
+    float background_threshold_px;  /* CoC at which a pixel is wholly background (matte 1).    */
+                                    /* Default 8; > background_ramp_start_px.                   */
+    float background_ramp_start_px; /* CoC below which a pixel is wholly midground (matte 0);  */
+                                    /* the matte is linear in between. Default 2; >= 0.        */
+    uint32_t background_levels;     /* background layers at thresholds t, 2t, 4t, ... (a log  */
+                                    /* scale; the paper's highest quality). Default 1, 1..8.   */
+    ddof_layer_mode near_spread;    /* one image only: spread near-field CoC over what lies    */
+                                    /* behind it, D = max(D0, 2 D_blurred - D0), so blurred    */
+                                    /* near objects get soft silhouettes. Needs signed CoC.    */
+                                    /* Default AUTO: on when a near CoC >= the threshold       */
+                                    /* borders a pixel with less than half its CoC.            */
+    float near_spread_threshold_px; /* default 4; > 0                                          */
 } ddof_params;
 
 DDOF_API void ddof_params_init(ddof_params *params);
 
-/* What a call simulated, skipped, and how long each stage took. */
+/* What a call simulated, skipped, and how long each stage took. Parameter structs of an older
+ * version (a smaller struct_size, at least the first version's) are accepted: the fields they
+ * lack take their defaults. */
 typedef struct ddof_stats {
     uint32_t struct_size;      /* set by the caller to sizeof(ddof_stats) before the call     */
     uint32_t solver;           /* the ddof_solver that ran                                    */
@@ -254,17 +293,30 @@ typedef struct ddof_stats {
     uint32_t copied_only;      /* 1 when nothing was out of focus: output = input, 0 solves   */
     double seconds_total;      /* wall time of the call                                       */
     double seconds_coc;        /* computing or validating the CoC                             */
-    double seconds_rows;       /* the row passes                                              */
-    double seconds_columns;    /* the column passes                                           */
+    double seconds_rows;       /* the row passes (every layer)                                */
+    double seconds_columns;    /* the column passes (every layer)                             */
+
+    /* --- layers (version 0.2 of this struct) ---------------------------------------------- */
+    uint32_t effects;          /* DDOF_EFFECT_* bits of what was simulated                    */
+    double seconds_plan;       /* analysing the CoC field                                     */
+    double seconds_background; /* the background layer(s): matte, CoC fill, colour, blend     */
+    double seconds_foreground; /* the foreground element or the near-field spread             */
+    char plan[512];            /* one line per decision, '\n'-separated: "<effect>: on: why", */
+                               /* "<effect>: off: why", "<effect>: forced on|off"; effects   */
+                               /* are midground, background, near spread, foreground         */
 } ddof_stats;
 
-/* Diffuses `color` (1..4 channels) with the CoC diameters in pixels in the first channel of
- * `coc` (same size) into `out` (same size and channels as color). out may be the very same buffer as color (in place);
- * any other overlap is undefined. stats may be NULL; if given, set its struct_size first.
+/* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels
+ * in the first channel of `coc` (same size) into `out` (same size and channels as color). The
+ * layer fields of params are ignored except coc_signed (with it, |CoC| conducts); for the
+ * background layer, near spread and foreground element use ddof_diffuse_layers.
+ * out may be the very same buffer as color (in place); any other overlap is undefined.
+ * stats may be NULL; if given, set its struct_size first (an older, smaller stats struct gets
+ * the fields it has room for).
  *  - NULL context/params/images: DDOF_ERROR_NULL_POINTER. params NULL is *not* allowed: call
  *    ddof_params_init so that the defaults are explicit.
- *  - NaN/inf in colour: DDOF_ERROR_BAD_COLOR. NaN/inf/negative CoC or CoC > DDOF_MAX_COC_PX:
- *    DDOF_ERROR_BAD_COC. Sizes, strides, channels: as their status codes say.
+ *  - NaN/inf in colour: DDOF_ERROR_BAD_COLOR. NaN/inf CoC, |CoC| > DDOF_MAX_COC_PX, or a
+ *    negative CoC without coc_signed: DDOF_ERROR_BAD_COC. Sizes, strides, channels: as their status codes say.
  *    In each case out is untouched and ddof_context_last_error() names the first bad pixel.
  *  - A pixel with CoC 0 is left exactly unchanged and nothing diffuses across it.
  *  - Output is a convex combination of the input along each row then each column: it never
@@ -274,8 +326,41 @@ DDOF_API ddof_status ddof_diffuse(ddof_context *context, const ddof_params *para
                                   const ddof_image_in *color, const ddof_image_in *coc,
                                   const ddof_image *out, ddof_stats *stats);
 
-/* The main job in one call: CoC from the camera and depth, then ddof_diffuse with
- * params->pixel_aspect taken from the camera. stats->seconds_coc includes the CoC stage. */
+/* A separately rendered foreground element (Kass et al. 3.2): near objects with their own alpha,
+ * blurred on top of the main image so that a very blurred one turns partly transparent. */
+typedef struct ddof_foreground {
+    uint32_t struct_size;  /* sizeof(ddof_foreground)                                         */
+    ddof_image_in color;   /* 4 channels, RGB and alpha (channel 3) in [0, 1]; same size      */
+    ddof_image_in coc;     /* its CoC diameters in pixels (first channel; the sign is ignored)*/
+    uint32_t premultiplied;/* 1: RGB is already multiplied by alpha. Default 1.               */
+} ddof_foreground;
+
+DDOF_API void ddof_foreground_init(ddof_foreground *foreground);
+
+/* ddof_diffuse with the layers: the planner analyses the CoC field and runs the midground
+ * diffusion, the background layer(s), the near-field spread and the foreground element as
+ * params and the scene call for (ddof_stats.effects and .plan say what ran and why).
+ *  - Background: matte a = 0 below background_ramp_start_px, 1 at the threshold; the CoC is
+ *    filled into the holes (diffused with gamma = a, constant beta of the threshold), then the
+ *    colour is diffused with gamma = a and the filled CoC; out = (1 - a) mid + a background.
+ *    Pixels that no background pixel can reach (a run of a = 0 closed by insulators in both
+ *    passes) have no background: their background value is 0 and their matte 0, so they keep
+ *    the midground; never NaN, never a division by a tiny number.
+ *  - Foreground (when `foreground` is not NULL): its CoC is filled outwards (gamma = its alpha,
+ *    constant beta of its largest CoC), then its premultiplied colour and alpha are diffused
+ *    (gamma = 1, beta from the filled CoC) and composited over: out = F + (1 - F.a) out. Its
+ *    colour is only read where alpha > 0, so NaN there is harmless. Requires colour with 3 or
+ *    4 channels; with 4 the output alpha is composited too.
+ *  - Near spread needs coc_signed = 1 and no foreground element.
+ * Every failure leaves out untouched, as for ddof_diffuse. */
+DDOF_API ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
+                                         const ddof_image_in *color, const ddof_image_in *coc,
+                                         const ddof_foreground *foreground,
+                                         const ddof_image *out, ddof_stats *stats);
+
+/* The main job in one call: signed CoC from the camera and depth, then ddof_diffuse_layers
+ * (without a foreground element) with params->pixel_aspect taken from the camera.
+ * stats->seconds_coc includes the CoC stage. */
 DDOF_API ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
                                          const ddof_camera *camera, const ddof_image_in *color,
                                          const ddof_image_in *depth, const ddof_image *out,

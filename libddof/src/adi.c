@@ -11,13 +11,14 @@
 #include "solver.h"
 
 #include <float.h>
+#include <math.h>
 #include <string.h>
 
 #define L DDOF_LANES
 
 float ddof_link_beta(float scale, float coc_a, float coc_b)
 {
-    const float m = ddof_minf(coc_a, coc_b);
+    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
     const float beta = scale * m * m;
     return beta >= FLT_MIN ? beta : 0.0f;
 }
@@ -38,6 +39,8 @@ typedef struct thread_state {
     float *beta;     /* [n_max][L]    */
     float *gamma;    /* [n_max][L], all 1: plain diffusion */
     float *scratch;  /* the solver's  */
+    float *saved;    /* [n_max][L][C] values of singular runs (layers only) */
+    unsigned char *singular; /* [n_max][L] (layers only) */
     uint64_t lines_solved;
     float max_coc;
 } thread_state;
@@ -125,6 +128,105 @@ static void rows_out(float *const *rows, const float *x, uint32_t n, uint32_t C)
     }
 }
 
+/* ---- heat capacity (layers only): gamma images and masking ----------------------------- */
+
+/* gamma[i][l] for the row batch's lanes (padding lanes get 1: harmless, they hold zeros). */
+static void gather_row_gamma(float *gamma, const adi_request *r, uint32_t y0, uint32_t lanes,
+                             uint32_t n)
+{
+    for (uint32_t l = 0; l < L; l++) {
+        const float *g = r->gamma + (size_t)(y0 + (l < lanes ? l : 0)) * r->gamma_stride;
+        for (uint32_t i = 0; i < n; i++)
+            gamma[(size_t)i * L + l] = l < lanes ? g[(size_t)i * r->gamma_channels] : 1.0f;
+    }
+}
+
+static void gather_column_gamma(float *gamma, const adi_request *r, uint32_t x0,
+                                uint32_t lanes, uint32_t n)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        const float *g = r->gamma + (size_t)i * r->gamma_stride + (size_t)x0 * r->gamma_channels;
+        for (uint32_t l = 0; l < L; l++)
+            gamma[(size_t)i * L + l] = l < lanes ? g[l * r->gamma_channels] : 1.0f;
+    }
+}
+
+/* Where a pixel has no heat capacity its colour is never part of the answer; it may even be
+ * NaN (a masked-out pixel). Zero it, so that no solver ever multiplies it by a weight. */
+static void mask_batch(float *x, const float *gamma, uint32_t n, size_t x_stride, uint32_t C)
+{
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t l = 0; l < L; l++)
+            if (!(gamma[(size_t)i * L + l] > 0.0f))
+                for (uint32_t c = 0; c < C; c++)
+                    x[(size_t)i * x_stride + l * C + c] = 0.0f;
+}
+
+/* One line with no links: y = x where gamma > 0, 0 where gamma = 0 (nothing defines it). */
+static void copy_masked(float *dst, const float *src, const float *gamma_lane, uint32_t n,
+                        uint32_t C)
+{
+    for (uint32_t i = 0; i < n; i++) {
+        const int keep = gamma_lane[(size_t)i * L] > 0.0f;
+        for (uint32_t c = 0; c < C; c++)
+            dst[(size_t)i * C + c] = keep ? src[(size_t)i * C + c] : 0.0f;
+    }
+}
+
+/* A run of pixels joined by links whose heat capacities are all 0 is singular: nothing in it
+ * holds heat, and any constant solves it. Such a run keeps the values it had before the pass
+ * (0 from the input, which is masked; what an earlier pass gave it otherwise). The solvers only
+ * promise finite values there, so the driver puts the values back. Marks the runs per lane and
+ * saves their values; returns whether there is any. */
+static int save_singular(const float *beta, const float *gamma, const float *x, size_t x_stride,
+                         uint32_t n, uint32_t C, unsigned char *singular, float *saved)
+{
+    int any = 0;
+    for (uint32_t l = 0; l < L; l++) {
+        uint32_t start = 0;
+        int holds_heat = 0;
+        for (uint32_t i = 0; i < n; i++) {
+            holds_heat |= gamma[(size_t)i * L + l] > 0.0f;
+            if (i + 1 < n && beta[(size_t)i * L + l] > 0.0f)
+                continue;
+            for (uint32_t k = start; k <= i; k++)
+                singular[(size_t)k * L + l] = (unsigned char)!holds_heat;
+            any |= !holds_heat;
+            start = i + 1;
+            holds_heat = 0;
+        }
+    }
+    if (any)
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t l = 0; l < L; l++)
+                if (singular[(size_t)i * L + l])
+                    memcpy(saved + ((size_t)i * L + l) * C, x + (size_t)i * x_stride + l * C,
+                           C * sizeof(float));
+    return any;
+}
+
+static void restore_singular(float *x, size_t x_stride, uint32_t n, uint32_t C,
+                             const unsigned char *singular, const float *saved)
+{
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t l = 0; l < L; l++)
+            if (singular[(size_t)i * L + l])
+                memcpy(x + (size_t)i * x_stride + l * C, saved + ((size_t)i * L + l) * C,
+                       C * sizeof(float));
+}
+
+/* Solves a batch; with heat capacities, singular runs keep their values. */
+static void solve_batch(const pass_job *job, thread_state *ts, const line_batch *batch)
+{
+    const size_t xs = batch_x_stride(batch);
+    const int singular = job->request->gamma &&
+                         save_singular(batch->beta, batch->gamma, batch->x, xs, batch->n,
+                                       batch->channels, ts->singular, ts->saved);
+    job->solver->solve(batch);
+    if (singular)
+        restore_singular(batch->x, xs, batch->n, batch->channels, ts->singular, ts->saved);
+}
+
 /* ---- rows: lanes are neighbouring rows, unknowns run along x ---------------------------- */
 
 static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
@@ -137,11 +239,13 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
     int active[L] = {0};
     int any_active = 0;
 
-    /* Links element by element across the lanes (contiguous writes, in-order reads). */
-    const uint32_t cc = r->coc_channels;
+    /* Links element by element across the lanes (contiguous writes, in-order reads). A
+     * uniform CoC is read from a one-pixel "image" with stride 0. */
+    const uint32_t cc = r->coc ? r->coc_channels : 0;
     const float *coc[L];
     for (uint32_t l = 0; l < L; l++)
-        coc[l] = r->coc + (size_t)(y0 + (l < lanes ? l : 0)) * r->coc_stride;
+        coc[l] = r->coc ? r->coc + (size_t)(y0 + (l < lanes ? l : 0)) * r->coc_stride
+                        : &r->uniform_coc;
     float max_coc[L] = {0};
     for (uint32_t i = 0; i < n; i++) {
         float *beta = ts->beta + (size_t)i * L;
@@ -150,9 +254,11 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
             const float next = i + 1 < n ? coc[l][(size_t)(i + 1) * cc] : 0.0f;
             beta[l] = l < lanes ? ddof_link_beta(job->beta_scale, here, next) : 0.0f;
             active[l] |= beta[l] > 0.0f;
-            max_coc[l] = ddof_maxf(max_coc[l], here);
+            max_coc[l] = ddof_maxf(max_coc[l], fabsf(here));
         }
     }
+    if (r->gamma)
+        gather_row_gamma(ts->gamma, r, y0, lanes, n);
     for (uint32_t l = 0; l < lanes; l++) {
         ts->max_coc = ddof_maxf(ts->max_coc, max_coc[l]);
         any_active |= active[l];
@@ -162,7 +268,11 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
     for (uint32_t l = 0; l < lanes; l++) {
         const float *src = job->src + (size_t)(y0 + l) * job->src_stride;
         float *dst = job->dst + (size_t)(y0 + l) * job->dst_stride;
-        if (!active[l] && src != dst)
+        if (active[l])
+            continue;
+        if (r->gamma && src == r->color) /* no links: x where it has capacity, else 0 */
+            copy_masked(dst, src, ts->gamma + l, n, C);
+        else if (src != dst)
             memcpy(dst, src, row_floats * sizeof(float));
     }
     if (!any_active)
@@ -177,8 +287,10 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
         ts->lines_solved += (uint64_t)used;
     }
     rows_in(ts->x, src_rows, n, C);
+    if (r->gamma && job->src == r->color) /* the input: values without capacity are unread */
+        mask_batch(ts->x, ts->gamma, n, L * C, C);
     line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0};
-    job->solver->solve(&batch);
+    solve_batch(job, ts, &batch);
     rows_out(dst_rows, ts->x, n, C);
 }
 
@@ -191,13 +303,15 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
     thread_state *ts = &job->threads[thread_index];
     const uint32_t n = r->height, C = r->channels, x0 = batch_index * L;
     const uint32_t lanes = r->width - x0 < L ? r->width - x0 : L;
-    const uint32_t cc = r->coc_channels;
+    const uint32_t cc = r->coc ? r->coc_channels : 0;
+    const size_t coc_stride = r->coc ? r->coc_stride : 0;
     int active[L] = {0};
     int any_active = 0;
 
     for (uint32_t i = 0; i + 1 < n; i++) {
-        const float *coc = r->coc + (size_t)i * r->coc_stride + (size_t)x0 * cc;
-        const float *below = coc + r->coc_stride;
+        const float *coc = r->coc ? r->coc + (size_t)i * coc_stride + (size_t)x0 * cc
+                                  : &r->uniform_coc;
+        const float *below = coc + coc_stride;
         float *beta = ts->beta + (size_t)i * L;
         for (uint32_t l = 0; l < L; l++) {
             beta[l] = l < lanes ? ddof_link_beta(job->beta_scale, coc[l * cc], below[l * cc])
@@ -209,8 +323,12 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
         ts->beta[(size_t)(n - 1) * L + l] = 0.0f;
         any_active |= active[l];
     }
+    /* The column pass reads the row pass's output, which is already masked and finite, so
+     * only the heat capacities are needed here; idle columns were settled by the row pass. */
     if (!any_active)
         return;
+    if (r->gamma)
+        gather_column_gamma(ts->gamma, r, x0, lanes, n);
 
     line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0};
     if (lanes == L) {
@@ -219,7 +337,7 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
          * src is dst. */
         batch.x = job->dst + (size_t)x0 * C;
         batch.x_stride = job->dst_stride;
-        job->solver->solve(&batch);
+        solve_batch(job, ts, &batch);
     } else {
         /* The image's last, narrower block: through the scratch, padded with idle lanes. */
         const size_t lane_floats = (size_t)lanes * C;
@@ -229,7 +347,7 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
                    lane_floats * sizeof(float));
             memset(x + lane_floats, 0, ((size_t)L * C - lane_floats) * sizeof(float));
         }
-        job->solver->solve(&batch);
+        solve_batch(job, ts, &batch);
         for (uint32_t i = 0; i < n; i++)
             memcpy(job->dst + (size_t)i * job->dst_stride + (size_t)x0 * C,
                    ts->x + (size_t)i * L * C, lane_floats * sizeof(float));
@@ -270,7 +388,11 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
     const size_t x_floats = align16((size_t)n_max * L * C);
     const size_t coef_floats = align16((size_t)n_max * L);
     const size_t scratch_floats = align16(solver->scratch_floats(n_max, C));
-    const size_t per_thread = x_floats + 2 * coef_floats + scratch_floats;
+    /* Layers (heat capacities) also keep singular runs' values and a mark per element. */
+    const size_t saved_floats = r->gamma ? x_floats : 0;
+    const size_t mark_floats = r->gamma ? align16(((size_t)n_max * L + 3) / 4) : 0;
+    const size_t per_thread = x_floats + 2 * coef_floats + scratch_floats + saved_floats +
+                              mark_floats;
     if (per_thread > SIZE_MAX / sizeof(float) / thread_count)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "scratch size overflows");
     const size_t state_floats = align16(thread_count * sizeof(thread_state) / sizeof(float) + 1);
@@ -283,11 +405,15 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
     memory += state_floats;
     for (uint32_t t = 0; t < thread_count; t++) {
         float *base = memory + per_thread * t;
+        float *after_scratch = base + x_floats + 2 * coef_floats + scratch_floats;
         threads[t] = (thread_state){.x = base, .beta = base + x_floats,
                                     .gamma = base + x_floats + coef_floats,
-                                    .scratch = base + x_floats + 2 * coef_floats};
-        for (size_t i = 0; i < (size_t)n_max * L; i++)
-            threads[t].gamma[i] = 1.0f;
+                                    .scratch = base + x_floats + 2 * coef_floats,
+                                    .saved = after_scratch,
+                                    .singular = (unsigned char *)(after_scratch + saved_floats)};
+        if (!r->gamma) /* plain diffusion; layers gather theirs per batch */
+            for (size_t i = 0; i < (size_t)n_max * L; i++)
+                threads[t].gamma[i] = 1.0f;
     }
 
     *report = (adi_report){.threads = thread_count};

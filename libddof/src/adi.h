@@ -8,9 +8,13 @@
 typedef struct adi_request {
     const float *color;
     size_t color_stride;
-    const float *coc; /* diameters in pixels, first of coc_channels floats per pixel */
-    size_t coc_stride;
+    const float *coc; /* diameters in pixels (sign ignored), first of coc_channels floats per */
+    size_t coc_stride;/* pixel; NULL: every pixel has uniform_coc                          */
     uint32_t coc_channels;
+    float uniform_coc;
+    const float *gamma; /* heat capacity per pixel (first of gamma_channels floats), >= 0; */
+    size_t gamma_stride;/* NULL: 1 everywhere. Where it is 0 the colour is not read (as 0) */
+    uint32_t gamma_channels;
     float *out; /* may equal color (then out_stride == color_stride) */
     size_t out_stride;
     uint32_t width, height, channels;
@@ -33,8 +37,9 @@ typedef struct adi_report {
     double seconds_columns;
 } adi_report;
 
-/* Conductance of the link between two pixels: k * min(d_a, d_b)^2, flushed to 0 below FLT_MIN
- * so that "no conductive link" has one meaning everywhere (and no denormals reach a solver). */
+/* Conductance of the link between two pixels: k * min(|d_a|, |d_b|)^2 (a negative, near-field
+ * CoC conducts by its size), flushed to 0 below FLT_MIN so that "no conductive link" has one
+ * meaning everywhere (and no denormals reach a solver). */
 float ddof_link_beta(float scale, float coc_a, float coc_b);
 
 /* The float solvers (Thomas, CR, PCR, Jacobi), multi-threaded. */

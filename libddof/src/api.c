@@ -26,6 +26,13 @@ void ddof_params_init(ddof_params *params)
         .beta_scale = DDOF_DEFAULT_BETA_SCALE,
         .pixel_aspect = 1.0f,
         .jacobi_iterations = 50,
+        .coc_signed = 0,
+        .background = DDOF_LAYER_AUTO,
+        .background_threshold_px = 8.0f,
+        .background_ramp_start_px = 2.0f,
+        .background_levels = 1,
+        .near_spread = DDOF_LAYER_AUTO,
+        .near_spread_threshold_px = 4.0f,
     };
 }
 
@@ -60,6 +67,12 @@ void ddof_curve_init(ddof_curve *curve)
         .far_end = 100.0,
         .far_blur_px = 16.0,
     };
+}
+
+void ddof_foreground_init(ddof_foreground *foreground)
+{
+    if (foreground)
+        *foreground = (ddof_foreground){.struct_size = sizeof *foreground, .premultiplied = 1};
 }
 
 const char *ddof_solver_name(ddof_solver solver)

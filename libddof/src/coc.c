@@ -10,15 +10,19 @@
 #include "parallel_rows.h"
 
 #include <math.h>
+#include <stddef.h>
 
 static int positive_finite(double v)
 {
     return isfinite(v) && v > 0.0;
 }
 
-ddof_status ddof_check_camera(ddof_context *context, const ddof_camera *camera)
+ddof_status ddof_read_camera(ddof_context *context, const ddof_camera *caller,
+                             ddof_camera *camera)
 {
-    ddof_status status = ddof_check_struct(context, camera, sizeof *camera, "camera");
+    ddof_camera_init(camera);
+    ddof_status status = ddof_read_struct(context, caller, offsetof(ddof_camera, signed_coc),
+                                          camera, sizeof *camera, "camera");
     if (status != DDOF_OK)
         return status;
     if ((unsigned)camera->lens_model > DDOF_LENS_THIN_LENS ||
@@ -49,9 +53,11 @@ ddof_status ddof_check_camera(ddof_context *context, const ddof_camera *camera)
     return DDOF_OK;
 }
 
-ddof_status ddof_check_curve(ddof_context *context, const ddof_curve *curve)
+ddof_status ddof_read_curve(ddof_context *context, const ddof_curve *caller, ddof_curve *curve)
 {
-    ddof_status status = ddof_check_struct(context, curve, sizeof *curve, "curve");
+    ddof_curve_init(curve);
+    ddof_status status = ddof_read_struct(context, caller, offsetof(ddof_curve, signed_coc),
+                                          curve, sizeof *curve, "curve");
     if (status != DDOF_OK)
         return status;
     const double d[4] = {curve->near_start, curve->near_end, curve->far_start, curve->far_end};
@@ -93,6 +99,7 @@ typedef struct camera_job {
     double k_px;          /* CoC in pixels of an object at infinity        */
     double focus_units;   /* S1 in depth units                             */
     int radial;
+    int signed_coc;       /* near points (Z < S1) negative                */
     double pixel_w_over_f, pixel_h_over_f; /* for the radial -> planar factor */
 } camera_job;
 
@@ -111,8 +118,9 @@ static void camera_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
                 const double xs = ((double)x + 0.5 - 0.5 * job->width) * job->pixel_w_over_f;
                 z /= sqrt(1.0 + xs * xs + ys * ys);
             }
-            double d = job->k_px * fabs(1.0 - job->focus_units / z);
-            coc[x] = d < DDOF_MAX_COC_PX ? (float)d : DDOF_MAX_COC_PX;
+            const double d = job->k_px * fabs(1.0 - job->focus_units / z);
+            const float clamped = d < DDOF_MAX_COC_PX ? (float)d : DDOF_MAX_COC_PX;
+            coc[x] = job->signed_coc && z < job->focus_units ? -clamped : clamped;
         }
     }
 }
@@ -140,6 +148,7 @@ ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *ca
         .k_px = k_mm / pixel_w,
         .focus_units = camera->focus_distance_m / camera->depth_unit_m,
         .radial = camera->depth_kind == DDOF_DEPTH_RADIAL,
+        .signed_coc = camera->signed_coc != 0,
         .pixel_w_over_f = pixel_w / f, .pixel_h_over_f = pixel_h / f,
     };
     ddof_parallel_rows(context, depth->height, camera_rows, &job);
@@ -176,8 +185,11 @@ static void curve_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++) {
         const float *depth = job->depth + (size_t)y * job->depth_stride;
         float *coc = job->coc + (size_t)y * job->coc_stride;
-        for (uint32_t x = 0; x < job->width; x++)
-            coc[x] = (float)curve_blur(&job->curve, depth[(size_t)x * job->depth_channels]);
+        for (uint32_t x = 0; x < job->width; x++) {
+            const double z = depth[(size_t)x * job->depth_channels];
+            const float blur = (float)curve_blur(&job->curve, z);
+            coc[x] = job->curve.signed_coc && z < job->curve.near_end ? -blur : blur;
+        }
     }
 }
 
@@ -227,13 +239,13 @@ ddof_status ddof_coc_from_camera(ddof_context *context, const ddof_camera *camer
         return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     size_t depth_stride, coc_stride;
-    ddof_status status = ddof_check_camera(context, camera);
+    ddof_camera full;
+    ddof_status status = ddof_read_camera(context, camera, &full);
     if (status == DDOF_OK)
         status = check_coc_images(context, depth, coc, &depth_stride, &coc_stride);
     if (status != DDOF_OK)
         return status;
-    return ddof_compute_coc_camera(context, camera, depth, depth_stride, coc->pixels,
-                                   coc_stride);
+    return ddof_compute_coc_camera(context, &full, depth, depth_stride, coc->pixels, coc_stride);
 }
 
 ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
@@ -243,10 +255,11 @@ ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
         return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     size_t depth_stride, coc_stride;
-    ddof_status status = ddof_check_curve(context, curve);
+    ddof_curve full;
+    ddof_status status = ddof_read_curve(context, curve, &full);
     if (status == DDOF_OK)
         status = check_coc_images(context, depth, coc, &depth_stride, &coc_stride);
     if (status != DDOF_OK)
         return status;
-    return ddof_compute_coc_curve(context, curve, depth, depth_stride, coc->pixels, coc_stride);
+    return ddof_compute_coc_curve(context, &full, depth, depth_stride, coc->pixels, coc_stride);
 }

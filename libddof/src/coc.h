@@ -4,8 +4,10 @@
 
 #include "internal.h"
 
-ddof_status ddof_check_camera(ddof_context *context, const ddof_camera *camera);
-ddof_status ddof_check_curve(ddof_context *context, const ddof_curve *curve);
+/* Read the caller's (possibly older, smaller) struct over the defaults and validate it. */
+ddof_status ddof_read_camera(ddof_context *context, const ddof_camera *caller,
+                             ddof_camera *camera);
+ddof_status ddof_read_curve(ddof_context *context, const ddof_curve *caller, ddof_curve *curve);
 
 /* Size of one pixel on the sensor, in mm, for the camera's sensor fit and pixel aspect. */
 void ddof_camera_pixel_size(const ddof_camera *camera, uint32_t width, uint32_t height,

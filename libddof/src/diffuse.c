@@ -1,19 +1,32 @@
-/* diffuse.c - the public diffusion calls: validate everything, then hand over to a solver path.
+/* diffuse.c - the public diffusion calls: validate everything, plan, then hand over.
  * Every check happens before the first output pixel is written, so a failed call leaves the
  * output as it was. */
 #include "adi.h"
 #include "coc.h"
+#include "layers.h"
 #include "parallel_rows.h"
+#include "planner.h"
 
 #include <math.h>
+#include <stddef.h>
 #include <string.h>
 
 #define DDOF_MAX_SUBSTEPS 4096u
 #define DDOF_MAX_JACOBI_ITERATIONS 1000000u
+#define DDOF_MAX_BACKGROUND_LEVELS 8u
 
-static ddof_status check_params(ddof_context *context, const ddof_params *p)
+static int positive_finite(float v)
 {
-    ddof_status status = ddof_check_struct(context, p, sizeof *p, "params");
+    return isfinite(v) && v > 0.0f;
+}
+
+/* The caller's params over the defaults (an older caller's struct lacks the layer fields),
+ * then every value checked. */
+static ddof_status read_params(ddof_context *context, const ddof_params *caller, ddof_params *p)
+{
+    ddof_params_init(p);
+    ddof_status status = ddof_read_struct(context, caller, offsetof(ddof_params, coc_signed), p,
+                                          sizeof *p, "params");
     if (status != DDOF_OK)
         return status;
     if ((unsigned)p->solver >= DDOF_SOLVER_COUNT_)
@@ -23,10 +36,10 @@ static ddof_status check_params(ddof_context *context, const ddof_params *p)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.substeps %u must be within 1..%u", p->substeps,
                          DDOF_MAX_SUBSTEPS);
-    if (!(isfinite(p->beta_scale) && p->beta_scale > 0.0f))
+    if (!positive_finite(p->beta_scale))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.beta_scale %g must be > 0",
                          (double)p->beta_scale);
-    if (!(isfinite(p->pixel_aspect) && p->pixel_aspect > 0.0f))
+    if (!positive_finite(p->pixel_aspect))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.pixel_aspect %g must be > 0", (double)p->pixel_aspect);
     if (p->solver == DDOF_SOLVER_JACOBI &&
@@ -34,6 +47,30 @@ static ddof_status check_params(ddof_context *context, const ddof_params *p)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.jacobi_iterations %u must be within 1..%u",
                          p->jacobi_iterations, DDOF_MAX_JACOBI_ITERATIONS);
+    if (p->coc_signed > 1 || (unsigned)p->background > DDOF_LAYER_ON ||
+        (unsigned)p->near_spread > DDOF_LAYER_ON)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.coc_signed, background or near_spread is not a known value");
+    if (!(isfinite(p->background_ramp_start_px) && p->background_ramp_start_px >= 0.0f &&
+          isfinite(p->background_threshold_px) &&
+          p->background_threshold_px > p->background_ramp_start_px))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.background_threshold_px (%g) must exceed "
+                         "background_ramp_start_px (%g) >= 0",
+                         (double)p->background_threshold_px,
+                         (double)p->background_ramp_start_px);
+    if (p->background_levels < 1 || p->background_levels > DDOF_MAX_BACKGROUND_LEVELS)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.background_levels %u must be within 1..%u",
+                         p->background_levels, DDOF_MAX_BACKGROUND_LEVELS);
+    if (!positive_finite(p->near_spread_threshold_px))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.near_spread_threshold_px %g must be > 0",
+                         (double)p->near_spread_threshold_px);
+    if (p->near_spread == DDOF_LAYER_ON && !p->coc_signed)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.near_spread is forced on, but the CoC is unsigned: without "
+                         "coc_signed = 1 the near field is unknown");
     return DDOF_OK;
 }
 
@@ -46,26 +83,39 @@ static ddof_status check_same_size(ddof_context *context, const char *what, uint
     return DDOF_OK;
 }
 
+/* Checks one more image of the call: valid, the colour's size; *stride in floats. */
+static ddof_status check_map(ddof_context *context, const char *what, const ddof_image_in *map,
+                             const adi_request *r, size_t *stride)
+{
+    if (!map)
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s image is NULL", what);
+    ddof_status status = ddof_check_image(context, what, map->pixels, map->width, map->height,
+                                          map->channels, map->row_stride, stride);
+    if (status == DDOF_OK)
+        status = check_same_size(context, what, map->width, map->height, r->width, r->height);
+    return status;
+}
+
 /* Checks colour, the per-pixel input (CoC or depth) and out, and fills the request's images. */
 static ddof_status check_images(ddof_context *context, const ddof_image_in *color,
                                 const ddof_image_in *map, const char *map_name,
                                 const ddof_image *out, adi_request *r, size_t *map_stride)
 {
-    if (!color || !map || !out)
+    if (!color || !out)
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s image is NULL",
-                         !color ? "colour" : !map ? map_name : "output");
+                         !color ? "colour" : "output");
     ddof_status status = ddof_check_image(context, "colour", color->pixels, color->width,
                                           color->height, color->channels, color->row_stride,
                                           &r->color_stride);
-    if (status == DDOF_OK)
-        status = ddof_check_image(context, map_name, map->pixels, map->width, map->height,
-                                  map->channels, map->row_stride, map_stride);
+    if (status != DDOF_OK)
+        return status;
+    r->width = color->width;
+    r->height = color->height;
+    r->channels = color->channels;
+    status = check_map(context, map_name, map, r, map_stride);
     if (status == DDOF_OK)
         status = ddof_check_image(context, "output", out->pixels, out->width, out->height,
                                   out->channels, out->row_stride, &r->out_stride);
-    if (status == DDOF_OK)
-        status = check_same_size(context, map_name, map->width, map->height, color->width,
-                                 color->height);
     if (status == DDOF_OK)
         status = check_same_size(context, "output", out->width, out->height, color->width,
                                  color->height);
@@ -80,9 +130,6 @@ static ddof_status check_images(ddof_context *context, const ddof_image_in *colo
                          "in-place diffusion needs the same stride for colour and output");
     r->color = color->pixels;
     r->out = out->pixels;
-    r->width = color->width;
-    r->height = color->height;
-    r->channels = color->channels;
 
     bad_value bad;
     if (ddof_find_bad_value(context, color->pixels, color->width, color->height,
@@ -91,6 +138,19 @@ static ddof_status check_images(ddof_context *context, const ddof_image_in *colo
         return ddof_fail(context, DDOF_ERROR_BAD_COLOR,
                          "colour at pixel (%u, %u) channel %u is %g", bad.x, bad.y,
                          bad.channel, (double)bad.value);
+    return DDOF_OK;
+}
+
+static ddof_status check_coc_values(ddof_context *context, const ddof_image_in *coc,
+                                    size_t stride, int coc_signed)
+{
+    bad_value bad;
+    if (ddof_find_bad_value(context, coc->pixels, coc->width, coc->height, coc->channels, 1,
+                            stride, coc_signed ? VALUE_COC_SIGNED : VALUE_COC, &bad))
+        return ddof_fail(context, DDOF_ERROR_BAD_COC,
+                         "CoC at pixel (%u, %u) is %g; it must be finite, within %s0..%g px",
+                         bad.x, bad.y, (double)bad.value, coc_signed ? "+-" : "",
+                         (double)DDOF_MAX_COC_PX);
     return DDOF_OK;
 }
 
@@ -116,8 +176,131 @@ static void write_stats(ddof_stats *stats, const ddof_stats *full)
     stats->struct_size = caller_size;
 }
 
-static ddof_status run(ddof_context *context, const adi_request *r, ddof_stats *stats,
-                       double t_start, double seconds_coc)
+static ddof_stats stats_from(const adi_report *report, ddof_solver solver, double t_start,
+                             double seconds_coc)
+{
+    return (ddof_stats){
+        .struct_size = sizeof(ddof_stats),
+        .solver = (uint32_t)solver,
+        .threads = report->threads,
+        .substeps = report->substeps_run,
+        .lines_solved = report->lines_solved,
+        .lines_skipped = report->lines_skipped,
+        .max_coc_px = report->max_coc,
+        .copied_only = report->substeps_run == 0,
+        .seconds_total = ddof_seconds() - t_start,
+        .seconds_coc = seconds_coc,
+        .seconds_rows = report->seconds_rows,
+        .seconds_columns = report->seconds_columns,
+        .effects = report->substeps_run ? DDOF_EFFECT_MIDGROUND : 0u,
+    };
+}
+
+/* ---- the foreground element ------------------------------------------------------------- */
+
+typedef struct foreground_scan {
+    const float *color, *coc;
+    size_t color_stride, coc_stride;
+    uint32_t coc_channels, width;
+    bad_value *first_bad; /* per chunk; channel 4 marks a bad CoC */
+    unsigned char *found, *has_alpha;
+} foreground_scan;
+
+/* Alpha must be finite everywhere; colour and CoC only matter (and are only read) where
+ * alpha > 0, so NaN under alpha 0 is accepted. */
+static void scan_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    const foreground_scan *s = user;
+    s->found[chunk] = 0;
+    s->has_alpha[chunk] = 0;
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *px = s->color + (size_t)y * s->color_stride;
+        const float *coc = s->coc + (size_t)y * s->coc_stride;
+        for (uint32_t x = 0; x < s->width; x++) {
+            const float alpha = px[x * 4 + 3];
+            const float d = fabsf(coc[(size_t)x * s->coc_channels]);
+            int bad_channel = -1;
+            if (!isfinite(alpha))
+                bad_channel = 3;
+            else if (alpha > 0.0f) {
+                for (int c = 0; c < 3 && bad_channel < 0; c++)
+                    if (!isfinite(px[x * 4 + c]))
+                        bad_channel = c;
+                if (bad_channel < 0 && !(d <= DDOF_MAX_COC_PX))
+                    bad_channel = 4;
+                s->has_alpha[chunk] = 1;
+            }
+            if (bad_channel >= 0 && !s->found[chunk]) {
+                s->first_bad[chunk] =
+                    (bad_value){x, y, (uint32_t)bad_channel,
+                                bad_channel == 4 ? coc[(size_t)x * s->coc_channels]
+                                                 : px[x * 4 + bad_channel]};
+                s->found[chunk] = 1;
+            }
+        }
+    }
+}
+
+/* Validates the element and fills the request's foreground fields; *visible says whether any
+ * alpha > 0 (an element with none changes nothing and is skipped). */
+static ddof_status read_foreground(ddof_context *context, const ddof_foreground *caller,
+                                   layers_request *q, int *visible)
+{
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    ddof_status status = ddof_read_struct(context, caller, sizeof fg, &fg, sizeof fg,
+                                          "foreground");
+    if (status != DDOF_OK)
+        return status;
+    const adi_request *r = &q->base;
+    if (r->channels < 3)
+        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS,
+                         "a foreground element needs colour with 3 or 4 channels, not %u",
+                         r->channels);
+    size_t color_stride, coc_stride;
+    status = check_map(context, "foreground colour", &fg.color, r, &color_stride);
+    if (status == DDOF_OK)
+        status = check_map(context, "foreground coc", &fg.coc, r, &coc_stride);
+    if (status != DDOF_OK)
+        return status;
+    if (fg.color.channels != 4)
+        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS,
+                         "foreground colour has %u channels; it must be RGBA (4)",
+                         fg.color.channels);
+
+    enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
+    bad_value first_bad[max_chunks];
+    unsigned char found[max_chunks], has_alpha[max_chunks];
+    foreground_scan scan = {fg.color.pixels, fg.coc.pixels, color_stride, coc_stride,
+                            fg.coc.channels, r->width, first_bad, found, has_alpha};
+    ddof_parallel_rows(context, r->height, scan_foreground_rows, &scan);
+    *visible = 0;
+    for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++) {
+        if (found[c]) {
+            const bad_value b = first_bad[c];
+            return b.channel == 4
+                       ? ddof_fail(context, DDOF_ERROR_BAD_COC,
+                                   "foreground CoC at pixel (%u, %u) is %g", b.x, b.y,
+                                   (double)b.value)
+                       : ddof_fail(context, DDOF_ERROR_BAD_COLOR,
+                                   "foreground colour at pixel (%u, %u) channel %u is %g", b.x,
+                                   b.y, b.channel, (double)b.value);
+        }
+        *visible |= has_alpha[c];
+    }
+    q->fg_color = fg.color.pixels;
+    q->fg_color_stride = color_stride;
+    q->fg_coc = fg.coc.pixels;
+    q->fg_coc_stride = coc_stride;
+    q->fg_coc_channels = fg.coc.channels;
+    q->fg_premultiplied = fg.premultiplied != 0;
+    return DDOF_OK;
+}
+
+/* ---- running ------------------------------------------------------------------------------ */
+
+static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_stats *stats,
+                              double t_start, double seconds_coc)
 {
     adi_report report;
     ddof_status status = r->solver == DDOF_SOLVER_REFERENCE_F64
@@ -125,21 +308,68 @@ static ddof_status run(ddof_context *context, const adi_request *r, ddof_stats *
                              : ddof_adi_run(context, r, &report);
     if (status != DDOF_OK)
         return status;
-    ddof_stats full = {
-        .struct_size = sizeof full,
-        .solver = (uint32_t)r->solver,
-        .threads = report.threads,
-        .substeps = report.substeps_run,
-        .lines_solved = report.lines_solved,
-        .lines_skipped = report.lines_skipped,
-        .max_coc_px = report.max_coc,
-        .copied_only = report.substeps_run == 0,
-        .seconds_total = ddof_seconds() - t_start,
-        .seconds_coc = seconds_coc,
-        .seconds_rows = report.seconds_rows,
-        .seconds_columns = report.seconds_columns,
-    };
+    ddof_stats full = stats_from(&report, r->solver, t_start, seconds_coc);
     write_stats(stats, &full);
+    return DDOF_OK;
+}
+
+/* Plans the frame, runs what the plan says, reports it. */
+static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_visible,
+                               ddof_stats *stats, double t_start, double seconds_coc)
+{
+    const adi_request *r = &q->base;
+    const double t_plan = ddof_seconds();
+    coc_analysis analysis;
+    ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
+                     q->params, &analysis);
+    frame_plan plan;
+    ddof_plan_frame(&analysis, q->params, fg_visible, &plan);
+    const double seconds_plan = ddof_seconds() - t_plan;
+
+    layers_report report = {.adi = {.threads = context->thread_count,
+                                    .lines_skipped = (uint64_t)r->width + r->height}};
+    if (plan.copy_only) {
+        if (r->out != r->color)
+            for (uint32_t y = 0; y < r->height; y++)
+                memcpy(r->out + (size_t)y * r->out_stride, r->color + (size_t)y * r->color_stride,
+                       (size_t)r->width * r->channels * sizeof(float));
+        if (r->progress)
+            r->progress(r->progress_user, 1.0f);
+    } else {
+        q->fg_color = fg_visible ? q->fg_color : NULL;
+        ddof_status status = ddof_run_layers(context, q, &plan, analysis.max_near_coc, &report);
+        if (status != DDOF_OK)
+            return status;
+    }
+    ddof_stats full = stats_from(&report.adi, r->solver, t_start, seconds_coc);
+    full.max_coc_px = analysis.max_coc;
+    full.copied_only = plan.copy_only;
+    full.effects = report.effects;
+    full.seconds_plan = seconds_plan;
+    full.seconds_background = report.seconds_background;
+    full.seconds_foreground = report.seconds_foreground;
+    memcpy(full.plan, plan.text, sizeof full.plan);
+    write_stats(stats, &full);
+    return DDOF_OK;
+}
+
+/* The checks every diffusion call shares: params, colour, CoC, output. */
+static ddof_status prepare(ddof_context *context, const ddof_params *caller_params,
+                           const ddof_image_in *color, const ddof_image_in *coc,
+                           const ddof_image *out, ddof_params *params, adi_request *r)
+{
+    size_t coc_stride = 0;
+    ddof_status status = read_params(context, caller_params, params);
+    if (status == DDOF_OK)
+        status = check_images(context, color, coc, "coc", out, r, &coc_stride);
+    if (status == DDOF_OK)
+        status = check_coc_values(context, coc, coc_stride, (int)params->coc_signed);
+    if (status != DDOF_OK)
+        return status;
+    r->coc = coc->pixels;
+    r->coc_stride = coc_stride;
+    r->coc_channels = coc->channels;
+    fill_request_params(r, params);
     return DDOF_OK;
 }
 
@@ -151,24 +381,32 @@ ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
     if (!context)
         return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
+    ddof_params p;
     adi_request r = {0};
-    size_t coc_stride = 0;
-    ddof_status status = check_params(context, params);
-    if (status == DDOF_OK)
-        status = check_images(context, color, coc, "coc", out, &r, &coc_stride);
+    ddof_status status = prepare(context, params, color, coc, out, &p, &r);
     if (status != DDOF_OK)
         return status;
-    bad_value bad;
-    if (ddof_find_bad_value(context, coc->pixels, coc->width, coc->height, coc->channels, 1,
-                            coc_stride, VALUE_COC, &bad))
-        return ddof_fail(context, DDOF_ERROR_BAD_COC,
-                         "CoC at pixel (%u, %u) is %g; it must be finite, within 0..%g px",
-                         bad.x, bad.y, (double)bad.value, (double)DDOF_MAX_COC_PX);
-    r.coc = coc->pixels;
-    r.coc_stride = coc_stride;
-    r.coc_channels = coc->channels;
-    fill_request_params(&r, params);
-    return run(context, &r, stats, t_start, ddof_seconds() - t_start);
+    return run_single(context, &r, stats, t_start, ddof_seconds() - t_start);
+}
+
+ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
+                                const ddof_image_in *color, const ddof_image_in *coc,
+                                const ddof_foreground *foreground, const ddof_image *out,
+                                ddof_stats *stats)
+{
+    const double t_start = ddof_seconds();
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    ddof_params p;
+    layers_request q = {.params = &p};
+    int fg_visible = 0;
+    ddof_status status = prepare(context, params, color, coc, out, &p, &q.base);
+    if (status == DDOF_OK && foreground)
+        status = read_foreground(context, foreground, &q, &fg_visible);
+    if (status != DDOF_OK)
+        return status;
+    return run_layered(context, &q, fg_visible, stats, t_start, ddof_seconds() - t_start);
 }
 
 ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
@@ -180,29 +418,34 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
     if (!context)
         return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
-    adi_request r = {0};
+    ddof_params p;
+    ddof_camera cam;
+    layers_request q = {.params = &p};
+    adi_request *r = &q.base;
     size_t depth_stride = 0;
-    ddof_status status = check_params(context, params);
+    ddof_status status = read_params(context, params, &p);
     if (status == DDOF_OK)
-        status = ddof_check_camera(context, camera);
+        status = ddof_read_camera(context, camera, &cam);
     if (status == DDOF_OK)
-        status = check_images(context, color, depth, "depth", out, &r, &depth_stride);
+        status = check_images(context, color, depth, "depth", out, r, &depth_stride);
     if (status != DDOF_OK)
         return status;
 
-    const size_t coc_floats = (size_t)r.width * r.height;
-    float *coc = ddof_scratch_get(context, DDOF_SCRATCH_COC, coc_floats * sizeof(float));
+    /* Signed, so the planner knows the near field from the far. */
+    cam.signed_coc = 1;
+    p.coc_signed = 1;
+    p.pixel_aspect = (float)cam.pixel_aspect;
+    float *coc = ddof_scratch_get(context, DDOF_SCRATCH_COC,
+                                  (size_t)r->width * r->height * sizeof(float));
     if (!coc)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the %ux%u CoC buffer", r.width, r.height);
-    status = ddof_compute_coc_camera(context, camera, depth, depth_stride, coc, r.width);
-    if (status == DDOF_OK) {
-        r.coc = coc;
-        r.coc_stride = r.width;
-        r.coc_channels = 1;
-        fill_request_params(&r, params);
-        r.pixel_aspect = (float)camera->pixel_aspect;
-        status = run(context, &r, stats, t_start, ddof_seconds() - t_start);
-    }
-    return status;
+                         "could not allocate the %ux%u CoC buffer", r->width, r->height);
+    status = ddof_compute_coc_camera(context, &cam, depth, depth_stride, coc, r->width);
+    if (status != DDOF_OK)
+        return status;
+    r->coc = coc;
+    r->coc_stride = r->width;
+    r->coc_channels = 1;
+    fill_request_params(r, &p);
+    return run_layered(context, &q, 0, stats, t_start, ddof_seconds() - t_start);
 }

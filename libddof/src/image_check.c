@@ -1,6 +1,8 @@
 /* image_check.c - validation of caller-described images and versioned structs. */
 #include "internal.h"
 
+#include <string.h>
+
 ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min_size,
                               const char *what)
 {
@@ -11,6 +13,18 @@ ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "%s.struct_size is %u, expected at least %zu (call its _init function)",
                          what, size, min_size);
+    return DDOF_OK;
+}
+
+ddof_status ddof_read_struct(ddof_context *context, const void *caller, size_t min_size,
+                             void *full, size_t full_size, const char *what)
+{
+    ddof_status status = ddof_check_struct(context, caller, min_size, what);
+    if (status != DDOF_OK)
+        return status;
+    const uint32_t size = *(const uint32_t *)caller;
+    memcpy(full, caller, size < full_size ? size : full_size);
+    *(uint32_t *)full = (uint32_t)full_size;
     return DDOF_OK;
 }
 

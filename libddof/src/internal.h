@@ -24,7 +24,12 @@ typedef struct ddof_scratch {
     size_t size;
 } ddof_scratch;
 
-enum { DDOF_SCRATCH_SOLVER, DDOF_SCRATCH_COC, DDOF_SCRATCH_COUNT };
+enum {
+    DDOF_SCRATCH_SOLVER,
+    DDOF_SCRATCH_COC,
+    DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
+    DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 5
+};
 
 struct ddof_context {
     ddof_allocator allocator;
@@ -54,6 +59,12 @@ double ddof_seconds(void);
  * as the first version of the struct, `min_size`. */
 ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min_size,
                               const char *what);
+
+/* Reads a caller's versioned struct into `full` (already holding the defaults, full_size
+ * bytes): as many bytes as the caller's struct_size says, so a caller built against an older
+ * header gets the defaults for the fields it does not know. */
+ddof_status ddof_read_struct(ddof_context *context, const void *caller, size_t min_size,
+                             void *full, size_t full_size, const char *what);
 
 /* Validates an image description; on success *stride_floats is its row stride in floats. */
 ddof_status ddof_check_image(ddof_context *context, const char *what, const float *pixels,

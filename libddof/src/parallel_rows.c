@@ -31,6 +31,7 @@ static DDOF_ALWAYS_INLINE int value_ok(float v, const value_rule rule)
     case VALUE_DEPTH: return v > 0.0f;       /* false for NaN; true for +inf */
     case VALUE_DEPTH_ZERO: return v >= 0.0f;
     case VALUE_COC: return v >= 0.0f && v <= DDOF_MAX_COC_PX;
+    case VALUE_COC_SIGNED: return v >= -DDOF_MAX_COC_PX && v <= DDOF_MAX_COC_PX;
     }
     return 0;
 }
@@ -57,6 +58,7 @@ static unsigned count_bad(const float *v, size_t n, size_t step, value_rule rule
     case VALUE_DEPTH: return count_bad_rule(v, n, step, VALUE_DEPTH);
     case VALUE_DEPTH_ZERO: return count_bad_rule(v, n, step, VALUE_DEPTH_ZERO);
     case VALUE_COC: return count_bad_rule(v, n, step, VALUE_COC);
+    case VALUE_COC_SIGNED: return count_bad_rule(v, n, step, VALUE_COC_SIGNED);
     }
     return 0;
 }

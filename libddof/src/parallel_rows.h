@@ -21,7 +21,8 @@ typedef enum value_rule {
     VALUE_FINITE,     /* colour: not NaN, not +-inf                                   */
     VALUE_DEPTH,      /* > 0, +inf allowed                                            */
     VALUE_DEPTH_ZERO, /* >= 0, +inf allowed (the artist curve accepts depth 0)        */
-    VALUE_COC         /* finite, 0 <= v <= DDOF_MAX_COC_PX                            */
+    VALUE_COC,        /* finite, 0 <= v <= DDOF_MAX_COC_PX                            */
+    VALUE_COC_SIGNED  /* finite, |v| <= DDOF_MAX_COC_PX (negative: the near field)      */
 } value_rule;
 
 typedef struct bad_value {

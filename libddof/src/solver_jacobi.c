@@ -28,6 +28,32 @@ static size_t jacobi_scratch_floats(uint32_t n, uint32_t channels)
     return (size_t)n * 2 * L + ((size_t)n + 2 * ((size_t)n + 2)) * channels * L;
 }
 
+/* The first guess in a hole (gamma = 0, its own value unread) is the nearest value along the
+ * line that holds heat, not the 0 the hole was given: starting from 0 an unconverged Jacobi
+ * would pull its neighbours out of the input's range. Only the start changes, not the answer. */
+static DDOF_ALWAYS_INLINE void fill_holes(float *y, const float *gamma, uint32_t n,
+                                          const uint32_t ch)
+{
+    const size_t vf = (size_t)ch * L;
+    for (int l = 0; l < L; l++) {
+        long last = -1; /* the last element holding heat, going forward */
+        for (uint32_t i = 0; i < n; i++) {
+            if (gamma[(size_t)i * L + l] > 0.0f)
+                last = (long)i;
+            else if (last >= 0)
+                for (uint32_t c = 0; c < ch; c++)
+                    y[i * vf + c * L + l] = y[(size_t)last * vf + c * L + l];
+        }
+        long first = -1; /* leading holes take the first element holding heat */
+        for (uint32_t i = 0; i < n && first < 0; i++)
+            if (gamma[(size_t)i * L + l] > 0.0f)
+                first = (long)i;
+        for (long i = 0; i < first; i++)
+            for (uint32_t c = 0; c < ch; c++)
+                y[(size_t)i * vf + c * L + l] = y[(size_t)first * vf + c * L + l];
+    }
+}
+
 static DDOF_ALWAYS_INLINE void jacobi_solve_channels(const line_batch *batch, const uint32_t ch)
 {
     const uint32_t n = batch->n;
@@ -49,6 +75,7 @@ static DDOF_ALWAYS_INLINE void jacobi_solve_channels(const line_batch *batch, co
         }
     }
     memcpy(cur + vf, src, n * vf * sizeof(float));
+    fill_holes(cur + vf, batch->gamma, n, ch);
     memset(cur, 0, vf * sizeof(float));
     memset(cur + (n + 1) * vf, 0, vf * sizeof(float));
     memset(next, 0, vf * sizeof(float));

@@ -5,7 +5,7 @@
  * time at 2 px, one thread's time over two threads'. Each time is the median of --reps runs
  * after one warm-up. Absolute milliseconds are printed too (as *_ms) for the notes.
  *
- *   ddof-bench [--size WxH] [--reps N] [--solver NAME|all]
+ *   ddof-bench [--size WxH] [--reps N] [--solver NAME|layers|all]
  */
 #include "ddof.h"
 
@@ -17,6 +17,8 @@
 typedef struct bench {
     uint32_t width, height, reps;
     float *color, *coc_scene, *coc_2, *coc_200, *out;
+    float *coc_sharp, *coc_half; /* all in focus; top half in focus, bottom half 2 px   */
+    float *fg_color, *fg_coc;    /* a foreground element: a disc, alpha 1, CoC 30 px   */
 } bench;
 
 static double now(void)
@@ -52,20 +54,37 @@ static double time_memcpy(const bench *b)
     return median(t, b->reps);
 }
 
-/* Median seconds of one ddof_diffuse call; exits on error (a benchmark has nothing to hide). */
-static double time_diffuse(const bench *b, ddof_context *context, ddof_solver solver,
-                           const float *coc)
+/* What a timed call runs: the single layer, or the layered call with these settings. */
+typedef struct run_config {
+    int layered;
+    ddof_layer_mode background;
+    int foreground;
+} run_config;
+
+static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0};
+
+/* Median seconds of one call; exits on error (a benchmark has nothing to hide). */
+static double time_config(const bench *b, ddof_context *context, ddof_solver solver,
+                          const float *coc, run_config config)
 {
     ddof_params params;
     ddof_params_init(&params);
     params.solver = solver;
+    params.background = config.background;
     ddof_image_in color = {b->color, b->width, b->height, 4, 0};
     ddof_image_in coc_image = {coc, b->width, b->height, 1, 0};
     ddof_image out = {b->out, b->width, b->height, 4, 0};
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){b->fg_color, b->width, b->height, 4, 0};
+    fg.coc = (ddof_image_in){b->fg_coc, b->width, b->height, 1, 0};
     double t[64];
     for (uint32_t i = 0; i <= b->reps; i++) {
         double t0 = now();
-        ddof_status status = ddof_diffuse(context, &params, &color, &coc_image, &out, NULL);
+        ddof_status status =
+            config.layered ? ddof_diffuse_layers(context, &params, &color, &coc_image,
+                                                 config.foreground ? &fg : NULL, &out, NULL)
+                           : ddof_diffuse(context, &params, &color, &coc_image, &out, NULL);
         double seconds = now() - t0;
         if (status != DDOF_OK) {
             fprintf(stderr, "ddof-bench: %s: %s\n", ddof_status_string(status),
@@ -76,6 +95,12 @@ static double time_diffuse(const bench *b, ddof_context *context, ddof_solver so
             t[i - 1] = seconds; /* run 0 is the warm-up */
     }
     return median(t, b->reps);
+}
+
+static double time_diffuse(const bench *b, ddof_context *context, ddof_solver solver,
+                           const float *coc)
+{
+    return time_config(b, context, solver, coc, single_layer);
 }
 
 static ddof_context *make_context(uint32_t threads)
@@ -101,7 +126,12 @@ static void make_scene(bench *b)
     b->coc_scene = malloc(pixels * sizeof(float));
     b->coc_2 = malloc(pixels * sizeof(float));
     b->coc_200 = malloc(pixels * sizeof(float));
-    if (!b->color || !b->out || !b->coc_scene || !b->coc_2 || !b->coc_200) {
+    b->coc_sharp = calloc(pixels, sizeof(float));
+    b->coc_half = malloc(pixels * sizeof(float));
+    b->fg_color = malloc(pixels * 4 * sizeof(float));
+    b->fg_coc = malloc(pixels * sizeof(float));
+    if (!b->color || !b->out || !b->coc_scene || !b->coc_2 || !b->coc_200 || !b->coc_sharp ||
+        !b->coc_half || !b->fg_color || !b->fg_coc) {
         fprintf(stderr, "ddof-bench: out of memory\n");
         exit(1);
     }
@@ -120,6 +150,13 @@ static void make_scene(bench *b)
             b->coc_scene[i] = in_object ? 0.0f : depth_coc;
             b->coc_2[i] = 2.0f;
             b->coc_200[i] = 200.0f;
+            b->coc_half[i] = v < 0.5f ? 0.0f : 2.0f;
+            const float dx = u - 0.2f, dy = (v - 0.7f) * b->height / b->width;
+            const float fg_alpha = dx * dx + dy * dy < 0.01f ? 1.0f : 0.0f;
+            for (int k = 0; k < 3; k++)
+                b->fg_color[4 * i + k] = 0.9f * fg_alpha;
+            b->fg_color[4 * i + 3] = fg_alpha;
+            b->fg_coc[i] = 30.0f;
         }
 }
 
@@ -147,7 +184,7 @@ int main(int argc, char **argv)
             only = argv[++i];
         else {
             fprintf(stderr,
-                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|all]\n"
+                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|layers|all]\n"
                     "Prints `name value` lines: times as ratios measured in this run.\n");
             return 2;
         }
@@ -181,6 +218,33 @@ int main(int argc, char **argv)
         }
         fflush(stdout);
     }
+    if (!strcmp(only, "all") || !strcmp(only, "layers")) {
+        /* Layers and the planner, Thomas, all threads. */
+        const run_config background = {1, DDOF_LAYER_ON, 0};
+        const run_config three = {1, DDOF_LAYER_ON, 1};
+        const run_config planned = {1, DDOF_LAYER_AUTO, 0};
+        const double single = time_diffuse(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene);
+        const double bg = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, background);
+        const double layers3 = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, three);
+        printf("background_vs_single_layer %.3f\n", bg / single);
+        printf("three_layers_ms %.3f\n", 1e3 * layers3);
+        printf("three_layers_vs_single_layer %.3f\n", layers3 / single);
+        /* What the planner saves. The reference is the same frame blurred everywhere (2 px,
+         * every line solved). An all-sharp frame is a copy; a half-sharp one solves only the
+         * lines that conduct; and since its 2 px blur is below the background threshold the
+         * planner also skips the background layer that a fixed pipeline would run. */
+        const double blurred = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_2, planned);
+        const double sharp = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_sharp, planned);
+        const double half = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_half, planned);
+        const double half_forced = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_half, background);
+        printf("all_blurred_planned_ms %.3f\n", 1e3 * blurred);
+        printf("all_sharp_planned_ms %.3f\n", 1e3 * sharp);
+        printf("all_sharp_vs_all_blurred %.3f\n", sharp / blurred);
+        printf("all_sharp_vs_memcpy %.3f\n", sharp / memcpy_s);
+        printf("half_sharp_planned_ms %.3f\n", 1e3 * half);
+        printf("half_sharp_vs_all_blurred %.3f\n", half / blurred);
+        printf("half_sharp_background_forced_vs_planned %.3f\n", half_forced / half);
+    }
     ddof_context_free(one);
     ddof_context_free(two);
     ddof_context_free(all);
@@ -189,5 +253,9 @@ int main(int argc, char **argv)
     free(b.coc_scene);
     free(b.coc_2);
     free(b.coc_200);
+    free(b.coc_sharp);
+    free(b.coc_half);
+    free(b.fg_color);
+    free(b.fg_coc);
     return 0;
 }

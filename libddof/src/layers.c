@@ -1,0 +1,403 @@
+/* layers.c - the layered diffusion of DESIGN.md section 1, each effect one or two ADI runs.
+ *
+ *  midground    the single-layer diffusion (with the near-spread CoC when that runs)
+ *  near spread  one image: D = max(D0, 2 D_blurred - D0) on the near-field CoC (GPU Gems 3
+ *               ch. 28), D_blurred a diffusion of D0 at the largest near CoC; the midground then
+ *               conducts with max(|CoC|, D), so a blurred near object spreads over its edges
+ *  background   matte a from the CoC; the CoC filled into the holes (gamma = a, uniform beta of
+ *               the threshold); the colour diffused with gamma = a and the filled CoC; blended
+ *               under the midground: out += a (B - out). Levels at t, 2t, 4t ... in turn.
+ *  foreground   its CoC filled outwards (gamma = its alpha, uniform beta of its largest CoC);
+ *               its premultiplied colour and alpha diffused with gamma = 1 and the filled CoC
+ *               (gamma = alpha there would give transparent pixels no capacity, and they would
+ *               copy their neighbours' alpha instead of turning transparent); composited over.
+ * Per-pixel steps run on the context's threads in row chunks; the diffusions are adi.c's. */
+#include "layers.h"
+
+#include "parallel_rows.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Extra working images, each kept by the context between calls. */
+enum {
+    SLOT_COLOR_COPY = DDOF_SCRATCH_LAYER_FIRST, /* the input, when diffusing in place   */
+    SLOT_LAYER_COLOR,                           /* background B or foreground F         */
+    SLOT_MAP_A,                                 /* near CoC -> spread CoC; matte         */
+    SLOT_MAP_B,                                 /* blurred near CoC; |CoC| to fill      */
+    SLOT_MAP_C                                  /* filled CoC                           */
+};
+
+/* ---- stages and progress ----------------------------------------------------------------- */
+
+typedef struct stages {
+    ddof_progress_fn progress; /* the caller's */
+    void *user;
+    uint32_t current, count;
+} stages;
+
+/* Maps one diffusion's progress into the whole call's, so the caller sees one rising fraction. */
+static int stage_progress(void *user, float fraction)
+{
+    const stages *s = user;
+    return s->progress(s->user, ((float)s->current + fraction) / (float)s->count);
+}
+
+/* One diffusion with the request's solver; its figures are added to the report. */
+static ddof_status diffuse(ddof_context *context, adi_request *r, stages *st,
+                           layers_report *report)
+{
+    if (st->progress) {
+        r->progress = stage_progress;
+        r->progress_user = st;
+    }
+    adi_report a;
+    ddof_status status = r->solver == DDOF_SOLVER_REFERENCE_F64
+                             ? ddof_adi_reference(context, r, &a)
+                             : ddof_adi_run(context, r, &a);
+    st->current++;
+    if (status != DDOF_OK)
+        return status;
+    report->adi.lines_solved += a.lines_solved;
+    report->adi.lines_skipped += a.lines_skipped;
+    report->adi.seconds_rows += a.seconds_rows;
+    report->adi.seconds_columns += a.seconds_columns;
+    report->adi.threads = a.threads;
+    report->adi.max_coc = ddof_maxf(report->adi.max_coc, a.max_coc);
+    if (a.substeps_run > report->adi.substeps_run)
+        report->adi.substeps_run = a.substeps_run;
+    return DDOF_OK;
+}
+
+/* A request for a w x h image of `channels`, with the base request's solver settings. */
+static adi_request derived(const adi_request *base, const float *color, size_t color_stride,
+                           uint32_t channels, float *out)
+{
+    adi_request r = *base;
+    r.color = color;
+    r.color_stride = color_stride;
+    r.channels = channels;
+    r.out = out;
+    r.out_stride = (size_t)base->width * channels;
+    r.coc = NULL;
+    r.gamma = NULL;
+    return r;
+}
+
+/* ---- per-pixel steps ---------------------------------------------------------------------- */
+
+typedef struct pixel_job {
+    const layers_request *q;
+    float *a, *b;      /* maps (w floats a row) or colour (w * channels) */
+    float t0, t1;      /* matte ramp                                      */
+    float blend_from;  /* background levels: blend only CoC >= this       */
+} pixel_job;
+
+static float coc_of(const adi_request *r, uint32_t x, uint32_t y)
+{
+    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
+}
+
+/* a = the near-field CoC D0 (|CoC| where CoC < 0, else 0). */
+static void near_map_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float c = coc_of(r, x, y);
+            j->a[(size_t)y * r->width + x] = c < 0.0f ? -c : 0.0f;
+        }
+}
+
+/* a = max(|CoC|, D0, 2 D_blurred - D0) with D0 in a and D_blurred in b. */
+static void spread_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const size_t i = (size_t)y * r->width + x;
+            const float d0 = j->a[i], spread = ddof_maxf(d0, 2.0f * j->b[i] - d0);
+            j->a[i] = ddof_maxf(fabsf(coc_of(r, x, y)), spread);
+        }
+}
+
+/* a = matte (0 below t0, 1 from t1, linear between; 0 for the near field, which is never
+ * background), b = |CoC|. */
+static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    const float inv = 1.0f / (j->t1 - j->t0);
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const size_t i = (size_t)y * r->width + x;
+            const float c = coc_of(r, x, y);
+            j->a[i] = ddof_minf(1.0f, ddof_maxf(0.0f, (c - j->t0) * inv));
+            j->b[i] = fabsf(c);
+        }
+}
+
+/* out += a (B - out): the midground over the background by its matte; exact where a = 0. An
+ * extra level (threshold 2^k t) only replaces pixels at least as blurred as its threshold: it
+ * treats less blurred ones as (partial) holes, and its blur would be too wide for them. */
+static void blend_background_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    const uint32_t C = r->channels;
+    for (uint32_t y = y0; y < y1; y++) {
+        float *out = r->out + (size_t)y * r->out_stride;
+        const float *b = j->b + (size_t)y * r->width * C;
+        const float *a = j->a + (size_t)y * r->width;
+        const float *coc = r->coc + (size_t)y * r->coc_stride;
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float weight = coc[(size_t)x * r->coc_channels] >= j->blend_from ? a[x] : 0.0f;
+            if (weight > 0.0f)
+                for (uint32_t c = 0; c < C; c++)
+                    out[x * C + c] += weight * (b[x * C + c] - out[x * C + c]);
+        }
+    }
+}
+
+/* The foreground element as premultiplied RGBA in a (alpha clamped to [0, 1]; colour only read
+ * where alpha > 0) and its |CoC| in b (0 where transparent). */
+static void foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const layers_request *q = j->q;
+    const uint32_t w = q->base.width;
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
+        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
+        for (uint32_t x = 0; x < w; x++) {
+            float *p = j->a + ((size_t)y * w + x) * 4;
+            const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, fg[x * 4 + 3]));
+            const float scale = q->fg_premultiplied ? 1.0f : alpha;
+            for (int c = 0; c < 3; c++)
+                p[c] = alpha > 0.0f ? fg[x * 4 + c] * scale : 0.0f;
+            p[3] = alpha;
+            j->b[(size_t)y * w + x] = alpha > 0.0f ? fabsf(coc[(size_t)x * q->fg_coc_channels]) : 0.0f;
+        }
+    }
+}
+
+/* out = F + (1 - F.a) out on the colour channels (and alpha, with 4 channels). */
+static void composite_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    const uint32_t C = r->channels;
+    for (uint32_t y = y0; y < y1; y++) {
+        float *out = r->out + (size_t)y * r->out_stride;
+        const float *f = j->a + (size_t)y * r->width * 4;
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, f[x * 4 + 3]));
+            if (alpha <= 0.0f)
+                continue;
+            for (uint32_t c = 0; c < 3; c++)
+                out[x * C + c] = f[x * 4 + c] + (1.0f - alpha) * out[x * C + c];
+            if (C == 4)
+                out[x * 4 + 3] = alpha + (1.0f - alpha) * out[x * 4 + 3];
+        }
+    }
+}
+
+/* Largest value of a w x h map. */
+static float map_max(const float *map, size_t count)
+{
+    float m = 0.0f;
+    for (size_t i = 0; i < count; i++)
+        m = ddof_maxf(m, map[i]);
+    return m;
+}
+
+/* ---- the effects -------------------------------------------------------------------------- */
+
+static float *scratch(ddof_context *context, int slot, size_t floats, ddof_status *status)
+{
+    float *p = ddof_scratch_get(context, slot, floats * sizeof(float));
+    if (!p && *status == DDOF_OK)
+        *status = ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                            "could not allocate %zu bytes for a layer", floats * sizeof(float));
+    return p;
+}
+
+/* Near spread: writes the spread CoC (w x h, 1 channel) into *spread_coc. */
+static ddof_status near_spread(ddof_context *context, const layers_request *q, float max_near,
+                               stages *st, layers_report *report, const float **spread_coc)
+{
+    const adi_request *r = &q->base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    float *d0 = scratch(context, SLOT_MAP_A, pixels, &status);
+    float *blurred = scratch(context, SLOT_MAP_B, pixels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = q, .a = d0, .b = blurred};
+    ddof_parallel_rows(context, r->height, near_map_rows, &job);
+    adi_request blur = derived(r, d0, r->width, 1, blurred);
+    blur.coc = NULL;
+    blur.uniform_coc = max_near;
+    status = diffuse(context, &blur, st, report);
+    if (status != DDOF_OK)
+        return status;
+    ddof_parallel_rows(context, r->height, spread_rows, &job);
+    *spread_coc = d0;
+    return DDOF_OK;
+}
+
+/* One background level with matte ramp [ramp_start, threshold], blended into r->out. */
+static ddof_status background_level(ddof_context *context, const layers_request *q,
+                                    const float *color, size_t color_stride, float ramp_start,
+                                    float threshold, float blend_from, stages *st,
+                                    layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    float *matte = scratch(context, SLOT_MAP_A, pixels, &status);
+    float *coc_abs = scratch(context, SLOT_MAP_B, pixels, &status);
+    float *filled = scratch(context, SLOT_MAP_C, pixels, &status);
+    float *layer = scratch(context, SLOT_LAYER_COLOR, pixels * r->channels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = q, .a = matte, .b = coc_abs, .t0 = ramp_start, .t1 = threshold,
+                     .blend_from = blend_from};
+    ddof_parallel_rows(context, r->height, matte_rows, &job);
+
+    /* The CoC flows into the holes: heat capacity = matte, every link at the threshold. */
+    adi_request fill = derived(r, coc_abs, r->width, 1, filled);
+    fill.uniform_coc = threshold;
+    fill.substeps = 1;
+    fill.gamma = matte;
+    fill.gamma_stride = r->width;
+    fill.gamma_channels = 1;
+    if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
+        return status;
+
+    /* The colour, with the holes (matte 0) holding no heat of their own. */
+    adi_request bg = derived(r, color, color_stride, r->channels, layer);
+    bg.coc = filled;
+    bg.coc_stride = r->width;
+    bg.coc_channels = 1;
+    bg.gamma = matte;
+    bg.gamma_stride = r->width;
+    bg.gamma_channels = 1;
+    if ((status = diffuse(context, &bg, st, report)) != DDOF_OK)
+        return status;
+
+    job.b = layer;
+    ddof_parallel_rows(context, r->height, blend_background_rows, &job);
+    return DDOF_OK;
+}
+
+static ddof_status foreground(ddof_context *context, const layers_request *q, stages *st,
+                              layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    float *premultiplied = scratch(context, SLOT_LAYER_COLOR, pixels * 4, &status);
+    float *coc_abs = scratch(context, SLOT_MAP_B, pixels, &status);
+    float *filled = scratch(context, SLOT_MAP_C, pixels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = q, .a = premultiplied, .b = coc_abs};
+    ddof_parallel_rows(context, r->height, foreground_rows, &job);
+
+    /* Its CoC flows outwards into the transparent pixels, at its own largest size. */
+    adi_request fill = derived(r, coc_abs, r->width, 1, filled);
+    fill.uniform_coc = map_max(coc_abs, pixels);
+    fill.substeps = 1;
+    fill.gamma = premultiplied + 3;
+    fill.gamma_stride = (size_t)r->width * 4;
+    fill.gamma_channels = 4;
+    if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
+        return status;
+
+    /* Premultiplied colour and alpha spread together (in place): coverage falls below 1. */
+    adi_request blur = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
+    blur.coc = filled;
+    blur.coc_stride = r->width;
+    blur.coc_channels = 1;
+    if ((status = diffuse(context, &blur, st, report)) != DDOF_OK)
+        return status;
+
+    ddof_parallel_rows(context, r->height, composite_foreground_rows, &job);
+    return DDOF_OK;
+}
+
+ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
+                            const frame_plan *plan, float max_near_coc, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    memset(report, 0, sizeof *report);
+    stages st = {r->progress, r->progress_user, 0,
+                 1 + (uint32_t)plan->near_spread + 2 * (plan->background ? p->background_levels : 0) +
+                     2 * (uint32_t)plan->foreground};
+    ddof_status status = DDOF_OK;
+
+    /* Diffusing in place overwrites the colour the background layer still needs. */
+    const float *color = r->color;
+    size_t color_stride = r->color_stride;
+    if (plan->background && r->out == r->color) {
+        const size_t row = (size_t)r->width * r->channels;
+        float *copy = scratch(context, SLOT_COLOR_COPY, row * r->height, &status);
+        if (status != DDOF_OK)
+            return status;
+        for (uint32_t y = 0; y < r->height; y++)
+            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
+        color = copy;
+        color_stride = row;
+    }
+
+    adi_request mid = *r;
+    if (plan->near_spread) {
+        const double t0 = ddof_seconds();
+        const float *spread = NULL;
+        if ((status = near_spread(context, q, max_near_coc, &st, report, &spread)) != DDOF_OK)
+            return status;
+        mid.coc = spread;
+        mid.coc_stride = r->width;
+        mid.coc_channels = 1;
+        report->effects |= DDOF_EFFECT_NEAR_SPREAD;
+        report->seconds_foreground += ddof_seconds() - t0;
+    }
+    if ((status = diffuse(context, &mid, &st, report)) != DDOF_OK)
+        return status;
+    report->effects |= DDOF_EFFECT_MIDGROUND;
+
+    if (plan->background) {
+        const double t0 = ddof_seconds();
+        /* Level k >= 1 (threshold t 2^k) ramps up from the previous level's threshold, so a
+         * pixel counts as a hole only at levels well above its own CoC. */
+        for (uint32_t level = 0; level < p->background_levels; level++) {
+            const float threshold = p->background_threshold_px * (float)(1u << level);
+            const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
+            status = background_level(context, q, color, color_stride, ramp_start, threshold,
+                                      level ? threshold : -INFINITY, &st, report);
+            if (status != DDOF_OK)
+                return status;
+        }
+        report->effects |= DDOF_EFFECT_BACKGROUND;
+        report->seconds_background = ddof_seconds() - t0;
+    }
+
+    if (plan->foreground) {
+        const double t0 = ddof_seconds();
+        if ((status = foreground(context, q, &st, report)) != DDOF_OK)
+            return status;
+        report->effects |= DDOF_EFFECT_FOREGROUND;
+        report->seconds_foreground += ddof_seconds() - t0;
+    }
+    return DDOF_OK;
+}

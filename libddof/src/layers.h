@@ -1,0 +1,34 @@
+/* layers.h - the layered diffusion: midground, background layer(s), near spread, foreground. */
+#ifndef DDOF_LAYERS_H
+#define DDOF_LAYERS_H
+
+#include "adi.h"
+#include "planner.h"
+
+/* A validated layered request. */
+typedef struct layers_request {
+    adi_request base;          /* colour, CoC (possibly signed), out and the solver settings */
+    const ddof_params *params; /* the layer settings                                         */
+    const float *fg_color;     /* NULL: no foreground element; else 4 channels                */
+    size_t fg_color_stride;
+    const float *fg_coc;
+    size_t fg_coc_stride;
+    uint32_t fg_coc_channels;
+    int fg_premultiplied;
+} layers_request;
+
+/* Everything a layered call reports (folded into ddof_stats by the caller). */
+typedef struct layers_report {
+    adi_report adi;            /* summed over every diffusion that ran */
+    uint32_t effects;          /* DDOF_EFFECT_* bits                   */
+    double seconds_background;
+    double seconds_foreground;
+} layers_report;
+
+/* Runs what the plan says; out is written only after every check has passed (the caller's
+ * job), and on error its contents are finite but unspecified. */
+ddof_status ddof_run_layers(ddof_context *context, const layers_request *request,
+                            const frame_plan *plan, float max_near_coc,
+                            layers_report *report);
+
+#endif

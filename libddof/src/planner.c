@@ -1,0 +1,163 @@
+/* planner.c - simulate only what the scene calls for.
+ *
+ * One pass over the CoC field counts the discontinuities that make each effect necessary:
+ *  - the background layer exists to blur a far background *behind* in-focus midground pixels,
+ *    which insulate; it matters only where a far CoC of at least the threshold borders a pixel
+ *    below the matte's ramp (an insulator). Without such an edge the single layer is already
+ *    right. A near-field CoC (negative, when signed) is never background: a blurred near
+ *    object is in front of what it borders, which is the near spread's or foreground's case.
+ *  - the near-field spread exists to let a blurred near object spread over what lies behind it;
+ *    it matters only where a near CoC of at least its threshold borders a pixel with less than
+ *    half that CoC (a silhouette the single layer would keep sharp).
+ * The decisions and their reasons go to ddof_stats.plan. */
+#include "planner.h"
+
+#include "parallel_rows.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+typedef struct analysis_job {
+    const float *coc;
+    size_t stride;
+    uint32_t channels, width, height;
+    float bg_threshold, bg_insulator, near_threshold;
+    coc_analysis *chunks; /* one per row chunk */
+} analysis_job;
+
+static float coc_abs(const analysis_job *job, uint32_t x, uint32_t y)
+{
+    return fabsf(job->coc[(size_t)y * job->stride + (size_t)x * job->channels]);
+}
+
+/* The smallest |CoC| among the 4-neighbours of (x, y). */
+static float min_neighbour(const analysis_job *job, uint32_t x, uint32_t y)
+{
+    float m = INFINITY;
+    if (x > 0)
+        m = ddof_minf(m, coc_abs(job, x - 1, y));
+    if (x + 1 < job->width)
+        m = ddof_minf(m, coc_abs(job, x + 1, y));
+    if (y > 0)
+        m = ddof_minf(m, coc_abs(job, x, y - 1));
+    if (y + 1 < job->height)
+        m = ddof_minf(m, coc_abs(job, x, y + 1));
+    return m;
+}
+
+static void analyse_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    const analysis_job *job = user;
+    coc_analysis a = {0};
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *row = job->coc + (size_t)y * job->stride;
+        for (uint32_t x = 0; x < job->width; x++) {
+            const float c = row[(size_t)x * job->channels];
+            const float d = fabsf(c);
+            a.max_coc = ddof_maxf(a.max_coc, d);
+            if (c < 0.0f)
+                a.max_near_coc = ddof_maxf(a.max_near_coc, d);
+            /* The neighbour look-up only where an edge is possible: most pixels skip it. */
+            if (c >= job->bg_threshold && min_neighbour(job, x, y) < job->bg_insulator)
+                a.background_edges++;
+            if (c < 0.0f && d >= job->near_threshold && min_neighbour(job, x, y) < 0.5f * d)
+                a.near_edges++;
+        }
+    }
+    job->chunks[chunk] = a;
+}
+
+void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride,
+                      uint32_t coc_channels, uint32_t width, uint32_t height,
+                      const ddof_params *params, coc_analysis *analysis)
+{
+    enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
+    static const coc_analysis none = {0};
+    coc_analysis chunks[max_chunks];
+    analysis_job job = {coc, coc_stride, coc_channels, width, height,
+                        params->background_threshold_px, params->background_ramp_start_px,
+                        params->near_spread_threshold_px, chunks};
+    ddof_parallel_rows(context, height, analyse_rows, &job);
+    *analysis = none;
+    for (uint32_t c = 0; c < ddof_row_chunks(height); c++) {
+        analysis->max_coc = ddof_maxf(analysis->max_coc, chunks[c].max_coc);
+        analysis->max_near_coc = ddof_maxf(analysis->max_near_coc, chunks[c].max_near_coc);
+        analysis->background_edges += chunks[c].background_edges;
+        analysis->near_edges += chunks[c].near_edges;
+    }
+}
+
+/* Appends one line to the plan text (truncating quietly: it is for people). */
+static void say(frame_plan *plan, const char *format, ...) DDOF_PRINTF(2, 3);
+static void say(frame_plan *plan, const char *format, ...)
+{
+    size_t used = strlen(plan->text);
+    if (used + 1 >= sizeof plan->text)
+        return;
+    va_list args;
+    va_start(args, format);
+    vsnprintf(plan->text + used, sizeof plan->text - used, format, args);
+    va_end(args);
+    used = strlen(plan->text);
+    if (used + 1 < sizeof plan->text) {
+        plan->text[used] = '\n';
+        plan->text[used + 1] = '\0';
+    }
+}
+
+static const char *forced(ddof_layer_mode mode)
+{
+    return mode == DDOF_LAYER_ON ? "forced on" : "forced off";
+}
+
+void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int has_foreground,
+                     frame_plan *plan)
+{
+    memset(plan, 0, sizeof *plan);
+    if (a->max_coc <= 0.0f && !has_foreground) {
+        plan->copy_only = 1;
+        say(plan, "midground: off: nothing is out of focus (largest CoC 0), output = input");
+        say(plan, "background: off: nothing is out of focus");
+        say(plan, "near spread: off: nothing is out of focus");
+        say(plan, "foreground: off: no foreground element");
+        return;
+    }
+    say(plan, "midground: on: largest CoC %.3g px", (double)a->max_coc);
+
+    if (p->background != DDOF_LAYER_AUTO) {
+        plan->background = p->background == DDOF_LAYER_ON;
+        say(plan, "background: %s", forced(p->background));
+    } else if (a->background_edges > 0) {
+        plan->background = 1;
+        say(plan, "background: on: %llu pixels with far CoC >= %.3g px border in-focus pixels "
+                  "(CoC < %.3g px)",
+            (unsigned long long)a->background_edges, (double)p->background_threshold_px,
+            (double)p->background_ramp_start_px);
+    } else {
+        say(plan, "background: off: no far CoC >= %.3g px borders an in-focus pixel",
+            (double)p->background_threshold_px);
+    }
+
+    if (has_foreground) {
+        plan->foreground = 1;
+        say(plan, "foreground: on: a foreground element was given");
+        say(plan, "near spread: off: the foreground element covers the near field");
+    } else {
+        say(plan, "foreground: off: no foreground element");
+        if (!p->coc_signed) {
+            say(plan, "near spread: off: the CoC is unsigned (near and far unknown)");
+        } else if (p->near_spread != DDOF_LAYER_AUTO) {
+            plan->near_spread = p->near_spread == DDOF_LAYER_ON;
+            say(plan, "near spread: %s", forced(p->near_spread));
+        } else if (a->near_edges > 0) {
+            plan->near_spread = 1;
+            say(plan, "near spread: on: %llu near pixels with CoC >= %.3g px border pixels "
+                      "with less than half their CoC",
+                (unsigned long long)a->near_edges, (double)p->near_spread_threshold_px);
+        } else {
+            say(plan, "near spread: off: no blurred near silhouette (largest near CoC %.3g px)",
+                (double)a->max_near_coc);
+        }
+    }
+}

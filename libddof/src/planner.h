@@ -1,0 +1,34 @@
+/* planner.h - decide from the CoC field which effects a frame needs, before any solve. */
+#ifndef DDOF_PLANNER_H
+#define DDOF_PLANNER_H
+
+#include "internal.h"
+
+/* What the CoC field contains, from one pass over it. */
+typedef struct coc_analysis {
+    float max_coc;            /* largest |CoC|                                             */
+    float max_near_coc;       /* largest |CoC| of a negative (near-field) CoC              */
+    uint64_t background_edges;/* far pixels, CoC >= threshold, next to |CoC| < ramp start  */
+    uint64_t near_edges;      /* near pixels with |CoC| >= near threshold next to a pixel  */
+                              /* with less than half their |CoC|                           */
+} coc_analysis;
+
+typedef struct frame_plan {
+    int copy_only;     /* nothing out of focus and no foreground: output = input       */
+    int background;    /* run the background layer(s)                                  */
+    int near_spread;   /* spread the near-field CoC before the midground diffusion     */
+    int foreground;    /* blur the foreground element and composite it over            */
+    char text[512];    /* the decisions and their reasons, one line each               */
+} frame_plan;
+
+/* One parallel pass over the (validated) CoC field. */
+void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride,
+                      uint32_t coc_channels, uint32_t width, uint32_t height,
+                      const ddof_params *params, coc_analysis *analysis);
+
+/* Decisions from the analysis, the parameters' AUTO/ON/OFF and whether a foreground element
+ * (with some alpha > 0) was given. */
+void ddof_plan_frame(const coc_analysis *analysis, const ddof_params *params,
+                     int has_foreground, frame_plan *plan);
+
+#endif
