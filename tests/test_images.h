@@ -106,6 +106,35 @@ static inline ddof_status diffuse(ddof_context *ctx, const ddof_params *params,
     return ddof_diffuse(ctx, params, &ci, &zi, &oi, stats);
 }
 
+/* ddof_diffuse_layers on tightly packed images, as diffuse() above; fg may be NULL. */
+static inline ddof_status diffuse_layers(ddof_context *ctx, const ddof_params *params,
+                                         const float *color, const float *coc,
+                                         const ddof_foreground *fg, float *out, uint32_t w,
+                                         uint32_t h, uint32_t c, ddof_stats *stats)
+{
+    ddof_image_in ci = {color, w, h, c, 0};
+    ddof_image_in zi = {coc, w, h, 1, 0};
+    ddof_image oi = {out, w, h, c, 0};
+    return ddof_diffuse_layers(ctx, params, &ci, &zi, fg, &oi, stats);
+}
+
+/* Blocky random texture (8x8 blocks) in [lo, hi) on channels 0..2; channel 3 (alpha) is 1. */
+static inline void block_texture(float *color, uint32_t w, uint32_t h, uint32_t ch,
+                                 unsigned long long seed, double lo, double hi)
+{
+    test_rng rng = {seed};
+    const uint32_t bw = (w + 7) / 8, bh = (h + 7) / 8;
+    float *blocks = alloc_f((size_t)bw * bh * 3);
+    for (size_t i = 0; i < (size_t)bw * bh * 3; i++)
+        blocks[i] = (float)(lo + (hi - lo) * test_uniform(&rng));
+    for (uint32_t y = 0; y < h; y++)
+        for (uint32_t x = 0; x < w; x++)
+            for (uint32_t c = 0; c < ch; c++)
+                color[((size_t)y * w + x) * ch + c] =
+                    c == 3 ? 1.0f : blocks[((size_t)(y / 8) * bw + x / 8) * 3 + c];
+    free(blocks);
+}
+
 /* ddof_diffuse of im->color with im->coc into im->out. */
 static inline ddof_status image_diffuse(ddof_context *ctx, const ddof_params *params,
                                         test_image *im, ddof_stats *stats)

@@ -23,6 +23,7 @@
  *    DDOF_ERROR_BAD_CHANNELS or DDOF_ERROR_SIZE_MISMATCH (the header names neither);
  *  - ddof_depth_of_field uses signed CoC whatever params.coc_signed says. */
 #include "ddof.h"
+#include "test_images.h"
 #include "test_util.h"
 
 #include <float.h>
@@ -46,31 +47,12 @@ static const ddof_solver all_solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC
 /* ---------------------------------------------------------------------------------------- */
 /* Helpers                                                                                    */
 
-static float *alloc_f(size_t n)
-{
-    float *p = calloc(n ? n : 1, sizeof(float));
-    if (!p) {
-        fprintf(stderr, "out of memory in the test\n");
-        exit(2);
-    }
-    return p;
-}
-
-static void stats_init(ddof_stats *st)
-{
-    memset(st, 0, sizeof *st);
-    st->struct_size = sizeof *st;
-}
-
 static ddof_status layers(const ddof_params *p, const float *color, const float *coc,
                           const ddof_foreground *fg, float *out, uint32_t ch, ddof_stats *st)
 {
-    ddof_image_in ci = {color, W, H, ch, 0};
-    ddof_image_in zi = {coc, W, H, 1, 0};
-    ddof_image oi = {out, W, H, ch, 0};
     if (st)
-        stats_init(st);
-    return ddof_diffuse_layers(ctx, p, &ci, &zi, fg, &oi, st);
+        *st = stats_init();
+    return diffuse_layers(ctx, p, color, coc, fg, out, W, H, ch, st);
 }
 
 static ddof_status single(const ddof_params *p, const float *color, const float *coc, float *out,
@@ -107,14 +89,6 @@ static double max_diff(const float *a, const float *b, size_t n)
             m = isnan(d) ? INFINITY : d;
     }
     return m;
-}
-
-static int all_finite(const float *p, size_t n)
-{
-    for (size_t i = 0; i < n; i++)
-        if (!isfinite(p[i]))
-            return 0;
-    return 1;
 }
 
 /* RMSE over channels 0..2 of the pixels where mask[i] != 0. */
@@ -176,17 +150,7 @@ static size_t out_of_range(const float *out, uint32_t ch, const float *lo, const
  * channel 3 (alpha) 1. */
 static void texture(float *color, uint32_t ch, unsigned long long seed)
 {
-    test_rng rng = {seed};
-    uint32_t bw = (W + 7) / 8, bh = (H + 7) / 8;
-    float *blocks = alloc_f((size_t)bw * bh * 3);
-    for (size_t i = 0; i < (size_t)bw * bh * 3; i++)
-        blocks[i] = (float)(0.05 + 0.5 * test_uniform(&rng));
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W; x++)
-            for (uint32_t c = 0; c < ch; c++)
-                color[((size_t)y * W + x) * ch + c] =
-                    c == 3 ? 1.0f : blocks[((size_t)(y / 8) * bw + x / 8) * 3 + c];
-    free(blocks);
+    block_texture(color, W, H, ch, seed, 0.05, 0.55);
 }
 
 /* Per-pixel noise: channel c uniform in [0.2 + 0.05 c, 0.7 + 0.05 c] (alpha, c = 3, in
@@ -234,8 +198,8 @@ static void paste_bars(float *img)
                 memcpy(&img[((size_t)y * W + x) * CH], bar, sizeof bar);
 }
 
-/* Measured at 160x120, vertical bars, Thomas: band RMSE single 0.0292, background 0.0115
- * (2.54x); 64x48: see the printed report. */
+/* Band RMSE measured (Thomas): 160x120 vertical bars single 0.0292, background 0.0115 (2.54x),
+ * horizontal 0.0319 / 0.0125 (2.56x); 64x48 (DDOF_TEST_QUICK): 2.65x and 2.96x. */
 #define BARS_MIN_GAIN 2.0
 
 static void test_bars_error(int horizontal)
@@ -389,13 +353,14 @@ static double disc_dist(uint32_t x, uint32_t y)
 
 static double disc_radius(void) { return H / 5.0; }
 
-/* Band RMSE measured at 160x120: single layer 0.128, near spread 0.049 (2.6x). The foreground
- * element reproduces the reference up to float rounding once its CoC is filled everywhere (the
- * only source value is 20, so the fill is 20 everywhere and F is the reference's F): so it must
- * be far closer than the near spread, which also blurs the background under the silhouette. */
+/* Band RMSE measured: 160x120 single layer 0.128, near spread 0.049 (2.6x), foreground element
+ * 0.0002; 64x48: 0.130, 0.054 (2.4x), 0.0069. The foreground element reproduces the reference up
+ * to float rounding once its CoC is filled everywhere (the only source value is 20, so the fill
+ * is 20 everywhere and F is the reference's F): so it must be far closer than the near spread,
+ * which also blurs the background under the silhouette. */
 #define NEAR_SPREAD_MIN_GAIN 1.5 /* single / near spread */
 #define FOREGROUND_MIN_GAIN 3.0  /* near spread / foreground element */
-#define FOREGROUND_MAX_DIFF 0.01 /* foreground element vs the reference, any pixel */
+#define FOREGROUND_MAX_DIFF 1e-3 /* foreground element vs the reference, any pixel */
 
 static void test_near_error(void)
 {
@@ -460,7 +425,11 @@ static void test_near_error(void)
     {
         double d = max_diff(fgout, ref, n);
         printf("near object: foreground element vs reference, max |diff| %.3g\n", d);
-        CHECK_MSG(d <= FOREGROUND_MAX_DIFF, "foreground element vs reference: max diff %g", d);
+        /* A fill that does not reach the pixels diagonal to the element (outside both the rows
+         * and the columns it covers) clips the halo along those lines. */
+        CHECK_MSG(d <= FOREGROUND_MAX_DIFF,
+                  "foreground element vs reference: max diff %g (is its CoC filled everywhere?)",
+                  d);
     }
     /* Every solver: the same element result (Jacobi: approximate, only closer than single). */
     for (size_t s = 0; s < N_SOLVERS; s++) {
@@ -509,6 +478,61 @@ static void test_near_error(void)
     free(tmp);
     free(zero);
     free(band);
+}
+
+/* A small, very blurred element (radius 4 px, CoC 30): its halo is round, as the reference's.
+ * (A CoC fill that reaches only the rows and the columns the element covers makes it a plus.) */
+static void test_small_element(void)
+{
+    const size_t npx = (size_t)W * H, n = npx * CH;
+    float *bg = alloc_f(n), *obj = alloc_f(npx * 4), *objcoc = alloc_f(npx), *flat = alloc_f(npx);
+    float *zero = alloc_f(npx), *F = alloc_f(npx * 4), *out = alloc_f(n);
+    texture(bg, CH, 91);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x;
+            int in = disc_dist(x, y) <= 4.0;
+            for (uint32_t c = 0; c < 3; c++)
+                obj[i * 4 + c] = in ? obj_rgb[c] : 0.0f;
+            obj[i * 4 + 3] = in ? 1.0f : 0.0f;
+            objcoc[i] = in ? 30.0f : 0.0f;
+        }
+    fill(flat, npx, 30.0f);
+    fill(zero, npx, 0.0f);
+    ddof_params p;
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_REFERENCE_F64;
+    CHECK_EQ_INT(single(&p, obj, flat, F, 4), DDOF_OK);
+    ddof_params_init(&p);
+    ddof_foreground fg = make_fg(obj, objcoc, 1);
+    CHECK_EQ_INT(layers(&p, bg, zero, &fg, out, CH, NULL), DDOF_OK);
+    double worst = 0;
+    uint32_t wx = 0, wy = 0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x;
+            for (uint32_t c = 0; c < 3; c++) {
+                double ref = F[i * 4 + c] + (1.0 - F[i * 4 + 3]) * bg[i * CH + c];
+                double d = fabs(out[i * CH + c] - ref);
+                if (d > worst) {
+                    worst = d;
+                    wx = x;
+                    wy = y;
+                }
+            }
+        }
+    printf("small element (r 4, CoC 30): max |diff| to the reference %.4f at (%u, %u)\n", worst,
+           wx, wy);
+    CHECK_MSG(worst <= FOREGROUND_MAX_DIFF,
+              "small element: max diff %g at (%u, %u) (is its CoC filled everywhere?)", worst, wx,
+              wy);
+    free(bg);
+    free(obj);
+    free(objcoc);
+    free(flat);
+    free(zero);
+    free(F);
+    free(out);
 }
 
 /* Foreground element: premultiplied vs straight input, a 3-channel main image, alpha 0
@@ -812,6 +836,127 @@ static void test_foreground_stability(void)
 }
 
 /* ---------------------------------------------------------------------------------------- */
+/* Progress, cancellation, threads, substeps on a call that runs every layer                  */
+
+typedef struct progress_log {
+    int calls, bad, cancel_at;
+    float last, cancel_fraction; /* the fraction of the first report answered "cancel" */
+} progress_log;
+
+static int on_progress(void *user, float fraction)
+{
+    progress_log *log = user;
+    if (!(fraction >= 0.0f && fraction <= 1.0f && fraction >= log->last))
+        log->bad++;
+    log->last = fraction;
+    log->calls++;
+    const int cancel = log->cancel_at > 0 && log->calls >= log->cancel_at;
+    if (cancel && log->calls == log->cancel_at)
+        log->cancel_fraction = fraction;
+    return cancel;
+}
+
+static void test_progress_threads(void)
+{
+    const size_t npx = (size_t)W * H, n = npx * CH;
+    float *color = alloc_f(n), *coc = alloc_f(npx), *out = alloc_f(n), *out1 = alloc_f(n);
+    float *fgc = alloc_f(npx * 4), *fgz = alloc_f(npx);
+    float lo[CH], hi[CH], hi_fg[CH];
+    bars_horizontal = 0;
+    noise(color, CH, 81);
+    channel_range(color, CH, lo, hi);
+    memcpy(hi_fg, hi, sizeof hi);
+    hi_fg[3] = 1.0f; /* the composite's alpha reaches 1 under the element */
+    bars_coc(coc, 20.0f);
+    for (size_t i = 0; i < npx; i++)
+        coc[i] = (i % W) < W / 3 ? -coc[i] : coc[i]; /* a near third: near spread too */
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            size_t i = (size_t)y * W + x;
+            float a = disc_dist(x, y) <= disc_radius() ? 1.0f : 0.0f;
+            for (uint32_t c = 0; c < 3; c++)
+                fgc[i * 4 + c] = 0.5f * a;
+            fgc[i * 4 + 3] = a;
+            fgz[i] = 12.0f;
+        }
+    ddof_foreground fg = make_fg(fgc, fgz, 1);
+    ddof_params p;
+    ddof_params_init(&p);
+    p.coc_signed = 1;
+    p.background_levels = 2;
+    p.near_spread = DDOF_LAYER_ON; /* with no element: the near spread */
+
+    /* Progress: monotonic within [0, 1], on calls with and without the element. The number of
+     * reports varies a little with thread timing. */
+    for (int with_fg = 0; with_fg < 2; with_fg++) {
+        progress_log log = {0, 0, 0, 0.0f, -1.0f};
+        p.progress = on_progress;
+        p.progress_user = &log;
+        ddof_stats st;
+        CHECK_EQ_INT(layers(&p, color, coc, with_fg ? &fg : NULL, out, CH, &st), DDOF_OK);
+        CHECK(st.effects & DDOF_EFFECT_BACKGROUND);
+        CHECK(st.effects & (with_fg ? DDOF_EFFECT_FOREGROUND : DDOF_EFFECT_NEAR_SPREAD));
+        CHECK_MSG(log.calls > 0 && log.bad == 0, "progress: %d calls, %d out of order/range",
+                  log.calls, log.bad);
+        /* Cancelled at points spread over the call: CANCELLED, the output finite and in range.
+         * (A cancel answered to the closing report, fraction 1, may be ignored: ddof_diffuse
+         * does the same.) */
+        const int calls = log.calls;
+        int cancelled = 0, stride = calls > 12 ? calls / 12 : 1;
+        for (int k = 1; k <= calls; k += stride) {
+            progress_log c = {0, 0, k, 0.0f, -1.0f};
+            p.progress_user = &c;
+            fill(out, n, 0.5f);
+            ddof_status s = layers(&p, color, coc, with_fg ? &fg : NULL, out, CH, NULL);
+            double worst = 0;
+            /* The element's colour 0.5 a lies within the input range of every channel. */
+            size_t bad = out_of_range(out, CH, lo, with_fg ? hi_fg : hi, 1e-5, &worst);
+            CHECK_MSG(bad == 0, "cancel at progress call %d (of %d, element %d): output out of "
+                      "range by %g", k, calls, with_fg, worst);
+            if (s == DDOF_ERROR_CANCELLED)
+                cancelled++;
+            else
+                CHECK_MSG(s == DDOF_OK && (c.cancel_fraction < 0 || c.cancel_fraction >= 1.0f),
+                          "cancel at progress call %d (of %d, fraction %g, element %d): status %d",
+                          k, calls, (double)c.cancel_fraction, with_fg, (int)s);
+        }
+        CHECK(cancelled > 0);
+        p.progress = NULL;
+        p.progress_user = NULL;
+    }
+
+    /* One thread and two give the same answer. */
+    ddof_context *one;
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    o.thread_count = 1;
+    CHECK_EQ_INT(ddof_context_create(&o, &one), DDOF_OK);
+    CHECK_EQ_INT(layers(&p, color, coc, &fg, out, CH, NULL), DDOF_OK);
+    {
+        ddof_image_in ci = {color, W, H, CH, 0}, zi = {coc, W, H, 1, 0};
+        ddof_image oi = {out1, W, H, CH, 0};
+        CHECK_EQ_INT(ddof_diffuse_layers(one, &p, &ci, &zi, &fg, &oi, NULL), DDOF_OK);
+    }
+    CHECK_MSG(max_diff(out, out1, n) <= 1e-6, "1 vs 2 threads: %g", max_diff(out, out1, n));
+    ddof_context_free(one);
+
+    /* Several substeps: every layer still finite and within range. */
+    p.substeps = 4;
+    for (int with_fg = 0; with_fg < 2; with_fg++) {
+        CHECK_EQ_INT(layers(&p, color, coc, with_fg ? &fg : NULL, out, CH, NULL), DDOF_OK);
+        double worst;
+        CHECK_MSG(out_of_range(out, CH, lo, with_fg ? hi_fg : hi, 1e-5, &worst) == 0,
+                  "4 substeps, element %d: out of range by %g", with_fg, worst);
+    }
+    free(color);
+    free(coc);
+    free(out);
+    free(out1);
+    free(fgc);
+    free(fgz);
+}
+
+/* ---------------------------------------------------------------------------------------- */
 /* Bad input                                                                                  */
 
 #define BW 40u
@@ -1065,7 +1210,7 @@ static void test_depth_of_field_near(void)
     ddof_image_in ci = {color, W, H, CH, 0}, di = {depth, W, H, 1, 0};
     ddof_image oi = {out, W, H, CH, 0};
     ddof_stats st;
-    stats_init(&st);
+    st = stats_init();
     CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, &st), DDOF_OK);
     if (verbose)
         printf("depth of field, near disc: effects 0x%x, max CoC %g, plan:\n%s\n", st.effects,
@@ -1102,19 +1247,15 @@ int main(void)
         W = 64;
         H = 48;
     }
-    ddof_context_options o;
-    ddof_context_options_init(&o);
-    o.thread_count = 2;
-    if (ddof_context_create(&o, &ctx) != DDOF_OK) {
-        fprintf(stderr, "no context\n");
-        return 2;
-    }
+    ctx = make_context(2);
     test_bars_error(0);
     test_bars_error(1);
     test_near_error();
+    test_small_element();
     test_foreground_forms();
     test_stability();
     test_foreground_stability();
+    test_progress_threads();
     test_bad_input();
     test_signed_coc();
     test_depth_of_field_near();

@@ -21,6 +21,7 @@
  *    behaves as the defaults; a ddof_stats whose struct_size ends before effects is written only
  *    up to its size. */
 #include "ddof.h"
+#include "test_images.h"
 #include "test_util.h"
 
 #include <ctype.h>
@@ -38,42 +39,20 @@ static uint32_t W = 128, H = 96;
 static ddof_context *ctx;
 static int verbose;
 
-static float *alloc_f(size_t n)
-{
-    float *p = calloc(n ? n : 1, sizeof(float));
-    if (!p) {
-        fprintf(stderr, "out of memory in the test\n");
-        exit(2);
-    }
-    return p;
-}
-
-static void stats_init(ddof_stats *st)
-{
-    memset(st, 0, sizeof *st);
-    st->struct_size = sizeof *st;
-}
-
 static ddof_status layers(const ddof_params *p, const float *color, const float *coc,
                           const ddof_foreground *fg, float *out, uint32_t ch, ddof_stats *st)
 {
-    ddof_image_in ci = {color, W, H, ch, 0};
-    ddof_image_in zi = {coc, W, H, 1, 0};
-    ddof_image oi = {out, W, H, ch, 0};
     if (st)
-        stats_init(st);
-    return ddof_diffuse_layers(ctx, p, &ci, &zi, fg, &oi, st);
+        *st = stats_init();
+    return diffuse_layers(ctx, p, color, coc, fg, out, W, H, ch, st);
 }
 
 static ddof_status single(const ddof_params *p, const float *color, const float *coc, float *out,
                           uint32_t ch, ddof_stats *st)
 {
-    ddof_image_in ci = {color, W, H, ch, 0};
-    ddof_image_in zi = {coc, W, H, 1, 0};
-    ddof_image oi = {out, W, H, ch, 0};
     if (st)
-        stats_init(st);
-    return ddof_diffuse(ctx, p, &ci, &zi, &oi, st);
+        *st = stats_init();
+    return diffuse(ctx, p, color, coc, out, W, H, ch, st);
 }
 
 static double max_diff(const float *a, const float *b, size_t n)
@@ -214,17 +193,7 @@ static void check_timings(const char *name, const ddof_stats *st, int bg_ran, in
 /* Blocky random texture (8x8 blocks) in [0.1, 0.9]; alpha (channel 3) 1. */
 static void texture(float *color, uint32_t ch, unsigned long long seed)
 {
-    test_rng rng = {seed};
-    uint32_t bw = (W + 7) / 8, bh = (H + 7) / 8;
-    float *blocks = alloc_f((size_t)bw * bh * 3);
-    for (size_t i = 0; i < (size_t)bw * bh * 3; i++)
-        blocks[i] = (float)(0.1 + 0.8 * test_uniform(&rng));
-    for (uint32_t y = 0; y < H; y++)
-        for (uint32_t x = 0; x < W; x++)
-            for (uint32_t c = 0; c < ch; c++)
-                color[((size_t)y * W + x) * ch + c] =
-                    c == 3 ? 1.0f : blocks[((size_t)(y / 8) * bw + x / 8) * 3 + c];
-    free(blocks);
+    block_texture(color, W, H, ch, seed, 0.1, 0.9);
 }
 
 static void fill(float *p, size_t n, float v)
@@ -672,13 +641,7 @@ int main(void)
         W = 64;
         H = 48;
     }
-    ddof_context_options o;
-    ddof_context_options_init(&o);
-    o.thread_count = 2;
-    if (ddof_context_create(&o, &ctx) != DDOF_OK) {
-        fprintf(stderr, "no context\n");
-        return 2;
-    }
+    ctx = make_context(2);
     npx = (size_t)W * H;
     n = npx * CH;
     color = alloc_f(n);

@@ -59,7 +59,7 @@ typedef enum ddof_status {
     DDOF_ERROR_BAD_PARAMETER, /* a parameter struct is malformed or a value is out of range   */
     DDOF_ERROR_BAD_SIZE,      /* width/height zero, above DDOF_MAX_DIMENSION or DDOF_MAX_PIXELS */
     DDOF_ERROR_BAD_STRIDE,    /* row stride smaller than a row, not a multiple of 4, overflows */
-    DDOF_ERROR_BAD_CHANNELS,  /* channel count outside 1..4                                    */
+    DDOF_ERROR_BAD_CHANNELS,  /* channel count outside 1..4, or not what the call needs        */
     DDOF_ERROR_SIZE_MISMATCH, /* images of one call differ in size or channel count            */
     DDOF_ERROR_BAD_COLOR,     /* NaN or infinity in the colour image                           */
     DDOF_ERROR_BAD_DEPTH,     /* NaN, -inf, negative or zero depth (+inf is valid: the sky)    */
@@ -115,7 +115,8 @@ typedef struct ddof_allocator {
 
 /* Called from the thread that made the call, with progress in [0, 1] growing monotonically.
  * Return non-zero to cancel: the call then returns DDOF_ERROR_CANCELLED soon after, and the
- * output holds finite values (the input, or a partly diffused image), never garbage. */
+ * output holds finite values (the input, or a partly diffused image), never garbage. The last
+ * report, 1.0, comes when the work is done; returning non-zero then changes nothing. */
 typedef int (*ddof_progress_fn)(void *user, float fraction);
 
 /* ------------------------------------------------------------------------------------------ */
@@ -330,7 +331,8 @@ DDOF_API ddof_status ddof_diffuse(ddof_context *context, const ddof_params *para
  * blurred on top of the main image so that a very blurred one turns partly transparent. */
 typedef struct ddof_foreground {
     uint32_t struct_size;  /* sizeof(ddof_foreground)                                         */
-    ddof_image_in color;   /* 4 channels, RGB and alpha (channel 3) in [0, 1]; same size      */
+    ddof_image_in color;   /* 4 channels, RGB and alpha (channel 3); same size. Alpha outside */
+                           /* [0, 1] is clamped to it; NaN/inf alpha is DDOF_ERROR_BAD_COLOR  */
     ddof_image_in coc;     /* its CoC diameters in pixels (first channel; the sign is ignored)*/
     uint32_t premultiplied;/* 1: RGB is already multiplied by alpha. Default 1.               */
 } ddof_foreground;
@@ -350,7 +352,9 @@ DDOF_API void ddof_foreground_init(ddof_foreground *foreground);
  *    constant beta of its largest CoC), then its premultiplied colour and alpha are diffused
  *    (gamma = 1, beta from the filled CoC) and composited over: out = F + (1 - F.a) out. Its
  *    colour is only read where alpha > 0, so NaN there is harmless. Requires colour with 3 or
- *    4 channels; with 4 the output alpha is composited too.
+ *    4 channels and an element with 4 (else DDOF_ERROR_BAD_CHANNELS); with 4 the output alpha
+ *    is composited too. Its CoC is filled in two ADI steps: the first reaches the pixels that
+ *    share a row or column with the element, the second all the others, so its halo is round.
  *  - Near spread needs coc_signed = 1 and no foreground element.
  * Every failure leaves out untouched, as for ddof_diffuse. */
 DDOF_API ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,

@@ -89,6 +89,7 @@ static adi_request derived(const adi_request *base, const float *color, size_t c
 typedef struct pixel_job {
     const layers_request *q;
     float *a, *b;      /* maps (w floats a row) or colour (w * channels) */
+    const float *rgba; /* the premultiplied foreground element           */
     float t0, t1;      /* matte ramp                                      */
     float blend_from;  /* background levels: blend only CoC >= this       */
 } pixel_job;
@@ -186,6 +187,17 @@ static void foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk
             j->b[(size_t)y * w + x] = alpha > 0.0f ? fabsf(coc[(size_t)x * q->fg_coc_channels]) : 0.0f;
         }
     }
+}
+
+/* a = 1 where the first CoC fill left a value (an element pixel, or one it reached), else 0:
+ * the sources of the second fill. */
+static void holds_value_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const size_t w = j->q->base.width;
+    for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
+        j->a[i] = j->rgba[i * 4 + 3] > 0.0f || j->b[i] > 0.0f ? 1.0f : 0.0f;
 }
 
 /* out = F + (1 - F.a) out on the colour channels (and alpha, with 4 channels). */
@@ -313,7 +325,11 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
     pixel_job job = {.q = q, .a = premultiplied, .b = coc_abs};
     ddof_parallel_rows(context, r->height, foreground_rows, &job);
 
-    /* Its CoC flows outwards into the transparent pixels, at its own largest size. */
+    /* Its CoC flows outwards into the transparent pixels, at its own largest size. One ADI
+     * step reaches only the pixels that share a row or a column with the element (each pass
+     * sees its own line's sources only); a second, whose sources are every pixel holding a
+     * value by then (a cross through the element, which every row crosses), reaches the rest.
+     * Without it the halo would be cut along the element's bounding box. */
     adi_request fill = derived(r, coc_abs, r->width, 1, filled);
     fill.uniform_coc = map_max(coc_abs, pixels);
     fill.substeps = 1;
@@ -321,6 +337,18 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
     fill.gamma_stride = (size_t)r->width * 4;
     fill.gamma_channels = 4;
     if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
+        return status;
+    float *sources = coc_abs; /* free now */
+    pixel_job reach = {.q = q, .a = sources, .b = filled, .rgba = premultiplied};
+    ddof_parallel_rows(context, r->height, holds_value_rows, &reach);
+    adi_request spread = fill;
+    spread.color = filled;
+    spread.color_stride = r->width;
+    spread.out = filled; /* in place */
+    spread.gamma = sources;
+    spread.gamma_stride = r->width;
+    spread.gamma_channels = 1;
+    if ((status = diffuse(context, &spread, st, report)) != DDOF_OK)
         return status;
 
     /* Premultiplied colour and alpha spread together (in place): coverage falls below 1. */
@@ -343,7 +371,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     memset(report, 0, sizeof *report);
     stages st = {r->progress, r->progress_user, 0,
                  1 + (uint32_t)plan->near_spread + 2 * (plan->background ? p->background_levels : 0) +
-                     2 * (uint32_t)plan->foreground};
+                     3 * (uint32_t)plan->foreground};
     ddof_status status = DDOF_OK;
 
     /* Diffusing in place overwrites the colour the background layer still needs. */
