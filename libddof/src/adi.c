@@ -76,6 +76,13 @@ static DDOF_ALWAYS_INLINE void rows_in_c(float *restrict x, const float *const *
 {
     for (uint32_t i0 = 0; i0 < n; i0 += ROW_CHUNK) {
         const uint32_t i1 = n - i0 < ROW_CHUNK ? n : i0 + ROW_CHUNK;
+        /* Ask for every lane's next chunk now: sixteen interleaved streams are more than the
+         * hardware prefetchers follow, and the loads would otherwise wait on memory. */
+        if (i1 < n)
+            for (uint32_t l = 0; l < L; l++)
+                if (rows[l])
+                    for (uint32_t f = 0; f < ROW_CHUNK * C; f += 16)
+                        DDOF_PREFETCH(rows[l] + (size_t)i1 * C + f, 0);
         for (uint32_t l = 0; l < L; l++) {
             const float *restrict row = rows[l];
             if (row) {
