@@ -28,7 +28,7 @@ enum {
     DDOF_SCRATCH_SOLVER,
     DDOF_SCRATCH_COC,
     DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
-    DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 5
+    DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };
 
 struct ddof_context {

@@ -4,9 +4,10 @@
  *  near spread  one image: D = max(D0, 2 D_blurred - D0) on the near-field CoC (GPU Gems 3
  *               ch. 28), D_blurred a diffusion of D0 at the largest near CoC; the midground then
  *               conducts with max(|CoC|, D), so a blurred near object spreads over its edges
- *  background   matte a from the CoC; the CoC filled into the holes (gamma = a, uniform beta of
- *               the threshold); the colour diffused with gamma = a and the filled CoC; blended
- *               under the midground: out += a (B - out). Levels at t, 2t, 4t ... in turn.
+ *  background   matte a from the CoC; holes where a = 0; the CoC filled into the holes (heat
+ *               capacity 1 outside them, 0 in them; uniform beta of the threshold); the colour
+ *               diffused with that capacity and the filled CoC; blended under the midground:
+ *               out += a (B - out). Levels at t, 2t, 4t ... in turn.
  *  foreground   its CoC filled outwards (gamma = its alpha, uniform beta of its largest CoC);
  *               its premultiplied colour and alpha diffused with gamma = 1 and the filled CoC
  *               (gamma = alpha there would give transparent pixels no capacity, and they would
@@ -25,7 +26,9 @@ enum {
     SLOT_LAYER_COLOR,                           /* background B or foreground F         */
     SLOT_MAP_A,                                 /* near CoC -> spread CoC; matte         */
     SLOT_MAP_B,                                 /* blurred near CoC; |CoC| to fill      */
-    SLOT_MAP_C                                  /* filled CoC                           */
+    SLOT_MAP_C,                                 /* filled CoC                           */
+    SLOT_SPREAD,                                /* the near-spread CoC                  */
+    SLOT_CAPACITY                               /* background heat capacity             */
 };
 
 /* ---- stages and progress ----------------------------------------------------------------- */
@@ -92,6 +95,8 @@ typedef struct pixel_job {
     const float *rgba; /* the premultiplied foreground element           */
     float t0, t1;      /* matte ramp                                      */
     float blend_from;  /* background levels: blend only CoC >= this       */
+    const float *spread; /* the near-spread CoC, or NULL                  */
+    float *capacity;     /* background heat capacity                      */
 } pixel_job;
 
 static float coc_of(const adi_request *r, uint32_t x, uint32_t y)
@@ -126,8 +131,10 @@ static void spread_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         }
 }
 
-/* a = matte (0 below t0, 1 from t1, linear between; 0 for the near field, which is never
- * background), b = |CoC|. */
+/* a = matte, the blend weight (0 below t0, 1 from t1, linear between; 0 for the near field,
+ * which is never background); capacity = 1 where the matte is above 0, else 0 (a hole);
+ * b = |CoC|. The capacity is not the matte: heat capacity a < 1 at the same beta blurs like
+ * beta / a, which would over-blur the pixels on the ramp. */
 static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
@@ -139,13 +146,17 @@ static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const size_t i = (size_t)y * r->width + x;
             const float c = coc_of(r, x, y);
             j->a[i] = ddof_minf(1.0f, ddof_maxf(0.0f, (c - j->t0) * inv));
+            j->capacity[i] = j->a[i] > 0.0f ? 1.0f : 0.0f;
             j->b[i] = fabsf(c);
         }
 }
 
 /* out += a (B - out): the midground over the background by its matte; exact where a = 0. An
  * extra level (threshold 2^k t) only replaces pixels at least as blurred as its threshold: it
- * treats less blurred ones as (partial) holes, and its blur would be too wide for them. */
+ * treats less blurred ones as (partial) holes, and its blur would be too wide for them. Pixels
+ * whose CoC the near spread raised show a blurred near object over them: they keep the
+ * midground, or the background (which has the near object as a hole) would cut its soft edge
+ * off again. */
 static void blend_background_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
@@ -157,8 +168,11 @@ static void blend_background_rows(void *user, uint32_t y0, uint32_t y1, uint32_t
         const float *b = j->b + (size_t)y * r->width * C;
         const float *a = j->a + (size_t)y * r->width;
         const float *coc = r->coc + (size_t)y * r->coc_stride;
+        const float *spread = j->spread ? j->spread + (size_t)y * r->width : NULL;
         for (uint32_t x = 0; x < r->width; x++) {
-            const float weight = coc[(size_t)x * r->coc_channels] >= j->blend_from ? a[x] : 0.0f;
+            const float c = coc[(size_t)x * r->coc_channels];
+            const int claimed = spread && spread[x] > fabsf(c);
+            const float weight = c >= j->blend_from && !claimed ? a[x] : 0.0f;
             if (weight > 0.0f)
                 for (uint32_t c = 0; c < C; c++)
                     out[x * C + c] += weight * (b[x * C + c] - out[x * C + c]);
@@ -249,7 +263,7 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
     ddof_status status = DDOF_OK;
-    float *d0 = scratch(context, SLOT_MAP_A, pixels, &status);
+    float *d0 = scratch(context, SLOT_SPREAD, pixels, &status); /* becomes the spread CoC */
     float *blurred = scratch(context, SLOT_MAP_B, pixels, &status);
     if (status != DDOF_OK)
         return status;
@@ -269,8 +283,8 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
 /* One background level with matte ramp [ramp_start, threshold], blended into r->out. */
 static ddof_status background_level(ddof_context *context, const layers_request *q,
                                     const float *color, size_t color_stride, float ramp_start,
-                                    float threshold, float blend_from, stages *st,
-                                    layers_report *report)
+                                    float threshold, float blend_from, const float *spread,
+                                    stages *st, layers_report *report)
 {
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
@@ -279,28 +293,29 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     float *coc_abs = scratch(context, SLOT_MAP_B, pixels, &status);
     float *filled = scratch(context, SLOT_MAP_C, pixels, &status);
     float *layer = scratch(context, SLOT_LAYER_COLOR, pixels * r->channels, &status);
+    float *capacity = scratch(context, SLOT_CAPACITY, pixels, &status);
     if (status != DDOF_OK)
         return status;
     pixel_job job = {.q = q, .a = matte, .b = coc_abs, .t0 = ramp_start, .t1 = threshold,
-                     .blend_from = blend_from};
+                     .blend_from = blend_from, .spread = spread, .capacity = capacity};
     ddof_parallel_rows(context, r->height, matte_rows, &job);
 
-    /* The CoC flows into the holes: heat capacity = matte, every link at the threshold. */
+    /* The CoC flows into the holes, every link at the threshold. */
     adi_request fill = derived(r, coc_abs, r->width, 1, filled);
     fill.uniform_coc = threshold;
     fill.substeps = 1;
-    fill.gamma = matte;
+    fill.gamma = capacity;
     fill.gamma_stride = r->width;
     fill.gamma_channels = 1;
     if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
         return status;
 
-    /* The colour, with the holes (matte 0) holding no heat of their own. */
+    /* The colour, with the holes holding no heat of their own. */
     adi_request bg = derived(r, color, color_stride, r->channels, layer);
     bg.coc = filled;
     bg.coc_stride = r->width;
     bg.coc_channels = 1;
-    bg.gamma = matte;
+    bg.gamma = capacity;
     bg.gamma_stride = r->width;
     bg.gamma_channels = 1;
     if ((status = diffuse(context, &bg, st, report)) != DDOF_OK)
@@ -389,9 +404,9 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     }
 
     adi_request mid = *r;
+    const float *spread = NULL;
     if (plan->near_spread) {
         const double t0 = ddof_seconds();
-        const float *spread = NULL;
         if ((status = near_spread(context, q, max_near_coc, &st, report, &spread)) != DDOF_OK)
             return status;
         mid.coc = spread;
@@ -412,7 +427,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
             const float threshold = p->background_threshold_px * (float)(1u << level);
             const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
             status = background_level(context, q, color, color_stride, ramp_start, threshold,
-                                      level ? threshold : -INFINITY, &st, report);
+                                      level ? threshold : -INFINITY, spread, &st, report);
             if (status != DDOF_OK)
                 return status;
         }
