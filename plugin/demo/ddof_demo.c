@@ -291,7 +291,7 @@ static int write_png(const char *dir, const char *name, const uint8_t *pixels, u
         fprintf(stderr, "ddof-demo: output path too long: %s/%s\n", dir, name);
         return -1;
     }
-    if (demo_png_write(path, pixels, width, height, channels, error, sizeof error) != 0) {
+    if (png_write_file(path, pixels, width, height, channels, error, sizeof error) != 0) {
         fprintf(stderr, "ddof-demo: %s\n", error);
         return -1;
     }

@@ -1,0 +1,72 @@
+/* frame_job.h - one frame, start to finish: read the EXR, find its channels, compute the CoC,
+ * diffuse, write the EXR (and preview) atomically, and optionally measure against a truth. */
+#ifndef DDOF_CLI_FRAME_JOB_H
+#define DDOF_CLI_FRAME_JOB_H
+
+#include "compare.h"
+#include "options.h"
+#include "progress.h"
+
+#include <ddof.h>
+
+#include <limits.h>
+#include <stdint.h>
+
+#ifndef PATH_MAX
+#define PATH_MAX 4096
+#endif
+
+/* What every frame shares, resolved once in main: the options, and the camera, curve and
+ * solver parameters after combining defaults, preset, sidecar and flags. */
+typedef struct frame_setup {
+    const cli_options *options;
+    ddof_camera camera;
+    int camera_aspect_given;      /* pixel aspect from the sidecar or a flag (else: the EXR's) */
+    uint32_t sidecar_resolution[2]; /* 0, 0 when none */
+    ddof_curve curve;
+    ddof_params params;           /* progress fields are set per frame */
+} frame_setup;
+
+typedef struct frame_paths {
+    int frame;                    /* the frame number; -1 for a single file */
+    char input[PATH_MAX];
+    char output[PATH_MAX];
+    char preview[PATH_MAX];       /* "" when none */
+    char preview_input[PATH_MAX]; /* "" when none */
+    char depth_file[PATH_MAX];    /* "" when none */
+    char foreground[PATH_MAX];    /* a foreground element file; "" when none */
+    char compare[PATH_MAX];       /* "" when none */
+} frame_paths;
+
+typedef struct frame_result {
+    int ok;
+    char error[2048];
+    char warning[PATH_MAX + 512]; /* worth saying once, e.g. a resolution mismatch */
+    uint32_t width, height;       /* data window */
+    int channels;                 /* colour channels diffused: 3 or 4 */
+    char color_name[320];         /* e.g. "ViewLayer.Combined.RGBA" or "R,G,B,A" */
+    char depth_name[256];         /* the depth or CoC channel used */
+    ddof_stats stats;             /* from the library */
+    double seconds_read;          /* open + decode (+ depth file) */
+    double seconds_coc;           /* our CoC stage when separate (curve, --write-coc) */
+    double seconds_dof;           /* the library call(s) */
+    double seconds_write;         /* EXR encode + write + rename */
+    double seconds_preview;
+    double seconds_compare;
+    double seconds_total;
+    int compared;
+    image_error error_result;     /* result vs truth */
+    image_error error_input;      /* pinhole input vs truth */
+} frame_result;
+
+/* Processes one frame with `context` (one per worker thread). `slot` is the worker's index for
+ * the progress bar (which may be NULL). Fills *result; returns 0 on success, -1 on failure
+ * (result->error says why). No partial output survives a failure. */
+int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths *paths,
+              frame_result *result, progress *bar, int slot);
+
+/* Checks the paths of one frame before any work: output and preview are not an input file and
+ * not each other. Returns 0 or -1 (error). */
+int frame_check_paths(const frame_paths *paths, char *error, size_t error_size);
+
+#endif

@@ -1,0 +1,478 @@
+/* main.c - `ddof`: depth of field for EXR renders and frame sequences (docs/cli.md).
+ *
+ * Order of work: signals first (so that every later thread inherits the blocked mask), then
+ * options; everything that can be checked once (camera values, output directories, output !=
+ * input) is checked before the first frame is read, so that a 240-frame job with a typo fails
+ * in a second, not after frame 1 or frame 240. */
+#include "camera_json.h"
+#include "exrio.h"
+#include "exrio_layout.h"
+#include "frame_job.h"
+#include "frames.h"
+#include "options.h"
+#include "output_file.h"
+#include "progress.h"
+#include "sequence.h"
+#include "stats_json.h"
+
+#include <ddof.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+#include <unistd.h>
+
+/* Sub-steps of the presets. "fast" is the library's default (one ADI step: diamond-shaped
+ * kernels); "default" is the step count measured best against the Cycles ground truth of the
+ * bundled sample for its cost (docs/cli.md has the figures); "quality" goes further. */
+#define PRESET_FAST_SUBSTEPS 1u
+#define PRESET_DEFAULT_SUBSTEPS 4u
+#define PRESET_QUALITY_SUBSTEPS 8u
+
+static double now(void)
+{
+    struct timespec ts;
+    clock_gettime(CLOCK_MONOTONIC, &ts);
+    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
+}
+
+/* defaults < preset < flags */
+static void resolve_params(const cli_options *o, ddof_params *params)
+{
+    ddof_params_init(params);
+    if (strcmp(o->preset, "fast") == 0)
+        params->substeps = PRESET_FAST_SUBSTEPS;
+    else if (strcmp(o->preset, "quality") == 0)
+        params->substeps = PRESET_QUALITY_SUBSTEPS;
+    else
+        params->substeps = PRESET_DEFAULT_SUBSTEPS;
+    if (o->solver >= 0)
+        params->solver = (ddof_solver)o->solver;
+    if (o->substeps > 0)
+        params->substeps = o->substeps;
+    if (o->beta_scale > 0.0f)
+        params->beta_scale = o->beta_scale;
+    if (o->jacobi_iterations > 0)
+        params->jacobi_iterations = o->jacobi_iterations;
+    if (o->background >= 0)
+        params->background = (ddof_layer_mode)o->background;
+    if (o->background_threshold > 0.0f)
+        params->background_threshold_px = o->background_threshold;
+    if (o->background_ramp_start >= 0.0f)
+        params->background_ramp_start_px = o->background_ramp_start;
+    if (o->background_levels > 0)
+        params->background_levels = o->background_levels;
+    if (o->near_spread >= 0)
+        params->near_spread = (ddof_layer_mode)o->near_spread;
+    if (o->near_spread_threshold > 0.0f)
+        params->near_spread_threshold_px = o->near_spread_threshold;
+}
+
+/* library defaults < camera.json < flags */
+static int resolve_camera(const cli_options *o, frame_setup *setup)
+{
+    const ddof_camera *f = &o->camera;
+    ddof_camera *c = &setup->camera;
+    ddof_camera_init(c);
+    if (o->camera_json) {
+        camera_sidecar sidecar;
+        char error[1024];
+        if (camera_sidecar_read(o->camera_json, &sidecar, error, sizeof error) != 0) {
+            fprintf(stderr, "ddof: %s\n", error);
+            return -1;
+        }
+        *c = sidecar.camera;
+        setup->sidecar_resolution[0] = sidecar.resolution[0];
+        setup->sidecar_resolution[1] = sidecar.resolution[1];
+        setup->camera_aspect_given = 1;
+    }
+    if (o->camera_set & CAM_FOCAL) c->focal_length_mm = f->focal_length_mm;
+    if (o->camera_set & CAM_SENSOR) c->sensor_width_mm = f->sensor_width_mm;
+    if (o->camera_set & CAM_FIT) c->sensor_fit = f->sensor_fit;
+    if (o->camera_set & CAM_FSTOP) c->fstop = f->fstop;
+    if (o->camera_set & CAM_FOCUS) c->focus_distance_m = f->focus_distance_m;
+    if (o->camera_set & CAM_ASPECT) {
+        c->pixel_aspect = f->pixel_aspect;
+        setup->camera_aspect_given = 1;
+    }
+    if (o->camera_set & CAM_DEPTH_KIND) c->depth_kind = f->depth_kind;
+    if (o->camera_set & CAM_UNIT) c->depth_unit_m = f->depth_unit_m;
+    if (o->camera_set & CAM_LENS) c->lens_model = f->lens_model;
+    return 0;
+}
+
+/* Lets the library judge the camera, curve and parameters once, on a 1x1 image, so that a bad
+ * value is one clear error before any frame is read (the library's messages name the value). */
+static int validate_with_library(const frame_setup *setup)
+{
+    ddof_context_options co;
+    ddof_context *context = NULL;
+    float depth = 1.0f, coc = 0.0f, color[4] = {0, 0, 0, 0}, out[4];
+    ddof_image_in depth_in = {&depth, 1, 1, 1, 0};
+    ddof_image coc_out = {&coc, 1, 1, 1, 0};
+    ddof_image_in color_in = {color, 1, 1, 4, 0};
+    ddof_image_in coc_in = {&coc, 1, 1, 1, 0};
+    ddof_image out_img = {out, 1, 1, 4, 0};
+    ddof_status status = DDOF_OK;
+    const char *what = "";
+    int rc = 0;
+
+    ddof_context_options_init(&co);
+    co.thread_count = 1;
+    if (ddof_context_create(&co, &context) != DDOF_OK) {
+        fprintf(stderr, "ddof: cannot create a ddof context\n");
+        return -1;
+    }
+    if (setup->options->source == COC_FROM_CAMERA) {
+        what = "camera";
+        depth = (float)(setup->camera.focus_distance_m * 2.0 / setup->camera.depth_unit_m);
+        if (!(depth > 0.0f) || !isfinite(depth))
+            depth = 1.0f;
+        status = ddof_coc_from_camera(context, &setup->camera, &depth_in, &coc_out);
+    } else if (setup->options->source == COC_FROM_CURVE) {
+        what = "--curve";
+        status = ddof_coc_from_curve(context, &setup->curve, &depth_in, &coc_out);
+    }
+    if (status == DDOF_OK) {
+        what = "solver parameters";
+        coc = 0.0f;
+        status = ddof_diffuse(context, &setup->params, &color_in, &coc_in, &out_img, NULL);
+    }
+    if (status != DDOF_OK) {
+        fprintf(stderr, "ddof: bad %s: %s\n", what, ddof_context_last_error(context));
+        rc = -1;
+    }
+    ddof_context_free(context);
+    return rc;
+}
+
+static int expand(const char *pattern, int frame, char *out, const char *what)
+{
+    if (!pattern) {
+        out[0] = '\0';
+        return 0;
+    }
+    if (frame < 0) {
+        if (strlen(pattern) >= PATH_MAX) {
+            fprintf(stderr, "ddof: %s path too long\n", what);
+            return -1;
+        }
+        strcpy(out, pattern);
+        return 0;
+    }
+    if (frames_expand(pattern, frame, out, PATH_MAX) != 0) {
+        fprintf(stderr, "ddof: %s path too long\n", what);
+        return -1;
+    }
+    return 0;
+}
+
+/* The frame list: one file, or the frames of --frames with '#' patterns. */
+static frame_paths *build_paths(const cli_options *o, int *count)
+{
+    int *frames = NULL;
+    int n = 1, i;
+    frame_paths *paths;
+
+    if (o->frames) {
+        char error[256];
+        n = frames_parse(o->frames, &frames, error, sizeof error);
+        if (n < 0) {
+            fprintf(stderr, "ddof: %s\n", error);
+            return NULL;
+        }
+        if (!frames_has_pattern(o->input) || !frames_has_pattern(o->output) ||
+            (o->preview && !frames_has_pattern(o->preview)) ||
+            (o->preview_input && !frames_has_pattern(o->preview_input))) {
+            fprintf(stderr, "ddof: with --frames, the input, -o and preview paths need a run "
+                    "of '#' for the frame number (render_####.exr)\n");
+            free(frames);
+            return NULL;
+        }
+    }
+    paths = calloc((size_t)n, sizeof *paths);
+    if (!paths) {
+        fprintf(stderr, "ddof: out of memory\n");
+        free(frames);
+        return NULL;
+    }
+    for (i = 0; i < n; i++) {
+        const int f = frames ? frames[i] : -1;
+        paths[i].frame = f;
+        if (expand(o->input, f, paths[i].input, "input") ||
+            expand(o->output, f, paths[i].output, "output") ||
+            expand(o->preview, f, paths[i].preview, "preview") ||
+            expand(o->preview_input, f, paths[i].preview_input, "input preview") ||
+            expand(o->depth_file, f, paths[i].depth_file, "depth file") ||
+            expand(o->foreground, f, paths[i].foreground, "foreground") ||
+            expand(o->compare, f, paths[i].compare, "compare")) {
+            free(paths);
+            free(frames);
+            return NULL;
+        }
+    }
+    free(frames);
+    *count = n;
+    return paths;
+}
+
+/* Every output path refused for being an input, and every output directory that cannot take
+ * a file, before any work. */
+static int check_outputs(const cli_options *o, const frame_paths *paths, int count)
+{
+    char error[2048];
+    int i;
+    for (i = 0; i < count; i++) {
+        if (frame_check_paths(&paths[i], error, sizeof error) != 0) {
+            fprintf(stderr, "ddof: %s\n", error);
+            return -1;
+        }
+    }
+    /* Patterns keep the directory the same for every frame, so the first frame tells. */
+    if (output_check_directory(paths[0].output, error, sizeof error) != 0 ||
+        (paths[0].preview[0] &&
+         output_check_directory(paths[0].preview, error, sizeof error) != 0) ||
+        (paths[0].preview_input[0] &&
+         output_check_directory(paths[0].preview_input, error, sizeof error) != 0) ||
+        (o->stats_path && output_check_directory(o->stats_path, error, sizeof error) != 0)) {
+        fprintf(stderr, "ddof: %s\n", error);
+        return -1;
+    }
+    if (o->stats_path) {
+        for (i = 0; i < count; i++) {
+            if (output_same_file(o->stats_path, paths[i].input)) {
+                fprintf(stderr, "ddof: refusing to write --stats %s: it is an input file\n",
+                        o->stats_path);
+                return -1;
+            }
+        }
+    }
+    return 0;
+}
+
+/* --list: parts, channels, and what ddof would use. */
+static int list_file(const cli_options *o, const char *path)
+{
+    exrio_image image;
+    exrio_layout layout;
+    exrio_layout_request request;
+    char error[2048];
+    int p, c;
+    if (exrio_open(path, &image, error, sizeof error) != EXRIO_OK) {
+        fprintf(stderr, "ddof: %s\n", error);
+        return 1;
+    }
+    printf("%s: %d part%s\n", path, image.part_count, image.part_count == 1 ? "" : "s");
+    for (p = 0; p < image.part_count; p++) {
+        const exrio_part *part = &image.parts[p];
+        printf("  part %d%s%s%s: %s, %s compression, data window (%d,%d)-(%d,%d) = %ux%u, "
+               "display window (%d,%d)-(%d,%d), pixel aspect %g\n",
+               p, part->name ? " '" : "", part->name ? part->name : "", part->name ? "'" : "",
+               part->deep ? "deep" : part->tiled ? "tiled" : "scanline",
+               exrio_compression_name(part->compression), (int)part->data_window.min_x,
+               (int)part->data_window.min_y, (int)part->data_window.max_x,
+               (int)part->data_window.max_y, part->width, part->height,
+               (int)part->display_window.min_x, (int)part->display_window.min_y,
+               (int)part->display_window.max_x, (int)part->display_window.max_y,
+               (double)part->pixel_aspect);
+        for (c = 0; c < image.channel_count; c++)
+            if (image.channels[c].part == p)
+                printf("    %-40s %s\n", image.channels[c].name,
+                       exrio_pixel_type_name(image.channels[c].type));
+    }
+    memset(&request, 0, sizeof request);
+    request.layer = o->layer;
+    request.color = o->color;
+    request.depth = o->depth;
+    request.coc = o->source == COC_FROM_CHANNEL ? o->coc_channel : NULL;
+    request.need_depth = o->source != COC_FROM_CHANNEL && !o->depth_file;
+    if (exrio_find_layout(&image, &request, &layout, error, sizeof error) != EXRIO_LAYOUT_OK) {
+        printf("ddof would not run on it: %s\n", error);
+        exrio_close(&image);
+        return 1;
+    }
+    printf("ddof uses: colour %s", image.channels[layout.color[0]].name);
+    for (c = 1; c < layout.color_count; c++)
+        printf(", %s", image.channels[layout.color[c]].name);
+    if (layout.depth >= 0)
+        printf("; depth %s", image.channels[layout.depth].name);
+    if (layout.coc >= 0)
+        printf("; CoC %s", image.channels[layout.coc].name);
+    printf("\n");
+    exrio_close(&image);
+    return 0;
+}
+
+/* "3, 7-9, 12" */
+static void print_failed_frames(const frame_paths *paths, const frame_result *results, int count)
+{
+    int i = 0, first = 1, failed = 0;
+    for (i = 0; i < count; i++)
+        failed += !results[i].ok;
+    i = 0;
+    fprintf(stderr, "ddof: failed frame%s: ", failed > 1 ? "s" : "");
+    while (i < count) {
+        int j = i;
+        if (results[i].ok) {
+            i++;
+            continue;
+        }
+        while (j + 1 < count && !results[j + 1].ok && paths[j + 1].frame == paths[j].frame + 1)
+            j++;
+        if (paths[i].frame < 0)
+            fprintf(stderr, "%s%s", first ? "" : ", ", paths[i].input);
+        else if (j > i)
+            fprintf(stderr, "%s%d-%d", first ? "" : ", ", paths[i].frame, paths[j].frame);
+        else
+            fprintf(stderr, "%s%d", first ? "" : ", ", paths[i].frame);
+        first = 0;
+        i = j + 1;
+    }
+    fprintf(stderr, "\n");
+}
+
+static void print_comparison(const frame_paths *p, const frame_result *r)
+{
+    char prefix[32] = "";
+    if (p->frame >= 0)
+        snprintf(prefix, sizeof prefix, "frame %d: ", p->frame);
+    printf("%serror against %s (RGB; RMSE and PSNR of sRGB-encoded values clamped to [0, 1], "
+           "linear RMSE unclamped):\n", prefix, p->compare);
+    printf("  ddof result    RMSE %.5f  PSNR %6.2f dB  linear RMSE %.5f\n",
+           r->error_result.rmse_srgb, r->error_result.psnr_srgb, r->error_result.rmse_linear);
+    printf("  pinhole input  RMSE %.5f  PSNR %6.2f dB  linear RMSE %.5f\n",
+           r->error_input.rmse_srgb, r->error_input.psnr_srgb, r->error_input.rmse_linear);
+}
+
+int main(int argc, char **argv)
+{
+    cli_options options;
+    frame_setup setup;
+    frame_paths *paths = NULL;
+    frame_result *results = NULL;
+    sequence_plan plan;
+    progress *bar = NULL;
+    char error[2048];
+    uint64_t pixels = 0;
+    double t0;
+    int count = 0, failed, i, rc;
+    char last_warning[PATH_MAX + 512] = "";
+
+    if (output_signals_install() != 0) {
+        fprintf(stderr, "ddof: cannot set up signal handling\n");
+        return 1;
+    }
+    rc = cli_parse_options(argc, argv, &options);
+    if (rc != 0) {
+        output_signals_shutdown();
+        return rc > 0 ? 0 : 2;
+    }
+    if (options.list_only) {
+        char first[PATH_MAX];
+        int *frames = NULL;
+        int n = options.frames ? frames_parse(options.frames, &frames, error, sizeof error) : 0;
+        if (n < 0) {
+            fprintf(stderr, "ddof: %s\n", error);
+            output_signals_shutdown();
+            return 2;
+        }
+        if (expand(options.input, frames ? frames[0] : -1, first, "input") != 0) {
+            free(frames);
+            output_signals_shutdown();
+            return 2;
+        }
+        free(frames);
+        rc = list_file(&options, first);
+        output_signals_shutdown();
+        return rc;
+    }
+
+    memset(&setup, 0, sizeof setup);
+    setup.options = &options;
+    setup.curve = options.curve;
+    resolve_params(&options, &setup.params);
+    if ((options.source == COC_FROM_CAMERA && resolve_camera(&options, &setup) != 0) ||
+        validate_with_library(&setup) != 0) {
+        output_signals_shutdown();
+        return 2;
+    }
+    paths = build_paths(&options, &count);
+    if (!paths) {
+        output_signals_shutdown();
+        return 2;
+    }
+    if (check_outputs(&options, paths, count) != 0) {
+        free(paths);
+        output_signals_shutdown();
+        return 1;
+    }
+
+    {
+        /* The first readable header sizes the plan; a missing first frame just means "unknown"
+         * (its own error is reported when it runs). */
+        exrio_image probe;
+        if (exrio_open(paths[0].input, &probe, error, sizeof error) == EXRIO_OK) {
+            pixels = (uint64_t)probe.parts[0].width * probe.parts[0].height;
+            exrio_close(&probe);
+        }
+    }
+    plan = sequence_plan_for(&options, count, pixels);
+    results = calloc((size_t)count, sizeof *results);
+    bar = progress_create(count > 1 && (options.progress == PROGRESS_ALWAYS ||
+                                        (options.progress == PROGRESS_AUTO &&
+                                         isatty(STDERR_FILENO))),
+                          count, (int)plan.jobs);
+    if (!results || !bar) {
+        fprintf(stderr, "ddof: out of memory\n");
+        free(paths);
+        free(results);
+        progress_free(bar);
+        output_signals_shutdown();
+        return 1;
+    }
+    if (count > 1 && !options.quiet) {
+        char threads[32] = "all cores";
+        if (plan.threads_per_frame > 0)
+            snprintf(threads, sizeof threads, "%u thread%s", plan.threads_per_frame,
+                     plan.threads_per_frame == 1 ? "" : "s");
+        printf("ddof: %d frames, %u at a time, %s per frame (%s)\n", count, plan.jobs, threads,
+               plan.reason);
+    }
+
+    t0 = now();
+    failed = sequence_run(&setup, paths, results, count, &plan, bar, error, sizeof error);
+    progress_finish(bar);
+    if (failed < 0) {
+        fprintf(stderr, "ddof: %s\n", error);
+        failed = count;
+    }
+    for (i = 0; i < count; i++) {
+        if (results[i].ok && results[i].warning[0] &&
+            strcmp(results[i].warning, last_warning) != 0) {
+            fprintf(stderr, "ddof: warning: %s\n", results[i].warning);
+            snprintf(last_warning, sizeof last_warning, "%s", results[i].warning);
+        }
+        if (results[i].compared)
+            print_comparison(&paths[i], &results[i]);
+    }
+    if (options.stats_path &&
+        stats_json_write(options.stats_path, &setup, paths, results, count, plan.jobs,
+                         plan.threads_per_frame, now() - t0, error, sizeof error) != 0) {
+        fprintf(stderr, "ddof: --stats: %s\n", error);
+        failed = failed ? failed : 1;
+    }
+    if (failed > 0) {
+        if (count > 1)
+            fprintf(stderr, "ddof: %d of %d frames failed\n", failed, count);
+        print_failed_frames(paths, results, count);
+    } else if (count > 1 && !options.quiet) {
+        printf("ddof: %d frames written in %.2f s\n", count, now() - t0);
+    }
+    free(paths);
+    free(results);
+    progress_free(bar);
+    output_signals_shutdown();
+    return failed > 0 ? 1 : 0;
+}

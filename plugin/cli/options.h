@@ -1,0 +1,104 @@
+/* options.h - everything the `ddof` command line can say, parsed into one struct.
+ *
+ * The struct keeps, for each library parameter, whether the user set it, so that the sidecar
+ * JSON, the preset and the flags combine in a fixed order: library defaults < preset <
+ * camera.json < flags. */
+#ifndef DDOF_CLI_OPTIONS_H
+#define DDOF_CLI_OPTIONS_H
+
+#include "exrio.h"
+
+#include <ddof.h>
+
+#include <stdint.h>
+#include <stdio.h>
+
+typedef enum coc_source {
+    COC_FROM_CAMERA = 0, /* depth + camera (sidecar JSON and/or flags)            */
+    COC_FROM_CURVE,      /* depth + the artist curve                               */
+    COC_FROM_CHANNEL     /* a channel that already holds CoC diameters in pixels    */
+} coc_source;
+
+typedef enum progress_mode {
+    PROGRESS_AUTO = 0, /* a bar when stderr is a terminal, nothing otherwise */
+    PROGRESS_ALWAYS,
+    PROGRESS_NEVER
+} progress_mode;
+
+/* Camera values given as flags; `set` bits say which (they override the sidecar). */
+enum {
+    CAM_FOCAL = 1 << 0,
+    CAM_SENSOR = 1 << 1,
+    CAM_FIT = 1 << 2,
+    CAM_FSTOP = 1 << 3,
+    CAM_FOCUS = 1 << 4,
+    CAM_ASPECT = 1 << 5,
+    CAM_DEPTH_KIND = 1 << 6,
+    CAM_UNIT = 1 << 7,
+    CAM_LENS = 1 << 8
+};
+
+typedef struct cli_options {
+    /* input and output */
+    const char *input;            /* path or pattern with #### */
+    const char *output;           /* path or pattern with #### */
+    const char *preview;          /* PNG preview path or pattern; NULL: none */
+    const char *preview_input;    /* PNG preview of the input (pinhole); NULL: none */
+    const char *depth_file;       /* depth from another EXR (path or pattern); NULL: same file */
+    const char *compare;          /* ground truth EXR (path or pattern); NULL: none */
+    const char *stats_path;       /* --stats FILE.json */
+    const char *frames;           /* --frames "1-240" etc.; NULL: a single file */
+
+    /* channels */
+    const char *layer, *color, *depth, *coc_channel;
+
+    /* CoC source */
+    coc_source source;
+    const char *camera_json;
+    ddof_camera camera;           /* flag values (valid where camera_set says) */
+    unsigned camera_set;
+    ddof_curve curve;
+
+    /* solver */
+    const char *preset;           /* "default", "fast", "quality" */
+    int solver;                   /* -1: preset's */
+    uint32_t substeps;            /* 0: preset's */
+    float beta_scale;             /* 0: preset's */
+    uint32_t jacobi_iterations;   /* 0: library default */
+    uint32_t threads;             /* 0: all cores */
+
+    /* layers (libddof 0.2): -1 / 0 mean "the preset's or the library's default" */
+    int background;               /* ddof_layer_mode or -1 */
+    float background_threshold;   /* px; 0: default */
+    float background_ramp_start;  /* px; < 0: default */
+    uint32_t background_levels;   /* 0: default */
+    int near_spread;              /* ddof_layer_mode or -1 */
+    float near_spread_threshold;  /* px; 0: default */
+    int coc_signed;               /* --coc-signed: the CoC channel marks the near field < 0 */
+    const char *foreground;       /* file (path or pattern) of a foreground element; NULL */
+    const char *foreground_layer; /* its layer (in that file, or in the input); NULL */
+    const char *foreground_coc;   /* its CoC channel (with --coc-channel); NULL */
+    int foreground_straight;      /* its colour is not premultiplied by alpha */
+    uint32_t jobs;                /* frames in parallel; 0: automatic */
+
+    /* output file */
+    int pixel_type;               /* -1: as the input colour; else exrio_pixel_type */
+    exrio_compression compression;
+    int keep_channels;
+    int keep_metadata;
+    int write_coc;                /* add the CoC used as a channel */
+    float preview_exposure;       /* stops */
+
+    /* reporting */
+    progress_mode progress;
+    int quiet;
+    int list_only;                /* --list: print the layout and channels, no processing */
+} cli_options;
+
+/* Parses argv. Returns 0 to run, 1 when it printed help or the version (exit 0), or -1 after
+ * printing a usage error to stderr (exit 2). */
+int cli_parse_options(int argc, char **argv, cli_options *options);
+
+void cli_usage(FILE *to);
+
+#endif

@@ -1,0 +1,276 @@
+/* stats_json.c - the --stats report. */
+#include "stats_json.h"
+
+#include "output_file.h"
+
+#include <cJSON.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+void stats_effects(const ddof_stats *s, char *out, size_t out_size)
+{
+    static const struct {
+        uint32_t bit;
+        const char *name;
+    } effects[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
+                   {DDOF_EFFECT_BACKGROUND, "background"},
+                   {DDOF_EFFECT_NEAR_SPREAD, "near spread"},
+                   {DDOF_EFFECT_FOREGROUND, "foreground"}};
+    size_t used = 0, i;
+    out[0] = '\0';
+    for (i = 0; i < sizeof effects / sizeof effects[0]; i++) {
+        int n;
+        if (!(s->effects & effects[i].bit))
+            continue;
+        n = snprintf(out + used, out_size - used, "%s%s", used ? " + " : "", effects[i].name);
+        if (n < 0 || (size_t)n >= out_size - used)
+            return;
+        used += (size_t)n;
+    }
+    if (!used)
+        snprintf(out, out_size, "copy");
+}
+
+void stats_explain(const ddof_stats *s, char *out, size_t out_size)
+{
+    if (s->copied_only)
+        snprintf(out, out_size, "nothing out of focus (largest CoC %.3g px): the output is a "
+                 "copy of the input, no system solved", (double)s->max_coc_px);
+    else if (s->lines_skipped > 0)
+        snprintf(out, out_size, "largest CoC %.3g px: %llu lines solved in %u sub-step%s; %llu "
+                 "lines had no conductive link (all in focus) and were copied",
+                 (double)s->max_coc_px, (unsigned long long)s->lines_solved, s->substeps,
+                 s->substeps == 1 ? "" : "s", (unsigned long long)s->lines_skipped);
+    else
+        snprintf(out, out_size, "largest CoC %.3g px: %llu lines solved in %u sub-step%s; no "
+                 "line could be skipped", (double)s->max_coc_px,
+                 (unsigned long long)s->lines_solved, s->substeps, s->substeps == 1 ? "" : "s");
+}
+
+static cJSON *camera_json(const ddof_camera *c)
+{
+    static const char *const fits[] = {"AUTO", "HORIZONTAL", "VERTICAL"};
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "lens_model",
+                            c->lens_model == DDOF_LENS_THIN_LENS ? "thin-lens" : "cycles");
+    cJSON_AddNumberToObject(o, "focal_length_mm", c->focal_length_mm);
+    cJSON_AddNumberToObject(o, "sensor_width_mm", c->sensor_width_mm);
+    cJSON_AddStringToObject(o, "sensor_fit", fits[(unsigned)c->sensor_fit % 3u]);
+    cJSON_AddNumberToObject(o, "fstop", c->fstop);
+    cJSON_AddNumberToObject(o, "focus_distance_m", c->focus_distance_m);
+    cJSON_AddNumberToObject(o, "pixel_aspect", c->pixel_aspect);
+    cJSON_AddStringToObject(o, "depth", c->depth_kind == DDOF_DEPTH_RADIAL ? "radial" : "planar");
+    cJSON_AddNumberToObject(o, "unit_scale_m", c->depth_unit_m);
+    return o;
+}
+
+static cJSON *settings_json(const frame_setup *setup, uint32_t jobs, uint32_t threads)
+{
+    const cli_options *opt = setup->options;
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddStringToObject(o, "preset", opt->preset);
+    cJSON_AddStringToObject(o, "solver", ddof_solver_name(setup->params.solver));
+    cJSON_AddNumberToObject(o, "substeps", setup->params.substeps);
+    cJSON_AddNumberToObject(o, "beta_scale", setup->params.beta_scale);
+    cJSON_AddNumberToObject(o, "jacobi_iterations", setup->params.jacobi_iterations);
+    {
+        static const char *const modes[] = {"auto", "off", "on"};
+        cJSON_AddStringToObject(o, "background", modes[(unsigned)setup->params.background % 3u]);
+        cJSON_AddNumberToObject(o, "background_threshold_px",
+                                setup->params.background_threshold_px);
+        cJSON_AddNumberToObject(o, "background_ramp_start_px",
+                                setup->params.background_ramp_start_px);
+        cJSON_AddNumberToObject(o, "background_levels", setup->params.background_levels);
+        cJSON_AddStringToObject(o, "near_spread", modes[(unsigned)setup->params.near_spread % 3u]);
+        cJSON_AddNumberToObject(o, "near_spread_threshold_px",
+                                setup->params.near_spread_threshold_px);
+        if (opt->foreground || opt->foreground_layer) {
+            cJSON *fg = cJSON_CreateObject();
+            if (opt->foreground)
+                cJSON_AddStringToObject(fg, "file", opt->foreground);
+            if (opt->foreground_layer)
+                cJSON_AddStringToObject(fg, "layer", opt->foreground_layer);
+            cJSON_AddBoolToObject(fg, "premultiplied", !opt->foreground_straight);
+            cJSON_AddItemToObject(o, "foreground", fg);
+        }
+    }
+    cJSON_AddNumberToObject(o, "frames_in_parallel", jobs);
+    cJSON_AddNumberToObject(o, "threads_per_frame", threads);
+    cJSON_AddStringToObject(o, "backend", "cpu");
+    switch (opt->source) {
+    case COC_FROM_CAMERA:
+        cJSON_AddStringToObject(o, "coc_source", "camera");
+        cJSON_AddItemToObject(o, "camera", camera_json(&setup->camera));
+        break;
+    case COC_FROM_CURVE: {
+        cJSON *c = cJSON_CreateObject();
+        cJSON_AddStringToObject(o, "coc_source", "curve");
+        cJSON_AddNumberToObject(c, "near_blur_px", setup->curve.near_blur_px);
+        cJSON_AddNumberToObject(c, "near_start", setup->curve.near_start);
+        cJSON_AddNumberToObject(c, "near_end", setup->curve.near_end);
+        cJSON_AddNumberToObject(c, "far_start", setup->curve.far_start);
+        cJSON_AddNumberToObject(c, "far_end", setup->curve.far_end);
+        cJSON_AddNumberToObject(c, "far_blur_px", setup->curve.far_blur_px);
+        cJSON_AddItemToObject(o, "curve", c);
+        break;
+    }
+    case COC_FROM_CHANNEL:
+        cJSON_AddStringToObject(o, "coc_source", "channel");
+        cJSON_AddStringToObject(o, "coc_channel", opt->coc_channel);
+        break;
+    }
+    cJSON_AddStringToObject(o, "compression", exrio_compression_name(opt->compression));
+    return o;
+}
+
+/* JSON has no infinity: an exact match (PSNR = inf) is written as null. */
+static void add_number_or_null(cJSON *o, const char *key, double v)
+{
+    if (isfinite(v))
+        cJSON_AddNumberToObject(o, key, v);
+    else
+        cJSON_AddNullToObject(o, key);
+}
+
+static cJSON *error_json(const image_error *e)
+{
+    cJSON *o = cJSON_CreateObject();
+    cJSON_AddNumberToObject(o, "rmse_srgb", e->rmse_srgb);
+    add_number_or_null(o, "psnr_srgb_db", e->psnr_srgb);
+    cJSON_AddNumberToObject(o, "rmse_linear", e->rmse_linear);
+    return o;
+}
+
+static cJSON *frame_json(const frame_paths *p, const frame_result *r)
+{
+    cJSON *o = cJSON_CreateObject();
+    char why[512];
+    if (p->frame >= 0)
+        cJSON_AddNumberToObject(o, "frame", p->frame);
+    cJSON_AddStringToObject(o, "input", p->input);
+    cJSON_AddStringToObject(o, "output", p->output);
+    cJSON_AddStringToObject(o, "status", r->ok ? "ok" : "failed");
+    if (!r->ok) {
+        cJSON_AddStringToObject(o, "error", r->error);
+        return o;
+    }
+    if (r->warning[0])
+        cJSON_AddStringToObject(o, "warning", r->warning);
+    cJSON_AddNumberToObject(o, "width", r->width);
+    cJSON_AddNumberToObject(o, "height", r->height);
+    cJSON_AddStringToObject(o, "color", r->color_name);
+    cJSON_AddStringToObject(o, "depth_or_coc", r->depth_name);
+    {
+        cJSON *s = cJSON_CreateObject();
+        stats_explain(&r->stats, why, sizeof why);
+        cJSON_AddStringToObject(s, "solver", ddof_solver_name((ddof_solver)r->stats.solver));
+        cJSON_AddNumberToObject(s, "threads", r->stats.threads);
+        cJSON_AddNumberToObject(s, "substeps", r->stats.substeps);
+        cJSON_AddNumberToObject(s, "lines_solved", (double)r->stats.lines_solved);
+        cJSON_AddNumberToObject(s, "lines_skipped", (double)r->stats.lines_skipped);
+        cJSON_AddNumberToObject(s, "max_coc_px", r->stats.max_coc_px);
+        cJSON_AddBoolToObject(s, "copied_only", r->stats.copied_only != 0);
+        cJSON_AddStringToObject(s, "why", why);
+        {
+            /* The planner's decisions, one per effect: "background: on: ...". */
+            static const struct {
+                uint32_t bit;
+                const char *name;
+            } names[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
+                         {DDOF_EFFECT_BACKGROUND, "background"},
+                         {DDOF_EFFECT_NEAR_SPREAD, "near_spread"},
+                         {DDOF_EFFECT_FOREGROUND, "foreground"}};
+            cJSON *effects = cJSON_CreateObject();
+            cJSON *plan = cJSON_CreateArray();
+            char copy[sizeof r->stats.plan + 1];
+            char *line, *save = NULL;
+            size_t k;
+            for (k = 0; k < sizeof names / sizeof names[0]; k++)
+                cJSON_AddBoolToObject(effects, names[k].name, (r->stats.effects & names[k].bit) != 0);
+            cJSON_AddItemToObject(s, "effects", effects);
+            memcpy(copy, r->stats.plan, sizeof r->stats.plan);
+            copy[sizeof r->stats.plan] = '\0';
+            for (line = strtok_r(copy, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
+                cJSON_AddItemToArray(plan, cJSON_CreateString(line));
+            cJSON_AddItemToObject(s, "plan", plan);
+        }
+        cJSON_AddItemToObject(o, "simulated", s);
+    }
+    {
+        cJSON *t = cJSON_CreateObject();
+        cJSON_AddNumberToObject(t, "read", r->seconds_read);
+        cJSON_AddNumberToObject(t, "coc", r->stats.seconds_coc + r->seconds_coc);
+        cJSON_AddNumberToObject(t, "rows", r->stats.seconds_rows);
+        cJSON_AddNumberToObject(t, "columns", r->stats.seconds_columns);
+        cJSON_AddNumberToObject(t, "plan", r->stats.seconds_plan);
+        cJSON_AddNumberToObject(t, "background", r->stats.seconds_background);
+        cJSON_AddNumberToObject(t, "foreground", r->stats.seconds_foreground);
+        cJSON_AddNumberToObject(t, "library_total", r->stats.seconds_total);
+        cJSON_AddNumberToObject(t, "write", r->seconds_write);
+        cJSON_AddNumberToObject(t, "preview", r->seconds_preview);
+        cJSON_AddNumberToObject(t, "compare", r->seconds_compare);
+        cJSON_AddNumberToObject(t, "frame", r->seconds_total);
+        cJSON_AddItemToObject(o, "seconds", t);
+    }
+    if (r->compared) {
+        cJSON *c = cJSON_CreateObject();
+        cJSON_AddStringToObject(c, "truth", p->compare);
+        cJSON_AddItemToObject(c, "result", error_json(&r->error_result));
+        cJSON_AddItemToObject(c, "input", error_json(&r->error_input));
+        cJSON_AddItemToObject(o, "error_vs_truth", c);
+    }
+    return o;
+}
+
+int stats_json_write(const char *path, const frame_setup *setup, const frame_paths *paths,
+                     const frame_result *results, int count, uint32_t jobs,
+                     uint32_t threads_per_frame, double seconds_wall, char *error,
+                     size_t error_size)
+{
+    cJSON *root = cJSON_CreateObject();
+    cJSON *frames;
+    output_file file;
+    char *text;
+    int i, failed = 0, rc = -1;
+    size_t length;
+
+    if (!root) {
+        snprintf(error, error_size, "out of memory");
+        return -1;
+    }
+    cJSON_AddStringToObject(root, "ddof_version", ddof_version_string());
+    cJSON_AddItemToObject(root, "settings", settings_json(setup, jobs, threads_per_frame));
+    frames = cJSON_AddArrayToObject(root, "frames");
+    for (i = 0; i < count; i++) {
+        cJSON_AddItemToArray(frames, frame_json(&paths[i], &results[i]));
+        failed += !results[i].ok;
+    }
+    {
+        cJSON *s = cJSON_CreateObject();
+        cJSON_AddNumberToObject(s, "frames", count);
+        cJSON_AddNumberToObject(s, "failed", failed);
+        cJSON_AddNumberToObject(s, "seconds_wall", seconds_wall);
+        cJSON_AddItemToObject(root, "summary", s);
+    }
+    text = cJSON_Print(root);
+    cJSON_Delete(root);
+    if (!text) {
+        snprintf(error, error_size, "out of memory");
+        return -1;
+    }
+    length = strlen(text);
+    if (output_file_begin(&file, path, error, error_size) == 0) {
+        FILE *stream = output_file_stream(&file);
+        if (stream && fwrite(text, 1, length, stream) == length && fputc('\n', stream) != EOF) {
+            rc = output_file_commit(&file, error, error_size);
+        } else {
+            snprintf(error, error_size, "cannot write %s", path);
+            output_file_abort(&file);
+        }
+    }
+    cJSON_free(text);
+    return rc;
+}

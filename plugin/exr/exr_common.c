@@ -1,0 +1,197 @@
+/* exr_common.c - names of compressions and pixel types, the file-descriptor stream given to
+ * OpenEXR's C core, error formatting, channel look-up and freeing an image. */
+#include "exr_internal.h"
+
+#include <errno.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+#include <unistd.h>
+
+static const char *const compression_names[EXRIO_COMPRESSION_COUNT_] = {
+    "none", "rle", "zips", "zip", "piz", "pxr24", "b44", "b44a", "dwaa", "dwab"};
+
+const char *exrio_compression_name(exrio_compression compression)
+{
+    if ((unsigned)compression >= EXRIO_COMPRESSION_COUNT_)
+        return "?";
+    return compression_names[compression];
+}
+
+int exrio_compression_parse(const char *name, exrio_compression *out)
+{
+    int i;
+    for (i = 0; i < EXRIO_COMPRESSION_COUNT_; i++) {
+        if (strcasecmp(name, compression_names[i]) == 0) {
+            *out = (exrio_compression)i;
+            return 0;
+        }
+    }
+    return -1;
+}
+
+/* OpenEXR 3.1's C core implements every method but DWAA/DWAB, in both directions (its
+ * internal_dwa.c returns "not yet implemented in C"). */
+int exrio_compression_can_decode(exrio_compression compression)
+{
+    return (unsigned)compression < EXRIO_COMPRESSION_COUNT_ &&
+           compression != EXRIO_COMPRESSION_DWAA && compression != EXRIO_COMPRESSION_DWAB;
+}
+
+int exrio_compression_can_encode(exrio_compression compression)
+{
+    return exrio_compression_can_decode(compression);
+}
+
+const char *exrio_pixel_type_name(exrio_pixel_type type)
+{
+    switch (type) {
+    case EXRIO_UINT:
+        return "uint";
+    case EXRIO_HALF:
+        return "half";
+    case EXRIO_FLOAT:
+        return "float";
+    }
+    return "?";
+}
+
+/* ---- the stream ------------------------------------------------------------------------- */
+
+static void stream_error_handler(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    void *user = NULL;
+    exrio_stream *stream;
+    if (exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user)
+        return;
+    stream = user;
+    stream->last_code = code;
+    snprintf(stream->message, sizeof stream->message, "%s", msg ? msg : "");
+}
+
+/* pread until `size` bytes or end of file; the core treats a short count as truncation. */
+static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t size,
+                           uint64_t offset, exr_stream_error_func_ptr_t error_cb)
+{
+    exrio_stream *stream = user;
+    uint8_t *out = buffer;
+    uint64_t done = 0;
+    (void)ctxt;
+    (void)error_cb;
+    while (done < size) {
+        ssize_t n = pread(stream->fd, out + done, (size_t)(size - done), (off_t)(offset + done));
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            stream->saved_errno = errno;
+            return -1;
+        }
+        if (n == 0)
+            break;
+        done += (uint64_t)n;
+    }
+    return (int64_t)done;
+}
+
+static int64_t stream_size(exr_const_context_t ctxt, void *user)
+{
+    (void)ctxt;
+    return ((exrio_stream *)user)->size;
+}
+
+static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *buffer,
+                            uint64_t size, uint64_t offset, exr_stream_error_func_ptr_t error_cb)
+{
+    exrio_stream *stream = user;
+    const uint8_t *in = buffer;
+    uint64_t done = 0;
+    (void)ctxt;
+    (void)error_cb;
+    while (done < size) {
+        ssize_t n = pwrite(stream->fd, in + done, (size_t)(size - done), (off_t)(offset + done));
+        if (n < 0) {
+            if (errno == EINTR)
+                continue;
+            stream->saved_errno = errno;
+            return -1;
+        }
+        done += (uint64_t)n;
+    }
+    return (int64_t)done;
+}
+
+exr_context_initializer_t exrio_stream_initializer(exrio_stream *stream, int for_write)
+{
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    init.error_handler_fn = stream_error_handler;
+    init.user_data = stream;
+    if (for_write) {
+        init.write_fn = stream_write;
+    } else {
+        init.read_fn = stream_read;
+        init.size_fn = stream_size;
+    }
+    /* 0 disables the core's size limits: ddof checks image sizes itself, with its own limits. */
+    init.max_image_width = 0;
+    init.max_image_height = 0;
+    init.max_tile_width = 0;
+    init.max_tile_height = 0;
+    return init;
+}
+
+exrio_status exrio_fail(exrio_status status, const exrio_stream *stream, char *error,
+                        size_t error_size, const char *name, const char *what, exr_result_t rv)
+{
+    const char *detail;
+    if (stream && stream->saved_errno != 0)
+        detail = strerror(stream->saved_errno);
+    else if (stream && stream->message[0] != '\0')
+        detail = stream->message;
+    else
+        detail = exr_get_default_error_message(rv);
+    snprintf(error, error_size, "%s: %s: %s", name, what, detail);
+    return status;
+}
+
+/* ---- images ----------------------------------------------------------------------------- */
+
+int exrio_find_channel(const exrio_image *image, const char *name, int part)
+{
+    int i;
+    for (i = 0; i < image->channel_count; i++)
+        if ((part < 0 || image->channels[i].part == part) &&
+            strcmp(image->channels[i].name, name) == 0)
+            return i;
+    return -1;
+}
+
+void exrio_close(exrio_image *image)
+{
+    int i;
+    if (!image)
+        return;
+    if (image->source_) {
+        exr_context_t ctxt = image->source_;
+        exrio_stream *stream = NULL;
+        void *user = NULL;
+        if (exr_get_user_data(ctxt, &user) == EXR_ERR_SUCCESS)
+            stream = user;
+        exr_finish(&ctxt);
+        if (stream) {
+            close(stream->fd);
+            free(stream);
+        }
+    }
+    for (i = 0; i < image->channel_count; i++) {
+        free(image->channels[i].name);
+        free(image->channels[i].pixels);
+    }
+    for (i = 0; i < image->part_count; i++)
+        free(image->parts[i].name);
+    free(image->channels);
+    free(image->parts);
+    free(image->path);
+    memset(image, 0, sizeof *image);
+}

@@ -1,0 +1,442 @@
+/* exr_read.c - reading OpenEXR files through the C core: the header (exrio_open) and then the
+ * pixels of the channels asked for (exrio_load), scanline or tiled, into float/uint32 planes. */
+#include "exr_internal.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* The same bound as libddof's DDOF_MAX_PIXELS: a header asking for more is not a render ddof
+ * could process, and refusing it here keeps a damaged header from causing a huge allocation. */
+#define EXRIO_MAX_PIXELS (1u << 28)
+
+static char *copy_string(const char *s, size_t length)
+{
+    char *copy = malloc(length + 1);
+    if (copy) {
+        memcpy(copy, s, length);
+        copy[length] = '\0';
+    }
+    return copy;
+}
+
+/* Names what a file that is not an EXR looks like, so that "not an OpenEXR file" comes with a
+ * hint when someone passes the PNG preview or a JPEG by mistake. Only magic numbers. */
+static const char *sniff_kind(const unsigned char *head, size_t n)
+{
+    if (n == 0)
+        return "it is empty";
+    if (n >= 8 && memcmp(head, "\x89PNG\r\n\x1a\n", 8) == 0)
+        return "it is a PNG image";
+    if (n >= 3 && head[0] == 0xff && head[1] == 0xd8 && head[2] == 0xff)
+        return "it is a JPEG image";
+    if (n >= 4 && (memcmp(head, "II*\0", 4) == 0 || memcmp(head, "MM\0*", 4) == 0))
+        return "it is a TIFF image";
+    if (n >= 2 && head[0] == '{')
+        return "it looks like JSON text";
+    return "it does not start with the OpenEXR magic number 76 2f 31 01";
+}
+
+static exrio_status open_file(const char *path, int *out_fd, int64_t *out_size, char *error,
+                              size_t error_size)
+{
+    struct stat st;
+    unsigned char head[8];
+    ssize_t n;
+    int fd = open(path, O_RDONLY | O_CLOEXEC);
+    if (fd < 0) {
+        int e = errno;
+        snprintf(error, error_size, "%s: cannot open: %s", path, strerror(e));
+        return e == ENOENT || e == ENOTDIR ? EXRIO_ERROR_MISSING : EXRIO_ERROR_ACCESS;
+    }
+    if (fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
+        snprintf(error, error_size, "%s: %s", path,
+                 S_ISDIR(st.st_mode) ? "is a directory, not an EXR file" : strerror(errno));
+        close(fd);
+        return EXRIO_ERROR_ACCESS;
+    }
+    do {
+        n = pread(fd, head, sizeof head, 0);
+    } while (n < 0 && errno == EINTR);
+    if (n < 0) {
+        snprintf(error, error_size, "%s: cannot read: %s", path, strerror(errno));
+        close(fd);
+        return EXRIO_ERROR_ACCESS;
+    }
+    if (n < 4 || memcmp(head, "\x76\x2f\x31\x01", 4) != 0) {
+        snprintf(error, error_size, "%s: not an OpenEXR file (%s)", path,
+                 sniff_kind(head, (size_t)n));
+        close(fd);
+        return EXRIO_ERROR_NOT_EXR;
+    }
+    *out_fd = fd;
+    *out_size = (int64_t)st.st_size;
+    return EXRIO_OK;
+}
+
+static exrio_box box_from(const exr_attr_box2i_t *b)
+{
+    exrio_box box;
+    box.min_x = b->min.x;
+    box.min_y = b->min.y;
+    box.max_x = b->max.x;
+    box.max_y = b->max.y;
+    return box;
+}
+
+/* Fills image->parts and image->channels from the parsed header. */
+static exrio_status describe_parts(exrio_image *image, exr_context_t ctxt,
+                                   const exrio_stream *stream, char *error, size_t error_size)
+{
+    const char *path = image->path;
+    exr_result_t rv;
+    int count = 0, p, total = 0;
+
+    rv = exr_get_count(ctxt, &count);
+    if (rv != EXR_ERR_SUCCESS || count < 1)
+        return exrio_fail(EXRIO_ERROR_CORRUPT, stream, error, error_size, path,
+                          "no image part in the header", rv);
+    image->parts = calloc((size_t)count, sizeof *image->parts);
+    if (!image->parts)
+        return EXRIO_ERROR_MEMORY;
+    image->part_count = count;
+
+    for (p = 0; p < count; p++) {
+        exrio_part *part = &image->parts[p];
+        const exr_attr_chlist_t *chlist = NULL;
+        exr_attr_box2i_t dw, disp;
+        exr_storage_t storage;
+        exr_compression_t compression;
+        const char *name = NULL;
+        float aspect = 1.0f;
+        uint64_t w, h;
+
+        if ((rv = exr_get_storage(ctxt, p, &storage)) != EXR_ERR_SUCCESS ||
+            (rv = exr_get_data_window(ctxt, p, &dw)) != EXR_ERR_SUCCESS ||
+            (rv = exr_get_display_window(ctxt, p, &disp)) != EXR_ERR_SUCCESS ||
+            (rv = exr_get_compression(ctxt, p, &compression)) != EXR_ERR_SUCCESS ||
+            (rv = exr_get_channels(ctxt, p, &chlist)) != EXR_ERR_SUCCESS || !chlist)
+            return exrio_fail(EXRIO_ERROR_CORRUPT, stream, error, error_size, path,
+                              "incomplete header", rv);
+        if (exr_get_name(ctxt, p, &name) == EXR_ERR_SUCCESS && name) {
+            part->name = copy_string(name, strlen(name));
+            if (!part->name)
+                return EXRIO_ERROR_MEMORY;
+        }
+        if (exr_get_pixel_aspect_ratio(ctxt, p, &aspect) != EXR_ERR_SUCCESS || !(aspect > 0.0f))
+            aspect = 1.0f;
+        part->data_window = box_from(&dw);
+        part->display_window = box_from(&disp);
+        part->compression = (exrio_compression)compression;
+        part->tiled = storage == EXR_STORAGE_TILED || storage == EXR_STORAGE_DEEP_TILED;
+        part->deep = storage == EXR_STORAGE_DEEP_SCANLINE || storage == EXR_STORAGE_DEEP_TILED;
+        part->pixel_aspect = aspect;
+        if (dw.max.x < dw.min.x || dw.max.y < dw.min.y) {
+            snprintf(error, error_size, "%s: empty data window (%d,%d)-(%d,%d)", path, dw.min.x,
+                     dw.min.y, dw.max.x, dw.max.y);
+            return EXRIO_ERROR_CORRUPT;
+        }
+        w = (uint64_t)((int64_t)dw.max.x - dw.min.x + 1);
+        h = (uint64_t)((int64_t)dw.max.y - dw.min.y + 1);
+        if (w * h > EXRIO_MAX_PIXELS) {
+            snprintf(error, error_size, "%s: data window %llux%llu is larger than %u pixels", path,
+                     (unsigned long long)w, (unsigned long long)h, EXRIO_MAX_PIXELS);
+            return EXRIO_ERROR_UNSUPPORTED;
+        }
+        part->width = (uint32_t)w;
+        part->height = (uint32_t)h;
+        total += chlist->num_channels;
+    }
+
+    image->channels = calloc(total > 0 ? (size_t)total : 1, sizeof *image->channels);
+    if (!image->channels)
+        return EXRIO_ERROR_MEMORY;
+    for (p = 0; p < count; p++) {
+        const exr_attr_chlist_t *chlist = NULL;
+        int c;
+        exr_get_channels(ctxt, p, &chlist);
+        for (c = 0; c < chlist->num_channels; c++) {
+            const exr_attr_chlist_entry_t *e = &chlist->entries[c];
+            exrio_channel *ch = &image->channels[image->channel_count];
+            ch->name = copy_string(e->name.str, (size_t)e->name.length);
+            if (!ch->name)
+                return EXRIO_ERROR_MEMORY;
+            ch->part = p;
+            ch->type = (exrio_pixel_type)e->pixel_type;
+            ch->x_sampling = e->x_sampling;
+            ch->y_sampling = e->y_sampling;
+            image->channel_count++;
+        }
+    }
+    return EXRIO_OK;
+}
+
+exrio_status exrio_open(const char *path, exrio_image *image, char *error, size_t error_size)
+{
+    exr_context_initializer_t init;
+    exr_context_t ctxt = NULL;
+    exrio_stream *stream;
+    exrio_status status;
+    exr_result_t rv;
+    int64_t size = 0;
+    int fd = -1;
+
+    memset(image, 0, sizeof *image);
+    status = open_file(path, &fd, &size, error, error_size);
+    if (status != EXRIO_OK)
+        return status;
+
+    stream = calloc(1, sizeof *stream);
+    image->path = copy_string(path, strlen(path));
+    if (!stream || !image->path) {
+        free(stream);
+        close(fd);
+        exrio_close(image);
+        snprintf(error, error_size, "%s: out of memory", path);
+        return EXRIO_ERROR_MEMORY;
+    }
+    stream->fd = fd;
+    stream->size = size;
+    init = exrio_stream_initializer(stream, 0);
+    rv = exr_start_read(&ctxt, path, &init);
+    if (rv != EXR_ERR_SUCCESS) {
+        status = rv == EXR_ERR_OUT_OF_MEMORY ? EXRIO_ERROR_MEMORY
+                 : rv == EXR_ERR_READ_IO && stream->saved_errno ? EXRIO_ERROR_ACCESS
+                                                                : EXRIO_ERROR_CORRUPT;
+        exrio_fail(status, stream, error, error_size, path,
+                   status == EXRIO_ERROR_CORRUPT ? "damaged or truncated header" : "cannot read",
+                   rv);
+        if (ctxt)
+            exr_finish(&ctxt);
+        close(fd);
+        free(stream);
+        exrio_close(image);
+        return status;
+    }
+    image->source_ = ctxt;
+    status = describe_parts(image, ctxt, stream, error, error_size);
+    if (status != EXRIO_OK) {
+        if (status == EXRIO_ERROR_MEMORY)
+            snprintf(error, error_size, "%s: out of memory", path);
+        exrio_close(image);
+    }
+    return status;
+}
+
+/* ---- pixels ----------------------------------------------------------------------------- */
+
+/* Decodes one chunk (a block of scanlines or a tile) into the planes of the wanted channels
+ * of part `p`. x0, y0: where the chunk starts, relative to the data window. */
+static exr_result_t decode_chunk(exr_context_t ctxt, exrio_image *image, int p, int first_channel,
+                                 const exr_chunk_info_t *cinfo, int32_t x0, int32_t y0,
+                                 uint8_t *scratch, exr_decode_pipeline_t *decoder,
+                                 int *initialized)
+{
+    const exrio_part *part = &image->parts[p];
+    const size_t line = (size_t)part->width * 4;
+    exr_result_t rv;
+    int c;
+
+    rv = *initialized ? exr_decoding_update(ctxt, p, cinfo, decoder)
+                      : exr_decoding_initialize(ctxt, p, cinfo, decoder);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    /* The pipeline lists the part's channels in header order, which is our order too. */
+    for (c = 0; c < decoder->channel_count; c++) {
+        exr_coding_channel_info_t *out = &decoder->channels[c];
+        const exrio_channel *ch = &image->channels[first_channel + c];
+        /* Channels not asked for go to a chunk-sized scratch buffer with the same strides.
+         * The header says a NULL pointer skips a channel, but OpenEXRCore 3.1.5's specialised
+         * unpackers (e.g. four half channels to float) write through it regardless. */
+        out->decode_to_ptr = ch->pixels
+                                 ? (uint8_t *)ch->pixels + (size_t)y0 * line + (size_t)x0 * 4
+                                 : scratch + (size_t)x0 * 4;
+        out->user_pixel_stride = 4;
+        out->user_line_stride = (int32_t)line;
+        out->user_bytes_per_element = 4;
+        out->user_data_type = ch->type == EXRIO_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+    }
+    if (!*initialized) {
+        /* Chosen once: the routine depends on the layout (strides, types), not the pointers. */
+        rv = exr_decoding_choose_default_routines(ctxt, p, decoder);
+        if (rv != EXR_ERR_SUCCESS)
+            return rv;
+        *initialized = 1;
+    }
+    return exr_decoding_run(ctxt, p, decoder);
+}
+
+static exrio_status load_part(exrio_image *image, int p, int first_channel, exrio_stream *stream,
+                              char *error, size_t error_size)
+{
+    exr_context_t ctxt = image->source_;
+    const exrio_part *part = &image->parts[p];
+    exr_decode_pipeline_t decoder = EXR_DECODE_PIPELINE_INITIALIZER;
+    exr_chunk_info_t cinfo;
+    exr_result_t rv = EXR_ERR_SUCCESS;
+    int initialized = 0;
+    uint8_t *scratch = NULL;
+    int32_t chunk_lines = 0;
+    char where[96];
+
+    where[0] = '\0';
+    if (!part->tiled)
+        rv = exr_get_scanlines_per_chunk(ctxt, p, &chunk_lines);
+    else
+        rv = exr_get_tile_sizes(ctxt, p, 0, 0, NULL, &chunk_lines);
+    if (rv == EXR_ERR_SUCCESS && chunk_lines <= 0)
+        rv = EXR_ERR_INVALID_ATTR;
+    if (rv == EXR_ERR_SUCCESS) {
+        scratch = malloc((size_t)part->width * 4 * (size_t)chunk_lines);
+        if (!scratch)
+            rv = EXR_ERR_OUT_OF_MEMORY;
+    }
+    if (rv == EXR_ERR_SUCCESS && !part->tiled) {
+        int32_t lines = chunk_lines, y;
+        for (y = part->data_window.min_y; rv == EXR_ERR_SUCCESS && y <= part->data_window.max_y;
+             y += lines) {
+            snprintf(where, sizeof where, "pixel data of scanline %d", (int)y);
+            rv = exr_read_scanline_chunk_info(ctxt, p, y, &cinfo);
+            if (rv == EXR_ERR_SUCCESS)
+                rv = decode_chunk(ctxt, image, p, first_channel, &cinfo, 0,
+                                  cinfo.start_y - part->data_window.min_y, scratch, &decoder,
+                                  &initialized);
+        }
+    } else if (rv == EXR_ERR_SUCCESS) {
+        int32_t tw = 0, th = 0, tx, ty, nx, ny;
+        rv = exr_get_tile_sizes(ctxt, p, 0, 0, &tw, &th);
+        if (rv == EXR_ERR_SUCCESS && (tw <= 0 || th <= 0))
+            rv = EXR_ERR_INVALID_ATTR;
+        nx = rv == EXR_ERR_SUCCESS ? (int32_t)((part->width + (uint32_t)tw - 1) / (uint32_t)tw) : 0;
+        ny = rv == EXR_ERR_SUCCESS ? (int32_t)((part->height + (uint32_t)th - 1) / (uint32_t)th)
+                                   : 0;
+        for (ty = 0; rv == EXR_ERR_SUCCESS && ty < ny; ty++) {
+            for (tx = 0; rv == EXR_ERR_SUCCESS && tx < nx; tx++) {
+                snprintf(where, sizeof where, "pixel data of tile (%d, %d)", (int)tx, (int)ty);
+                rv = exr_read_tile_chunk_info(ctxt, p, tx, ty, 0, 0, &cinfo);
+                if (rv == EXR_ERR_SUCCESS)
+                    rv = decode_chunk(ctxt, image, p, first_channel, &cinfo, tx * tw, ty * th,
+                                      scratch, &decoder, &initialized);
+            }
+        }
+    }
+    if (initialized || decoder.channels)
+        exr_decoding_destroy(ctxt, &decoder);
+    free(scratch);
+    if (rv != EXR_ERR_SUCCESS) {
+        exrio_status status = rv == EXR_ERR_OUT_OF_MEMORY               ? EXRIO_ERROR_MEMORY
+                              : rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED ? EXRIO_ERROR_UNSUPPORTED
+                                                                      : EXRIO_ERROR_CORRUPT;
+        char what[160];
+        snprintf(what, sizeof what, "%s%s", status == EXRIO_ERROR_CORRUPT ? "damaged or truncated " : "",
+                 where[0] ? where : "pixel data");
+        return exrio_fail(status, stream, error, error_size, image->path, what, rv);
+    }
+    return EXRIO_OK;
+}
+
+static const char *part_label(const exrio_image *image, int p, char *buf, size_t size)
+{
+    if (image->part_count == 1)
+        snprintf(buf, size, "the image");
+    else
+        snprintf(buf, size, "part %d%s%s%s", p, image->parts[p].name ? " '" : "",
+                 image->parts[p].name ? image->parts[p].name : "", image->parts[p].name ? "'" : "");
+    return buf;
+}
+
+exrio_status exrio_load(exrio_image *image, const unsigned char *wanted, char *error,
+                        size_t error_size)
+{
+    exrio_stream *stream = NULL;
+    void *user = NULL;
+    int p, c, first = 0;
+    char label[300];
+
+    if (!image || !image->source_) {
+        snprintf(error, error_size, "exrio_load: no open image");
+        return EXRIO_ERROR_ARGUMENT;
+    }
+    if (exr_get_user_data(image->source_, &user) == EXR_ERR_SUCCESS)
+        stream = user;
+
+    for (p = 0; p < image->part_count; p++) {
+        const exrio_part *part = &image->parts[p];
+        const size_t plane = (size_t)part->width * part->height * 4;
+        int end = first, any = 0;
+        exrio_status status;
+
+        while (end < image->channel_count && image->channels[end].part == p)
+            end++;
+        for (c = first; c < end; c++) {
+            if ((wanted && !wanted[c]) || image->channels[c].pixels)
+                continue;
+            if (part->deep) {
+                snprintf(error, error_size, "%s: channel %s is in %s, which holds deep data: "
+                         "deep images are not supported", image->path, image->channels[c].name,
+                         part_label(image, p, label, sizeof label));
+                return EXRIO_ERROR_UNSUPPORTED;
+            }
+            if (!exrio_compression_can_decode(part->compression)) {
+                snprintf(error, error_size,
+                         "%s: %s is compressed with %s, which OpenEXR's C core (OpenEXRCore 3.1) "
+                         "cannot decode; re-save it with ZIP, PIZ or no compression",
+                         image->path, part_label(image, p, label, sizeof label),
+                         part->compression == EXRIO_COMPRESSION_DWAA ? "DWAA" : "DWAB");
+                return EXRIO_ERROR_UNSUPPORTED;
+            }
+            if (image->channels[c].x_sampling != 1 || image->channels[c].y_sampling != 1) {
+                snprintf(error, error_size, "%s: channel %s is subsampled (%dx%d): subsampled "
+                         "channels are not supported", image->path, image->channels[c].name,
+                         (int)image->channels[c].x_sampling, (int)image->channels[c].y_sampling);
+                return EXRIO_ERROR_UNSUPPORTED;
+            }
+            any = 1;
+        }
+        if (any) {
+            unsigned char *fresh = calloc((size_t)(end - first), 1);
+            if (!fresh) {
+                snprintf(error, error_size, "%s: out of memory", image->path);
+                return EXRIO_ERROR_MEMORY;
+            }
+            for (c = first; c < end; c++) {
+                if ((wanted && !wanted[c]) || image->channels[c].pixels)
+                    continue;
+                /* calloc: a chunk the core skips for any reason reads as 0, never garbage. */
+                image->channels[c].pixels = calloc(plane, 1);
+                fresh[c - first] = 1;
+                if (!image->channels[c].pixels) {
+                    status = EXRIO_ERROR_MEMORY;
+                    snprintf(error, error_size, "%s: out of memory for %ux%u pixels",
+                             image->path, part->width, part->height);
+                    goto undo;
+                }
+            }
+            if (stream) {
+                stream->saved_errno = 0;
+                stream->message[0] = '\0';
+            }
+            status = load_part(image, p, first, stream, error, error_size);
+        undo:
+            if (status != EXRIO_OK) {
+                /* Take back what this call allocated: a failed load leaves no half-read plane
+                 * that could pass for data. */
+                for (c = first; c < end; c++) {
+                    if (fresh[c - first]) {
+                        free(image->channels[c].pixels);
+                        image->channels[c].pixels = NULL;
+                    }
+                }
+                free(fresh);
+                return status;
+            }
+            free(fresh);
+        }
+        first = end;
+    }
+    return EXRIO_OK;
+}

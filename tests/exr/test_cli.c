@@ -1,0 +1,1015 @@
+/* test_cli.c - the `ddof` command, run as a user runs it, on files written by the test.
+ * Outputs are checked against the library called directly on the same data (bit-exact for
+ * float output), messages and exit statuses against the issue's list of bad inputs.
+ *
+ *   test_cli DDOF_BINARY CASE SCRATCH_DIR
+ * CASE: values window refuse_same unwritable bad_inputs sequence interrupt sidecar options
+ *       foreground */
+#include "exr_test_util.h"
+
+#include <ddof.h>
+
+#include <cJSON.h>
+#include <png.h>
+
+#include <errno.h>
+#include <math.h>
+#include <signal.h>
+#include <stdarg.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <time.h>
+#include <unistd.h>
+
+#define W 48
+#define H 32
+#define N ((size_t)W * H)
+
+static const char *ddof_bin;
+static const char *dir;
+
+/* ---- running ddof -------------------------------------------------------------------------- */
+
+/* Runs ddof with the NULL-terminated arguments; output in dir/run.out, dir/run.err. */
+static int ddof(const char *first, ...)
+{
+    char *argv[64];
+    va_list args;
+    int n = 0;
+    const char *a;
+    argv[n++] = (char *)ddof_bin;
+    va_start(args, first);
+    for (a = first; a && n < 63; a = va_arg(args, const char *))
+        argv[n++] = (char *)a;
+    va_end(args);
+    argv[n] = NULL;
+    return test_run(dir, argv);
+}
+
+static char *out_text(void)
+{
+    char *t = test_read_file(test_path(dir, "run.out"), NULL);
+    return t ? t : calloc(1, 1);
+}
+
+static char *err_text(void)
+{
+    char *t = test_read_file(test_path(dir, "run.err"), NULL);
+    return t ? t : calloc(1, 1);
+}
+
+static int err_contains(const char *what)
+{
+    char *t = err_text();
+    int found = strstr(t, what) != NULL;
+    if (!found)
+        fprintf(stderr, "  (stderr was: %s)\n", t);
+    free(t);
+    return found;
+}
+
+static int out_contains(const char *what)
+{
+    char *t = out_text();
+    int found = strstr(t, what) != NULL;
+    if (!found)
+        fprintf(stderr, "  (stdout was: %s)\n", t);
+    free(t);
+    return found;
+}
+
+/* ---- inputs ------------------------------------------------------------------------------- */
+
+typedef struct scene {
+    float rgba[4][N]; /* planes R, G, B, A */
+    float z[N];
+    float coc[N];
+} scene;
+
+/* A chequered, coloured pattern over depths from 1 m (left) to 20 m (right), a sharp band at
+ * 3 m in the middle, and a small bright highlight: every feature the solver treats. */
+static void make_scene(scene *s, int variant)
+{
+    size_t x, y;
+    for (y = 0; y < H; y++) {
+        for (x = 0; x < W; x++) {
+            const size_t i = y * W + x;
+            const int check = (int)((x / 4 + y / 4 + (size_t)variant) % 2);
+            s->rgba[0][i] = check ? 0.9f : 0.1f;
+            s->rgba[1][i] = 0.2f + 0.6f * (float)x / W;
+            s->rgba[2][i] = 0.3f + 0.4f * (float)y / H;
+            s->rgba[3][i] = 1.0f;
+            s->z[i] = (x >= 20 && x < 26) ? 3.0f : 1.0f + 19.0f * (float)x / (W - 1);
+            s->coc[i] = (float)((x + y) % 9);
+        }
+    }
+    s->rgba[0][5 * W + 40] = s->rgba[1][5 * W + 40] = s->rgba[2][5 * W + 40] = 30.0f;
+}
+
+static void write_scene(const char *path, const scene *s, int with_coc)
+{
+    static const char *const names[6] = {"R", "G", "B", "A", "Z", "C"};
+    const exrio_pixel_type types[6] = {EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT,
+                                       EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT};
+    const void *planes[6] = {s->rgba[0], s->rgba[1], s->rgba[2], s->rgba[3], s->z, s->coc};
+    exrio_box box = test_box(0, 0, W, H);
+    CHECK(test_write_exr(path, &box, NULL, with_coc ? 6 : 5, names, types, planes,
+                         EXRIO_COMPRESSION_ZIP) == 0);
+}
+
+/* ---- the library on the same data ---------------------------------------------------------- */
+
+typedef enum { REF_CAMERA, REF_CURVE, REF_CHANNEL } ref_kind;
+
+typedef struct reference {
+    ref_kind kind;
+    ddof_camera camera;
+    ddof_curve curve;
+    uint32_t substeps;
+} reference;
+
+static void camera_50mm(ddof_camera *c, double fstop, double focus)
+{
+    ddof_camera_init(c);
+    c->focal_length_mm = 50.0;
+    c->sensor_width_mm = 36.0;
+    c->fstop = fstop;
+    c->focus_distance_m = focus;
+}
+
+/* out: interleaved RGBA. */
+static void library_result(const scene *s, const reference *ref, float *out, ddof_stats *stats)
+{
+    ddof_context_options co;
+    ddof_context *ctx = NULL;
+    ddof_params params;
+    float *color = malloc(N * 4 * sizeof *color);
+    float *coc = malloc(N * sizeof *coc);
+    size_t i;
+    int c;
+    for (i = 0; i < N; i++)
+        for (c = 0; c < 4; c++)
+            color[i * 4 + (size_t)c] = s->rgba[c][i];
+    ddof_context_options_init(&co);
+    co.thread_count = 1;
+    CHECK(ddof_context_create(&co, &ctx) == DDOF_OK);
+    ddof_params_init(&params);
+    params.substeps = ref->substeps;
+    {
+        const ddof_image_in color_in = {color, W, H, 4, 0};
+        const ddof_image_in depth_in = {s->z, W, H, 1, 0};
+        const ddof_image out_img = {out, W, H, 4, 0};
+        const ddof_image coc_out = {coc, W, H, 1, 0};
+        const ddof_image_in coc_in = {ref->kind == REF_CHANNEL ? s->coc : coc, W, H, 1, 0};
+        if (stats) {
+            memset(stats, 0, sizeof *stats);
+            stats->struct_size = sizeof *stats;
+        }
+        if (ref->kind == REF_CAMERA) {
+            CHECK(ddof_depth_of_field(ctx, &params, &ref->camera, &color_in, &depth_in, &out_img,
+                                      stats) == DDOF_OK);
+        } else {
+            /* The command runs the layers for every source; a curve's CoC is signed so that
+             * the near field is known to them. */
+            if (ref->kind == REF_CURVE) {
+                ddof_curve curve = ref->curve;
+                curve.signed_coc = 1;
+                params.coc_signed = 1;
+                CHECK(ddof_coc_from_curve(ctx, &curve, &depth_in, &coc_out) == DDOF_OK);
+            }
+            CHECK(ddof_diffuse_layers(ctx, &params, &color_in, &coc_in, NULL, &out_img, stats) ==
+                  DDOF_OK);
+        }
+    }
+    ddof_context_free(ctx);
+    free(color);
+    free(coc);
+}
+
+/* Compares channels R, G, B, A of an output EXR with an interleaved RGBA reference. exact: bit
+ * for bit; else within `tolerance` (relative, plus the same absolute near 0). Returns the
+ * number of differing values. */
+static int compare_output(const char *path, const float *ref, int exact, double tolerance,
+                          int half)
+{
+    static const char *const names[4] = {"R", "G", "B", "A"};
+    int c, bad = 0;
+    for (c = 0; c < 4; c++) {
+        uint32_t w = 0, h = 0;
+        float *got = test_read_channel(path, names[c], &w, &h);
+        size_t i;
+        if (!got || w != W || h != H) {
+            CHECK_MSG(0, "%s: channel %s missing or of the wrong size", path, names[c]);
+            free(got);
+            return -1;
+        }
+        for (i = 0; i < N; i++) {
+            const float want = half ? test_round_half(ref[i * 4 + (size_t)c]) : ref[i * 4 + (size_t)c];
+            if (exact ? memcmp(&got[i], &want, 4) != 0
+                      : fabs((double)got[i] - want) > tolerance * (1.0 + fabs((double)want)))
+                bad++;
+        }
+        free(got);
+    }
+    return bad;
+}
+
+/* ---- cases ---------------------------------------------------------------------------------- */
+
+static int case_values(void)
+{
+    static scene s;
+    static float ref[N * 4], ref2[N * 4];
+    const char *in = test_path(dir, "in.exr");
+    reference r;
+    ddof_stats stats;
+    char *text;
+    int bad;
+
+    make_scene(&s, 0);
+    write_scene(in, &s, 1);
+    memset(&r, 0, sizeof r);
+    r.kind = REF_CAMERA;
+    camera_50mm(&r.camera, 2.0, 3.0);
+
+    /* Camera flags, float output: bit-exact with ddof_depth_of_field. */
+    r.substeps = 3;
+    library_result(&s, &r, ref, &stats);
+    CHECK(ddof(in, "-o", test_path(dir, "out.exr"), "--focal-length", "50", "--sensor-width",
+               "36", "--fstop", "2", "--focus", "3", "--pixel-type", "float", "--substeps", "3",
+               "--solver", "thomas", "--threads", "1", "--stats", test_path(dir, "stats.json"),
+               NULL) == 0);
+    bad = compare_output(test_path(dir, "out.exr"), ref, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "%d values differ from ddof_depth_of_field", bad);
+    CHECK(out_contains("in.exr -> ") && out_contains("thomas x3"));
+    text = test_read_file(test_path(dir, "stats.json"), NULL);
+    CHECK(text != NULL);
+    if (text) {
+        cJSON *root = cJSON_Parse(text);
+        const cJSON *frame = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0);
+        const cJSON *sim = cJSON_GetObjectItem(frame, "simulated");
+        const cJSON *sec = cJSON_GetObjectItem(frame, "seconds");
+        CHECK(root && frame && sim && sec);
+        CHECK(cJSON_GetObjectItem(sim, "lines_solved") &&
+              cJSON_GetObjectItem(sim, "lines_solved")->valuedouble ==
+                  (double)stats.lines_solved);
+        CHECK(cJSON_GetObjectItem(sim, "substeps")->valuedouble == 3.0);
+        CHECK(cJSON_IsString(cJSON_GetObjectItem(sim, "why")));
+        CHECK(cJSON_GetObjectItem(sec, "frame")->valuedouble > 0.0);
+        CHECK(strcmp(cJSON_GetObjectItem(frame, "status")->valuestring, "ok") == 0);
+        cJSON_Delete(root);
+        free(text);
+    }
+
+    /* Presets: fast is one sub-step; half output rounds the same result. */
+    r.substeps = 1;
+    library_result(&s, &r, ref2, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "fast.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--preset", "fast", "--pixel-type", "half", NULL) == 0);
+    bad = compare_output(test_path(dir, "fast.exr"), ref2, 1, 0.0, 1);
+    CHECK_MSG(bad == 0, "%d half values differ from the rounded library result", bad);
+
+    /* The thin-lens model differs from the default Cycles one, and matches the library's. */
+    r.substeps = 3;
+    r.camera.lens_model = DDOF_LENS_THIN_LENS;
+    library_result(&s, &r, ref2, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "thin.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--lens", "thin-lens", "--substeps", "3", "--pixel-type", "float",
+               NULL) == 0);
+    CHECK(compare_output(test_path(dir, "thin.exr"), ref2, 1, 0.0, 0) == 0);
+    CHECK(compare_output(test_path(dir, "thin.exr"), ref, 1, 0.0, 0) > 0);
+
+    /* The artist curve. */
+    r.kind = REF_CURVE;
+    ddof_curve_init(&r.curve);
+    r.curve.near_blur_px = 8;
+    r.curve.near_start = 0;
+    r.curve.near_end = 2;
+    r.curve.far_start = 4;
+    r.curve.far_end = 12;
+    r.curve.far_blur_px = 10;
+    library_result(&s, &r, ref2, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "curve.exr"), "--curve", "8,0,2,4,12,10", "--substeps",
+               "3", "--pixel-type", "float", NULL) == 0);
+    bad = compare_output(test_path(dir, "curve.exr"), ref2, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "curve: %d values differ", bad);
+
+    /* CoC from a channel. */
+    r.kind = REF_CHANNEL;
+    library_result(&s, &r, ref2, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "chan.exr"), "--coc-channel", "C", "--substeps", "3",
+               "--pixel-type", "float", NULL) == 0);
+    bad = compare_output(test_path(dir, "chan.exr"), ref2, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "coc channel: %d values differ", bad);
+
+    /* --keep keeps the other channels bit for bit; --write-coc adds the CoC used. */
+    CHECK(ddof(in, "-o", test_path(dir, "keep.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--substeps", "3", "--keep", "--write-coc", NULL) == 0);
+    {
+        uint32_t w, h;
+        float *z = test_read_channel(test_path(dir, "keep.exr"), "Z", &w, &h);
+        float *c = test_read_channel(test_path(dir, "keep.exr"), "C", &w, &h);
+        float *coc = test_read_channel(test_path(dir, "keep.exr"), "coc", &w, &h);
+        float expect_coc[N];
+        ddof_context *ctx = NULL;
+        const ddof_image_in depth_in = {s.z, W, H, 1, 0};
+        const ddof_image coc_out = {expect_coc, W, H, 1, 0};
+        ddof_context_create(NULL, &ctx);
+        camera_50mm(&r.camera, 2.0, 3.0);
+        r.camera.signed_coc = 1; /* --write-coc writes the signed CoC the layers use */
+        ddof_coc_from_camera(ctx, &r.camera, &depth_in, &coc_out);
+        ddof_context_free(ctx);
+        CHECK(z && c && coc);
+        if (z && c && coc) {
+            CHECK(memcmp(z, s.z, sizeof s.z) == 0);
+            CHECK(memcmp(c, s.coc, sizeof s.coc) == 0);
+            CHECK(memcmp(coc, expect_coc, sizeof expect_coc) == 0);
+        }
+        free(z);
+        free(c);
+        free(coc);
+    }
+
+    /* The preview is the result, sRGB-encoded. */
+    CHECK(ddof(in, "-o", test_path(dir, "p.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--substeps", "3", "--preview", test_path(dir, "p.png"), NULL) == 0);
+    {
+        png_image img;
+        uint8_t *px;
+        memset(&img, 0, sizeof img);
+        img.version = PNG_IMAGE_VERSION;
+        CHECK(png_image_begin_read_from_file(&img, test_path(dir, "p.png")) != 0);
+        CHECK(img.width == W && img.height == H);
+        img.format = PNG_FORMAT_RGB;
+        px = malloc(PNG_IMAGE_SIZE(img));
+        CHECK(png_image_finish_read(&img, NULL, px, 0, NULL) != 0);
+        {
+            /* Pixel (10, 7) of the result, red: linear -> sRGB -> 8 bits. */
+            const double v = ref[(7 * W + 10) * 4];
+            const double e = v <= 0.0031308 ? 12.92 * v : 1.055 * pow(v, 1 / 2.4) - 0.055;
+            const int want = (int)(fmin(fmax(e, 0.0), 1.0) * 255.0 + 0.5);
+            CHECK_MSG(abs((int)px[(7 * W + 10) * 3] - want) <= 1, "preview %d, want %d",
+                      px[(7 * W + 10) * 3], want);
+        }
+        free(px);
+    }
+
+    /* --compare with the input itself as "truth": the input's error is 0. */
+    CHECK(ddof(in, "-o", test_path(dir, "cmp.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--compare", in, NULL) == 0);
+    CHECK(out_contains("pinhole input  RMSE 0.00000") && out_contains("ddof result"));
+    return test_finish("test_cli values");
+}
+
+/* Data window (4,2)-(43,29) of a 64x40 frame, constant depth: the CoC in pixels must follow
+ * the frame's 64 px width, not the data window's 40. */
+static int case_window(void)
+{
+    static const char *const names[5] = {"R", "G", "B", "A", "Z"};
+    const exrio_pixel_type types[5] = {EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT,
+                                       EXRIO_FLOAT};
+    enum { DW = 40, DH = 28 };
+    static float planes[5][DW * DH], color[DW * DH * 4], out[DW * DH * 4], coc[DW * DH];
+    const void *cplanes[5] = {planes[0], planes[1], planes[2], planes[3], planes[4]};
+    exrio_box data = test_box(4, 2, DW, DH), display = test_box(0, 0, 64, 40);
+    const char *in = test_path(dir, "window.exr");
+    /* 50 mm f/1.4 focused at 1 m, everything at 6 m: c = f^2 / (N S1) * |Z - S1| / Z. */
+    const double c_mm = 50.0 * 50.0 / (1.4 * 1000.0) * 5.0 / 6.0;
+    const float coc_px = (float)(c_mm * 64.0 / 36.0);
+    ddof_context *ctx = NULL;
+    ddof_params params;
+    exrio_image image;
+    char error[1024];
+    int i, c, bad = 0;
+
+    for (i = 0; i < DW * DH; i++) {
+        for (c = 0; c < 4; c++)
+            planes[c][i] = c == 3 ? 1.0f : (float)(((i % DW) / 3 + (i / DW) / 3 + c) % 2);
+        planes[4][i] = 6.0f;
+    }
+    CHECK(test_write_exr(in, &data, &display, 5, names, types, cplanes,
+                         EXRIO_COMPRESSION_NONE) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "out.exr"), "--focal-length", "50", "--fstop", "1.4",
+               "--focus", "1", "--substeps", "2", "--pixel-type", "float", "--write-coc",
+               NULL) == 0);
+
+    for (i = 0; i < DW * DH; i++) {
+        for (c = 0; c < 4; c++)
+            color[i * 4 + c] = planes[c][i];
+        coc[i] = coc_px;
+    }
+    ddof_context_create(NULL, &ctx);
+    ddof_params_init(&params);
+    params.substeps = 2;
+    {
+        const ddof_image_in color_in = {color, DW, DH, 4, 0};
+        const ddof_image_in coc_in = {coc, DW, DH, 1, 0};
+        const ddof_image out_img = {out, DW, DH, 4, 0};
+        CHECK(ddof_diffuse(ctx, &params, &color_in, &coc_in, &out_img, NULL) == DDOF_OK);
+    }
+    ddof_context_free(ctx);
+
+    CHECK(exrio_open(test_path(dir, "out.exr"), &image, error, sizeof error) == EXRIO_OK);
+    CHECK(image.parts[0].data_window.min_x == 4 && image.parts[0].data_window.min_y == 2 &&
+          image.parts[0].data_window.max_x == 43 && image.parts[0].data_window.max_y == 29);
+    CHECK(image.parts[0].display_window.max_x == 63 && image.parts[0].display_window.max_y == 39);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_OK);
+    {
+        const float *coc_got = image.channels[exrio_find_channel(&image, "coc", 0)].pixels;
+        const float *r = image.channels[exrio_find_channel(&image, "R", 0)].pixels;
+        CHECK_MSG(fabsf(coc_got[0] - coc_px) < 1e-4f * coc_px, "CoC %g px, want %g px",
+                  (double)coc_got[0], (double)coc_px);
+        for (i = 0; i < DW * DH; i++)
+            bad += fabsf(r[i] - out[i * 4]) > 1e-4f;
+        CHECK_MSG(bad == 0, "%d values differ from a diffusion with CoC %g px", bad,
+                  (double)coc_px);
+    }
+    exrio_close(&image);
+
+    /* Radial depth cannot be converted for a cropped frame: refused, not guessed. */
+    CHECK(ddof(in, "-o", test_path(dir, "radial.exr"), "--focal-length", "50", "--fstop", "1.4",
+               "--focus", "1", "--depth-kind", "radial", NULL) == 1);
+    CHECK(err_contains("radial") && err_contains("display window"));
+    CHECK(!test_file_exists(test_path(dir, "radial.exr")));
+
+    /* Depth from a second file: same window works, another window is a size mismatch. */
+    {
+        static const char *const zname[1] = {"Z"};
+        const void *zplane[1] = {planes[4]};
+        exrio_box other = test_box(0, 0, DW, DH);
+        CHECK(test_write_exr(test_path(dir, "depth_same.exr"), &data, &display, 1, zname,
+                             types, zplane, EXRIO_COMPRESSION_ZIP) == 0);
+        CHECK(test_write_exr(test_path(dir, "depth_other.exr"), &other, NULL, 1, zname, types,
+                             zplane, EXRIO_COMPRESSION_ZIP) == 0);
+        CHECK(ddof(in, "-o", test_path(dir, "df.exr"), "--depth-file",
+                   test_path(dir, "depth_same.exr"), "--focal-length", "50", "--fstop", "1.4",
+                   "--focus", "1", "--substeps", "2", "--pixel-type", "float", NULL) == 0);
+        CHECK(ddof(in, "-o", test_path(dir, "df2.exr"), "--depth-file",
+                   test_path(dir, "depth_other.exr"), "--focal-length", "50", "--fstop", "1.4",
+                   "--focus", "1", NULL) == 1);
+        CHECK(err_contains("mismatched layer sizes"));
+        CHECK(!test_file_exists(test_path(dir, "df2.exr")));
+    }
+    {
+        uint32_t w, h;
+        float *a = test_read_channel(test_path(dir, "df.exr"), "G", &w, &h);
+        float *b = test_read_channel(test_path(dir, "out.exr"), "G", &w, &h);
+        CHECK(a && b && memcmp(a, b, DW * DH * sizeof(float)) == 0);
+        free(a);
+        free(b);
+    }
+    return test_finish("test_cli window");
+}
+
+static int case_refuse_same(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr");
+    char spelled[4][4096];
+    size_t size0 = 0, size1 = 0;
+    char *before, *after;
+    int k;
+
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+    mkdir(test_path(dir, "sub"), 0777);
+    CHECK(symlink("in.exr", test_path(dir, "link.exr")) == 0);
+    CHECK(link(in, test_path(dir, "hard.exr")) == 0);
+    snprintf(spelled[0], 4096, "%s", in);
+    snprintf(spelled[1], 4096, "%s/./in.exr", dir);
+    snprintf(spelled[2], 4096, "%s/sub/../in.exr", dir);
+    snprintf(spelled[3], 4096, "%s", test_path(dir, "link.exr"));
+    before = test_read_file(in, &size0);
+    for (k = 0; k < 4; k++) {
+        CHECK_MSG(ddof(in, "-o", spelled[k], "--focal-length", "50", "--fstop", "2", "--focus",
+                       "3", NULL) == 1, "%s", spelled[k]);
+        CHECK(err_contains("refusing") && err_contains("never overwrites its input"));
+    }
+    /* A hard link is the same file under another name. */
+    CHECK(ddof(test_path(dir, "hard.exr"), "-o", in, "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", NULL) == 1);
+    CHECK(err_contains("refusing"));
+    CHECK(ddof(in, "-o", test_path(dir, "ok.exr"), "--preview", in, "--focal-length", "50",
+               "--fstop", "2", "--focus", "3", NULL) == 1);
+    CHECK(err_contains("refusing to write preview"));
+    after = test_read_file(in, &size1);
+    CHECK(before && after && size0 == size1 && memcmp(before, after, size0) == 0);
+    CHECK(!test_file_exists(test_path(dir, "ok.exr")));
+    free(before);
+    free(after);
+
+    /* Sequences: the same pattern for input and output. */
+    write_scene(test_path(dir, "f_0001.exr"), &s, 0);
+    write_scene(test_path(dir, "f_0002.exr"), &s, 0);
+    before = test_read_file(test_path(dir, "f_0002.exr"), &size0);
+    CHECK(ddof(test_path(dir, "f_####.exr"), "-o", test_path(dir, "f_####.exr"), "--frames",
+               "1-2", "--focal-length", "50", "--fstop", "2", "--focus", "3", NULL) == 1);
+    CHECK(err_contains("refusing to write output") && err_contains("f_0001.exr"));
+    after = test_read_file(test_path(dir, "f_0002.exr"), &size1);
+    CHECK(before && after && size0 == size1 && memcmp(before, after, size0) == 0);
+    free(before);
+    free(after);
+    CHECK(test_count_suffix(dir, ".tmp") == 0);
+    return test_finish("test_cli refuse_same");
+}
+
+static int case_unwritable(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr");
+    const char *ro = test_path(dir, "readonly");
+    char target[4096], probe[4096];
+    FILE *f;
+
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+    mkdir(ro, 0777);
+    chmod(ro, 0555);
+    /* root writes into a 0555 directory anyway; then use a directory no one can write. */
+    snprintf(probe, sizeof probe, "%s/probe", ro);
+    f = fopen(probe, "w");
+    if (f) {
+        fclose(f);
+        unlink(probe);
+        snprintf(target, sizeof target, "/sys/kernel/ddof-test-out.exr");
+        f = fopen(target, "w");
+        if (f) {
+            fclose(f);
+            unlink(target);
+            printf("test_cli unwritable: no unwritable directory available here; part skipped\n");
+            target[0] = '\0';
+        }
+    } else {
+        snprintf(target, sizeof target, "%s/out.exr", ro);
+    }
+    if (target[0]) {
+        CHECK(ddof(in, "-o", target, "--focal-length", "50", "--fstop", "2", "--focus", "3",
+                   NULL) == 1);
+        CHECK(err_contains("is not writable"));
+        CHECK(!test_file_exists(target));
+    }
+    chmod(ro, 0777);
+
+    /* Missing directories are created; a directory is not a file name. */
+    CHECK(ddof(in, "-o", test_path(dir, "new/deeper/out.exr"), "--focal-length", "50", "--fstop",
+               "2", "--focus", "3", NULL) == 0);
+    CHECK(test_file_exists(test_path(dir, "new/deeper/out.exr")));
+    CHECK(ddof(in, "-o", test_path(dir, "new/"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", NULL) == 1);
+    CHECK(err_contains("names a directory"));
+    return test_finish("test_cli unwritable");
+}
+
+static int case_bad_inputs(void)
+{
+    static scene s;
+    const char *good = test_path(dir, "good.exr");
+    const char *out = test_path(dir, "out.exr");
+    static const char key[] = "compression\0compression\0\1\0\0\0";
+    size_t size = 0, i;
+    char *bytes;
+
+    make_scene(&s, 0);
+    write_scene(good, &s, 0);
+    bytes = test_read_file(good, &size);
+
+#define RUN_BAD(input, message)                                                              \
+    do {                                                                                     \
+        CHECK_MSG(ddof(input, "-o", out, "--focal-length", "50", "--fstop", "2", "--focus",  \
+                       "3", NULL) == 1, "%s", input);                                        \
+        CHECK(err_contains(message));                                                        \
+        CHECK(err_contains("failed frame"));                                                 \
+        CHECK(!test_file_exists(out));                                                       \
+        CHECK(test_count_suffix(dir, ".tmp") == 0);                                          \
+    } while (0)
+
+    RUN_BAD(test_path(dir, "missing.exr"), "No such file");
+    test_write_file(test_path(dir, "notexr.exr"), "P3\n1 1\n255\n0 0 0\n", 17);
+    RUN_BAD(test_path(dir, "notexr.exr"), "not an OpenEXR file");
+    test_write_file(test_path(dir, "trunc.exr"), bytes, size * 2 / 3);
+    RUN_BAD(test_path(dir, "trunc.exr"), "truncated");
+    {
+        static const char *const names[3] = {"beauty.R", "beauty.G", "Y"};
+        const exrio_pixel_type types[3] = {EXRIO_HALF, EXRIO_HALF, EXRIO_HALF};
+        const void *planes[3] = {s.z, s.z, s.z};
+        exrio_box box = test_box(0, 0, W, H);
+        test_write_exr(test_path(dir, "channels.exr"), &box, NULL, 3, names, types, planes,
+                       EXRIO_COMPRESSION_ZIP);
+        RUN_BAD(test_path(dir, "channels.exr"), "channels in the file: Y, beauty.G, beauty.R");
+    }
+    {
+        static const char *const names[4] = {"R", "G", "B", "A"};
+        const exrio_pixel_type types[4] = {EXRIO_HALF, EXRIO_HALF, EXRIO_HALF, EXRIO_HALF};
+        const void *planes[4] = {s.rgba[0], s.rgba[1], s.rgba[2], s.rgba[3]};
+        exrio_box box = test_box(0, 0, W, H);
+        test_write_exr(test_path(dir, "nodepth.exr"), &box, NULL, 4, names, types, planes,
+                       EXRIO_COMPRESSION_ZIP);
+        RUN_BAD(test_path(dir, "nodepth.exr"), "no depth channel");
+    }
+    /* DWAA: see test_exr_bad_input.c for why the header is patched. */
+    for (i = 0; bytes && i + sizeof key < size; i++)
+        if (memcmp(bytes + i, key, sizeof key - 1) == 0)
+            break;
+    if (bytes && i + sizeof key < size) {
+        bytes[i + sizeof key - 1] = 8;
+        test_write_file(test_path(dir, "dwaa.exr"), bytes, size);
+        RUN_BAD(test_path(dir, "dwaa.exr"), "DWAA, which OpenEXR's C core");
+    } else {
+        CHECK_MSG(0, "no compression attribute found");
+    }
+    free(bytes);
+    return test_finish("test_cli bad_inputs");
+}
+
+static int case_sequence(void)
+{
+    static scene s[6];
+    static float ref[N * 4];
+    char name[64];
+    char *text;
+    int f, bad;
+    reference r;
+
+    memset(&r, 0, sizeof r);
+    r.kind = REF_CAMERA;
+    r.substeps = 2;
+    camera_50mm(&r.camera, 2.0, 3.0);
+    for (f = 1; f <= 5; f++) {
+        snprintf(name, sizeof name, "in_%04d.exr", f);
+        make_scene(&s[f], f);
+        write_scene(test_path(dir, name), &s[f], 0);
+    }
+    /* Frame 3 is cut short, as a render killed while writing would leave it. */
+    {
+        size_t size = 0;
+        char *bytes = test_read_file(test_path(dir, "in_0003.exr"), &size);
+        test_write_file(test_path(dir, "in_0003.exr"), bytes, size / 2);
+        free(bytes);
+    }
+    CHECK(ddof(test_path(dir, "in_####.exr"), "-o", test_path(dir, "out/dof_####.exr"),
+               "--frames", "1-5", "--focal-length", "50", "--fstop", "2", "--focus", "3",
+               "--substeps", "2", "--pixel-type", "float", "--stats",
+               test_path(dir, "out/stats.json"), NULL) == 1);
+    CHECK(err_contains("frame 3: FAILED") && err_contains("truncated"));
+    CHECK(err_contains("1 of 5 frames failed") && err_contains("failed frame: 3\n"));
+    CHECK(out_contains("frame 1: ") && out_contains("frame 5: "));
+    {
+        char *e = err_text();
+        CHECK_MSG(strchr(e, '\r') == NULL, "a progress bar was drawn into a pipe");
+        free(e);
+    }
+    for (f = 1; f <= 5; f++) {
+        snprintf(name, sizeof name, "out/dof_%04d.exr", f);
+        if (f == 3) {
+            CHECK(!test_file_exists(test_path(dir, name)));
+            continue;
+        }
+        library_result(&s[f], &r, ref, NULL);
+        bad = compare_output(test_path(dir, name), ref, 1, 0.0, 0);
+        CHECK_MSG(bad == 0, "frame %d: %d values differ", f, bad);
+    }
+    CHECK(test_count_suffix(test_path(dir, "out"), ".tmp") == 0);
+    text = test_read_file(test_path(dir, "out/stats.json"), NULL);
+    CHECK(text != NULL);
+    if (text) {
+        cJSON *root = cJSON_Parse(text);
+        const cJSON *frames = cJSON_GetObjectItem(root, "frames");
+        CHECK(cJSON_GetArraySize(frames) == 5);
+        for (f = 0; f < 5; f++) {
+            const cJSON *fr = cJSON_GetArrayItem(frames, f);
+            CHECK(cJSON_GetObjectItem(fr, "frame")->valuedouble == f + 1);
+            CHECK(strcmp(cJSON_GetObjectItem(fr, "status")->valuestring,
+                         f == 2 ? "failed" : "ok") == 0);
+        }
+        CHECK(cJSON_GetObjectItem(cJSON_GetObjectItem(root, "summary"), "failed")->valuedouble ==
+              1.0);
+        cJSON_Delete(root);
+        free(text);
+    }
+
+    /* The good frames alone, one at a time, with the bar forced on. */
+    CHECK(ddof(test_path(dir, "in_####.exr"), "-o", test_path(dir, "out2/dof_####.exr"),
+               "--frames", "1-2,4-5", "--focal-length", "50", "--fstop", "2", "--focus", "3",
+               "--jobs", "1", "--progress", "always", NULL) == 0);
+    CHECK(out_contains("4 frames written") && out_contains("1 at a time"));
+    CHECK(err_contains("\r") && err_contains("4/4 frames"));
+    CHECK(test_file_exists(test_path(dir, "out2/dof_0005.exr")));
+    return test_finish("test_cli sequence");
+}
+
+/* SIGINT and SIGTERM while a finished temporary file waits for its rename (held there by the
+ * DDOF_TEST_HOLD_TEMP_MS hook): the file is removed and the exit status says so. */
+static int case_interrupt(void)
+{
+    static scene s;
+    const int sigs[2] = {SIGINT, SIGTERM};
+    int k;
+    make_scene(&s, 0);
+    write_scene(test_path(dir, "in.exr"), &s, 0);
+    mkdir(test_path(dir, "out"), 0777);
+    for (k = 0; k < 2; k++) {
+        pid_t pid;
+        int status = 0, waited = 0;
+        fflush(stdout);
+        pid = fork();
+        if (pid == 0) {
+            char *argv[] = {(char *)ddof_bin, (char *)test_path(dir, "in.exr"), "-o",
+                            (char *)test_path(dir, "out/out.exr"), "--focal-length", "50",
+                            "--fstop", "2", "--focus", "3", NULL};
+            FILE *err = freopen(test_path(dir, "run.err"), "w", stderr);
+            (void)err;
+            setenv("DDOF_TEST_HOLD_TEMP_MS", "30000", 1);
+            execv(argv[0], argv);
+            _exit(127);
+        }
+        /* Wait (up to 60 s, valgrind is slow) for the temporary file. */
+        while (test_count_suffix(test_path(dir, "out"), ".tmp") == 0 && waited < 60000) {
+            struct timespec ts = {0, 10 * 1000000L};
+            nanosleep(&ts, NULL);
+            waited += 10;
+        }
+        CHECK_MSG(test_count_suffix(test_path(dir, "out"), ".tmp") == 1,
+                  "no temporary file appeared");
+        kill(pid, sigs[k]);
+        waitpid(pid, &status, 0);
+        CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 128 + sigs[k], "status %d",
+                  status);
+        CHECK(test_count_suffix(test_path(dir, "out"), ".tmp") == 0);
+        CHECK(!test_file_exists(test_path(dir, "out/out.exr")));
+        CHECK(err_contains("interrupted") && err_contains("removed 1 temporary file"));
+    }
+    return test_finish("test_cli interrupt");
+}
+
+static int case_sidecar(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr");
+    const char *json = test_path(dir, "camera.json");
+    const char *good =
+        "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+        " \"fstop\": 2.0, \"focus_distance_m\": 3.0, \"resolution\": [48, 32],"
+        " \"pixel_aspect\": 1.0, \"depth\": \"planar\", \"unit_scale_m\": 1.0,"
+        " \"blender_version\": \"3.4.1\"}";
+    static float ref[N * 4];
+    reference r;
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+    memset(&r, 0, sizeof r);
+    r.kind = REF_CAMERA;
+    r.substeps = 3;
+
+    test_write_file(json, good, strlen(good));
+    camera_50mm(&r.camera, 2.0, 3.0);
+    library_result(&s, &r, ref, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "a.exr"), "--camera", json, "--substeps", "3",
+               "--pixel-type", "float", NULL) == 0);
+    CHECK(compare_output(test_path(dir, "a.exr"), ref, 1, 0.0, 0) == 0);
+    /* A flag overrides the sidecar. */
+    camera_50mm(&r.camera, 4.0, 3.0);
+    library_result(&s, &r, ref, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "b.exr"), "--camera", json, "--fstop", "4",
+               "--substeps", "3", "--pixel-type", "float", NULL) == 0);
+    CHECK(compare_output(test_path(dir, "b.exr"), ref, 1, 0.0, 0) == 0);
+
+    /* A sidecar of another resolution: a warning, and the file's pixels rule. */
+    {
+        const char *other = "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\":"
+                            " \"AUTO\", \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\":"
+                            " [96, 64], \"pixel_aspect\": 1}";
+        test_write_file(json, other, strlen(other));
+        CHECK(ddof(in, "-o", test_path(dir, "c.exr"), "--camera", json, NULL) == 0);
+        CHECK(err_contains("warning") && err_contains("96x64"));
+    }
+
+#define BAD_JSON(text, message)                                                              \
+    do {                                                                                     \
+        test_write_file(json, text, strlen(text));                                           \
+        CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json, NULL) == 2);       \
+        CHECK(err_contains(message));                                                        \
+        CHECK(!test_file_exists(test_path(dir, "bad.exr")));                                 \
+    } while (0)
+
+    BAD_JSON("{\"focal_length_mm\": 50", "not valid JSON");
+    BAD_JSON("[1, 2]", "must be a JSON object");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"focus_distance_m\": 3, \"resolution\": [48, 32], \"pixel_aspect\": 1}",
+             "missing \"fstop\"");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"DIAGONAL\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1}", "\"sensor_fit\" must be one of");
+    BAD_JSON("{\"focal_length_mm\": \"50\", \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1}", "\"focal_length_mm\" must be a number > 0");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48.5, 32],"
+             " \"pixel_aspect\": 1}", "\"resolution\" must be [width, height]");
+    /* Valid JSON, impossible camera: the library's check, once, before any frame. */
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 0.01, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1}", "bad camera");
+    CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", test_path(dir, "none.json"),
+               NULL) == 2);
+    CHECK(err_contains("cannot open camera file"));
+    return test_finish("test_cli sidecar");
+}
+
+static int case_options(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr");
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+
+    CHECK(ddof("--help", NULL) == 0 && out_contains("usage: ddof"));
+    CHECK(ddof("--version", NULL) == 0 && out_contains("libddof"));
+    CHECK(ddof(in, NULL) == 2 && err_contains("no output file"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), NULL) == 2 && err_contains("no camera"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--bogus", NULL) == 2 &&
+          err_contains("unknown option '--bogus'"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--fstop", "fast", NULL) == 2 &&
+          err_contains("--fstop wants a number > 0"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--solver", "magic", NULL) == 2 &&
+          err_contains("thomas | cr | pcr | jacobi | reference"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--coc-channel", "Z", "--foreground", "fg.exr",
+               NULL) == 2 && err_contains("--foreground-coc-channel"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--background", "sometimes", NULL) == 2 &&
+          err_contains("auto | off | on"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--backend", "gl", NULL) == 2 &&
+          err_contains("only the cpu backend"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "dwaa", NULL) == 2 &&
+          err_contains("cannot write DWAA"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--curve", "1,2,3", NULL) == 2 &&
+          err_contains("six numbers"));
+    CHECK(ddof(in, "-o", test_path(dir, "o_####.exr"), "--frames", "1-3", "--focus", "3",
+               "--fstop", "2", "--focal-length", "50", NULL) == 2 &&
+          err_contains("need a run of '#'"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--frames", "3-1", NULL) == 2);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--curve", "0,0,1,2,3,4", "--fstop", "2",
+               NULL) == 2 && err_contains("camera options do not apply"));
+    /* Every solver runs (the accuracy study drives them through the command). */
+    {
+        static const char *const solvers[] = {"thomas", "cr", "pcr", "jacobi", "reference"};
+        size_t k;
+        for (k = 0; k < 5; k++)
+            CHECK_MSG(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop",
+                           "2", "--focus", "3", "--solver", solvers[k], "--jacobi-iterations",
+                           "5", "--beta-scale", "0.05", "--threads", "2", NULL) == 0 &&
+                          out_contains(solvers[k]),
+                      "%s", solvers[k]);
+    }
+    CHECK(ddof("--list", in, NULL) == 0 && out_contains("ddof uses: colour R, G, B, A; depth Z"));
+    CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
+    return test_finish("test_cli options");
+}
+
+/* A foreground element: as a second layer of the input (Blender view layer "Foreground") and
+ * as a separate file; the result equals ddof_diffuse_layers with the element, both CoCs from
+ * the camera, signed. Without alpha, or of another size, it is refused. */
+static int case_foreground(void)
+{
+    static const char *const names[10] = {
+        "Foreground.Combined.A", "Foreground.Combined.B", "Foreground.Combined.G",
+        "Foreground.Combined.R", "Foreground.Depth.Z",    "ViewLayer.Combined.A",
+        "ViewLayer.Combined.B",  "ViewLayer.Combined.G",  "ViewLayer.Combined.R",
+        "ViewLayer.Depth.Z"};
+    static const char *const flat[5] = {"A", "B", "G", "R", "Z"};
+    exrio_pixel_type types[10];
+    static scene s;
+    static float fg[5][N], color[N * 4], fgc[N * 4], coc[N], fgcoc[N], ref[N * 4];
+    const void *planes[10];
+    exrio_box box = test_box(0, 0, W, H), small = test_box(0, 0, W / 2, H);
+    const char *in = test_path(dir, "layers.exr");
+    ddof_camera camera;
+    ddof_params params;
+    ddof_foreground element;
+    ddof_context_options co;
+    ddof_context *ctx = NULL;
+    size_t i;
+    int c, bad;
+
+    make_scene(&s, 0);
+    /* The element: a bar 1.2 m away over columns 10..17, alpha 1 inside, 0.5 on its edges,
+     * premultiplied colour. */
+    for (i = 0; i < N; i++) {
+        const size_t x = i % W;
+        const float a = (x >= 10 && x <= 17) ? (x == 10 || x == 17 ? 0.5f : 1.0f) : 0.0f;
+        fg[0][i] = a;
+        fg[1][i] = 0.2f * a;
+        fg[2][i] = 0.7f * a;
+        fg[3][i] = 0.9f * a;
+        fg[4][i] = a > 0.0f ? 1.2f : 1e10f;
+    }
+    for (c = 0; c < 10; c++)
+        types[c] = EXRIO_FLOAT;
+    for (c = 0; c < 5; c++)
+        planes[c] = fg[c];
+    planes[5] = s.rgba[3];
+    planes[6] = s.rgba[2];
+    planes[7] = s.rgba[1];
+    planes[8] = s.rgba[0];
+    planes[9] = s.z;
+    CHECK(test_write_exr(in, &box, NULL, 10, names, types, planes, EXRIO_COMPRESSION_ZIP) == 0);
+    CHECK(test_write_exr(test_path(dir, "fg.exr"), &box, NULL, 5, flat, types, planes,
+                         EXRIO_COMPRESSION_ZIP) == 0);
+    CHECK(test_write_exr(test_path(dir, "fg_small.exr"), &small, NULL, 5, flat, types, planes,
+                         EXRIO_COMPRESSION_ZIP) == 0);
+    /* B, G, R, Z: no A. */
+    CHECK(test_write_exr(test_path(dir, "fg_noalpha.exr"), &box, NULL, 4, flat + 1, types,
+                         planes + 1, EXRIO_COMPRESSION_ZIP) == 0);
+
+    /* The library with the element. */
+    for (i = 0; i < N; i++) {
+        for (c = 0; c < 4; c++)
+            color[i * 4 + (size_t)c] = s.rgba[c][i];
+        fgc[i * 4 + 0] = fg[3][i];
+        fgc[i * 4 + 1] = fg[2][i];
+        fgc[i * 4 + 2] = fg[1][i];
+        fgc[i * 4 + 3] = fg[0][i];
+    }
+    ddof_context_options_init(&co);
+    co.thread_count = 1;
+    ddof_context_create(&co, &ctx);
+    camera_50mm(&camera, 2.0, 3.0);
+    camera.signed_coc = 1;
+    ddof_params_init(&params);
+    params.substeps = 2;
+    params.coc_signed = 1;
+    {
+        const ddof_image_in depth_in = {s.z, W, H, 1, 0}, fg_depth_in = {fg[4], W, H, 1, 0};
+        const ddof_image coc_out = {coc, W, H, 1, 0}, fgcoc_out = {fgcoc, W, H, 1, 0};
+        const ddof_image_in color_in = {color, W, H, 4, 0}, coc_in = {coc, W, H, 1, 0};
+        const ddof_image out_img = {ref, W, H, 4, 0};
+        CHECK(ddof_coc_from_camera(ctx, &camera, &depth_in, &coc_out) == DDOF_OK);
+        CHECK(ddof_coc_from_camera(ctx, &camera, &fg_depth_in, &fgcoc_out) == DDOF_OK);
+        ddof_foreground_init(&element);
+        element.color.pixels = fgc;
+        element.color.width = W;
+        element.color.height = H;
+        element.color.channels = 4;
+        element.coc.pixels = fgcoc;
+        element.coc.width = W;
+        element.coc.height = H;
+        element.coc.channels = 1;
+        CHECK(ddof_diffuse_layers(ctx, &params, &color_in, &coc_in, &element, &out_img, NULL) ==
+              DDOF_OK);
+    }
+    ddof_context_free(ctx);
+
+    /* Same file, second layer: the main layer is found despite two layers with depth. */
+    CHECK(ddof(in, "-o", test_path(dir, "out1.exr"), "--foreground-layer", "Foreground",
+               "--focal-length", "50", "--fstop", "2", "--focus", "3", "--substeps", "2",
+               "--pixel-type", "float", "--threads", "1", "--stats", test_path(dir, "s.json"),
+               NULL) == 0);
+    bad = compare_output(test_path(dir, "out1.exr"), ref, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "foreground layer: %d values differ", bad);
+    CHECK(out_contains("foreground"));
+    /* A separate file. */
+    CHECK(ddof(in, "-o", test_path(dir, "out2.exr"), "--layer", "ViewLayer", "--foreground",
+               test_path(dir, "fg.exr"), "--focal-length", "50", "--fstop", "2", "--focus", "3",
+               "--substeps", "2", "--pixel-type", "float", "--threads", "1", NULL) == 0);
+    bad = compare_output(test_path(dir, "out2.exr"), ref, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "foreground file: %d values differ", bad);
+    /* Refusals. */
+    CHECK(ddof(in, "-o", test_path(dir, "out3.exr"), "--layer", "ViewLayer", "--foreground",
+               test_path(dir, "fg_small.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", NULL) == 1);
+    CHECK(err_contains("mismatched layer sizes") && err_contains("24x32"));
+    CHECK(ddof(in, "-o", test_path(dir, "out3.exr"), "--layer", "ViewLayer", "--foreground",
+               test_path(dir, "fg_noalpha.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", NULL) == 1);
+    CHECK(err_contains("no alpha channel"));
+    CHECK(ddof(in, "-o", test_path(dir, "out3.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", NULL) == 1);
+    CHECK(err_contains("several colour layers") && err_contains("'ViewLayer.Combined'"));
+    CHECK(!test_file_exists(test_path(dir, "out3.exr")));
+    return test_finish("test_cli foreground");
+}
+
+int main(int argc, char **argv)
+{
+    const char *which;
+    if (argc != 4) {
+        fprintf(stderr, "usage: test_cli DDOF_BINARY CASE SCRATCH_DIR\n");
+        return 2;
+    }
+    ddof_bin = argv[1];
+    which = argv[2];
+    dir = argv[3];
+    test_fresh_dir(dir);
+    if (!strcmp(which, "values")) return case_values();
+    if (!strcmp(which, "window")) return case_window();
+    if (!strcmp(which, "refuse_same")) return case_refuse_same();
+    if (!strcmp(which, "unwritable")) return case_unwritable();
+    if (!strcmp(which, "bad_inputs")) return case_bad_inputs();
+    if (!strcmp(which, "sequence")) return case_sequence();
+    if (!strcmp(which, "interrupt")) return case_interrupt();
+    if (!strcmp(which, "sidecar")) return case_sidecar();
+    if (!strcmp(which, "options")) return case_options();
+    if (!strcmp(which, "foreground")) return case_foreground();
+    fprintf(stderr, "test_cli: unknown case %s\n", which);
+    return 2;
+}
