@@ -3,9 +3,12 @@
  * A pass (all rows, or all columns) is cut into batches of DDOF_LANES consecutive lines. Each
  * batch first computes its links' beta from the CoC alone; lines without a conductive link are
  * not solved (a row is copied from source to destination; a column pass works in place, so an
- * idle column needs nothing). Active batches are gathered into the solver's [i][lane][channel]
- * layout, solved, and scattered back. Batches run on the context's threads, each thread with its
- * own scratch, so no two threads ever touch the same line. */
+ * idle column needs nothing). Active row batches are gathered into the solver's
+ * [i][lane][channel] layout, solved, and scattered back; a full block of columns is already in
+ * that layout in the image and is solved where it lies. Batches run on the context's threads,
+ * each thread with its own scratch, so no two threads ever touch the same line.
+ * For the layers a request may carry a heat capacity per pixel: the input is then read as 0
+ * where it is 0, and runs that hold no heat keep their values (see save_singular). */
 #include "adi.h"
 
 #include "solver.h"
@@ -37,7 +40,7 @@ static const solver_ops *float_solver(ddof_solver solver)
 typedef struct thread_state {
     float *x;        /* [n_max][L][C] */
     float *beta;     /* [n_max][L]    */
-    float *gamma;    /* [n_max][L], all 1: plain diffusion */
+    float *gamma;    /* [n_max][L]: all 1 (plain diffusion) or gathered per batch */
     float *scratch;  /* the solver's  */
     float *saved;    /* [n_max][L][C] values of singular runs (layers only) */
     unsigned char *singular; /* [n_max][L] (layers only) */
