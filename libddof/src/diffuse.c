@@ -204,6 +204,8 @@ typedef struct foreground_scan {
     uint32_t coc_channels, width;
     bad_value *first_bad; /* per chunk; channel 4 marks a bad CoC */
     unsigned char *found, *has_alpha;
+    pixel_box *box;       /* per chunk: where alpha > 0 */
+    float *max_coc;       /* per chunk: largest |CoC| where alpha > 0 */
 } foreground_scan;
 
 /* Alpha must be finite everywhere; colour and CoC only matter (and are only read) where
@@ -213,6 +215,8 @@ static void scan_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t 
     const foreground_scan *s = user;
     s->found[chunk] = 0;
     s->has_alpha[chunk] = 0;
+    s->box[chunk] = box_empty();
+    s->max_coc[chunk] = 0.0f;
     for (uint32_t y = y0; y < y1; y++) {
         const float *px = s->color + (size_t)y * s->color_stride;
         const float *coc = s->coc + (size_t)y * s->coc_stride;
@@ -229,6 +233,9 @@ static void scan_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t 
                 if (bad_channel < 0 && !(d <= DDOF_MAX_COC_PX))
                     bad_channel = 4;
                 s->has_alpha[chunk] = 1;
+                box_add(&s->box[chunk], x, y);
+                if (d > s->max_coc[chunk])
+                    s->max_coc[chunk] = d;
             }
             if (bad_channel >= 0 && !s->found[chunk]) {
                 s->first_bad[chunk] =
@@ -271,11 +278,17 @@ static ddof_status read_foreground(ddof_context *context, const ddof_foreground 
     enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
     bad_value first_bad[max_chunks];
     unsigned char found[max_chunks], has_alpha[max_chunks];
+    pixel_box box[max_chunks];
+    float max_coc[max_chunks];
     foreground_scan scan = {fg.color.pixels, fg.coc.pixels, color_stride, coc_stride,
-                            fg.coc.channels, r->width, first_bad, found, has_alpha};
+                            fg.coc.channels, r->width, first_bad, found, has_alpha, box, max_coc};
     ddof_parallel_rows(context, r->height, scan_foreground_rows, &scan);
     *visible = 0;
+    q->fg_box = box_empty();
+    q->fg_max_coc = 0.0f;
     for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++) {
+        q->fg_box = box_union(q->fg_box, box[c]);
+        q->fg_max_coc = ddof_maxf(q->fg_max_coc, max_coc[c]);
         if (found[c]) {
             const bad_value b = first_bad[c];
             return b.channel == 4
@@ -337,6 +350,7 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
             r->progress(r->progress_user, 1.0f);
     } else {
         q->fg_color = fg_visible ? q->fg_color : NULL;
+        q->background_box = analysis.background_box;
         ddof_status status = ddof_run_layers(context, q, &plan, analysis.max_near_coc, &report);
         if (status != DDOF_OK)
             return status;

@@ -71,6 +71,52 @@ ddof_status ddof_check_image(ddof_context *context, const char *what, const floa
                              uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
                              size_t *stride_floats);
 
+/* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. */
+typedef struct pixel_box {
+    uint32_t x0, y0, x1, y1;
+} pixel_box;
+
+static inline pixel_box box_empty(void)
+{
+    pixel_box b = {UINT32_MAX, UINT32_MAX, 0, 0};
+    return b;
+}
+
+static inline int box_is_empty(pixel_box b)
+{
+    return b.x0 >= b.x1 || b.y0 >= b.y1;
+}
+
+static inline void box_add(pixel_box *b, uint32_t x, uint32_t y)
+{
+    b->x0 = x < b->x0 ? x : b->x0;
+    b->y0 = y < b->y0 ? y : b->y0;
+    b->x1 = x + 1 > b->x1 ? x + 1 : b->x1;
+    b->y1 = y + 1 > b->y1 ? y + 1 : b->y1;
+}
+
+static inline pixel_box box_union(pixel_box a, pixel_box b)
+{
+    if (box_is_empty(a))
+        return b;
+    if (!box_is_empty(b)) {
+        box_add(&a, b.x0, b.y0);
+        box_add(&a, b.x1 - 1, b.y1 - 1);
+    }
+    return a;
+}
+
+/* b grown by margin pixels on every side, within a width x height image. */
+static inline pixel_box box_grow(pixel_box b, uint32_t margin, uint32_t width, uint32_t height)
+{
+    if (box_is_empty(b))
+        return b;
+    pixel_box g = {b.x0 > margin ? b.x0 - margin : 0, b.y0 > margin ? b.y0 - margin : 0,
+                   width - b.x1 > margin ? b.x1 + margin : width,
+                   height - b.y1 > margin ? b.y1 + margin : height};
+    return g;
+}
+
 /* ddof_image and ddof_image_in share their layout; this is the read-only view of an output. */
 static inline ddof_image_in ddof_as_input(const ddof_image *image)
 {

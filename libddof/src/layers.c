@@ -96,7 +96,9 @@ typedef struct pixel_job {
     float t0, t1;      /* matte ramp                                      */
     float blend_from;  /* background levels: blend only CoC >= this       */
     const float *spread; /* the near-spread CoC, or NULL                  */
+    size_t spread_stride;
     float *capacity;     /* background heat capacity                      */
+    pixel_box blend;     /* the background is blended in here only        */
 } pixel_job;
 
 static float coc_of(const adi_request *r, uint32_t x, uint32_t y)
@@ -168,8 +170,10 @@ static void blend_background_rows(void *user, uint32_t y0, uint32_t y1, uint32_t
         const float *b = j->b + (size_t)y * r->width * C;
         const float *a = j->a + (size_t)y * r->width;
         const float *coc = r->coc + (size_t)y * r->coc_stride;
-        const float *spread = j->spread ? j->spread + (size_t)y * r->width : NULL;
-        for (uint32_t x = 0; x < r->width; x++) {
+        const float *spread = j->spread ? j->spread + (size_t)y * j->spread_stride : NULL;
+        if (y < j->blend.y0 || y >= j->blend.y1)
+            continue;
+        for (uint32_t x = j->blend.x0; x < j->blend.x1; x++) {
             const float c = coc[(size_t)x * r->coc_channels];
             const int claimed = spread && spread[x] > fabsf(c);
             const float weight = c >= j->blend_from && !claimed ? a[x] : 0.0f;
@@ -245,6 +249,35 @@ static float map_max(const float *map, size_t count)
     return m;
 }
 
+/* ---- where an effect can matter ------------------------------------------------------------ */
+
+/* How far a diffusion of CoC d can carry anything: 12 decay lengths of its kernel, whose tail
+ * falls like exp(-x / sqrt(beta)) with beta = k d^2 (one step; more substeps only make it
+ * Gaussian and shorter). Beyond it an effect changes values by less than e^-12 (6e-6). */
+static uint32_t reach_px(float beta_scale, float coc)
+{
+    return (uint32_t)ceilf(12.0f * sqrtf(beta_scale) * coc) + 2;
+}
+
+/* The part of a request inside box, as a request of its own: pointers moved, sizes cut,
+ * strides unchanged. */
+static layers_request crop(const layers_request *q, pixel_box b)
+{
+    layers_request c = *q;
+    adi_request *r = &c.base;
+    r->color += (size_t)b.y0 * r->color_stride + (size_t)b.x0 * r->channels;
+    r->out += (size_t)b.y0 * r->out_stride + (size_t)b.x0 * r->channels;
+    if (r->coc)
+        r->coc += (size_t)b.y0 * r->coc_stride + (size_t)b.x0 * r->coc_channels;
+    if (c.fg_color) {
+        c.fg_color += (size_t)b.y0 * c.fg_color_stride + (size_t)b.x0 * 4;
+        c.fg_coc += (size_t)b.y0 * c.fg_coc_stride + (size_t)b.x0 * c.fg_coc_channels;
+    }
+    r->width = b.x1 - b.x0;
+    r->height = b.y1 - b.y0;
+    return c;
+}
+
 /* ---- the effects -------------------------------------------------------------------------- */
 
 static float *scratch(ddof_context *context, int slot, size_t floats, ddof_status *status)
@@ -284,7 +317,8 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
 static ddof_status background_level(ddof_context *context, const layers_request *q,
                                     const float *color, size_t color_stride, float ramp_start,
                                     float threshold, float blend_from, const float *spread,
-                                    stages *st, layers_report *report)
+                                    size_t spread_stride, pixel_box blend, stages *st,
+                                    layers_report *report)
 {
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
@@ -297,7 +331,8 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     if (status != DDOF_OK)
         return status;
     pixel_job job = {.q = q, .a = matte, .b = coc_abs, .t0 = ramp_start, .t1 = threshold,
-                     .blend_from = blend_from, .spread = spread, .capacity = capacity};
+                     .blend_from = blend_from, .spread = spread, .spread_stride = spread_stride,
+                     .capacity = capacity, .blend = blend};
     ddof_parallel_rows(context, r->height, matte_rows, &job);
 
     /* The CoC flows into the holes, every link at the threshold. */
@@ -421,13 +456,30 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
 
     if (plan->background) {
         const double t0 = ddof_seconds();
+        /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
+         * pixel): it is computed on those plus twice its reach, and blended within its reach,
+         * so the crop's insulated border never shows. Forced on without edges, it covers all. */
+        const float top = p->background_threshold_px * (float)(1u << (p->background_levels - 1));
+        const uint32_t reach = reach_px(r->beta_scale, ddof_maxf(report->adi.max_coc, top));
+        pixel_box edges = q->background_box;
+        if (box_is_empty(edges))
+            edges = (pixel_box){0, 0, r->width, r->height};
+        const pixel_box area = box_grow(edges, 2 * reach, r->width, r->height);
+        const pixel_box near = box_grow(edges, reach, r->width, r->height);
+        const pixel_box blend = {near.x0 - area.x0, near.y0 - area.y0, near.x1 - area.x0,
+                                 near.y1 - area.y0};
+        const layers_request sub = crop(q, area);
+        color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
+        if (spread)
+            spread += (size_t)area.y0 * r->width + area.x0;
         /* Level k >= 1 (threshold t 2^k) ramps up from the previous level's threshold, so a
          * pixel counts as a hole only at levels well above its own CoC. */
         for (uint32_t level = 0; level < p->background_levels; level++) {
             const float threshold = p->background_threshold_px * (float)(1u << level);
             const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
-            status = background_level(context, q, color, color_stride, ramp_start, threshold,
-                                      level ? threshold : -INFINITY, spread, &st, report);
+            status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
+                                      level ? threshold : -INFINITY, spread, r->width, blend,
+                                      &st, report);
             if (status != DDOF_OK)
                 return status;
         }
@@ -437,7 +489,11 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
 
     if (plan->foreground) {
         const double t0 = ddof_seconds();
-        if ((status = foreground(context, q, &st, report)) != DDOF_OK)
+        /* The element's blur reaches no further than its largest CoC carries. */
+        const pixel_box area = box_grow(q->fg_box, reach_px(r->beta_scale, q->fg_max_coc),
+                                        r->width, r->height);
+        const layers_request sub = crop(q, area);
+        if ((status = foreground(context, &sub, &st, report)) != DDOF_OK)
             return status;
         report->effects |= DDOF_EFFECT_FOREGROUND;
         report->seconds_foreground += ddof_seconds() - t0;

@@ -15,6 +15,9 @@ typedef struct layers_request {
     size_t fg_coc_stride;
     uint32_t fg_coc_channels;
     int fg_premultiplied;
+    pixel_box fg_box;          /* where the element's alpha > 0                              */
+    float fg_max_coc;          /* its largest |CoC| there                                    */
+    pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */
 } layers_request;
 
 /* Everything a layered call reports (folded into ddof_stats by the caller). */

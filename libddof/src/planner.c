@@ -49,7 +49,7 @@ static float min_neighbour(const analysis_job *job, uint32_t x, uint32_t y)
 static void analyse_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     const analysis_job *job = user;
-    coc_analysis a = {0};
+    coc_analysis a = {.background_box = box_empty()};
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = job->coc + (size_t)y * job->stride;
         for (uint32_t x = 0; x < job->width; x++) {
@@ -59,8 +59,10 @@ static void analyse_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             if (c < 0.0f)
                 a.max_near_coc = ddof_maxf(a.max_near_coc, d);
             /* The neighbour look-up only where an edge is possible: most pixels skip it. */
-            if (c >= job->bg_threshold && min_neighbour(job, x, y) < job->bg_insulator)
+            if (c >= job->bg_threshold && min_neighbour(job, x, y) < job->bg_insulator) {
                 a.background_edges++;
+                box_add(&a.background_box, x, y);
+            }
             if (c < 0.0f && d >= job->near_threshold && min_neighbour(job, x, y) < 0.5f * d)
                 a.near_edges++;
         }
@@ -80,7 +82,9 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
                         params->near_spread_threshold_px, chunks};
     ddof_parallel_rows(context, height, analyse_rows, &job);
     *analysis = none;
+    analysis->background_box = box_empty();
     for (uint32_t c = 0; c < ddof_row_chunks(height); c++) {
+        analysis->background_box = box_union(analysis->background_box, chunks[c].background_box);
         analysis->max_coc = ddof_maxf(analysis->max_coc, chunks[c].max_coc);
         analysis->max_near_coc = ddof_maxf(analysis->max_near_coc, chunks[c].max_near_coc);
         analysis->background_edges += chunks[c].background_edges;

@@ -11,6 +11,7 @@ typedef struct coc_analysis {
     uint64_t background_edges;/* far pixels, CoC >= threshold, next to |CoC| < ramp start  */
     uint64_t near_edges;      /* near pixels with |CoC| >= near threshold next to a pixel  */
                               /* with less than half their |CoC|                           */
+    pixel_box background_box; /* where the background edges are                            */
 } coc_analysis;
 
 typedef struct frame_plan {
