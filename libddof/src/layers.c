@@ -8,11 +8,14 @@
  *               capacity 1 outside them, 0 in them; uniform beta of the threshold); the colour
  *               diffused with that capacity and the filled CoC; blended under the midground:
  *               out += a (B - out). Levels at t, 2t, 4t ... in turn.
- *  foreground   its CoC filled outwards (gamma = its alpha, uniform beta of its largest CoC);
+ *  foreground   its CoC filled outwards (gamma = its alpha, uniform beta of its largest CoC, in
+ *               two steps so that the fill reaches pixels sharing no row or column with it);
  *               its premultiplied colour and alpha diffused with gamma = 1 and the filled CoC
  *               (gamma = alpha there would give transparent pixels no capacity, and they would
  *               copy their neighbours' alpha instead of turning transparent); composited over.
- * Per-pixel steps run on the context's threads in row chunks; the diffusions are adi.c's. */
+ * The background layer and the foreground element work only on the part of the frame they can
+ * change (their sources plus the reach of their largest CoC). Per-pixel steps run on the
+ * context's threads in row chunks; the diffusions are adi.c's. */
 #include "layers.h"
 
 #include "parallel_rows.h"
