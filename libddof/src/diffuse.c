@@ -327,8 +327,9 @@ static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_
 }
 
 /* Plans the frame, runs what the plan says, reports it. */
-static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_visible,
-                               ddof_stats *stats, double t_start, double seconds_coc)
+static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_given,
+                               int fg_visible, ddof_stats *stats, double t_start,
+                               double seconds_coc)
 {
     const adi_request *r = &q->base;
     const double t_plan = ddof_seconds();
@@ -336,7 +337,7 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
     ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
                      q->params, &analysis);
     frame_plan plan;
-    ddof_plan_frame(&analysis, q->params, fg_visible, &plan);
+    ddof_plan_frame(&analysis, q->params, fg_given, fg_visible, &plan);
     const double seconds_plan = ddof_seconds() - t_plan;
 
     layers_report report = {.adi = {.threads = context->thread_count,
@@ -420,7 +421,8 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
         status = read_foreground(context, foreground, &q, &fg_visible);
     if (status != DDOF_OK)
         return status;
-    return run_layered(context, &q, fg_visible, stats, t_start, ddof_seconds() - t_start);
+    return run_layered(context, &q, foreground != NULL, fg_visible, stats, t_start,
+                       ddof_seconds() - t_start);
 }
 
 ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
@@ -461,5 +463,5 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
     r->coc_stride = r->width;
     r->coc_channels = 1;
     fill_request_params(r, &p);
-    return run_layered(context, &q, 0, stats, t_start, ddof_seconds() - t_start);
+    return run_layered(context, &q, 0, 0, stats, t_start, ddof_seconds() - t_start);
 }

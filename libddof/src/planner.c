@@ -115,16 +115,20 @@ static const char *forced(ddof_layer_mode mode)
     return mode == DDOF_LAYER_ON ? "forced on" : "forced off";
 }
 
-void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int has_foreground,
-                     frame_plan *plan)
+void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground_given,
+                     int foreground_visible, frame_plan *plan)
 {
+    const int has_foreground = foreground_given && foreground_visible;
+    const char *no_foreground = foreground_given
+                                    ? "foreground: off: the foreground element is fully transparent"
+                                    : "foreground: off: no foreground element";
     memset(plan, 0, sizeof *plan);
     if (a->max_coc <= 0.0f && !has_foreground) {
         plan->copy_only = 1;
         say(plan, "midground: off: nothing is out of focus (largest CoC 0), output = input");
         say(plan, "background: off: nothing is out of focus");
         say(plan, "near spread: off: nothing is out of focus");
-        say(plan, "foreground: off: no foreground element");
+        say(plan, "%s", no_foreground);
         return;
     }
     say(plan, "midground: on: largest CoC %.3g px", (double)a->max_coc);
@@ -148,7 +152,7 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int has_foregr
         say(plan, "foreground: on: a foreground element was given");
         say(plan, "near spread: off: the foreground element covers the near field");
     } else {
-        say(plan, "foreground: off: no foreground element");
+        say(plan, "%s", no_foreground);
         if (!p->coc_signed) {
             say(plan, "near spread: off: the CoC is unsigned (near and far unknown)");
         } else if (p->near_spread != DDOF_LAYER_AUTO) {

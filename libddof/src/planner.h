@@ -27,9 +27,9 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
                       uint32_t coc_channels, uint32_t width, uint32_t height,
                       const ddof_params *params, coc_analysis *analysis);
 
-/* Decisions from the analysis, the parameters' AUTO/ON/OFF and whether a foreground element
- * (with some alpha > 0) was given. */
+/* Decisions from the analysis, the parameters' AUTO/ON/OFF and the foreground element: whether
+ * one was given, and whether any of its alpha is above 0. */
 void ddof_plan_frame(const coc_analysis *analysis, const ddof_params *params,
-                     int has_foreground, frame_plan *plan);
+                     int foreground_given, int foreground_visible, frame_plan *plan);
 
 #endif

@@ -1,0 +1,57 @@
+"""Diffusion DOF: depth of field by simulated heat diffusion (Kass, Lefohn, Owens 2006) on the
+render's Combined and Depth passes, through the ddof shared library (ctypes, no pixel math in
+Python). See docs/blender-addon.md."""
+
+bl_info = {
+    "name": "Diffusion DOF",
+    "author": "ddof",
+    "version": (0, 2, 0),
+    "blender": (3, 4, 0),
+    "location": "Properties > Render > Diffusion DOF; Compositor > Sidebar > Diffusion DOF",
+    "description": "Depth of field by simulated diffusion on the Combined and Depth passes",
+    "category": "Render",
+}
+
+if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency order
+    import importlib
+    for _name in ("errors", "binding", "settings", "camera", "passes", "render", "ops", "ui"):
+        if _name in locals():
+            importlib.reload(locals()[_name])
+
+import bpy  # noqa: E402
+
+from . import errors, binding, settings, camera, passes, render, ops, ui  # noqa: E402,F401
+
+_MODULES = (settings, ops, ui, render)
+
+
+def register():
+    for module in _MODULES:
+        module.register()
+    # Scenes already open (enabling the add-on in a session, or a script's register()): make
+    # the ones with Diffusion DOF on ready. bpy.data is not readable while Blender starts up;
+    # load_post does it for the file that is loaded then.
+    try:
+        scenes = list(bpy.data.scenes)
+    except AttributeError:
+        scenes = []
+    for scene in scenes:
+        if scene.diffusion_dof.enabled:
+            try:
+                passes.ensure_setup(scene)
+            except errors.SetupError as err:
+                render.log("%s: %s" % (scene.name, err))
+
+
+def unregister():
+    # Managed compositor nodes and companion scenes go with the add-on: they would keep
+    # writing temporary files at every render. The settings stay stored in the scenes.
+    try:
+        scenes = list(bpy.data.scenes)
+    except AttributeError:
+        scenes = []
+    for scene in [s for s in scenes if s.get(passes.OWNER_KEY) is None]:
+        passes.teardown(scene)  # also removes its companion scene, never iterated itself
+    for module in reversed(_MODULES):
+        module.unregister()
+    binding.forget_library()

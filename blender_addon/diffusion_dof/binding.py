@@ -1,0 +1,482 @@
+"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.2).
+
+This module does not import bpy: it is the add-on's only contact with the C library and can be
+used (and is tested) from a plain Python interpreter. The structures mirror ddof.h field by field;
+every parameter struct is filled by its *_init function first, so fields the add-on does not set
+keep the library's defaults. Pixel buffers are array.array('f') objects (tightly packed floats,
+interleaved channels) handed to the library as pointers: Python never touches a pixel.
+"""
+
+import array
+import ctypes
+import ctypes.util
+import os
+import sys
+
+# The ddof.h these structures mirror. A library is usable when its version is compatible (see
+# version_compatible): in 0.x the same major.minor, from 1.0 the same major and a minor >= ours.
+BINDING_VERSION = (0, 2)
+
+# ---------------------------------------------------------------------------------------------
+# Constants (ddof.h enums and defines)
+
+DDOF_OK = 0
+STATUS_NAMES = (
+    "DDOF_OK", "DDOF_ERROR_NULL_POINTER", "DDOF_ERROR_BAD_PARAMETER", "DDOF_ERROR_BAD_SIZE",
+    "DDOF_ERROR_BAD_STRIDE", "DDOF_ERROR_BAD_CHANNELS", "DDOF_ERROR_SIZE_MISMATCH",
+    "DDOF_ERROR_BAD_COLOR", "DDOF_ERROR_BAD_DEPTH", "DDOF_ERROR_BAD_COC",
+    "DDOF_ERROR_BAD_CAMERA", "DDOF_ERROR_OUT_OF_MEMORY", "DDOF_ERROR_THREADS",
+    "DDOF_ERROR_CANCELLED",
+)
+
+LENS_CYCLES = 0
+LENS_THIN_LENS = 1
+LENS_MODELS = {"CYCLES": LENS_CYCLES, "THIN_LENS": LENS_THIN_LENS}
+
+DEPTH_PLANAR = 0
+DEPTH_RADIAL = 1
+
+SENSOR_FIT_AUTO = 0
+SENSOR_FIT_HORIZONTAL = 1
+SENSOR_FIT_VERTICAL = 2
+SENSOR_FITS = {"AUTO": SENSOR_FIT_AUTO, "HORIZONTAL": SENSOR_FIT_HORIZONTAL,
+               "VERTICAL": SENSOR_FIT_VERTICAL}
+
+SOLVERS = {"thomas": 0, "cr": 1, "pcr": 2, "jacobi": 3, "reference": 4}
+
+LAYER_AUTO = 0
+LAYER_OFF = 1
+LAYER_ON = 2
+LAYER_MODES = {"AUTO": LAYER_AUTO, "OFF": LAYER_OFF, "ON": LAYER_ON}
+
+EFFECT_MIDGROUND = 1
+EFFECT_BACKGROUND = 2
+EFFECT_FOREGROUND = 4
+EFFECT_NEAR_SPREAD = 8
+EFFECT_NAMES = ((EFFECT_MIDGROUND, "midground"), (EFFECT_BACKGROUND, "background"),
+                (EFFECT_FOREGROUND, "foreground"), (EFFECT_NEAR_SPREAD, "near spread"))
+
+# ---------------------------------------------------------------------------------------------
+# Structures. C enums are int-sized on every platform Blender runs on.
+
+_enum = ctypes.c_int
+
+
+class Image(ctypes.Structure):
+    """ddof_image: caller-owned float pixels, interleaved channels."""
+    _fields_ = [("pixels", ctypes.POINTER(ctypes.c_float)),
+                ("width", ctypes.c_uint32),
+                ("height", ctypes.c_uint32),
+                ("channels", ctypes.c_uint32),
+                ("row_stride", ctypes.c_size_t)]
+
+
+class ImageIn(ctypes.Structure):
+    """ddof_image_in: the same, read only."""
+    _fields_ = Image._fields_
+
+
+class Allocator(ctypes.Structure):
+    _fields_ = [("alloc", ctypes.CFUNCTYPE(ctypes.c_void_p, ctypes.c_void_p, ctypes.c_size_t)),
+                ("free", ctypes.CFUNCTYPE(None, ctypes.c_void_p, ctypes.c_void_p)),
+                ("user", ctypes.c_void_p)]
+
+
+PROGRESS_FN = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_void_p, ctypes.c_float)
+
+
+class ContextOptions(ctypes.Structure):
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("thread_count", ctypes.c_uint32),
+                ("allocator", ctypes.POINTER(Allocator))]
+
+
+class Camera(ctypes.Structure):
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("lens_model", _enum),
+                ("depth_kind", _enum),
+                ("sensor_fit", _enum),
+                ("focal_length_mm", ctypes.c_double),
+                ("sensor_width_mm", ctypes.c_double),
+                ("fstop", ctypes.c_double),
+                ("focus_distance_m", ctypes.c_double),
+                ("pixel_aspect", ctypes.c_double),
+                ("depth_unit_m", ctypes.c_double),
+                ("signed_coc", ctypes.c_uint32)]
+
+
+class Curve(ctypes.Structure):
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("near_blur_px", ctypes.c_double),
+                ("near_start", ctypes.c_double),
+                ("near_end", ctypes.c_double),
+                ("far_start", ctypes.c_double),
+                ("far_end", ctypes.c_double),
+                ("far_blur_px", ctypes.c_double),
+                ("signed_coc", ctypes.c_uint32)]
+
+
+class Params(ctypes.Structure):
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("solver", _enum),
+                ("substeps", ctypes.c_uint32),
+                ("beta_scale", ctypes.c_float),
+                ("pixel_aspect", ctypes.c_float),
+                ("jacobi_iterations", ctypes.c_uint32),
+                ("progress", PROGRESS_FN),
+                ("progress_user", ctypes.c_void_p),
+                # version 0.2: layers
+                ("coc_signed", ctypes.c_uint32),
+                ("background", _enum),
+                ("background_threshold_px", ctypes.c_float),
+                ("background_ramp_start_px", ctypes.c_float),
+                ("background_levels", ctypes.c_uint32),
+                ("near_spread", _enum),
+                ("near_spread_threshold_px", ctypes.c_float)]
+
+
+class Stats(ctypes.Structure):
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("solver", ctypes.c_uint32),
+                ("threads", ctypes.c_uint32),
+                ("substeps", ctypes.c_uint32),
+                ("lines_solved", ctypes.c_uint64),
+                ("lines_skipped", ctypes.c_uint64),
+                ("max_coc_px", ctypes.c_float),
+                ("copied_only", ctypes.c_uint32),
+                ("seconds_total", ctypes.c_double),
+                ("seconds_coc", ctypes.c_double),
+                ("seconds_rows", ctypes.c_double),
+                ("seconds_columns", ctypes.c_double),
+                # version 0.2: layers
+                ("effects", ctypes.c_uint32),
+                ("seconds_plan", ctypes.c_double),
+                ("seconds_background", ctypes.c_double),
+                ("seconds_foreground", ctypes.c_double),
+                ("plan", ctypes.c_char * 512)]
+
+
+class Foreground(ctypes.Structure):
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("color", ImageIn),
+                ("coc", ImageIn),
+                ("premultiplied", ctypes.c_uint32)]
+
+
+# Every struct by its C name, for the ABI check (tests/blender/check_abi.py).
+STRUCTS = {"ddof_image": Image, "ddof_image_in": ImageIn, "ddof_allocator": Allocator,
+           "ddof_context_options": ContextOptions, "ddof_camera": Camera, "ddof_curve": Curve,
+           "ddof_params": Params, "ddof_stats": Stats, "ddof_foreground": Foreground}
+
+_c_ctx = ctypes.c_void_p  # ddof_context *
+
+# name: (restype, argtypes)
+_PROTOTYPES = {
+    "ddof_version_number": (ctypes.c_uint, []),
+    "ddof_version_string": (ctypes.c_char_p, []),
+    "ddof_status_string": (ctypes.c_char_p, [_enum]),
+    "ddof_context_options_init": (None, [ctypes.POINTER(ContextOptions)]),
+    "ddof_context_create": (_enum, [ctypes.POINTER(ContextOptions), ctypes.POINTER(_c_ctx)]),
+    "ddof_context_free": (None, [_c_ctx]),
+    "ddof_context_thread_count": (ctypes.c_uint32, [_c_ctx]),
+    "ddof_context_last_error": (ctypes.c_char_p, [_c_ctx]),
+    "ddof_camera_init": (None, [ctypes.POINTER(Camera)]),
+    "ddof_coc_from_camera": (_enum, [_c_ctx, ctypes.POINTER(Camera), ctypes.POINTER(ImageIn),
+                                     ctypes.POINTER(Image)]),
+    "ddof_solver_name": (ctypes.c_char_p, [_enum]),
+    "ddof_params_init": (None, [ctypes.POINTER(Params)]),
+    "ddof_foreground_init": (None, [ctypes.POINTER(Foreground)]),
+    "ddof_diffuse_layers": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(ImageIn),
+                                    ctypes.POINTER(ImageIn), ctypes.POINTER(Foreground),
+                                    ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
+    "ddof_depth_of_field": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Camera),
+                                    ctypes.POINTER(ImageIn), ctypes.POINTER(ImageIn),
+                                    ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
+}
+
+# ---------------------------------------------------------------------------------------------
+# Errors
+
+
+class LibraryError(Exception):
+    """The library is missing, is not a ddof library, or has an incompatible version."""
+
+
+class DdofError(Exception):
+    """A ddof call returned an error status; str() is the library's own explanation."""
+
+    def __init__(self, status, message):
+        super().__init__(message)
+        self.status = status
+
+
+def version_tuple(number):
+    """DDOF_VERSION_NUMBER (MAJOR * 10000 + MINOR * 100 + PATCH) as (major, minor, patch)."""
+    return number // 10000, (number // 100) % 100, number % 100
+
+
+def version_compatible(number, binding=BINDING_VERSION):
+    """Whether a library of this ddof_version_number() fits structures written for `binding`."""
+    major, minor, _ = version_tuple(number)
+    if binding[0] == 0:
+        return major == 0 and minor == binding[1]
+    return major == binding[0] and minor >= binding[1]
+
+
+# ---------------------------------------------------------------------------------------------
+# Finding and loading the library
+
+ENV_VAR = "DDOF_LIBRARY"
+_HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def _library_file_names():
+    if sys.platform.startswith("win"):
+        return ["ddof.dll", "libddof.dll"]
+    if sys.platform == "darwin":
+        return ["libddof.dylib"]
+    major, minor = BINDING_VERSION
+    return ["libddof.so", "libddof.so.%d.%d" % (major, minor)]
+
+
+def find_library():
+    """The path of the library to load: $DDOF_LIBRARY if set, else the one shipped next to this
+    file (inside the installed add-on), else one installed system-wide. Raises LibraryError."""
+    env = os.environ.get(ENV_VAR, "").strip()
+    if env:
+        if not os.path.isfile(env):
+            raise LibraryError("%s is set to '%s', which is not a file. Point it at the built "
+                               "libddof.so (e.g. build/libddof/libddof.so) or unset it."
+                               % (ENV_VAR, env))
+        return env
+    for name in _library_file_names():
+        path = os.path.join(_HERE, name)
+        if os.path.isfile(path):
+            return path
+    system = ctypes.util.find_library("ddof")
+    if system:
+        return system
+    raise LibraryError("The ddof library (%s) is not in the add-on folder %s and %s is not set. "
+                       "Install the add-on from the zip made by blender_addon/build_zip.py (it "
+                       "carries the library), or set %s to the path of a built libddof.so."
+                       % (_library_file_names()[0], _HERE, ENV_VAR, ENV_VAR))
+
+
+def _buffer_pointer(buf):
+    """A float pointer to the first element of an array.array('f') (or any writable buffer)."""
+    if len(buf) == 0:
+        return ctypes.POINTER(ctypes.c_float)()
+    return (ctypes.c_float * len(buf)).from_buffer(buf)
+
+
+def new_buffer(count):
+    """A zero-filled float buffer of `count` elements."""
+    return array.array("f", bytes(4 * count))
+
+
+class Library:
+    """A loaded, version-checked ddof library."""
+
+    def __init__(self, path):
+        self.path = path
+        try:
+            dll = ctypes.CDLL(path)
+        except OSError as err:
+            raise LibraryError("Could not load the ddof library '%s': %s" % (path, err)) from None
+        # The version first: an older or newer library may lack (or change) other functions,
+        # and its version says more than a missing symbol.
+        for name in ("ddof_version_number", "ddof_version_string"):
+            if not hasattr(dll, name):
+                raise LibraryError("'%s' is not a ddof library: it has no function %s"
+                                   % (path, name))
+            fn = getattr(dll, name)
+            fn.restype, fn.argtypes = _PROTOTYPES[name]
+        self.version_number = dll.ddof_version_number()
+        self.version = (dll.ddof_version_string() or b"?").decode("ascii", "replace")
+        if not version_compatible(self.version_number):
+            raise LibraryError(
+                "The ddof library '%s' is version %s, but this add-on was written for %d.%d "
+                "(0.x versions must match in major and minor). Install the add-on and library "
+                "from the same build." % (path, self.version, BINDING_VERSION[0],
+                                          BINDING_VERSION[1]))
+        for name, (restype, argtypes) in _PROTOTYPES.items():
+            if not hasattr(dll, name):
+                raise LibraryError("'%s' (version %s) is not a usable ddof library: it has no "
+                                   "function %s" % (path, self.version, name))
+            fn = getattr(dll, name)
+            fn.restype = restype
+            fn.argtypes = argtypes
+        self._dll = dll
+
+    # -- small wrappers ----------------------------------------------------------------------
+
+    def status_string(self, status):
+        return self._dll.ddof_status_string(status).decode("utf-8", "replace")
+
+    def solver_name(self, solver):
+        name = self._dll.ddof_solver_name(solver)
+        return name.decode("ascii") if name else "?"
+
+    def default_camera(self):
+        cam = Camera()
+        self._dll.ddof_camera_init(ctypes.byref(cam))
+        return cam
+
+    def default_params(self):
+        params = Params()
+        self._dll.ddof_params_init(ctypes.byref(params))
+        return params
+
+    def _context(self, threads):
+        options = ContextOptions()
+        self._dll.ddof_context_options_init(ctypes.byref(options))
+        options.thread_count = max(0, int(threads))
+        ctx = _c_ctx()
+        status = self._dll.ddof_context_create(ctypes.byref(options), ctypes.byref(ctx))
+        if status != DDOF_OK:
+            raise DdofError(status, "could not create a ddof context: %s"
+                            % self.status_string(status))
+        return ctx
+
+    def _check(self, ctx, status, what):
+        if status != DDOF_OK:
+            detail = self._dll.ddof_context_last_error(ctx).decode("utf-8", "replace")
+            raise DdofError(status, "%s: %s%s" % (what, self.status_string(status),
+                                                  (" (" + detail + ")") if detail else ""))
+
+    # -- the job -------------------------------------------------------------------------------
+
+    def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
+                       camera, params=None, threads=0, foreground=None):
+        """Diffusion depth of field of one frame.
+
+        color, depth: array.array('f') of width * height * channels floats (the depth's first
+        channel is read). camera: a dict of ddof_camera fields (lens_model, sensor_fit as the
+        names in LENS_MODELS / SENSOR_FITS). params: a dict of ddof_params fields (solver as a
+        name in SOLVERS, background / near_spread as names in LAYER_MODES); missing keys keep
+        the library defaults. foreground: None, or a dict with 'color' (4 channels, RGB
+        premultiplied by alpha) and 'depth' (+ 'depth_channels'), of the same size: the
+        separately rendered foreground element.
+        Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats.
+        Raises DdofError with the library's message on bad input.
+        """
+        count = width * height
+        if len(color) != count * color_channels or len(depth) != count * depth_channels:
+            raise ValueError("buffer sizes do not match %dx%d" % (width, height))
+        cam = self.default_camera()
+        for key, value in camera.items():
+            if key == "lens_model":
+                value = LENS_MODELS[value] if isinstance(value, str) else value
+            elif key == "sensor_fit":
+                value = SENSOR_FITS[value] if isinstance(value, str) else value
+            setattr(cam, key, value)
+        p = self.default_params()
+        for key, value in (params or {}).items():
+            if key == "solver" and isinstance(value, str):
+                value = SOLVERS[value]
+            elif key in ("background", "near_spread") and isinstance(value, str):
+                value = LAYER_MODES[value]
+            setattr(p, key, value)
+
+        out = new_buffer(count * color_channels)
+        color_in = ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
+        depth_in = ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
+        out_img = Image(_buffer_pointer(out), width, height, color_channels, 0)
+        stats = Stats()
+        stats.struct_size = ctypes.sizeof(Stats)
+
+        ctx = self._context(threads)
+        try:
+            if foreground is None:
+                status = self._dll.ddof_depth_of_field(ctx, ctypes.byref(p), ctypes.byref(cam),
+                                                       ctypes.byref(color_in),
+                                                       ctypes.byref(depth_in),
+                                                       ctypes.byref(out_img),
+                                                       ctypes.byref(stats))
+                self._check(ctx, status, "depth of field")
+            else:
+                # ddof_depth_of_field takes no foreground element, so this does what it does
+                # (signed CoC from the camera, pixel aspect from the camera) and calls
+                # ddof_diffuse_layers with the element.
+                fg_color, fg_depth = foreground["color"], foreground["depth"]
+                fg_depth_channels = foreground.get("depth_channels", depth_channels)
+                if len(fg_color) != count * 4 or len(fg_depth) != count * fg_depth_channels:
+                    raise ValueError("foreground buffers do not match %dx%d" % (width, height))
+                coc = new_buffer(count)
+                fg_coc = new_buffer(count)
+                cam.signed_coc = 1
+                self._check(ctx, self._dll.ddof_coc_from_camera(
+                    ctx, ctypes.byref(cam), ctypes.byref(depth_in),
+                    ctypes.byref(Image(_buffer_pointer(coc), width, height, 1, 0))),
+                    "circle of confusion")
+                fg_depth_in = ImageIn(_buffer_pointer(fg_depth), width, height,
+                                      fg_depth_channels, 0)
+                self._check(ctx, self._dll.ddof_coc_from_camera(
+                    ctx, ctypes.byref(cam), ctypes.byref(fg_depth_in),
+                    ctypes.byref(Image(_buffer_pointer(fg_coc), width, height, 1, 0))),
+                    "foreground circle of confusion")
+                element = Foreground()
+                self._dll.ddof_foreground_init(ctypes.byref(element))
+                element.color = ImageIn(_buffer_pointer(fg_color), width, height, 4, 0)
+                element.coc = ImageIn(_buffer_pointer(fg_coc), width, height, 1, 0)
+                element.premultiplied = 1
+                p.coc_signed = 1
+                p.pixel_aspect = cam.pixel_aspect
+                coc_in = ImageIn(_buffer_pointer(coc), width, height, 1, 0)
+                status = self._dll.ddof_diffuse_layers(ctx, ctypes.byref(p),
+                                                       ctypes.byref(color_in),
+                                                       ctypes.byref(coc_in),
+                                                       ctypes.byref(element),
+                                                       ctypes.byref(out_img),
+                                                       ctypes.byref(stats))
+                self._check(ctx, status, "depth of field with a foreground element")
+        finally:
+            self._dll.ddof_context_free(ctx)
+        return out, self._stats_dict(stats)
+
+    def _stats_dict(self, stats):
+        result = {name: getattr(stats, name) for name, _ in Stats._fields_
+                  if name not in ("struct_size", "plan")}
+        result["plan"] = stats.plan.decode("utf-8", "replace")
+        result["solver_name"] = self.solver_name(stats.solver)
+        result["effect_names"] = [name for bit, name in EFFECT_NAMES if stats.effects & bit]
+        return result
+
+
+# ---------------------------------------------------------------------------------------------
+# One library per process, loaded on first use.
+
+_loaded = None
+_load_error = None
+
+
+def get_library(reload=False):
+    """The loaded Library, or raises LibraryError (the same one again until reload=True)."""
+    global _loaded, _load_error
+    if reload:
+        _loaded = _load_error = None
+    if _loaded is not None:
+        return _loaded
+    if _load_error is not None:
+        raise _load_error
+    try:
+        _loaded = Library(find_library())
+    except LibraryError as err:
+        _load_error = err
+        raise
+    return _loaded
+
+
+def library_status(reload=False):
+    """(ok, text): 'ddof 0.2.0 (path)' or the error message; never raises."""
+    try:
+        lib = get_library(reload)
+    except LibraryError as err:
+        return False, str(err)
+    return True, "ddof %s (%s)" % (lib.version, lib.path)
+
+
+def forget_library():
+    """Drops the cached library (the add-on calls this when it is unregistered)."""
+    global _loaded, _load_error
+    _loaded = _load_error = None

@@ -1,0 +1,448 @@
+"""Getting the passes out of a render.
+
+Blender cannot run Python inside the compositor, and a render result's pixels are not readable
+from Python. What does work, in the UI and in background mode, for stills and animations: a
+File Output node in the scene's compositor writes the Combined and Depth passes of every
+rendered frame as float OpenEXR files into the session's temporary folder, and the render
+handlers (see render.py) load them as images and read their pixels. This module adds and removes
+those managed nodes (inside a frame labelled "Diffusion DOF"), turns on what they need (the
+Depth pass, compositing) and, for a foreground collection, keeps a companion scene that renders
+just that collection with a transparent film.
+"""
+
+import os
+import re
+import zlib
+
+import bpy
+
+from . import settings as settings_mod
+from .errors import SetupError
+
+FRAME_NODE = "DDOF Frame"
+RLAYERS_NODE = "DDOF Render Layers"
+FG_RLAYERS_NODE = "DDOF Foreground Render Layers"
+OUTPUT_NODE = "DDOF Passes"
+FG_OUTPUT_NODE = "DDOF Foreground Passes"
+MANAGED_NODES = (OUTPUT_NODE, FG_OUTPUT_NODE, RLAYERS_NODE, FG_RLAYERS_NODE, FRAME_NODE)
+
+SLOT_COLOR = "color_"
+SLOT_DEPTH = "depth_"
+SLOT_FG_COLOR = "fg_color_"
+SLOT_FG_DEPTH = "fg_depth_"
+FRAME_DIGITS = 6
+COMPANION_PREFIX = "DDOF Foreground"
+COMPANION_LOOSE = "DDOF Loose Objects"
+# Marks data the add-on owns (custom property on the companion scene and its collection).
+OWNER_KEY = "diffusion_dof_owner"
+
+
+# ---------------------------------------------------------------------------------------------
+# Paths
+
+
+def temp_dir(scene):
+    """The folder the managed File Output node writes into: inside this Blender session's own
+    temporary folder (removed when Blender quits), one sub-folder per scene."""
+    base = bpy.app.tempdir or os.path.join(os.path.abspath(os.sep), "tmp")
+    safe = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)
+    tag = zlib.crc32(scene.name.encode("utf-8")) & 0xffffff
+    return os.path.join(base, "diffusion_dof", "%s_%06x" % (safe, tag))
+
+
+def frame_files(scene, frame, foreground=False):
+    """{slot: path} of the files the File Output node writes for a frame."""
+    folder = temp_dir(scene)
+    if frame < 0:  # as Blender fills '#' for negative frames: the sign takes one digit
+        number = "-%0*d" % (FRAME_DIGITS - 1, -frame)
+    else:
+        number = "%0*d" % (FRAME_DIGITS, frame)
+    slots = [SLOT_COLOR, SLOT_DEPTH] + ([SLOT_FG_COLOR, SLOT_FG_DEPTH] if foreground else [])
+    return {slot: os.path.join(folder, slot + number + ".exr") for slot in slots}
+
+
+# ---------------------------------------------------------------------------------------------
+# Looking things up
+
+
+def node_tree(scene):
+    """The scene's compositor tree (None while compositing nodes are off)."""
+    if not hasattr(scene, "node_tree"):  # Blender 5.0 moved the compositor to node groups
+        raise SetupError("This Blender's compositor API is not supported by the add-on "
+                         "(it targets Blender 3.4 to 4.x).")
+    return scene.node_tree
+
+
+def render_view_layer(scene, settings):
+    """The view layer whose passes get depth of field."""
+    if settings.view_layer:
+        layer = scene.view_layers.get(settings.view_layer)
+        if layer is None:
+            raise SetupError("View layer '%s' (Diffusion DOF > Expert > View Layer) does not "
+                             "exist in scene '%s'." % (settings.view_layer, scene.name))
+        return layer
+    for layer in scene.view_layers:
+        if layer.use:
+            return layer
+    raise SetupError("Scene '%s' has no view layer that renders (View Layer properties > "
+                     "Use for Rendering)." % scene.name)
+
+
+def _find_layer_collection(layer_collection, collection):
+    if layer_collection.collection == collection:
+        return layer_collection
+    for child in layer_collection.children:
+        found = _find_layer_collection(child, collection)
+        if found is not None:
+            return found
+    return None
+
+
+def companion_scene(scene):
+    """The companion scene that renders the foreground collection, or None."""
+    for other in bpy.data.scenes:
+        if other.get(OWNER_KEY) == scene.name and other != scene:
+            return other
+    return None
+
+
+# ---------------------------------------------------------------------------------------------
+# Problems the panel shows before a render
+
+
+def diagnose(scene):
+    """[(level, text)] of what stops or degrades depth of field now: level 'ERROR' or 'WARNING'.
+    Never raises."""
+    from . import camera as camera_mod
+    settings = settings_mod.get(scene)
+    problems = []
+    if settings is None:
+        return problems
+    try:
+        camera_mod.camera_settings(scene, settings)
+    except SetupError as err:
+        problems.append(("ERROR", str(err)))
+    cam = scene.camera
+    if cam is not None and cam.type == "CAMERA" and cam.data.dof.use_dof:
+        problems.append(("WARNING", "Camera '%s' has lens depth of field on, so the render is "
+                         "already blurred and Diffusion DOF would blur it twice. Turn off Camera "
+                         "properties > Depth of Field (its focus and f-stop still drive "
+                         "Diffusion DOF), or click Use Pinhole Render. Background renders do "
+                         "this for you." % cam.name))
+    try:
+        layer = render_view_layer(scene, settings)
+        if not layer.use_pass_z:
+            problems.append(("ERROR", "View layer '%s' has no Depth pass. Enable View Layer "
+                             "properties > Passes > Data > Z, or click Set Up Passes."
+                             % layer.name))
+        problem = missing_setup(scene, settings) if settings.enabled else ""
+        if problem and layer.use_pass_z:
+            problems.append(("ERROR", "Not set up for rendering (%s): click Set Up Passes."
+                             % problem))
+    except SetupError as err:
+        problems.append(("ERROR", str(err)))
+    if settings.foreground_collection is not None and scene.render.engine != "CYCLES":
+        problems.append(("WARNING", "The foreground collection needs Cycles (indirect-only "
+                         "collections); with %s it is rendered but also stays in the main "
+                         "render." % scene.render.engine.title()))
+    return problems
+
+
+def missing_setup(scene, settings):
+    """What is not set up for a render, as a short phrase, or '' when all is in place."""
+    try:
+        tree = node_tree(scene)
+        layer = render_view_layer(scene, settings)
+    except SetupError as err:
+        return str(err)
+    if not layer.use_pass_z:
+        return "the Depth pass of view layer '%s' is off" % layer.name
+    if not scene.use_nodes or tree is None:
+        return "compositing nodes are off"
+    if not scene.render.use_compositing:
+        return "Output properties > Post Processing > Compositing is off"
+    out = tree.nodes.get(OUTPUT_NODE)
+    rl = tree.nodes.get(RLAYERS_NODE)
+    if out is None or rl is None or rl.layer != layer.name:
+        return "the managed compositor nodes are missing"
+    if os.path.normpath(bpy.path.abspath(out.base_path)) != os.path.normpath(temp_dir(scene)):
+        return ("the managed File Output node writes to another folder (another Blender "
+                "session or scene name)")
+    want_fg = settings.foreground_collection is not None
+    if want_fg != (tree.nodes.get(FG_OUTPUT_NODE) is not None):
+        return "the foreground setup is out of date"
+    if want_fg and companion_scene(scene) is None:
+        return "the foreground companion scene is missing"
+    return ""
+
+
+# ---------------------------------------------------------------------------------------------
+# Setting up and tearing down
+
+
+def _new_node(tree, kind, name, label, location, parent):
+    node = tree.nodes.get(name)
+    if node is not None and node.bl_idname != kind:
+        tree.nodes.remove(node)
+        node = None
+    if node is None:
+        node = tree.nodes.new(kind)
+        node.name = name
+        node.location = location
+    node.label = label
+    if parent is not None and node != parent:
+        node.parent = parent
+    return node
+
+
+def _configure_format(fmt):
+    fmt.file_format = "OPEN_EXR"
+    fmt.color_depth = "32"
+    fmt.color_mode = "RGBA"
+    fmt.exr_codec = "NONE"  # temporary files: no time spent compressing
+
+
+def ensure_setup(scene):
+    """Makes the scene ready for Diffusion DOF renders; returns what it changed, as sentences.
+    Raises SetupError when it cannot (the message says why)."""
+    settings = settings_mod.get(scene)
+    changes = []
+    tree = node_tree(scene)
+    layer = render_view_layer(scene, settings)
+    if not layer.use_pass_z:
+        layer.use_pass_z = True
+        changes.append("enabled the Depth pass of view layer '%s'" % layer.name)
+    if not scene.use_nodes or tree is None:
+        scene.use_nodes = True  # a new tree gets Render Layers -> Composite: the same image
+        tree = scene.node_tree
+        changes.append("turned on compositing nodes")
+    if not scene.render.use_compositing:
+        scene.render.use_compositing = True
+        changes.append("turned on Post Processing > Compositing")
+    if not any(n.bl_idname == "CompositorNodeComposite" for n in tree.nodes):
+        composite = tree.nodes.new("CompositorNodeComposite")
+        source = next((n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers"
+                       and n.name not in MANAGED_NODES), None)
+        if source is not None:
+            tree.links.new(source.outputs["Image"], composite.inputs["Image"])
+        changes.append("added a Composite node (a render needs one)")
+
+    lowest = min((n.location.y - n.dimensions.y for n in tree.nodes
+                  if n.name not in MANAGED_NODES), default=0.0)
+    x0, y0 = -300.0, lowest - 120.0
+    frame = _new_node(tree, "NodeFrame", FRAME_NODE, "Diffusion DOF (managed by the add-on)",
+                      (x0 - 20.0, y0 + 40.0), None)
+    frame.label_size = 16
+    rl = _new_node(tree, "CompositorNodeRLayers", RLAYERS_NODE, "Diffusion DOF: main passes",
+                   (x0, y0), frame)
+    rl.scene = scene
+    rl.layer = layer.name
+    folder = temp_dir(scene)
+    os.makedirs(folder, exist_ok=True)
+    out = _output_node(tree, OUTPUT_NODE, "Diffusion DOF: passes to the add-on",
+                       (x0 + 320.0, y0), frame, folder, (SLOT_COLOR, SLOT_DEPTH))
+    depth_socket = _depth_socket(rl)
+    links = [(rl.outputs["Image"], out.inputs[0]), (depth_socket, out.inputs[1])]
+
+    fg_collection = settings.foreground_collection
+    if fg_collection is not None:
+        companion, fg_changes = ensure_companion(scene, layer, fg_collection)
+        changes.extend(fg_changes)
+        fg_rl = _new_node(tree, "CompositorNodeRLayers", FG_RLAYERS_NODE,
+                          "Diffusion DOF: foreground passes", (x0, y0 - 420.0), frame)
+        fg_rl.scene = companion
+        fg_rl.layer = companion.view_layers[0].name
+        fg_out = _output_node(tree, FG_OUTPUT_NODE, "Diffusion DOF: foreground to the add-on",
+                              (x0 + 320.0, y0 - 420.0), frame, folder,
+                              (SLOT_FG_COLOR, SLOT_FG_DEPTH))
+        fg_depth = _depth_socket(fg_rl)
+        links += [(fg_rl.outputs["Image"], fg_out.inputs[0]), (fg_depth, fg_out.inputs[1])]
+    else:
+        for name in (FG_RLAYERS_NODE, FG_OUTPUT_NODE):
+            node = tree.nodes.get(name)
+            if node is not None:
+                tree.nodes.remove(node)
+        changes.extend(remove_companion(scene))
+    for source, target in links:
+        if not any(l.from_socket == source for l in target.links):
+            for old in list(target.links):
+                tree.links.remove(old)
+            tree.links.new(source, target)
+    return changes
+
+
+def _depth_socket(node):
+    socket = node.outputs.get("Depth") or node.outputs.get("Z")  # "Z" before Blender 2.8x
+    if socket is None:
+        raise SetupError("The Render Layers node of view layer '%s' has no Depth output in this "
+                         "Blender version." % node.layer)
+    return socket
+
+
+def _output_node(tree, name, label, location, parent, folder, slots):
+    """A File Output node writing float EXRs of `slots` into folder. Slots are only ever added
+    (Blender 3.4 leaks memory when a file slot is removed): a node with other slots is replaced
+    as a whole."""
+    wanted = [slot + "#" * FRAME_DIGITS for slot in slots]
+    node = tree.nodes.get(name)
+    if node is not None and (node.bl_idname != "CompositorNodeOutputFile"
+                             or [s.path for s in node.file_slots] != wanted):
+        tree.nodes.remove(node)
+    node = _new_node(tree, "CompositorNodeOutputFile", name, label, location, parent)
+    if [s.path for s in node.file_slots] != wanted:  # a new node has one slot, "Image"
+        node.file_slots[0].path = wanted[0]
+        for path in wanted[1:]:
+            node.file_slots.new(path)
+    for slot in node.file_slots:
+        slot.use_node_format = True
+    if node.base_path != folder + os.sep:
+        node.base_path = folder + os.sep
+    _configure_format(node.format)
+    return node
+
+
+def teardown(scene):
+    """Removes the managed nodes and the companion scene (the Depth pass stays on)."""
+    tree = getattr(scene, "node_tree", None)
+    if tree is not None:
+        for name in MANAGED_NODES:
+            node = tree.nodes.get(name)
+            if node is not None:
+                tree.nodes.remove(node)
+    remove_companion(scene)
+
+
+# ---------------------------------------------------------------------------------------------
+# The foreground companion scene
+#
+# Cycles makes the film transparent per scene, not per view layer (a view layer with the
+# world switched off still has alpha 1), so the foreground element, which needs a real alpha,
+# is rendered by a companion scene: it links the same collections and camera, renders the
+# foreground collection normally and everything else as indirect-only (invisible to the camera
+# but in the lighting), with a transparent film. The main scene's compositor renders it through
+# a Render Layers node. In the main view layer the foreground collection becomes indirect-only,
+# so the main passes show what is behind it.
+
+_SYNCED_RENDER = ("engine", "resolution_x", "resolution_y", "resolution_percentage",
+                  "pixel_aspect_x", "pixel_aspect_y", "use_border", "border_min_x",
+                  "border_min_y", "border_max_x", "border_max_y", "use_crop_to_border",
+                  "use_motion_blur", "motion_blur_shutter", "threads_mode", "threads")
+
+
+def _copy_id_group(source, target, key):
+    """Copies an add-on settings group (e.g. scene.cycles) as raw ID properties: exact, and
+    without reading enum values this Blender build may not know."""
+    data = source.get(key)
+    data = data.to_dict() if data is not None else None
+    current = target.get(key)
+    current = current.to_dict() if current is not None else None
+    if data != current:
+        if data is None:
+            del target[key]
+        else:
+            target[key] = data
+
+
+def sync_companion(scene, companion):
+    """Copies what decides the picture from the main scene (idempotent: writes only changes)."""
+    for name in _SYNCED_RENDER:
+        value = getattr(scene.render, name)
+        if getattr(companion.render, name) != value:
+            setattr(companion.render, name, value)
+    if not companion.render.film_transparent:
+        companion.render.film_transparent = True
+    if companion.render.use_compositing:
+        companion.render.use_compositing = False
+    if companion.camera != scene.camera:
+        companion.camera = scene.camera
+    if companion.world != scene.world:
+        companion.world = scene.world
+    if companion.unit_settings.scale_length != scene.unit_settings.scale_length:
+        companion.unit_settings.scale_length = scene.unit_settings.scale_length
+    _copy_id_group(scene, companion, "cycles")
+
+
+def _contains(collection, target):
+    return collection == target or any(_contains(c, target) for c in collection.children)
+
+
+def _mark_indirect(lc, fg_collection, inside=False):
+    """Everything indirect-only except the foreground collection (with its children) and the
+    collections on the way to it. Indirect-only passes down to children, and an object reached
+    through any indirect-only path is indirect-only: objects placed directly in a parent of the
+    foreground collection are therefore visible too (keep the foreground collection top-level)."""
+    inside = inside or lc.collection == fg_collection
+    want = not inside and not _contains(lc.collection, fg_collection)
+    if lc.indirect_only != want:
+        lc.indirect_only = want
+    if not want:
+        for child in lc.children:
+            _mark_indirect(child, fg_collection, inside)
+
+
+def ensure_companion(scene, layer, fg_collection):
+    changes = []
+    companion = companion_scene(scene)
+    if companion is None:
+        companion = bpy.data.scenes.new("%s: %s" % (COMPANION_PREFIX, scene.name))
+        companion[OWNER_KEY] = scene.name
+        changes.append("created the companion scene '%s' that renders the foreground "
+                       "collection" % companion.name)
+    loose = next((c for c in companion.collection.children
+                  if c.get(OWNER_KEY) == scene.name), None)
+    if loose is None:
+        loose = bpy.data.collections.new("%s: %s" % (COMPANION_LOOSE, scene.name))
+        loose[OWNER_KEY] = scene.name
+        companion.collection.children.link(loose)
+    # The same top-level collections and loose objects as the main scene (and the foreground
+    # collection itself, when it is not in the scene's tree).
+    top = list(scene.collection.children)
+    if not any(_contains(c, fg_collection) for c in top):
+        top.append(fg_collection)
+    for child in top:
+        if child.name not in companion.collection.children:
+            companion.collection.children.link(child)
+    for child in list(companion.collection.children):
+        if child != loose and child not in top:
+            companion.collection.children.unlink(child)
+    for obj in scene.collection.objects:
+        if obj.name not in loose.objects:
+            loose.objects.link(obj)
+    for obj in list(loose.objects):
+        if obj.name not in scene.collection.objects:
+            loose.objects.unlink(obj)
+    fg_layer = companion.view_layers[0]
+    fg_layer.use_pass_z = True
+    for lc in fg_layer.layer_collection.children:
+        _mark_indirect(lc, fg_collection)
+    sync_companion(scene, companion)
+    # In the main view layer the foreground objects only light and shadow.
+    main_lc = _find_layer_collection(layer.layer_collection, fg_collection)
+    if main_lc is not None and not main_lc.indirect_only:
+        main_lc.indirect_only = True
+        scene[OWNER_KEY + "_indirect"] = fg_collection.name
+        changes.append("made collection '%s' indirect-only in view layer '%s' (it is rendered "
+                       "as the foreground element)" % (fg_collection.name, layer.name))
+    return companion, changes
+
+
+def remove_companion(scene):
+    changes = []
+    companion = companion_scene(scene)
+    if companion is not None:
+        for child in list(companion.collection.children):
+            if child.get(OWNER_KEY) == scene.name:
+                bpy.data.collections.remove(child)
+        name = companion.name
+        bpy.data.scenes.remove(companion)
+        changes.append("removed the companion scene '%s'" % name)
+    restored = scene.get(OWNER_KEY + "_indirect")
+    if restored:
+        collection = bpy.data.collections.get(restored)
+        for layer in scene.view_layers:
+            lc = _find_layer_collection(layer.layer_collection, collection) if collection else None
+            if lc is not None and lc.indirect_only:
+                lc.indirect_only = False
+        del scene[OWNER_KEY + "_indirect"]
+        changes.append("made collection '%s' visible to the camera again" % restored)
+    return changes

@@ -1,0 +1,497 @@
+"""Render handlers: every rendered frame of a scene with Diffusion DOF on goes through libddof.
+
+Order of events in Blender 3.4 to 4.x, per frame (checked in background mode):
+  render_init                     once per render, before the render is set up
+  frame_change_pre/post           with the *render* depsgraph (mode 'RENDER'), evaluated for
+                                  the frame: the only place where animated camera values are
+                                  right during an animation render (the original datablocks
+                                  are not updated by a render)
+  (render, compositing)           the managed File Output node writes color_/depth_######.exr
+  (the frame file is written)     animations, and stills with write_still
+  render_post                     after compositing and after the frame file was written
+  render_write                    only when a frame file was written
+  render_complete / render_cancel once per render
+In background mode all of these run on the main thread and a frame is processed right away.
+With the UI, render handlers run on the render job's thread, where loading images or changing
+data is not safe: the handlers only queue the frame and a timer on the main thread does the
+work (while the next frame renders).
+"""
+
+import os
+import threading
+import time
+import traceback
+
+import bpy
+from bpy.app.handlers import persistent
+
+from . import camera as camera_mod
+from . import binding, passes
+from . import settings as settings_mod
+from .errors import SetupError
+
+RESULT_IMAGE = "Diffusion DOF"
+INPUT_IMAGE = "Diffusion DOF Input"
+DEPTH_IMAGE = "Diffusion DOF Depth"
+FG_INPUT_IMAGE = "Diffusion DOF Foreground"
+FG_DEPTH_IMAGE = "Diffusion DOF Foreground Depth"
+MOVIE_FORMATS = {"FFMPEG", "AVI_JPEG", "AVI_RAW"}
+
+_lock = threading.Lock()
+_jobs = []          # Job, in the order frames were rendered
+_snapshots = {}     # (scene name, frame) -> (camera dict, info) or SetupError
+_render_state = {}  # scene name -> dict for the render in progress
+reports = {}        # scene name -> the last result, for the panel
+
+
+class Job:
+    def __init__(self, scene, frame, foreground):
+        self.scene_name = scene.name
+        self.frame = frame
+        self.files = passes.frame_files(scene, frame, foreground)
+        self.foreground = foreground
+        self.camera = None
+        self.error = None
+        self.lens_dof_on = False
+        self.write = False
+        self.ready = False
+        self.started = time.time()
+
+
+def _is_main_thread():
+    return threading.current_thread() is threading.main_thread()
+
+
+def log(message):
+    print("Diffusion DOF:", message, flush=True)
+
+
+def _enabled(scene):
+    s = settings_mod.get(scene)
+    return s if s is not None and s.enabled else None
+
+
+def set_report(scene_name, ok, message, frame=None, stats=None, camera_line=None, path=None):
+    reports[scene_name] = {"ok": ok, "message": message, "frame": frame, "stats": stats,
+                           "camera": camera_line, "path": path, "time": time.time()}
+    log(message)
+    if not bpy.app.background:
+        try:
+            for window in bpy.context.window_manager.windows:
+                for area in window.screen.areas:
+                    if area.type in ("PROPERTIES", "NODE_EDITOR"):
+                        area.tag_redraw()
+        except AttributeError:
+            pass
+
+
+# ---------------------------------------------------------------------------------------------
+# Moving pixels between Blender and the library
+
+
+def read_image(image):
+    """(buffer, width, height, channels) of an image datablock's float pixels."""
+    width, height = image.size
+    channels = image.channels
+    if width == 0 or height == 0:
+        raise SetupError("Image '%s' has no pixels (is its file missing?)." % image.name)
+    buf = binding.new_buffer(width * height * channels)
+    image.pixels.foreach_get(buf)
+    return buf, width, height, channels
+
+
+def read_exr(path):
+    """Loads a file the File Output node wrote, raw (no colour transform); None if missing."""
+    if not os.path.isfile(path):
+        return None
+    image = bpy.data.images.load(path, check_existing=False)
+    try:
+        image.colorspace_settings.is_data = True
+        return read_image(image)
+    finally:
+        bpy.data.images.remove(image)
+
+
+def store_result(name, width, height, channels, pixels, data=False):
+    """Puts pixels into a float image datablock (created or resized as needed); data=True marks
+    them as non-colour values (depth)."""
+    image = bpy.data.images.get(name)
+    if image is not None and (not image.is_float or image.channels != channels):
+        image.name = name + ".old"
+        image = None
+    if image is None:
+        image = bpy.data.images.new(name, width, height, alpha=channels == 4, float_buffer=True)
+    elif tuple(image.size) != (width, height):
+        image.scale(width, height)
+    if data and not image.colorspace_settings.is_data:
+        image.colorspace_settings.is_data = True
+    image.pixels.foreach_set(pixels)
+    image.update()
+    return image
+
+
+def written_path(scene, frame, since):
+    """The file this render just wrote for the frame. Animations (and `blender -f`) write
+    frame_path(frame); a still with write_still writes the output path without a frame number.
+    The candidate written since the render started is the one."""
+    candidates = [scene.render.frame_path(frame=frame)]
+    still = bpy.path.abspath(scene.render.filepath)
+    candidates.append(still)
+    if scene.render.use_file_extension:
+        ext = scene.render.file_extension
+        candidates += [still + ext, os.path.splitext(still)[0] + ext]
+    found = [(os.path.getmtime(p), p) for p in candidates
+             if os.path.isfile(p) and os.path.getmtime(p) >= since - 1.0]
+    if not found:
+        raise SetupError("Could not find the file this render wrote for frame %d (looked for "
+                         "%s)." % (frame, ", ".join(sorted(set(candidates)))))
+    return max(found)[1]
+
+
+def write_frame(scene, image, frame, since):
+    """Writes the result over the frame's output file, in the scene's format, atomically.
+    Multilayer OpenEXR output is kept (it has the passes the user asked for) and the result is
+    written beside it as <name>_dof.exr, a single-layer OpenEXR of the same depth and codec.
+    Returns the path written."""
+    settings = scene.render.image_settings
+    fmt = settings.file_format
+    if fmt in MOVIE_FORMATS:
+        raise SetupError("the output is a movie (%s), which cannot be replaced frame by frame: "
+                         "render to an image sequence (PNG, OpenEXR, ...) and encode it "
+                         "afterwards" % fmt)
+    path = written_path(scene, frame, since)
+    if fmt == "OPEN_EXR_MULTILAYER":
+        stem, ext = os.path.splitext(path)
+        path = stem + "_dof" + (ext or ".exr")
+    partial = path + ".ddof-partial"
+    try:
+        if fmt == "OPEN_EXR_MULTILAYER":
+            settings.file_format = "OPEN_EXR"
+        image.save_render(partial, scene=scene)
+        os.replace(partial, path)
+    except RuntimeError as err:
+        raise SetupError("Could not write %s: %s" % (path, str(err).strip())) from None
+    finally:
+        if settings.file_format != fmt:
+            settings.file_format = fmt
+        if os.path.exists(partial):
+            os.remove(partial)
+    return path
+
+
+# ---------------------------------------------------------------------------------------------
+# One frame
+
+
+def run(scene, settings, width, height, color, color_channels, depth, depth_channels,
+        camera, foreground=None):
+    """Calls the library; returns (out, stats). Raises LibraryError, DdofError."""
+    lib = binding.get_library()
+    return lib.depth_of_field(width, height, color, color_channels, depth, depth_channels,
+                              camera, settings.library_params(), threads=settings.threads,
+                              foreground=foreground)
+
+
+def summary(stats):
+    return "%.3f s, largest CoC %.1f px, %s" % (
+        stats["seconds_total"], stats["max_coc_px"],
+        "copied (nothing out of focus)" if stats["copied_only"]
+        else " + ".join(stats["effect_names"]) or "nothing")
+
+
+def process_job(job):
+    scene = bpy.data.scenes.get(job.scene_name)
+    try:
+        if scene is None:
+            return
+        settings = settings_mod.get(scene)
+        if settings is None:
+            return
+        try:
+            if job.error:
+                raise SetupError(job.error)
+            lib_ok, lib_text = binding.library_status()
+            if not lib_ok:
+                raise SetupError(lib_text)
+            if job.lens_dof_on:
+                raise SetupError("The camera's lens depth of field was on, so the render is "
+                                 "already blurred: Diffusion DOF was not applied. Turn off "
+                                 "Camera properties > Depth of Field (its focus and f-stop still "
+                                 "drive Diffusion DOF) and render again.")
+            color = read_exr(job.files[passes.SLOT_COLOR])
+            if color is None:
+                raise SetupError("The Combined pass of frame %d did not reach the add-on: the "
+                                 "compositor did not run. Check Output properties > Post "
+                                 "Processing > Compositing, or click Set Up Passes."
+                                 % job.frame)
+            depth = read_exr(job.files[passes.SLOT_DEPTH])
+            layer = passes.render_view_layer(scene, settings)
+            if depth is None or not layer.use_pass_z:
+                raise SetupError("No Depth pass was rendered for view layer '%s'. Enable View "
+                                 "Layer properties > Passes > Data > Z (or click Set Up Passes "
+                                 "in the Diffusion DOF panel) and render again." % layer.name)
+            buf, width, height, channels = color
+            depth_buf, dw, dh, dchannels = depth
+            if (dw, dh) != (width, height):
+                raise SetupError("The Depth pass is %dx%d but the Combined pass %dx%d."
+                                 % (dw, dh, width, height))
+            if isinstance(job.camera, SetupError):
+                raise job.camera
+            cam, info = job.camera or camera_mod.camera_settings(scene, settings)
+            foreground = None
+            if job.foreground:
+                fg_color = read_exr(job.files[passes.SLOT_FG_COLOR])
+                fg_depth = read_exr(job.files[passes.SLOT_FG_DEPTH])
+                if fg_color is None or fg_depth is None or fg_color[1:3] != (width, height) \
+                        or fg_depth[1:3] != (width, height) or fg_color[3] != 4:
+                    raise SetupError("The foreground element of frame %d is missing or has "
+                                     "another size: click Set Up Passes and render again."
+                                     % job.frame)
+                foreground = {"color": fg_color[0], "depth": fg_depth[0],
+                              "depth_channels": fg_depth[3]}
+            out, stats = run(scene, settings, width, height, buf, channels, depth_buf,
+                             dchannels, cam, foreground)
+            image = store_result(RESULT_IMAGE, width, height, channels, out)
+            if settings.keep_inputs:
+                store_result(INPUT_IMAGE, width, height, channels, buf)
+                store_result(DEPTH_IMAGE, width, height, dchannels, depth_buf, data=True)
+                if foreground is not None:
+                    store_result(FG_INPUT_IMAGE, width, height, 4, foreground["color"])
+                    store_result(FG_DEPTH_IMAGE, width, height, foreground["depth_channels"],
+                                 foreground["depth"], data=True)
+                else:
+                    for name in (FG_INPUT_IMAGE, FG_DEPTH_IMAGE):
+                        if name in bpy.data.images:
+                            bpy.data.images.remove(bpy.data.images[name])
+            path = None
+            if job.write and settings.write_frames:
+                try:
+                    path = write_frame(scene, image, job.frame, job.started)
+                except SetupError as err:
+                    raise SetupError("the result is in the '%s' image, but the frame file was "
+                                     "not replaced: %s" % (image.name, err)) from None
+            if not bpy.app.background and settings.show_result:
+                _show_in_render_window(image)
+            camera_line = camera_mod.describe(cam, info)
+            set_report(scene.name, True, "frame %d: %s; %s%s" % (
+                job.frame, summary(stats), camera_line, (" -> " + path) if path else ""),
+                job.frame, stats, camera_line, path)
+        except (SetupError, binding.LibraryError, binding.DdofError) as err:
+            set_report(scene.name, False, "frame %d not processed: %s" % (job.frame, err),
+                       job.frame)
+        except Exception as err:  # a bug: say so, keep Blender and the render going
+            traceback.print_exc()
+            set_report(scene.name, False, "frame %d not processed: internal error: %s"
+                       % (job.frame, err), job.frame)
+    finally:
+        for path in job.files.values():
+            try:
+                os.remove(path)
+            except OSError:
+                pass
+
+
+def _show_in_render_window(image):
+    for window in bpy.context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type != "IMAGE_EDITOR":
+                continue
+            space = area.spaces.active
+            if space.image is not None and space.image.type == "RENDER_RESULT":
+                space.image = image
+
+
+def process_ready():
+    """Processes every queued frame that is ready (main thread only)."""
+    while True:
+        with _lock:
+            job = next((j for j in _jobs if j.ready), None)
+            if job is None:
+                return
+            _jobs.remove(job)
+        process_job(job)
+
+
+def _timer():
+    try:
+        process_ready()
+    except Exception:
+        traceback.print_exc()
+    with _lock:
+        busy = bool(_jobs)
+    return 0.2 if busy else 0.5
+
+
+# ---------------------------------------------------------------------------------------------
+# Handlers
+
+
+@persistent
+def on_render_init(scene, _depsgraph=None):
+    settings = _enabled(scene)
+    if settings is None:
+        return
+    state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time()}
+    main = _is_main_thread()
+    try:
+        if main:
+            for line in passes.ensure_setup(scene):
+                log(line)
+        else:
+            problem = passes.missing_setup(scene, settings)
+            if problem:
+                raise SetupError("this render cannot get depth of field (%s): click Set Up "
+                                 "Passes in the Diffusion DOF panel and render again." % problem)
+    except SetupError as err:
+        state["error"] = str(err)
+        log(str(err))
+    cam = scene.camera
+    if cam is not None and cam.type == "CAMERA" and cam.data.dof.use_dof:
+        if main:
+            # The camera's settings drive Diffusion DOF; the render itself must be a pinhole.
+            cam.data.dof.use_dof = False
+            state["restore_dof"] = cam.data.name
+            log("rendering camera '%s' without its lens blur (its depth-of-field settings "
+                "drive Diffusion DOF; restored after the render)" % cam.name)
+        else:
+            state["lens_dof_on"] = True
+    _render_state[scene.name] = state
+
+
+@persistent
+def on_frame_change_post(scene, depsgraph=None):
+    if depsgraph is None or depsgraph.mode != "RENDER" or scene.name not in _render_state:
+        return
+    settings = _enabled(scene)
+    if settings is None:
+        return
+    try:
+        value = camera_mod.camera_settings(scene, settings, depsgraph)
+    except SetupError as err:
+        value = err
+    with _lock:
+        _snapshots[(scene.name, scene.frame_current)] = value
+
+
+@persistent
+def on_render_post(scene, _depsgraph=None):
+    state = _render_state.get(scene.name)
+    settings = _enabled(scene)
+    if state is None or settings is None:
+        return
+    job = Job(scene, scene.frame_current, settings.foreground_collection is not None)
+    job.error = state["error"]
+    job.lens_dof_on = state["lens_dof_on"]
+    job.started = state["started"]
+    with _lock:
+        job.camera = _snapshots.pop((scene.name, job.frame), None)
+        _jobs.append(job)
+
+
+@persistent
+def on_render_write(scene, _depsgraph=None):
+    if scene.name not in _render_state:
+        return
+    with _lock:
+        for job in _jobs:
+            if job.scene_name == scene.name and job.frame == scene.frame_current:
+                job.write = True
+                job.ready = True
+    if _is_main_thread():
+        process_ready()
+
+
+def _finish(scene, cancelled):
+    state = _render_state.pop(scene.name, None)
+    with _lock:
+        for job in list(_jobs):
+            if job.scene_name == scene.name:
+                if cancelled:
+                    _jobs.remove(job)
+                    for path in job.files.values():
+                        if os.path.exists(path):
+                            os.remove(path)
+                else:
+                    job.ready = True
+        for key in [k for k in _snapshots if k[0] == scene.name]:
+            del _snapshots[key]
+    if state and state["restore_dof"] and _is_main_thread():
+        cam_data = bpy.data.cameras.get(state["restore_dof"])
+        if cam_data is not None:
+            cam_data.dof.use_dof = True
+    if _is_main_thread():
+        process_ready()
+
+
+@persistent
+def on_render_complete(scene, _depsgraph=None):
+    _finish(scene, cancelled=False)
+
+
+@persistent
+def on_render_cancel(scene, _depsgraph=None):
+    _finish(scene, cancelled=True)
+
+
+@persistent
+def on_load_post(*_args):
+    reports.clear()
+    for scene in bpy.data.scenes:
+        if _enabled(scene) is None:
+            continue
+        try:
+            for line in passes.ensure_setup(scene):
+                log("%s: %s" % (scene.name, line))
+        except SetupError as err:
+            log("%s: %s" % (scene.name, err))
+
+
+@persistent
+def on_depsgraph_update_post(scene, _depsgraph=None):
+    # Keeps the foreground companion scene in step with edits made in the UI.
+    settings = _enabled(scene)
+    if settings is None or settings.foreground_collection is None:
+        return
+    companion = passes.companion_scene(scene)
+    if companion is not None:
+        passes.sync_companion(scene, companion)
+
+
+HANDLERS = (
+    ("render_init", on_render_init),
+    ("frame_change_post", on_frame_change_post),
+    ("render_post", on_render_post),
+    ("render_write", on_render_write),
+    ("render_complete", on_render_complete),
+    ("render_cancel", on_render_cancel),
+    ("load_post", on_load_post),
+    ("depsgraph_update_post", on_depsgraph_update_post),
+)
+
+
+def _ours(fn):
+    return getattr(fn, "__module__", "") == __name__
+
+
+def register():
+    for name, fn in HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        for old in [h for h in handlers if _ours(h)]:  # left by an earlier load of this module
+            handlers.remove(old)
+        handlers.append(fn)
+    if not bpy.app.background and not bpy.app.timers.is_registered(_timer):
+        bpy.app.timers.register(_timer, first_interval=0.5, persistent=True)
+
+
+def unregister():
+    for name, _fn in HANDLERS:
+        handlers = getattr(bpy.app.handlers, name)
+        for old in [h for h in handlers if _ours(h)]:
+            handlers.remove(old)
+    if bpy.app.timers.is_registered(_timer):
+        bpy.app.timers.unregister(_timer)
+    with _lock:
+        _jobs.clear()
+        _snapshots.clear()
+    _render_state.clear()
+    reports.clear()

@@ -1,0 +1,169 @@
+"""The per-scene settings (scene.diffusion_dof) and what they mean for the library."""
+
+import bpy
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
+                       StringProperty)
+
+# Quality presets: (sub-steps, background levels). Sub-steps split each ADI step into n steps of
+# beta/n (the kernel approaches a Gaussian at linear cost); background levels are the blurring-
+# underneath layers at thresholds t, 2t, 4t... An accuracy study will tune these.
+QUALITY_PRESETS = {
+    "PREVIEW": (1, 1),
+    "DEFAULT": (2, 1),
+    "FINAL": (4, 2),
+}
+
+
+def _on_setup_change(self, context):
+    # Imported here: settings is registered first and passes imports settings.
+    from . import passes
+    scene = self.id_data
+    if not isinstance(scene, bpy.types.Scene):
+        return
+    try:
+        if self.enabled:
+            for line in passes.ensure_setup(scene):
+                print("Diffusion DOF:", line)
+        else:
+            passes.teardown(scene)
+    except passes.SetupError as err:
+        print("Diffusion DOF:", err)
+
+
+class DiffusionDOFSettings(bpy.types.PropertyGroup):
+    enabled: BoolProperty(
+        name="Diffusion DOF",
+        description="Apply diffusion depth of field to every render of this scene: the Combined "
+                    "and Depth passes go through libddof, the result goes to the 'Diffusion DOF' "
+                    "image and, for animations, replaces the written frames",
+        default=False, update=_on_setup_change)
+
+    quality: EnumProperty(
+        name="Quality",
+        items=[("PREVIEW", "Preview", "1 sub-step, 1 background level: fastest"),
+               ("DEFAULT", "Default", "2 sub-steps, 1 background level"),
+               ("FINAL", "Final", "4 sub-steps, 2 background levels: closest to a lens"),
+               ("CUSTOM", "Custom", "Sub-steps and background levels set below")],
+        default="DEFAULT")
+    substeps: IntProperty(
+        name="Sub-steps", min=1, max=64, default=2,
+        description="ADI steps of beta/n each: more approach a Gaussian kernel, at linear cost")
+    background_levels: IntProperty(
+        name="Background Levels", min=1, max=8, default=1,
+        description="Blurring-underneath layers at thresholds t, 2t, 4t, ...")
+
+    # Camera: by default everything comes from the active camera, read at every frame.
+    lens_model: EnumProperty(
+        name="Lens Model",
+        items=[("CYCLES", "Cycles", "Fixed pinhole projection and a planar focus plane: matches "
+                                    "Cycles and EEVEE renders"),
+               ("THIN_LENS", "Thin Lens", "Textbook thin lens (larger CoC by S1 / (S1 - f))")],
+        default="CYCLES")
+    override_focus: BoolProperty(name="Focus Distance", default=False,
+                                 description="Use this focus distance, not the camera's")
+    focus_distance: FloatProperty(name="Focus Distance", subtype="DISTANCE", unit="LENGTH",
+                                  min=0.0, default=10.0,
+                                  description="Distance of the focus plane, in scene units")
+    override_fstop: BoolProperty(name="F-Stop", default=False,
+                                 description="Use this f-number, not the camera's")
+    fstop: FloatProperty(name="F-Stop", min=0.01, soft_max=128.0, default=2.8, precision=2,
+                         description="Aperture f-number: lower blurs more")
+    override_focal_length: BoolProperty(name="Focal Length", default=False,
+                                        description="Use this focal length, not the camera's")
+    focal_length: FloatProperty(name="Focal Length", subtype="DISTANCE_CAMERA", min=1.0,
+                                default=50.0, unit="CAMERA",
+                                description="Focal length in millimetres")
+    override_sensor: BoolProperty(name="Sensor", default=False,
+                                  description="Use this sensor size and fit, not the camera's")
+    sensor_width: FloatProperty(name="Sensor Size", subtype="DISTANCE_CAMERA", min=1.0,
+                                default=36.0, unit="CAMERA",
+                                description="Sensor size in millimetres along the fitted axis")
+    sensor_fit: EnumProperty(
+        name="Sensor Fit",
+        items=[("AUTO", "Auto", "The sensor size spans the larger image dimension"),
+               ("HORIZONTAL", "Horizontal", "The sensor size spans the image width"),
+               ("VERTICAL", "Vertical", "The sensor size spans the image height")],
+        default="AUTO")
+
+    # Expert knobs.
+    solver: EnumProperty(
+        name="Solver",
+        items=[("thomas", "Thomas", "LU forward/back substitution: the CPU workhorse"),
+               ("cr", "Cyclic Reduction", "Odd/even reduction (Kass et al. fig. 5)"),
+               ("pcr", "Parallel Cyclic Reduction", "Zhang, Cohen, Owens 2010"),
+               ("jacobi", "Jacobi", "Approximate: a fixed number of sweeps"),
+               ("reference", "Reference", "Double precision, one thread: for comparisons")],
+        default="thomas")
+    background: EnumProperty(
+        name="Background Layer",
+        items=[("AUTO", "Auto", "The planner decides from the CoC field"),
+               ("ON", "On", "Always blur the background underneath in-focus objects"),
+               ("OFF", "Off", "Never")],
+        default="AUTO",
+        description="Blurring underneath (Kass et al. 3.1): lets a far background blur behind "
+                    "thin in-focus objects")
+    near_spread: EnumProperty(
+        name="Near Spread",
+        items=[("AUTO", "Auto", "The planner decides from the CoC field"),
+               ("ON", "On", "Always spread blurred near objects over what is behind them"),
+               ("OFF", "Off", "Never")],
+        default="AUTO",
+        description="Soft silhouettes for blurred near objects from one image (GPU Gems 3 "
+                    "ch. 28); not used with a foreground collection")
+    foreground_collection: PointerProperty(
+        name="Foreground", type=bpy.types.Collection, update=_on_setup_change,
+        description="Near objects rendered separately with alpha and blurred on top (Kass et "
+                    "al. 3.2), so that they turn partly transparent. Cycles only; the objects "
+                    "stay in the lighting of the main render as indirect-only objects")
+    view_layer: StringProperty(
+        name="View Layer", default="", update=_on_setup_change,
+        description="The view layer whose passes get depth of field (empty: the first view "
+                    "layer that renders)")
+    backend: EnumProperty(
+        name="Backend",
+        items=[("AUTO", "Auto", "The best backend available (the CPU in this version)"),
+               ("CPU", "CPU", "libddof's multi-threaded CPU solvers")],
+        default="AUTO")
+    threads: IntProperty(name="Threads", min=0, max=1024, default=0,
+                         description="Worker threads (0: one per core)")
+
+    # Output.
+    write_frames: BoolProperty(
+        name="Replace Written Frames", default=True,
+        description="When a render writes a file (animation, or a still with 'write still'), "
+                    "overwrite it with the depth-of-field result in the scene's output format")
+    keep_inputs: BoolProperty(
+        name="Keep Inputs", default=True,
+        description="Keep the last frame's Combined and Depth passes as the images 'Diffusion "
+                    "DOF Input' and 'Diffusion DOF Depth', so Re-apply can try other settings "
+                    "without rendering again")
+    show_result: BoolProperty(
+        name="Show Result", default=True,
+        description="After F12, show the 'Diffusion DOF' image in the render window")
+
+    def quality_steps(self):
+        """(sub-steps, background levels) of the chosen quality."""
+        if self.quality == "CUSTOM":
+            return self.substeps, self.background_levels
+        return QUALITY_PRESETS[self.quality]
+
+    def library_params(self):
+        """The ddof_params fields these settings set (the rest keep the library defaults)."""
+        substeps, levels = self.quality_steps()
+        return {"solver": self.solver, "substeps": substeps, "background": self.background,
+                "background_levels": levels, "near_spread": self.near_spread}
+
+
+def get(scene):
+    """The settings of a scene, or None when the add-on is not registered."""
+    return getattr(scene, "diffusion_dof", None)
+
+
+def register():
+    bpy.utils.register_class(DiffusionDOFSettings)
+    bpy.types.Scene.diffusion_dof = PointerProperty(type=DiffusionDOFSettings)
+
+
+def unregister():
+    del bpy.types.Scene.diffusion_dof
+    bpy.utils.unregister_class(DiffusionDOFSettings)

@@ -1,0 +1,74 @@
+/* abi_layout.c - prints the size and field offsets of every public ddof struct, one line each:
+ *   <struct> <sizeof> <field>:<offset>:<size> ...
+ * check_abi.py compares them with the ctypes mirror in blender_addon/diffusion_dof/binding.py,
+ * and the enum values, so a field added to ddof.h without the add-on following fails a test. */
+#include <ddof.h>
+
+#include <stddef.h>
+#include <stdio.h>
+
+#define F(type, field) printf(" %s:%zu:%zu", #field, offsetof(type, field), sizeof(((type *)0)->field))
+#define BEGIN(type) printf("%s %zu", #type, sizeof(type))
+#define END() printf("\n")
+#define E(name) printf("enum %s %d\n", #name, (int)(name))
+
+int main(void)
+{
+    BEGIN(ddof_image);
+    F(ddof_image, pixels); F(ddof_image, width); F(ddof_image, height);
+    F(ddof_image, channels); F(ddof_image, row_stride);
+    END();
+    BEGIN(ddof_image_in);
+    F(ddof_image_in, pixels); F(ddof_image_in, width); F(ddof_image_in, height);
+    F(ddof_image_in, channels); F(ddof_image_in, row_stride);
+    END();
+    BEGIN(ddof_allocator);
+    F(ddof_allocator, alloc); F(ddof_allocator, free); F(ddof_allocator, user);
+    END();
+    BEGIN(ddof_context_options);
+    F(ddof_context_options, struct_size); F(ddof_context_options, thread_count);
+    F(ddof_context_options, allocator);
+    END();
+    BEGIN(ddof_camera);
+    F(ddof_camera, struct_size); F(ddof_camera, lens_model); F(ddof_camera, depth_kind);
+    F(ddof_camera, sensor_fit); F(ddof_camera, focal_length_mm); F(ddof_camera, sensor_width_mm);
+    F(ddof_camera, fstop); F(ddof_camera, focus_distance_m); F(ddof_camera, pixel_aspect);
+    F(ddof_camera, depth_unit_m); F(ddof_camera, signed_coc);
+    END();
+    BEGIN(ddof_curve);
+    F(ddof_curve, struct_size); F(ddof_curve, near_blur_px); F(ddof_curve, near_start);
+    F(ddof_curve, near_end); F(ddof_curve, far_start); F(ddof_curve, far_end);
+    F(ddof_curve, far_blur_px); F(ddof_curve, signed_coc);
+    END();
+    BEGIN(ddof_params);
+    F(ddof_params, struct_size); F(ddof_params, solver); F(ddof_params, substeps);
+    F(ddof_params, beta_scale); F(ddof_params, pixel_aspect); F(ddof_params, jacobi_iterations);
+    F(ddof_params, progress); F(ddof_params, progress_user); F(ddof_params, coc_signed);
+    F(ddof_params, background); F(ddof_params, background_threshold_px);
+    F(ddof_params, background_ramp_start_px); F(ddof_params, background_levels);
+    F(ddof_params, near_spread); F(ddof_params, near_spread_threshold_px);
+    END();
+    BEGIN(ddof_stats);
+    F(ddof_stats, struct_size); F(ddof_stats, solver); F(ddof_stats, threads);
+    F(ddof_stats, substeps); F(ddof_stats, lines_solved); F(ddof_stats, lines_skipped);
+    F(ddof_stats, max_coc_px); F(ddof_stats, copied_only); F(ddof_stats, seconds_total);
+    F(ddof_stats, seconds_coc); F(ddof_stats, seconds_rows); F(ddof_stats, seconds_columns);
+    F(ddof_stats, effects); F(ddof_stats, seconds_plan); F(ddof_stats, seconds_background);
+    F(ddof_stats, seconds_foreground); F(ddof_stats, plan);
+    END();
+    BEGIN(ddof_foreground);
+    F(ddof_foreground, struct_size); F(ddof_foreground, color); F(ddof_foreground, coc);
+    F(ddof_foreground, premultiplied);
+    END();
+    E(DDOF_OK); E(DDOF_STATUS_COUNT_);
+    E(DDOF_LENS_CYCLES); E(DDOF_LENS_THIN_LENS);
+    E(DDOF_DEPTH_PLANAR); E(DDOF_DEPTH_RADIAL);
+    E(DDOF_SENSOR_FIT_AUTO); E(DDOF_SENSOR_FIT_HORIZONTAL); E(DDOF_SENSOR_FIT_VERTICAL);
+    E(DDOF_SOLVER_THOMAS); E(DDOF_SOLVER_CYCLIC_REDUCTION); E(DDOF_SOLVER_PCR);
+    E(DDOF_SOLVER_JACOBI); E(DDOF_SOLVER_REFERENCE_F64);
+    E(DDOF_LAYER_AUTO); E(DDOF_LAYER_OFF); E(DDOF_LAYER_ON);
+    E(DDOF_EFFECT_MIDGROUND); E(DDOF_EFFECT_BACKGROUND); E(DDOF_EFFECT_FOREGROUND);
+    E(DDOF_EFFECT_NEAR_SPREAD);
+    printf("version %u\n", (unsigned)DDOF_VERSION_NUMBER);
+    return 0;
+}

@@ -1,0 +1,172 @@
+"""The add-on's ctypes mirror of ddof.h matches the C structs, enums and version; the binding
+loads the built library and runs one small frame. Plain python3, no Blender:
+
+    python3 tests/blender/check_abi.py ABI_LAYOUT_EXECUTABLE LIBDDOF_SO
+"""
+
+import importlib.util
+import math
+import os
+import subprocess
+import sys
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+BINDING = os.path.join(HERE, "..", "..", "blender_addon", "diffusion_dof", "binding.py")
+
+
+def load_binding():
+    spec = importlib.util.spec_from_file_location("ddof_binding", BINDING)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def main():
+    layout_exe, library = sys.argv[1], sys.argv[2]
+    b = load_binding()
+    import ctypes
+
+    failures = []
+    lines = subprocess.run([layout_exe], check=True, capture_output=True,
+                           text=True).stdout.splitlines()
+    enums = {}
+    version = None
+    checked = 0
+    for line in lines:
+        words = line.split()
+        if words[0] == "enum":
+            enums[words[1]] = int(words[2])
+            continue
+        if words[0] == "version":
+            version = int(words[1])
+            continue
+        name, size = words[0], int(words[1])
+        cls = b.STRUCTS.get(name)
+        if cls is None:
+            failures.append("%s has no ctypes mirror" % name)
+            continue
+        if ctypes.sizeof(cls) != size:
+            failures.append("%s: sizeof C %d, ctypes %d" % (name, size, ctypes.sizeof(cls)))
+        c_fields = []
+        for item in words[2:]:
+            field, offset, fsize = item.split(":")
+            c_fields.append(field)
+            desc = getattr(cls, field, None)
+            if desc is None:
+                failures.append("%s.%s missing in ctypes" % (name, field))
+                continue
+            if desc.offset != int(offset) or desc.size != int(fsize):
+                failures.append("%s.%s: C offset %s size %s, ctypes offset %d size %d"
+                                % (name, field, offset, fsize, desc.offset, desc.size))
+            checked += 1
+        py_fields = [f[0] for f in cls._fields_]
+        if py_fields != c_fields:
+            failures.append("%s: field order C %s, ctypes %s" % (name, c_fields, py_fields))
+    if set(b.STRUCTS) != {l.split()[0] for l in lines if l.split()[0] not in ("enum", "version")}:
+        failures.append("the C dump and the binding list different structs")
+
+    expect = {
+        "DDOF_OK": b.DDOF_OK, "DDOF_STATUS_COUNT_": len(b.STATUS_NAMES),
+        "DDOF_LENS_CYCLES": b.LENS_CYCLES, "DDOF_LENS_THIN_LENS": b.LENS_THIN_LENS,
+        "DDOF_DEPTH_PLANAR": b.DEPTH_PLANAR, "DDOF_DEPTH_RADIAL": b.DEPTH_RADIAL,
+        "DDOF_SENSOR_FIT_AUTO": b.SENSOR_FIT_AUTO,
+        "DDOF_SENSOR_FIT_HORIZONTAL": b.SENSOR_FIT_HORIZONTAL,
+        "DDOF_SENSOR_FIT_VERTICAL": b.SENSOR_FIT_VERTICAL,
+        "DDOF_SOLVER_THOMAS": b.SOLVERS["thomas"],
+        "DDOF_SOLVER_CYCLIC_REDUCTION": b.SOLVERS["cr"],
+        "DDOF_SOLVER_PCR": b.SOLVERS["pcr"], "DDOF_SOLVER_JACOBI": b.SOLVERS["jacobi"],
+        "DDOF_SOLVER_REFERENCE_F64": b.SOLVERS["reference"],
+        "DDOF_LAYER_AUTO": b.LAYER_AUTO, "DDOF_LAYER_OFF": b.LAYER_OFF,
+        "DDOF_LAYER_ON": b.LAYER_ON,
+        "DDOF_EFFECT_MIDGROUND": b.EFFECT_MIDGROUND,
+        "DDOF_EFFECT_BACKGROUND": b.EFFECT_BACKGROUND,
+        "DDOF_EFFECT_FOREGROUND": b.EFFECT_FOREGROUND,
+        "DDOF_EFFECT_NEAR_SPREAD": b.EFFECT_NEAR_SPREAD,
+    }
+    for name, value in expect.items():
+        if enums.get(name) != value:
+            failures.append("%s: C %s, binding %s" % (name, enums.get(name), value))
+    if version is None or b.version_tuple(version)[:2] != b.BINDING_VERSION:
+        failures.append("header version %s, binding %s" % (version, b.BINDING_VERSION))
+
+    # The add-on's bl_info version follows the library's major.minor.
+    sys.path.insert(0, os.path.join(HERE, "..", "..", "blender_addon"))
+    import build_zip
+    addon_version = tuple(int(v) for v in build_zip.addon_version().split("."))
+    if addon_version[:2] != b.BINDING_VERSION:
+        failures.append("bl_info version %s, binding %s" % (addon_version, b.BINDING_VERSION))
+
+    # Version rule.
+    for number, ok in ((200, True), (205, True), (300, False), (100, False), (10200, False)):
+        if b.version_compatible(number) != ok:
+            failures.append("version_compatible(%d) should be %s" % (number, ok))
+
+    # The real library through the binding: names, one frame, and an error message.
+    os.environ[b.ENV_VAR] = library
+    lib = b.get_library(reload=True)
+    if lib.version_number != version:
+        failures.append("library %d, header %d" % (lib.version_number, version))
+    for name, value in b.SOLVERS.items():
+        if lib.solver_name(value) != name:
+            failures.append("solver %d is %r in the library" % (value, lib.solver_name(value)))
+    w, h = 64, 32
+    color = b.new_buffer(w * h * 4)
+    depth = b.new_buffer(w * h)
+    for y in range(h):
+        for x in range(w):
+            i = y * w + x
+            checker = float((x // 4 + y // 4) % 2)
+            color[4 * i:4 * i + 4] = b.array.array("f", [checker, 0.5, 0.25, 1.0])
+            depth[i] = 2.0 if x < w // 2 else 20.0
+    # 100 mm f/1 focused at 2 m: CoC about 8 px at 20 m on a 64-pixel-wide 36 mm sensor.
+    camera = {"lens_model": "CYCLES", "focal_length_mm": 100.0, "sensor_width_mm": 36.0,
+              "fstop": 1.0, "focus_distance_m": 2.0, "sensor_fit": "AUTO"}
+    out, stats = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"substeps": 2})
+    left = [out[4 * (y * w + x)] for y in range(h) for x in range(w // 2 - 4)]
+    right = [out[4 * (y * w + x)] for y in range(h) for x in range(w // 2 + 8, w)]
+    if left != [color[4 * (y * w + x)] for y in range(h) for x in range(w // 2 - 4)]:
+        failures.append("in-focus half changed")
+    right_in = [color[4 * (y * w + x)] for y in range(h) for x in range(w // 2 + 8, w)]
+
+    def spread(values):
+        mean = sum(values) / len(values)
+        return math.sqrt(sum((v - mean) ** 2 for v in values) / len(values))
+    if spread(right) > 0.6 * spread(right_in):
+        failures.append("out-of-focus half not blurred (spread %g of %g)"
+                        % (spread(right), spread(right_in)))
+    if "midground: on" not in stats["plan"] or stats["substeps"] != 2:
+        failures.append("unexpected stats %r" % stats)
+    depth[5] = -1.0
+    try:
+        lib.depth_of_field(w, h, color, 4, depth, 1, camera)
+        failures.append("negative depth accepted")
+    except b.DdofError as err:
+        if "depth" not in str(err) or "(5, 0)" not in str(err):
+            failures.append("unclear error: %s" % err)
+    depth[5] = 2.0
+    fg_color = b.new_buffer(w * h * 4)
+    fg_depth = b.array.array("f", [1e10] * (w * h))
+    for y in range(8, 16):
+        for x in range(40, 48):  # a near square in front of the far half
+            fg_color[4 * (y * w + x):4 * (y * w + x) + 4] = b.array.array("f", [1, 1, 1, 1])
+            fg_depth[y * w + x] = 1.0
+    out2, stats2 = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {},
+                                      foreground={"color": fg_color, "depth": fg_depth,
+                                                  "depth_channels": 1})
+    if not stats2["effects"] & b.EFFECT_FOREGROUND or any(math.isnan(v) for v in out2):
+        failures.append("foreground path: %r" % stats2)
+
+    # A library that is not ddof.
+    os.environ[b.ENV_VAR] = "/nonexistent/libddof.so"
+    ok, text = b.library_status(reload=True)
+    if ok or "DDOF_LIBRARY" not in text:
+        failures.append("missing library message: %s" % text)
+
+    for f in failures:
+        print("FAIL:", f)
+    print("check_abi: %d fields checked, %d failures" % (checked, len(failures)))
+    return 1 if failures else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

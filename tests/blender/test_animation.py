@@ -1,0 +1,139 @@
+"""A 3-frame focus pull rendered the way users render animations, `blender -b scene.blend -a`,
+with the add-on installed from the zip that build_zip.py makes (so the library is found next to
+the add-on, not through DDOF_LIBRARY): three DOF frames are written in the scene's format (PNG),
+and in each the card at the focus object's distance is the sharp one.
+
+Three checker cards at 2 m (left), 4 m (middle) and 10 m (right); the camera's focus object is
+an empty that jumps from 2 to 4 to 10 m on frames 1, 2, 3.
+"""
+
+import os
+import subprocess
+import sys
+import time
+import zipfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test_util as u  # noqa: E402
+
+import bpy  # noqa: E402
+
+CARDS = (("Near", 2.0, -0.24, 0.2, 44.0), ("Mid", 4.0, 0.0, 0.36, 22.0),
+         ("Far", 10.0, 1.2, 0.9, 9.0))  # name, distance, x, size, checker scale (~5 px squares)
+FRAMES = (1, 2, 3)
+
+checks = u.Checks("test_animation")
+work = u.scratch_dir("animation")
+t_start = time.time()
+library = os.environ.get("DDOF_LIBRARY", "")
+checks.check(os.path.isfile(library), "DDOF_LIBRARY must name the built library")
+
+# The add-on as a user installs it: the zip, extracted into a user scripts folder.
+zip_path = os.path.join(work, "diffusion_dof.zip")
+addon = u.load_addon()  # also puts blender_addon/ on sys.path, where build_zip.py is
+import build_zip  # noqa: E402
+build_zip.build(library, zip_path)
+user_scripts = os.path.join(work, "user_scripts")
+addons = os.path.join(user_scripts, "addons")
+os.makedirs(addons, exist_ok=True)
+with zipfile.ZipFile(zip_path) as z:
+    names = z.namelist()
+    checks.check("diffusion_dof/libddof.so" in names and "diffusion_dof/__init__.py" in names,
+                 "zip content: %s" % names)
+    z.extractall(addons)
+
+# The scene, saved with Diffusion DOF on (the add-on is registered here to set it).
+scene = u.clear_scene()
+for name, dist, x, size, scale in CARDS:
+    u.add_plane(scene, name, (size, size), (x, dist, 0.0),
+                u.emission_checker(name + "Mat", (0.9, 0.9, 0.85, 1), (0.1, 0.1, 0.15, 1), scale))
+cam = u.add_camera(scene, lens=100.0, fstop=1.4, focus=5.0)
+target = bpy.data.objects.new("FocusTarget", None)
+scene.collection.objects.link(target)
+cam.data.dof.focus_object = target
+for frame, (_, dist, _, _, _) in zip(FRAMES, CARDS):
+    target.location = (0.0, dist, 0.0)
+    target.keyframe_insert("location", frame=frame)
+for fc in target.animation_data.action.fcurves:
+    for key in fc.keyframe_points:
+        key.interpolation = "CONSTANT"
+u.configure(scene, samples=16)
+scene.frame_start, scene.frame_end = FRAMES[0], FRAMES[-1]
+settings = scene.render.image_settings
+settings.file_format = "PNG"
+settings.color_mode = "RGBA"
+settings.color_depth = "16"
+frames_dir = os.path.join(work, "frames")
+scene.render.filepath = os.path.join(frames_dir, "dof_####")
+
+# Reference: the pinhole frame (static scene), through the same PNG path, and the card masks.
+pinhole_png = os.path.join(work, "pinhole.png")
+pinhole, w, h, ch = u.render_still(scene, pinhole_png)
+scene.render.filepath = os.path.join(frames_dir, "dof_####")
+scene.diffusion_dof.enabled = True
+scene.diffusion_dof.quality = "PREVIEW"
+scene.diffusion_dof.write_frames = True
+blend = os.path.join(work, "focus_pull.blend")
+bpy.ops.wm.save_as_mainfile(filepath=blend)
+addon.unregister()
+
+# Masks: which pixels each card covers (its depth), from a depth render of the same scene.
+depth_dir = os.path.join(work, "depth")
+tree = scene.node_tree
+rl = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers")
+comp = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeComposite")
+tree.links.new(rl.outputs["Depth"], comp.inputs["Image"])
+scene.render.image_settings.file_format = "OPEN_EXR"
+scene.render.image_settings.color_depth = "32"
+depth, _, _, _ = u.render_still(scene, os.path.join(depth_dir, "depth.exr"))
+masks = {}
+for name, dist, _, _, _ in CARDS:
+    inside = [abs(depth[4 * i] - dist) < 1e-3 for i in range(w * h)]
+    masks[name] = u.erode(inside, w, h, 2)
+    checks.check(sum(masks[name]) > 200, "card %s covers %d px" % (name, sum(masks[name])))
+
+# The animation render, as a user runs it.
+env = dict(os.environ)
+env.pop("DDOF_LIBRARY", None)
+env["BLENDER_USER_SCRIPTS"] = user_scripts
+t0 = time.time()
+proc = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", "--addons",
+                       "diffusion_dof", blend, "-a"], env=env, capture_output=True, text=True,
+                      timeout=300)
+t_anim = time.time() - t0
+log = proc.stdout + proc.stderr
+lines = [l for l in log.splitlines() if "Diffusion DOF" in l or "Error" in l or "Traceback" in l]
+print("\n".join(lines))
+checks.check(proc.returncode == 0, "blender -a exited with %d" % proc.returncode)
+checks.check("Traceback" not in log, "a traceback in the animation render's output")
+
+ref = {name: u.detail(pinhole, masks[name], w) for name, *_ in CARDS}
+montage = [pinhole]
+for frame, (focused, dist, _, _, _) in zip(FRAMES, CARDS):
+    path = os.path.join(frames_dir, "dof_%04d.png" % frame)
+    if not checks.check(os.path.isfile(path), "frame %d not written" % frame):
+        continue
+    checks.check(any(("frame %d:" % frame) in l and path in l for l in lines),
+                 "no Diffusion DOF report for frame %d" % frame)
+    checks.check(any(("frame %d:" % frame) in l and ("focus %g m (focus object" % dist) in l
+                     for l in lines), "frame %d: focus is not %g m from the focus object"
+                 % (frame, dist))
+    with open(path, "rb") as f:
+        checks.check(f.read(8) == b"\x89PNG\r\n\x1a\n", "frame %d is not a PNG" % frame)
+    buf, fw, fh, _ = u.load_file(path)
+    checks.check((fw, fh) == (w, h), "frame %d is %dx%d" % (frame, fw, fh))
+    montage.append(buf)
+    ratios = {name: u.detail(buf, masks[name], w) / ref[name] for name, *_ in CARDS}
+    print("frame %d (focus %g m): detail kept %s" % (
+        frame, dist, ", ".join("%s %.2f" % (n, r) for n, r in ratios.items())))
+    for name, ratio in ratios.items():
+        if name == focused:
+            checks.check(ratio > 0.95, "frame %d: the focused card %s lost detail (%.2f)"
+                         % (frame, name, ratio))
+        else:
+            checks.check(ratio < 0.5, "frame %d: card %s is not blurred (%.2f)"
+                         % (frame, name, ratio))
+u.save_montage(montage, w, h, 2, os.path.join(work, "montage.png"), scale=2)
+print("times: animation render (3 frames + start-up) %.1f s, test total %.1f s"
+      % (t_anim, time.time() - t_start))
+checks.finish()

@@ -1,0 +1,150 @@
+"""register() / unregister() twice leaves no residue: handlers, timers, classes, the scene
+property, the managed compositor nodes and the foreground companion scene all go, and a second
+register() does not duplicate anything. Also draws every panel into a recording layout, which
+catches a property name that does not exist."""
+
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test_util as u  # noqa: E402
+
+import bpy  # noqa: E402
+
+HANDLER_LISTS = [name for name in dir(bpy.app.handlers)
+                 if not name.startswith("_") and isinstance(getattr(bpy.app.handlers, name),
+                                                            list)]
+checks = u.Checks("test_register")
+
+
+def handler_snapshot():
+    return {name: list(getattr(bpy.app.handlers, name)) for name in HANDLER_LISTS}
+
+
+def ours(fn):
+    return getattr(fn, "__module__", "").startswith("diffusion_dof")
+
+
+def our_types():
+    return sorted(name for name in dir(bpy.types) if name.startswith("DIFFUSION_DOF"))
+
+
+def our_ops():
+    return sorted(dir(getattr(bpy.ops, "diffusion_dof")))
+
+
+def managed_nodes(scene):
+    tree = scene.node_tree
+    return sorted(n.name for n in tree.nodes if n.name.startswith("DDOF")) if tree else []
+
+
+class RecordingLayout:
+    """Stands in for bpy.types.UILayout: accepts every call, checks that prop() names exist."""
+
+    def __init__(self, problems):
+        self.problems = problems
+        self.calls = 0
+
+    def __getattr__(self, name):
+        def call(*args, **kwargs):
+            self.calls += 1
+            if name in ("prop", "prop_search") and len(args) >= 2:
+                data, prop = args[0], args[1]
+                if prop not in data.bl_rna.properties:
+                    self.problems.append("%s.%s does not exist" % (type(data).__name__, prop))
+            if name == "operator":
+                category, _, op = args[0].partition(".")
+                if op not in dir(getattr(bpy.ops, category)):
+                    self.problems.append("operator %s does not exist" % args[0])
+            return self
+        return call
+
+    def __setattr__(self, name, value):
+        object.__setattr__(self, name, value)
+
+
+baseline_handlers = handler_snapshot()
+baseline_types = our_types()
+checks.check(baseline_types == [], "types before registering: %s" % baseline_types)
+
+scene = u.clear_scene()
+cam = u.add_camera(scene)
+near = bpy.data.collections.new("NearObjects")
+scene.collection.children.link(near)
+u.add_plane(scene, "Post", (0.1, 1.0), (0.0, 1.5, 0.0),
+            u.emission_checker("PostMat", (1, 1, 1, 1), (0, 0, 0, 1), 10.0), collection=near)
+u.configure(scene, samples=1)
+scenes_before = sorted(s.name for s in bpy.data.scenes)
+collections_before = sorted(c.name for c in bpy.data.collections)
+
+if u.ADDON_DIR not in sys.path:
+    sys.path.insert(0, u.ADDON_DIR)
+import diffusion_dof  # noqa: E402
+
+for round_ in (1, 2):
+    diffusion_dof.register()
+    added = {name: [h for h in getattr(bpy.app.handlers, name) if h not in
+                    baseline_handlers[name]] for name in HANDLER_LISTS}
+    added = {k: v for k, v in added.items() if v}
+    checks.check(all(len(v) == 1 and ours(v[0]) for v in added.values()) and len(added) >= 6,
+                 "round %d: handlers added: %r" % (round_, added))
+    checks.check(hasattr(bpy.types.Scene, "diffusion_dof"), "no scene property")
+    types = our_types()
+    checks.check(len(types) >= 10, "round %d: registered types %s" % (round_, types))
+    checks.check("apply_images" in our_ops() and "setup" in our_ops(), "operators missing")
+
+    # Use it: on, foreground collection (companion scene), panels drawn.
+    s = scene.diffusion_dof
+    s.enabled = True
+    s.foreground_collection = near
+    companion = diffusion_dof.passes.companion_scene(scene)
+    checks.check(companion is not None, "round %d: no companion scene" % round_)
+    checks.check(managed_nodes(scene) == sorted(diffusion_dof.passes.MANAGED_NODES),
+                 "round %d: managed nodes %s" % (round_, managed_nodes(scene)))
+    layer_near = scene.view_layers[0].layer_collection.children["NearObjects"]
+    checks.check(layer_near.indirect_only, "foreground collection not indirect-only")
+    checks.check(diffusion_dof.passes.missing_setup(scene, s) == "",
+                 "setup incomplete: %s" % diffusion_dof.passes.missing_setup(scene, s))
+    problems = []
+    layout = RecordingLayout(problems)
+
+    class Ctx:
+        pass
+    ctx = Ctx()
+    ctx.scene = scene
+    for draw in (diffusion_dof.ui.draw_main, diffusion_dof.ui.draw_camera,
+                 diffusion_dof.ui.draw_expert, diffusion_dof.ui.draw_output):
+        draw(layout, ctx)
+    checks.check(not problems and layout.calls > 20, "panel drawing: %s (%d calls)"
+                 % (problems, layout.calls))
+
+    diffusion_dof.unregister()
+    after = handler_snapshot()
+    checks.check(after == baseline_handlers,
+                 "round %d: handlers left: %r" % (round_, {k: [h for h in v if ours(h)]
+                                                           for k, v in after.items()}))
+    checks.check(not hasattr(bpy.types.Scene, "diffusion_dof"), "scene property left")
+    checks.check(our_types() == [], "round %d: types left: %s" % (round_, our_types()))
+    checks.check(our_ops() == [], "round %d: operators left: %s" % (round_, our_ops()))
+    checks.check(managed_nodes(scene) == [], "round %d: nodes left: %s"
+                 % (round_, managed_nodes(scene)))
+    checks.check(sorted(x.name for x in bpy.data.scenes) == scenes_before,
+                 "round %d: scenes left: %s" % (round_, [x.name for x in bpy.data.scenes]))
+    checks.check(sorted(c.name for c in bpy.data.collections) == collections_before,
+                 "round %d: collections left: %s" % (round_,
+                                                     [c.name for c in bpy.data.collections]))
+    checks.check(not layer_near.indirect_only, "foreground collection still indirect-only")
+    timer = diffusion_dof.render._timer
+    checks.check(not bpy.app.timers.is_registered(timer), "timer left registered")
+    checks.check(not diffusion_dof.render._jobs and not diffusion_dof.render.reports,
+                 "module state left")
+
+# Registering twice in a row (a reload without unregister) still leaves one set of handlers.
+diffusion_dof.register()
+diffusion_dof.render.register()
+counts = {name: sum(1 for h in getattr(bpy.app.handlers, name) if ours(h)) for name in
+          HANDLER_LISTS}
+checks.check(max(counts.values()) == 1, "duplicate handlers: %r" % counts)
+diffusion_dof.unregister()
+checks.check(handler_snapshot() == baseline_handlers, "handlers left after double register")
+checks.finish()

@@ -1,0 +1,88 @@
+"""The UI path, simulated: with the UI, Blender calls render handlers on the render job's
+thread, where the add-on must not load images or change data. Here the handlers are wrapped to
+run on another thread (the main thread waits), so they queue the frame; the add-on's timer,
+called on the main thread as Blender's event loop would, then does the work. Also: on that
+thread the camera's lens DOF is not switched off, and the frame gets the clear message."""
+
+import os
+import sys
+import threading
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test_util as u  # noqa: E402
+
+import bpy  # noqa: E402
+
+checks = u.Checks("test_render_thread")
+addon = u.load_addon()
+render = addon.render
+
+scene = u.clear_scene()
+u.add_plane(scene, "Wall", (24.0, 14.0), (0.0, 12.0, 0.0),
+            u.emission_checker("WallMat", (0.95, 0.85, 0.6, 1), (0.08, 0.12, 0.3, 1), 4.0))
+cam = u.add_camera(scene, lens=100.0, fstop=1.4, focus=3.0)
+u.configure(scene, samples=4)
+scene.diffusion_dof.enabled = True  # sets up the passes on the main thread, as the UI does
+scene.render.filepath = os.path.join(u.scratch_dir("render_thread"), "still.exr")
+
+threads_seen = []
+
+
+def on_other_thread(fn):
+    def wrapper(*args):
+        def run():
+            threads_seen.append(threading.current_thread() is threading.main_thread())
+            fn(*args)
+        t = threading.Thread(target=run)
+        t.start()
+        t.join()
+    return wrapper
+
+
+wrapped = {}
+for name, fn in render.HANDLERS:
+    if name.startswith("render_"):
+        handlers = getattr(bpy.app.handlers, name)
+        handlers.remove(fn)
+        wrapped[name] = on_other_thread(fn)
+        handlers.append(wrapped[name])
+
+# A still with write_still: queued, not processed, until the timer runs.
+bpy.ops.render.render(write_still=True)
+checks.check(threads_seen and not any(threads_seen), "handlers did not run on another thread")
+checks.check(len(render._jobs) == 1 and render._jobs[0].ready and render._jobs[0].write,
+             "expected one ready job to write, got %r" % [(j.frame, j.ready, j.write)
+                                                          for j in render._jobs])
+checks.check("Diffusion DOF" not in bpy.data.images, "the render thread created the image")
+render._timer()
+checks.check(not render._jobs, "the timer left jobs queued")
+report = render.reports.get(scene.name)
+checks.check(report is not None and report["ok"] and report["path"], "timer report %r" % report)
+checks.check("Diffusion DOF" in bpy.data.images, "no result image after the timer")
+
+# Lens DOF on: left alone on the render thread, and the frame says why it was not processed.
+cam.data.dof.use_dof = True
+bpy.ops.render.render()
+checks.check(cam.data.dof.use_dof, "the render thread changed the camera")
+render._timer()
+report = render.reports.get(scene.name)
+checks.check(report is not None and not report["ok"] and "lens depth of field was on"
+             in report["message"], "lens DOF report %r" % report)
+cam.data.dof.use_dof = False
+
+# Setup missing (another session's temporary folder): the render thread does not fix it; the
+# frame says to click Set Up Passes.
+scene.node_tree.nodes[addon.passes.OUTPUT_NODE].base_path = "/nonexistent/elsewhere/"
+bpy.ops.render.render()
+render._timer()
+report = render.reports.get(scene.name)
+checks.check(report is not None and not report["ok"] and "Set Up Passes" in report["message"],
+             "setup report %r" % report)
+
+for name, fn in render.HANDLERS:
+    if name in wrapped:
+        handlers = getattr(bpy.app.handlers, name)
+        handlers.remove(wrapped[name])
+        handlers.append(fn)
+addon.unregister()
+checks.finish()
