@@ -166,11 +166,5 @@ CLASSES = (DIFFUSION_DOF_OT_apply_images, DIFFUSION_DOF_OT_reapply, DIFFUSION_DO
            DIFFUSION_DOF_OT_pinhole, DIFFUSION_DOF_OT_reload_library)
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+# Registers CLASSES in order and unregisters them in reverse (Blender's own helper).
+register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -198,11 +198,5 @@ for _parent in (DIFFUSION_DOF_PT_render, DIFFUSION_DOF_PT_compositor):
     CLASSES.append(_sub_panel(_parent, "output", "Output", draw_output, closed=True))
 
 
-def register():
-    for cls in CLASSES:
-        bpy.utils.register_class(cls)
-
-
-def unregister():
-    for cls in reversed(CLASSES):
-        bpy.utils.unregister_class(cls)
+# Registers CLASSES in order and unregisters them in reverse (Blender's own helper).
+register, unregister = bpy.utils.register_classes_factory(CLASSES)
