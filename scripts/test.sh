@@ -4,7 +4,7 @@
 #   bash scripts/test.sh              Release build, all ctest tests (the README's test command),
 #                                     the Blender add-on's included (installs Blender if missing)
 #   bash scripts/test.sh --sanitize   the same under AddressSanitizer + UndefinedBehaviorSanitizer
-#   bash scripts/test.sh --valgrind   the unit tests under valgrind memcheck (reduced sizes)
+#   bash scripts/test.sh --valgrind   the unit and EXR tests under valgrind memcheck (reduced sizes)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh
