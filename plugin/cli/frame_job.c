@@ -569,7 +569,8 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
         ddof_image fg_coc_image = {NULL, part->width, part->height, 1, 0};
         ddof_foreground element;
 
-        if (need_coc || opt->source == COC_FROM_CURVE) {
+        /* A buffer for the CoC the camera or the curve computes; a CoC channel is its own. */
+        if ((need_coc && opt->source != COC_FROM_CHANNEL) || opt->source == COC_FROM_CURVE) {
             coc = malloc(pixels * sizeof *coc);
             if (!coc) {
                 fail(result, "out of memory");

@@ -21,6 +21,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 #include <unistd.h>
 
@@ -218,17 +219,107 @@ static frame_paths *build_paths(const cli_options *o, int *count)
     return paths;
 }
 
+/* The identity of an existing file: the same under any spelling, symbolic or hard link. */
+typedef struct file_id {
+    dev_t dev;
+    ino_t ino;
+    const char *path; /* one spelling of it, for messages */
+} file_id;
+
+static int compare_file_ids(const void *pa, const void *pb)
+{
+    const file_id *a = pa, *b = pb;
+    if (a->dev != b->dev)
+        return a->dev < b->dev ? -1 : 1;
+    return a->ino < b->ino ? -1 : a->ino > b->ino;
+}
+
+/* Adds path to ids if it names an existing file (a missing one is nothing to protect). */
+static void add_file_id(file_id *ids, size_t *n, const char *path)
+{
+    struct stat st;
+    if (path && path[0] && stat(path, &st) == 0)
+        ids[(*n)++] = (file_id){st.st_dev, st.st_ino, path};
+}
+
+/* The existing input that path is, or NULL. */
+static const file_id *find_file_id(const file_id *ids, size_t n, const char *path)
+{
+    struct stat st;
+    file_id key;
+    if (!path || !path[0] || stat(path, &st) != 0)
+        return NULL;
+    key = (file_id){st.st_dev, st.st_ino, NULL};
+    return bsearch(&key, ids, n, sizeof *ids, compare_file_ids);
+}
+
+/* No output of any frame, no preview and no stats file may be an input of any frame or the
+ * camera sidecar: with sequences, frame 5's output may be frame 1005's input. Inputs exist,
+ * so their (device, inode) identify them; each output is looked up once. */
+static int check_no_input_overwritten(const cli_options *o, const frame_paths *paths, int count)
+{
+    file_id *ids = malloc(((size_t)count * 4 + 1) * sizeof *ids);
+    size_t n = 0;
+    int i, refused = 0;
+    if (!ids) {
+        fprintf(stderr, "ddof: out of memory\n");
+        return -1;
+    }
+    for (i = 0; i < count; i++) {
+        add_file_id(ids, &n, paths[i].input);
+        add_file_id(ids, &n, paths[i].depth_file);
+        add_file_id(ids, &n, paths[i].compare);
+        add_file_id(ids, &n, paths[i].foreground);
+    }
+    add_file_id(ids, &n, o->camera_json);
+    qsort(ids, n, sizeof *ids, compare_file_ids);
+    for (i = 0; i <= count && !refused; i++) {
+        /* Every frame's outputs, then (i == count) the stats file. */
+        const char *outputs[3] = {i < count ? paths[i].output : o->stats_path,
+                                  i < count ? paths[i].preview : NULL,
+                                  i < count ? paths[i].preview_input : NULL};
+        int k;
+        for (k = 0; k < 3 && !refused; k++) {
+            const file_id *hit = find_file_id(ids, n, outputs[k]);
+            if (hit) {
+                fprintf(stderr, "ddof: refusing to write %s: it is an input (%s); ddof never "
+                                "overwrites its input\n",
+                        outputs[k], hit->path);
+                refused = 1;
+            }
+        }
+    }
+    free(ids);
+    return refused ? -1 : 0;
+}
+
 /* Every output path refused for being an input, and every output directory that cannot take
  * a file, before any work. */
 static int check_outputs(const cli_options *o, const frame_paths *paths, int count)
 {
     char error[2048];
     int i;
-    for (i = 0; i < count; i++) {
+    for (i = 0; i < count; i++) { /* the common case, with the clearest message */
         if (frame_check_paths(&paths[i], error, sizeof error) != 0) {
             fprintf(stderr, "ddof: %s\n", error);
             return -1;
         }
+    }
+    if (check_no_input_overwritten(o, paths, count) != 0)
+        return -1;
+    for (i = 0; o->stats_path && i < count; i++) { /* nor may --stats be one of the outputs */
+        const char *outputs[3] = {paths[i].output, paths[i].preview, paths[i].preview_input};
+        int k;
+        for (k = 0; k < 3; k++)
+            if (outputs[k][0] && (strcmp(outputs[k], o->stats_path) == 0 ||
+                                  output_same_file(outputs[k], o->stats_path))) {
+                if (paths[i].frame < 0)
+                    fprintf(stderr, "ddof: --stats %s is also an output\n", o->stats_path);
+                else
+                    fprintf(stderr, "ddof: --stats %s is also an output of frame %d\n",
+                            o->stats_path, paths[i].frame);
+                return -1;
+            }
     }
     /* Patterns keep the directory the same for every frame, so the first frame tells. */
     if (output_check_directory(paths[0].output, error, sizeof error) != 0 ||
@@ -239,15 +330,6 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
         (o->stats_path && output_check_directory(o->stats_path, error, sizeof error) != 0)) {
         fprintf(stderr, "ddof: %s\n", error);
         return -1;
-    }
-    if (o->stats_path) {
-        for (i = 0; i < count; i++) {
-            if (output_same_file(o->stats_path, paths[i].input)) {
-                fprintf(stderr, "ddof: refusing to write --stats %s: it is an input file\n",
-                        o->stats_path);
-                return -1;
-            }
-        }
     }
     return 0;
 }

@@ -71,6 +71,32 @@ static void stream_error_handler(exr_const_context_t ctxt, exr_result_t code, co
     snprintf(stream->message, sizeof stream->message, "%s", msg ? msg : "");
 }
 
+/* While writing, the core calls the error handler with the context's lock held, and
+ * exr_get_user_data takes that lock again: the thread would deadlock. A write runs from start to
+ * finish inside exrio_write on one thread, so its stream is found through this thread's pointer
+ * instead (set by exrio_begin_write). Reading takes no lock there, so reads keep the handler
+ * above and may keep several files open at once. */
+static _Thread_local exrio_stream *writing_stream;
+
+static void write_error_handler(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    (void)ctxt;
+    if (!writing_stream)
+        return;
+    writing_stream->last_code = code;
+    snprintf(writing_stream->message, sizeof writing_stream->message, "%s", msg ? msg : "");
+}
+
+void exrio_begin_write(exrio_stream *stream)
+{
+    writing_stream = stream;
+}
+
+void exrio_end_write(void)
+{
+    writing_stream = NULL;
+}
+
 /* pread until `size` bytes or end of file; the core treats a short count as truncation. */
 static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t size,
                            uint64_t offset, exr_stream_error_func_ptr_t error_cb)
@@ -125,7 +151,7 @@ static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *bu
 exr_context_initializer_t exrio_stream_initializer(exrio_stream *stream, int for_write)
 {
     exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
-    init.error_handler_fn = stream_error_handler;
+    init.error_handler_fn = for_write ? write_error_handler : stream_error_handler;
     init.user_data = stream;
     if (for_write) {
         init.write_fn = stream_write;

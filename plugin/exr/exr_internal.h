@@ -26,6 +26,9 @@ typedef struct exrio_stream {
 /* An initializer for a context that reads or writes through `stream`, reports errors into it
  * (never to stderr), and allows any image size (ddof checks sizes itself). */
 exr_context_initializer_t exrio_stream_initializer(exrio_stream *stream, int for_write);
+/* Around a write on this thread: where the write context's error handler records errors. */
+void exrio_begin_write(exrio_stream *stream);
+void exrio_end_write(void);
 
 /* Formats "NAME: WHAT: core message" into error, preferring the core's own message when it
  * has one. Returns `status` so that callers can `return exrio_fail(...)`. */

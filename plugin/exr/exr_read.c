@@ -53,9 +53,13 @@ static exrio_status open_file(const char *path, int *out_fd, int64_t *out_size, 
         snprintf(error, error_size, "%s: cannot open: %s", path, strerror(e));
         return e == ENOENT || e == ENOTDIR ? EXRIO_ERROR_MISSING : EXRIO_ERROR_ACCESS;
     }
-    if (fstat(fd, &st) != 0 || S_ISDIR(st.st_mode)) {
-        snprintf(error, error_size, "%s: %s", path,
-                 S_ISDIR(st.st_mode) ? "is a directory, not an EXR file" : strerror(errno));
+    if (fstat(fd, &st) != 0) { /* st is undefined then: report errno, read nothing from st */
+        snprintf(error, error_size, "%s: %s", path, strerror(errno));
+        close(fd);
+        return EXRIO_ERROR_ACCESS;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        snprintf(error, error_size, "%s: is a directory, not an EXR file", path);
         close(fd);
         return EXRIO_ERROR_ACCESS;
     }

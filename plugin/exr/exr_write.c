@@ -169,7 +169,12 @@ exrio_status exrio_write_fd(int fd, const char *name, const exrio_write_spec *sp
     stream.fd = fd;
     stream.size = -1;
     init = exrio_stream_initializer(&stream, 1);
+    exrio_begin_write(&stream);
     rv = exr_start_write(&ctxt, name, EXR_WRITE_FILE_DIRECTLY, &init);
+    /* Blender's own attributes (cycles.ViewLayer.synchronization_time) and layered channel
+     * names pass 31 characters: allow the long names of the format (EXR version flag 0x400). */
+    if (rv == EXR_ERR_SUCCESS)
+        rv = exr_set_longname_support(ctxt, 1);
     if (rv == EXR_ERR_SUCCESS) {
         stage = "cannot define the header";
         rv = define_part(ctxt, spec);
@@ -190,6 +195,7 @@ exrio_status exrio_write_fd(int fd, const char *name, const exrio_write_spec *sp
             rv = finish;
         }
     }
+    exrio_end_write();
     if (rv != EXR_ERR_SUCCESS)
         return exrio_fail(rv == EXR_ERR_OUT_OF_MEMORY ? EXRIO_ERROR_MEMORY : EXRIO_ERROR_WRITE,
                           &stream, error, error_size, name, stage, rv);

@@ -512,6 +512,44 @@ static int case_refuse_same(void)
     CHECK(before && after && size0 == size1 && memcmp(before, after, size0) == 0);
     free(before);
     free(after);
+
+    /* Every input of every frame is protected from every output, the camera sidecar and the
+     * --stats file included: frame 5's output must not replace frame 1005's input. */
+    {
+        const char *json = test_path(dir, "camera.json");
+        const char *camera =
+            "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+            " \"fstop\": 2.0, \"focus_distance_m\": 3.0, \"resolution\": [48, 32],"
+            " \"pixel_aspect\": 1.0}";
+        test_write_file(json, camera, strlen(camera));
+        before = test_read_file(json, &size0);
+        CHECK(ddof(in, "-o", json, "--camera", json, NULL) == 1);
+        CHECK(err_contains("refusing") && err_contains("never overwrites its input"));
+        CHECK(ddof(in, "-o", test_path(dir, "s.exr"), "--camera", json, "--stats", json,
+                   NULL) == 1);
+        CHECK(err_contains("refusing"));
+        CHECK(ddof(in, "-o", test_path(dir, "s.exr"), "--camera", json, "--stats", in,
+                   NULL) == 1);
+        CHECK(ddof(in, "-o", test_path(dir, "s.exr"), "--camera", json, "--stats",
+                   test_path(dir, "s.exr"), NULL) == 1);
+        CHECK(err_contains("--stats") && err_contains("also an output"));
+        after = test_read_file(json, &size1);
+        CHECK(before && after && size0 == size1 && memcmp(before, after, size0) == 0);
+        free(before);
+        free(after);
+
+        write_scene(test_path(dir, "g_0005.exr"), &s, 0);
+        write_scene(test_path(dir, "g_1005.exr"), &s, 0);
+        before = test_read_file(test_path(dir, "g_1005.exr"), &size0);
+        CHECK(ddof(test_path(dir, "g_####.exr"), "-o", test_path(dir, "g_1###.exr"), "--frames",
+                   "5,1005", "--camera", json, NULL) == 1);
+        CHECK(err_contains("refusing") && err_contains("g_1005.exr"));
+        after = test_read_file(test_path(dir, "g_1005.exr"), &size1);
+        CHECK(before && after && size0 == size1 && memcmp(before, after, size0) == 0);
+        CHECK(!test_file_exists(test_path(dir, "s.exr")));
+        free(before);
+        free(after);
+    }
     CHECK(test_count_suffix(dir, ".tmp") == 0);
     return test_finish("test_cli refuse_same");
 }
