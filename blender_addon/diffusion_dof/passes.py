@@ -238,7 +238,12 @@ def ensure_setup(scene):
     rl.scene = scene
     rl.layer = layer.name
     folder = temp_dir(scene)
-    os.makedirs(folder, exist_ok=True)
+    try:
+        os.makedirs(folder, exist_ok=True)
+    except OSError as err:  # a setup problem the user can fix: a message, not a traceback
+        raise SetupError(f"Diffusion DOF cannot create its folder for the render passes "
+                         f"({folder}): {err.strerror}. Check the temporary folder in "
+                         f"Preferences > File Paths.") from err
     out = _output_node(tree, OUTPUT_NODE, "Diffusion DOF: passes to the add-on",
                        (x0 + 320.0, y0), frame, folder, (SLOT_COLOR, SLOT_DEPTH))
     depth_socket = _depth_socket(rl)
