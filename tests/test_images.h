@@ -184,11 +184,19 @@ static inline void fill_const(float *p, size_t n, float v)
 /* ---------------------------------------------------------------------------------------- */
 /* Measures                                                                                   */
 
+/* The larger of m and |d|, where a NaN counts as an infinite difference (fmax would drop it,
+ * and a NaN output would compare as equal). */
+static inline double max_diff_step(double m, double d)
+{
+    d = fabs(d);
+    return d <= m ? m : isnan(d) ? INFINITY : d;
+}
+
 static inline double max_abs_diff_fd(const float *a, const double *b, size_t n)
 {
     double m = 0;
     for (size_t i = 0; i < n; i++)
-        m = fmax(m, fabs((double)a[i] - b[i]));
+        m = max_diff_step(m, (double)a[i] - b[i]);
     return m;
 }
 
@@ -196,7 +204,7 @@ static inline double max_abs_diff_ff(const float *a, const float *b, size_t n)
 {
     double m = 0;
     for (size_t i = 0; i < n; i++)
-        m = fmax(m, fabs((double)a[i] - (double)b[i]));
+        m = max_diff_step(m, (double)a[i] - (double)b[i]);
     return m;
 }
 

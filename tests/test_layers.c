@@ -80,17 +80,6 @@ static void fill(float *p, size_t n, float v)
         p[i] = v;
 }
 
-static double max_diff(const float *a, const float *b, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++) {
-        double d = fabs((double)a[i] - (double)b[i]);
-        if (!(d <= m))
-            m = isnan(d) ? INFINITY : d;
-    }
-    return m;
-}
-
 /* RMSE over channels 0..2 of the pixels where mask[i] != 0. */
 static double rmse_rgb(const float *a, const float *b, const unsigned char *mask, uint32_t ch)
 {
@@ -263,7 +252,7 @@ static void test_bars_error(int horizontal)
     /* AUTO picks the same. */
     p.background = DDOF_LAYER_AUTO;
     CHECK_EQ_INT(layers(&p, img, coc, NULL, tmp, CH, NULL), DDOF_OK);
-    CHECK_MSG(max_diff(tmp, lay, n) <= 1e-6, "bars: AUTO vs ON differ by %g", max_diff(tmp, lay, n));
+    CHECK_MSG(max_abs_diff_ff(tmp, lay, n) <= 1e-6, "bars: AUTO vs ON differ by %g", max_abs_diff_ff(tmp, lay, n));
 
     /* More levels: still better than the single layer (levels above the scene's CoC 20 give
      * CoC-20 pixels a partial matte; the error measured grows with them, printed). */
@@ -280,7 +269,7 @@ static void test_bars_error(int horizontal)
     for (size_t s = 0; s < N_SOLVERS; s++) {
         p.solver = all_solvers[s];
         CHECK_EQ_INT(layers(&p, img, coc, NULL, tmp, CH, NULL), DDOF_OK);
-        double d = max_diff(tmp, lay, n), e = rmse_rgb(tmp, ref, band, CH);
+        double d = max_abs_diff_ff(tmp, lay, n), e = rmse_rgb(tmp, ref, band, CH);
         printf("%s bars, solver %s: max diff to thomas %.3g, band RMSE %.5f\n", orient,
                ddof_solver_name(all_solvers[s]), d, e);
         if (all_solvers[s] != DDOF_SOLVER_JACOBI)
@@ -300,8 +289,8 @@ static void test_bars_error(int horizontal)
         ddof_image_in zi = {coc, W, H, 1, 0};
         ddof_image oi = {tmp, W, H, CH, 0};
         CHECK_EQ_INT(ddof_diffuse_layers(ctx, &p, &ci, &zi, NULL, &oi, NULL), DDOF_OK);
-        CHECK_MSG(max_diff(tmp, lay, n) <= 1e-6, "%s bars in place: %g", orient,
-                  max_diff(tmp, lay, n));
+        CHECK_MSG(max_abs_diff_ff(tmp, lay, n) <= 1e-6, "%s bars in place: %g", orient,
+                  max_abs_diff_ff(tmp, lay, n));
     }
 
     /* Padded rows, a 2-channel CoC image: the same. */
@@ -321,7 +310,7 @@ static void test_bars_error(int horizontal)
         CHECK_EQ_INT(ddof_diffuse_layers(ctx, &p, &ci, &zi, NULL, &oi, NULL), DDOF_OK);
         double d = 0;
         for (uint32_t y = 0; y < H; y++)
-            d = fmax(d, max_diff(po + y * os, lay + (size_t)y * W * CH, (size_t)W * CH));
+            d = fmax(d, max_abs_diff_ff(po + y * os, lay + (size_t)y * W * CH, (size_t)W * CH));
         CHECK_MSG(d <= 1e-6, "%s bars, padded layout: %g", orient, d);
         free(pc);
         free(pz);
@@ -423,7 +412,7 @@ static void test_near_error(void)
     CHECK_MSG(ef * FOREGROUND_MIN_GAIN <= es, "foreground %.5f vs near spread %.5f", ef, es);
     CHECK(all_finite(spread, n) && all_finite(fgout, n));
     {
-        double d = max_diff(fgout, ref, n);
+        double d = max_abs_diff_ff(fgout, ref, n);
         printf("near object: foreground element vs reference, max |diff| %.3g\n", d);
         /* A fill that does not reach the pixels diagonal to the element (outside both the rows
          * and the columns it covers) clips the halo along those lines. */
@@ -436,7 +425,7 @@ static void test_near_error(void)
         ddof_params ps = p;
         ps.solver = all_solvers[s];
         CHECK_EQ_INT(layers(&ps, bg, zero, &fg, tmp, CH, NULL), DDOF_OK);
-        double d = max_diff(tmp, fgout, n), e = rmse_rgb(tmp, ref, band, CH);
+        double d = max_abs_diff_ff(tmp, fgout, n), e = rmse_rgb(tmp, ref, band, CH);
         printf("near object, foreground element, solver %s: max diff to thomas %.3g, band RMSE "
                "%.5f\n", ddof_solver_name(ps.solver), d, e);
         if (all_solvers[s] != DDOF_SOLVER_JACOBI)
@@ -453,7 +442,7 @@ static void test_near_error(void)
         float *alt = alloc_f(n);
         ddof_foreground fg2 = make_fg(obj, tmp, 1);
         CHECK_EQ_INT(layers(&p, bg, zero, &fg2, alt, CH, NULL), DDOF_OK);
-        double d = max_diff(alt, fgout, n);
+        double d = max_abs_diff_ff(alt, fgout, n);
         CHECK_MSG(d <= 1e-6, "element CoC under alpha 0 changes the result by %g", d);
         free(alt);
     }
@@ -462,8 +451,8 @@ static void test_near_error(void)
     p.near_spread = DDOF_LAYER_OFF;
     p.background = DDOF_LAYER_OFF;
     CHECK_EQ_INT(layers(&p, img, coc, NULL, tmp, CH, NULL), DDOF_OK);
-    CHECK_MSG(max_diff(tmp, one, n) <= 1e-6, "near spread off vs single: %g",
-              max_diff(tmp, one, n));
+    CHECK_MSG(max_abs_diff_ff(tmp, one, n) <= 1e-6, "near spread off vs single: %g",
+              max_abs_diff_ff(tmp, one, n));
 
     free(bg);
     free(img);
@@ -570,8 +559,8 @@ static void test_foreground_forms(void)
     ddof_foreground fp = make_fg(pre, fcoc, 1), fs = make_fg(straight, fcoc, 0);
     CHECK_EQ_INT(layers(&p, main_c, coc, &fp, o1, CH, NULL), DDOF_OK);
     CHECK_EQ_INT(layers(&p, main_c, coc, &fs, o2, CH, NULL), DDOF_OK);
-    CHECK_MSG(max_diff(o1, o2, n) <= 1e-6, "premultiplied vs straight element: %g",
-              max_diff(o1, o2, n));
+    CHECK_MSG(max_abs_diff_ff(o1, o2, n) <= 1e-6, "premultiplied vs straight element: %g",
+              max_abs_diff_ff(o1, o2, n));
 
     /* 3-channel main image: the same RGB. */
     CHECK_EQ_INT(layers(&p, main3, coc, &fp, o3, 3, NULL), DDOF_OK);
@@ -601,8 +590,8 @@ static void test_foreground_forms(void)
                   premultiplied ? "premultiplied" : "straight", (int)s,
                   ddof_context_last_error(ctx));
         CHECK(all_finite(o2, n));
-        CHECK_MSG(max_diff(o1, o2, n) <= 1e-6, "NaN under alpha 0 (%s) vs 0: %g",
-                  premultiplied ? "premultiplied" : "straight", max_diff(o1, o2, n));
+        CHECK_MSG(max_abs_diff_ff(o1, o2, n) <= 1e-6, "NaN under alpha 0 (%s) vs 0: %g",
+                  premultiplied ? "premultiplied" : "straight", max_abs_diff_ff(o1, o2, n));
         free(nan_c);
     }
 
@@ -612,14 +601,14 @@ static void test_foreground_forms(void)
     CHECK_EQ_INT(layers(&p, main_c, coc, &fp, o1, CH, NULL), DDOF_OK);
     CHECK_EQ_INT(layers(&p, main_c, coc, NULL, o2, CH, NULL), DDOF_OK);
     CHECK(all_finite(o1, n));
-    CHECK_MSG(max_diff(o1, o2, n) <= 1e-6, "transparent element changes the result by %g",
-              max_diff(o1, o2, n));
+    CHECK_MSG(max_abs_diff_ff(o1, o2, n) <= 1e-6, "transparent element changes the result by %g",
+              max_abs_diff_ff(o1, o2, n));
     for (size_t i = 0; i < npx * 4; i++) /* and NaN colour everywhere under it */
         if ((i & 3) != 3)
             pre[i] = NAN;
     ddof_status s = layers(&p, main_c, coc, &fp, o1, CH, NULL);
     CHECK_MSG(s == DDOF_OK, "transparent NaN element: status %d", (int)s);
-    CHECK_MSG(max_diff(o1, o2, n) <= 1e-6, "transparent NaN element: %g", max_diff(o1, o2, n));
+    CHECK_MSG(max_abs_diff_ff(o1, o2, n) <= 1e-6, "transparent NaN element: %g", max_abs_diff_ff(o1, o2, n));
 
     free(main_c);
     free(main3);
@@ -937,7 +926,7 @@ static void test_progress_threads(void)
         ddof_image oi = {out1, W, H, CH, 0};
         CHECK_EQ_INT(ddof_diffuse_layers(one, &p, &ci, &zi, &fg, &oi, NULL), DDOF_OK);
     }
-    CHECK_MSG(max_diff(out, out1, n) <= 1e-6, "1 vs 2 threads: %g", max_diff(out, out1, n));
+    CHECK_MSG(max_abs_diff_ff(out, out1, n) <= 1e-6, "1 vs 2 threads: %g", max_abs_diff_ff(out, out1, n));
     ddof_context_free(one);
 
     /* Several substeps: every layer still finite and within range. */
@@ -1231,8 +1220,8 @@ static void test_depth_of_field_near(void)
     CHECK(negative > 0);
     p.coc_signed = 1;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out2, CH, NULL), DDOF_OK);
-    CHECK_MSG(max_diff(out, out2, n) <= 1e-6, "depth_of_field vs coc + layers: %g",
-              max_diff(out, out2, n));
+    CHECK_MSG(max_abs_diff_ff(out, out2, n) <= 1e-6, "depth_of_field vs coc + layers: %g",
+              max_abs_diff_ff(out, out2, n));
     free(color);
     free(depth);
     free(out);

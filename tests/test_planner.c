@@ -55,17 +55,6 @@ static ddof_status single(const ddof_params *p, const float *color, const float 
     return diffuse(ctx, p, color, coc, out, W, H, ch, st);
 }
 
-static double max_diff(const float *a, const float *b, size_t n)
-{
-    double m = 0;
-    for (size_t i = 0; i < n; i++) {
-        double d = fabs((double)a[i] - (double)b[i]);
-        if (!(d <= m))
-            m = isnan(d) ? INFINITY : d;
-    }
-    return m;
-}
-
 /* ---------------------------------------------------------------------------------------- */
 /* The plan text                                                                              */
 
@@ -334,7 +323,7 @@ static void test_uniform_blur(void)
     check_timings("uniform", &st, 0, 0);
 
     CHECK_EQ_INT(single(&p, color, coc, out2, CH, &st1), DDOF_OK);
-    double d = max_diff(out, out2, n);
+    double d = max_abs_diff_ff(out, out2, n);
     CHECK_MSG(d <= 1e-6, "uniform: layered vs ddof_diffuse differ by %g", d);
     CHECK_EQ_INT(st.lines_solved, st1.lines_solved);
     CHECK_MSG(st1.effects == DDOF_EFFECT_MIDGROUND, "ddof_diffuse effects 0x%x", st1.effects);
@@ -343,7 +332,7 @@ static void test_uniform_blur(void)
     p.coc_signed = 1;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out2, CH, &st), DDOF_OK);
     CHECK_MSG(st.effects == DDOF_EFFECT_MIDGROUND, "uniform signed: effects 0x%x", st.effects);
-    CHECK(max_diff(out, out2, n) <= 1e-6);
+    CHECK(max_abs_diff_ff(out, out2, n) <= 1e-6);
 }
 
 /* Half the image sharp (top), the other half mildly blurred (CoC 6 < threshold 8): the sharp
@@ -389,14 +378,14 @@ static void test_bars(void)
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out2, CH, &st2), DDOF_OK);
     CHECK_MSG(st2.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_BACKGROUND),
               "bars signed: effects 0x%x", st2.effects);
-    CHECK(max_diff(out, out2, n) <= 1e-6);
+    CHECK(max_abs_diff_ff(out, out2, n) <= 1e-6);
     p.coc_signed = 0;
 
     /* Forced on: the same as AUTO here. */
     p.background = DDOF_LAYER_ON;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out2, CH, &st_on), DDOF_OK);
     CHECK(st_on.effects & DDOF_EFFECT_BACKGROUND);
-    CHECK(max_diff(out, out2, n) <= 1e-6);
+    CHECK(max_abs_diff_ff(out, out2, n) <= 1e-6);
 
     /* Forced off: skipped, says so, and the result is the single-layer diffusion. */
     p.background = DDOF_LAYER_OFF;
@@ -408,7 +397,7 @@ static void test_bars(void)
               st_off.plan);
     check_timings("bars off", &st_off, 0, 0);
     CHECK_EQ_INT(single(&p, color, coc, out2, CH, NULL), DDOF_OK);
-    double d = max_diff(out, out2, n);
+    double d = max_abs_diff_ff(out, out2, n);
     CHECK_MSG(d <= 1e-6, "bars, background off vs ddof_diffuse: %g", d);
 
     /* The background layer solves at least one more row and column pass (CoC fill + colour). */
@@ -498,7 +487,7 @@ static void test_near(void)
     ddof_params p1;
     ddof_params_init(&p1);
     CHECK_EQ_INT(single(&p1, color, abs_coc, out2, CH, NULL), DDOF_OK);
-    double d = max_diff(out, out2, n);
+    double d = max_abs_diff_ff(out, out2, n);
     CHECK_MSG(d <= 1e-6, "near spread off vs ddof_diffuse(|CoC|): %g", d);
     CHECK_MSG(st.lines_solved >= st_off.lines_solved, "near: %llu lines with spread, %llu without",
               (unsigned long long)st.lines_solved, (unsigned long long)st_off.lines_solved);
@@ -507,7 +496,7 @@ static void test_near(void)
     p.near_spread = DDOF_LAYER_AUTO;
     p.background = DDOF_LAYER_AUTO;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, NULL), DDOF_OK);
-    d = max_diff(out, out2, n);
+    d = max_abs_diff_ff(out, out2, n);
     CHECK_MSG(d > 0.05, "near spread on changes the result by only %g", d);
 
     /* The same object, unsigned (a far object over an in-focus background): the background
@@ -565,7 +554,7 @@ static void test_foreground(void)
     }
     check_timings("foreground, sharp main", &st, 0, 1);
     /* The element shows. */
-    CHECK(max_diff(out, color, n) > 0.1);
+    CHECK(max_abs_diff_ff(out, color, n) > 0.1);
 
     /* The same scene without the element: nothing to do. */
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out2, CH, &st_none), DDOF_OK);
@@ -610,7 +599,7 @@ static void test_old_structs(void)
     ddof_params old;
     memcpy(&old, pbuf, sizeof old);
     CHECK_EQ_INT(layers(&old, color, coc, NULL, out, CH, NULL), DDOF_OK);
-    double d = max_diff(out, out2, n);
+    double d = max_abs_diff_ff(out, out2, n);
     CHECK_MSG(d <= 1e-6, "v0.1 params: result differs from the defaults by %g", d);
 
     /* ddof_diffuse with v0.1 params works as before. */

@@ -241,6 +241,15 @@ static void test_hold(void)
     }
 }
 
+/* The file is done with (renamed or removed): its paths freed, the struct back to empty. */
+static void forget(output_file *file)
+{
+    free(file->temp_path);
+    free(file->final_path);
+    memset(file, 0, sizeof *file);
+    file->fd = -1;
+}
+
 int output_file_commit(output_file *file, char *error, size_t error_size)
 {
     int ok = 1;
@@ -284,10 +293,7 @@ int output_file_commit(output_file *file, char *error, size_t error_size)
     }
     registry_remove(file->temp_path);
     pthread_mutex_unlock(&registry_lock);
-    free(file->temp_path);
-    free(file->final_path);
-    memset(file, 0, sizeof *file);
-    file->fd = -1;
+    forget(file);
     return 0;
 }
 
@@ -303,10 +309,7 @@ void output_file_abort(output_file *file)
         registry_remove(file->temp_path);
         pthread_mutex_unlock(&registry_lock);
     }
-    free(file->temp_path);
-    free(file->final_path);
-    memset(file, 0, sizeof *file);
-    file->fd = -1;
+    forget(file);
 }
 
 int output_check_directory(const char *path, char *error, size_t error_size)
