@@ -133,7 +133,7 @@ static void test_status_strings(void)
     CHECK(ddof_status_string((ddof_status)999) != NULL);
     CHECK(ddof_status_string((ddof_status)-1) != NULL);
 
-    const char *names[] = {"thomas", "cr", "pcr", "jacobi", "reference"};
+    const char *names[] = {"thomas", "cr", "pcr", "jacobi", "reference", "gruen"};
     for (int i = 0; i < DDOF_SOLVER_COUNT_; i++) {
         const char *n = ddof_solver_name((ddof_solver)i);
         CHECK_MSG(n && !strcmp(n, names[i]), "solver %d name \"%s\"", i, n ? n : "(null)");
@@ -401,7 +401,80 @@ static void test_params(void)
     BAD_PARAM("pixel_aspect NaN", p.pixel_aspect = NAN);
     BAD_PARAM("pixel_aspect inf", p.pixel_aspect = INFINITY);
     BAD_PARAM("jacobi_iterations 0", (p.solver = DDOF_SOLVER_JACOBI, p.jacobi_iterations = 0));
+    BAD_PARAM("method 2", p.method = (ddof_method)2);
+    BAD_PARAM("precision 2", p.precision = (ddof_precision)2);
 #undef BAD_PARAM
+    /* The CPU backend has no Gruen solver and no packed half: a clear status, out untouched. */
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_GRUEN;
+    expect("Gruen on the CPU", &c, DDOF_ERROR_UNSUPPORTED);
+    ddof_params_init(&p);
+    p.precision = DDOF_PRECISION_PACKED_HALF;
+    expect("packed half on the CPU", &c, DDOF_ERROR_UNSUPPORTED);
+}
+
+static int same_settings(const ddof_params *a, const ddof_params *b)
+{
+    return a->method == b->method && a->solver == b->solver && a->substeps == b->substeps &&
+           a->beta_scale == b->beta_scale && a->background == b->background &&
+           a->background_levels == b->background_levels && a->near_spread == b->near_spread &&
+           a->precision == b->precision && a->struct_size == b->struct_size;
+}
+
+/* Presets: known ones are valid params (the good call succeeds with each), an unknown one is
+ * an error that still leaves the default preset, and ddof_params_init is the default preset. */
+static void test_presets(void)
+{
+    ddof_params p, d;
+    ddof_params_init(&d);
+    for (int i = 0; i < DDOF_PRESET_COUNT_; i++) {
+        CHECK_EQ_INT(ddof_params_init_preset(&p, (ddof_preset)i), DDOF_OK);
+        CHECK(ddof_preset_name((ddof_preset)i) != NULL);
+        call c = good_call();
+        c.params = &p;
+        CHECK_MSG(run_call(&c) == DDOF_OK, "preset %s: %s", ddof_preset_name((ddof_preset)i),
+                  ddof_context_last_error(ctx));
+    }
+    CHECK_EQ_INT(ddof_params_init_preset(&p, DDOF_PRESET_DEFAULT), DDOF_OK);
+    CHECK(same_settings(&p, &d));
+    CHECK_EQ_INT(ddof_params_init_preset(&p, DDOF_PRESET_COUNT_), DDOF_ERROR_BAD_PARAMETER);
+    CHECK(same_settings(&p, &d));
+    CHECK(ddof_preset_name(DDOF_PRESET_COUNT_) == NULL);
+    CHECK_EQ_INT(ddof_params_init_preset(NULL, DDOF_PRESET_DEFAULT), DDOF_ERROR_NULL_POINTER);
+}
+
+/* Backends: a GL backend that cannot be loaded is a status and a sentence, the context keeps
+ * working on the CPU; AUTO falls back to the CPU and says why. */
+static void test_backend_selection(void)
+{
+    ddof_backend_info info = {.struct_size = sizeof info};
+    CHECK_EQ_INT(ddof_context_backend_info(ctx, &info), DDOF_OK);
+    CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);
+    CHECK(strstr(info.renderer, "CPU") != NULL);
+    const char *missing = "/nonexistent/libddof_gl.so";
+    for (int k = DDOF_BACKEND_EGL; k < DDOF_BACKEND_COUNT_; k++) {
+        CHECK_EQ_INT(ddof_context_set_backend(ctx, (ddof_backend_kind)k, missing),
+                     DDOF_ERROR_BACKEND_UNAVAILABLE);
+        CHECK_MSG(strstr(ddof_context_last_error(ctx), "could not be loaded") != NULL,
+                  "backend %s: \"%s\"", ddof_backend_name((ddof_backend_kind)k),
+                  ddof_context_last_error(ctx));
+        CHECK_EQ_INT(ddof_context_backend_info(ctx, &info), DDOF_OK);
+        CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);
+    }
+    CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_AUTO, missing), DDOF_OK);
+    CHECK_EQ_INT(ddof_context_backend_info(ctx, &info), DDOF_OK);
+    CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);
+    CHECK_MSG(strstr(info.note, "CPU") != NULL, "auto note \"%s\"", info.note);
+    CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_COUNT_, NULL),
+                 DDOF_ERROR_BAD_PARAMETER);
+    CHECK_EQ_INT(ddof_context_set_backend(NULL, DDOF_BACKEND_CPU, NULL), DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_context_backend_info(ctx, NULL), DDOF_ERROR_NULL_POINTER);
+    info.struct_size = 4;
+    CHECK_EQ_INT(ddof_context_backend_info(ctx, &info), DDOF_ERROR_BAD_PARAMETER);
+    CHECK(ddof_backend_name(DDOF_BACKEND_COUNT_) == NULL);
+    CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_CPU, NULL), DDOF_OK);
+    call c = good_call();
+    CHECK_EQ_INT(run_call(&c), DDOF_OK);
 }
 
 /* Counting allocator: balance check, and failure injection (the allocation after `budget`
@@ -466,7 +539,7 @@ static void test_allocator(void)
     ddof_image oi = {out_buf, W, H, CH, 0};
     ddof_params p;
     ddof_params_init(&p);
-    for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+    for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
         /* A fresh context whose allocator dies right after creation: the first call needs
          * scratch memory and must fail cleanly before writing anything. */
         cnt = (counting){0, 0, 0, -1};
@@ -733,6 +806,8 @@ int main(void)
     test_camera();
     test_curve();
     test_depth_of_field();
+    test_presets();
+    test_backend_selection();
 
     ddof_context_free(ctx);
     return test_report("test_bad_input");

@@ -188,7 +188,7 @@ static void test_coc_zero_insulates(ddof_context *ctx)
         test_image im = image_alloc(57, 43, ch);
         fill_uniform(im.color, im.n, &rng, -1.0, 3.0);
         fill_coc(im.coc, im.px, &rng, 40.0, 0.3);
-        for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+        for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
             ddof_params p = params_for((ddof_solver)solver, 2);
             CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
             size_t changed = 0;
@@ -385,7 +385,7 @@ static void test_in_place(ddof_context *ctx)
         float *inplace = alloc_f(im.n);
         fill_uniform(im.color, im.n, &rng, 0.0, 2.0);
         fill_coc(im.coc, im.px, &rng, 30.0, 0.2);
-        for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+        for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
             ddof_params p = params_for((ddof_solver)solver, 2);
             memcpy(inplace, im.color, bytes);
             CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
@@ -469,7 +469,7 @@ static void test_thread_counts(void)
     CHECK_EQ_INT(ddof_context_thread_count(c1), 1);
     CHECK_EQ_INT(ddof_context_thread_count(c2), 2);
     CHECK(ddof_context_thread_count(c0) >= 1);
-    for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+    for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
         ddof_params p = params_for((ddof_solver)solver, 2);
         ddof_stats st = stats_init();
         CHECK_EQ_INT(image_diffuse(c1, &p, &im, &st), DDOF_OK); /* into o1 */
@@ -551,7 +551,7 @@ static void test_stats(ddof_context *ctx)
             coc[y * w + x] = (x >= 16 && x < 48 && y >= 8 && y < 40) ? 4.0f : 0.0f;
     memset(&st, 0xAB, sizeof st);
     st.struct_size = sizeof st;
-    for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+    for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
         p = params_for((ddof_solver)solver, 3);
         CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, h, 1, &st), DDOF_OK);
         CHECK_EQ_INT(st.substeps, 3);
@@ -676,7 +676,7 @@ static void test_progress(void)
     fill_uniform(im.color, im.n, &rng, 0.0, 1.0);
     fill_coc(im.coc, im.px, &rng, 40.0, 0.1);
     ddof_context *ctx = make_context(2);
-    for (int solver = 0; solver < DDOF_SOLVER_COUNT_; solver++) {
+    for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
         progress_log log;
         memset(&log, 0, sizeof log);
         log.caller = pthread_self();

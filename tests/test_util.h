@@ -58,6 +58,9 @@ static inline double test_uniform(test_rng *rng)
     return (double)((rng->state * 2685821657736338717ULL) >> 11) * (1.0 / 9007199254740992.0);
 }
 
+/* The solvers the CPU backend runs: every ddof_solver before the GL-only Gruen solver. */
+#define TEST_CPU_SOLVER_COUNT ((int)DDOF_SOLVER_GRUEN)
+
 /* DDOF_TEST_QUICK=1 (set for the valgrind run) shrinks the largest cases. */
 static inline int test_quick(void)
 {

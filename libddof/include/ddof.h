@@ -41,7 +41,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 2
+#define DDOF_VERSION_MINOR 3
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -68,6 +68,12 @@ typedef enum ddof_status {
     DDOF_ERROR_OUT_OF_MEMORY, /* an allocation failed; nothing was written                     */
     DDOF_ERROR_THREADS,       /* a worker thread could not be started                          */
     DDOF_ERROR_CANCELLED,     /* the progress callback asked to stop                           */
+    DDOF_ERROR_BACKEND_UNAVAILABLE, /* the GL plugin, its GL library or a GL 4.5 context could */
+                              /* not be had (ddof_context_last_error says which); the context */
+                              /* keeps the backend it had                                      */
+    DDOF_ERROR_UNSUPPORTED,   /* the context's backend cannot run this solver or precision     */
+    DDOF_ERROR_BACKEND_FAILED,/* the GL backend failed mid-call (shader, out of GPU memory);   */
+                              /* out is untouched                                             */
     DDOF_STATUS_COUNT_        /* not a status: the number of codes                             */
 } ddof_status;
 
@@ -141,6 +147,47 @@ DDOF_API void ddof_context_free(ddof_context *context);
 DDOF_API uint32_t ddof_context_thread_count(const ddof_context *context);
 /* A sentence about the last error in this context ("" after a success); never NULL. */
 DDOF_API const char *ddof_context_last_error(const ddof_context *context);
+
+/* ------------------------------------------------------------------------------------------ */
+/* Backends: where the diffusion runs                                                           */
+
+/* The CPU path is in libddof itself. The GL backends live in the plugin library libddof_gl
+ * (built when GL support is on), which the context loads at run time with dlopen(RTLD_LOCAL):
+ * from `plugin_path`, else the DDOF_GL_PLUGIN environment variable, else next to libddof, else
+ * the loader's search path. GL itself is loaded the same way (libEGL / libOSMesa), so linking
+ * other GL libraries into the process does not interfere. Missing GL is a status, never a
+ * crash; the context then keeps running on the CPU. */
+typedef enum ddof_backend_kind {
+    DDOF_BACKEND_CPU = 0,     /* the default: libddof's threads                                 */
+    DDOF_BACKEND_AUTO = 1,    /* a hardware GPU through EGL when one is found, else the CPU     */
+    DDOF_BACKEND_EGL = 2,     /* EGL without a display: a GPU device when there is one, else    */
+                              /* Mesa's surfaceless platform (software, llvmpipe)               */
+    DDOF_BACKEND_OSMESA = 3,  /* Mesa's off-screen software renderer                           */
+    DDOF_BACKEND_HOST_GL = 4, /* the GL 4.5 context current on the calling thread (a host     */
+                              /* application's); it must stay current during every call       */
+    DDOF_BACKEND_COUNT_       /* not a backend                                                  */
+} ddof_backend_kind;
+
+/* "cpu", "auto", "egl", "osmesa", "host"; NULL if unknown. */
+DDOF_API const char *ddof_backend_name(ddof_backend_kind kind);
+
+/* Switches the context to a backend. On failure the context keeps its backend, the status is
+ * DDOF_ERROR_BACKEND_UNAVAILABLE and ddof_context_last_error() says what was missing. AUTO
+ * never fails for want of a GPU: it falls back to the CPU and says why in the backend info.
+ * plugin_path: the libddof_gl file to load, or NULL for the search described above. */
+DDOF_API ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
+                                              const char *plugin_path);
+
+typedef struct ddof_backend_info {
+    uint32_t struct_size;   /* sizeof(ddof_backend_info), set by the caller                     */
+    uint32_t kind;          /* the ddof_backend_kind that runs (AUTO resolves to EGL or CPU)    */
+    uint32_t hardware;      /* 1 when the GL renderer is a GPU, 0 for software or the CPU       */
+    char renderer[128];     /* GL_RENDERER and GL_VERSION, or "CPU, N threads"                 */
+    char note[256];         /* why AUTO chose what it chose; "" otherwise                       */
+} ddof_backend_info;
+
+DDOF_API ddof_status ddof_context_backend_info(const ddof_context *context,
+                                               ddof_backend_info *info);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Circle of confusion                                                                          */
@@ -221,13 +268,45 @@ typedef enum ddof_solver {
     DDOF_SOLVER_PCR = 2,             /* parallel cyclic reduction (Zhang, Cohen, Owens 2010)  */
     DDOF_SOLVER_JACOBI = 3,          /* approximate: `jacobi_iterations` sweeps from the input */
     DDOF_SOLVER_REFERENCE_F64 = 4,   /* double precision throughout, one thread; for tests    */
+    DDOF_SOLVER_GRUEN = 5,           /* GL backends only: Gruen's fast DDOF solver (Game Engine */
+                                     /* Gems 2 ch. 8): four-to-one reduction, Cramer at 2 or 3 */
     DDOF_SOLVER_COUNT_               /* not a solver                                          */
 } ddof_solver;
 
-/* The name of a solver ("thomas", "cr", "pcr", "jacobi", "reference"); NULL if unknown. */
+/* The name of a solver ("thomas", "cr", "pcr", "jacobi", "reference", "gruen"); NULL if
+ * unknown. */
 DDOF_API const char *ddof_solver_name(ddof_solver solver);
 
-#define DDOF_DEFAULT_BETA_SCALE (1.0f / 32.0f)
+/* k that matches second moments: an implicit step's variance 2 beta equals a uniform disk's
+ * d^2 / 16. The default k of ddof_params_init is the measured one of the default preset. */
+#define DDOF_MOMENT_BETA_SCALE (1.0f / 32.0f)
+#define DDOF_DEFAULT_BETA_SCALE DDOF_MOMENT_BETA_SCALE /* kept for 0.2 callers */
+
+/* How a call computes the blur. */
+typedef enum ddof_method {
+    DDOF_METHOD_DIFFUSION = 0,    /* the heat-diffusion solve (with layers as planned)         */
+    DDOF_METHOD_COD4_PREVIEW = 1  /* the practical post-process DOF of Call of Duty 4 (GPU    */
+                                  /* Gems 3 ch. 28): quarter-resolution near CoC, blurred and */
+                                  /* dilated, three blur levels interpolated. Fast, approximate;*/
+                                  /* CPU only; ignores solver, substeps and layer fields.     */
+} ddof_method;
+
+/* Arithmetic of the GL solvers. The CPU solvers compute in float (Thomas carries its running
+ * value in double); DDOF_SOLVER_REFERENCE_F64 is double throughout. */
+typedef enum ddof_precision {
+    DDOF_PRECISION_FLOAT = 0,      /* 32-bit float everywhere                                   */
+    DDOF_PRECISION_PACKED_HALF = 1 /* GL Gruen solver only: a, b, c and x packed into one      */
+                                   /* RGBA32UI texel per pixel and channel group (half floats) */
+} ddof_precision;
+
+/* Named settings measured in docs/accuracy.md: the fastest point of the accuracy-vs-time front
+ * for each purpose. ddof_params_init gives DDOF_PRESET_DEFAULT. */
+typedef enum ddof_preset {
+    DDOF_PRESET_PREVIEW = 0,
+    DDOF_PRESET_DEFAULT = 1,
+    DDOF_PRESET_FINAL = 2,
+    DDOF_PRESET_COUNT_
+} ddof_preset;
 
 /* Whether an optional effect runs: AUTO lets the planner decide from the CoC field (and says
  * why in ddof_stats.plan); ON and OFF force it. */
@@ -276,9 +355,19 @@ typedef struct ddof_params {
                                     /* Default AUTO: on when a near CoC >= the threshold       */
                                     /* borders a pixel with less than half its CoC.            */
     float near_spread_threshold_px; /* default 4; > 0                                          */
+
+    /* --- version 0.3 of this struct ------------------------------------------------------- */
+    ddof_method method;        /* default DDOF_METHOD_DIFFUSION                               */
+    ddof_precision precision;  /* default DDOF_PRECISION_FLOAT                                */
 } ddof_params;
 
+/* The default preset (see ddof_params_init_preset). */
 DDOF_API void ddof_params_init(ddof_params *params);
+
+/* Fills params with a preset's settings; an unknown preset gives DDOF_ERROR_BAD_PARAMETER and
+ * the default preset. "preview", "default", "final" by name; NULL if unknown. */
+DDOF_API ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset);
+DDOF_API const char *ddof_preset_name(ddof_preset preset);
 
 /* What a call simulated, skipped, and how long each stage took. Parameter structs of an older
  * version (a smaller struct_size, at least the first version's) are accepted: the fields they
@@ -305,6 +394,14 @@ typedef struct ddof_stats {
     char plan[512];            /* one line per decision, '\n'-separated: "<effect>: on: why", */
                                /* "<effect>: off: why", "<effect>: forced on|off"; effects   */
                                /* are midground, background, near spread, foreground         */
+
+    /* --- version 0.3 of this struct ------------------------------------------------------- */
+    uint32_t backend;          /* the ddof_backend_kind that ran the call                     */
+    uint32_t method;           /* the ddof_method that ran                                    */
+    uint64_t device_bytes;     /* GL backends: peak GPU memory the call's buffers and         */
+                               /* textures took (0 on the CPU)                                */
+    uint64_t host_bytes;       /* working memory the context holds after the call (grown to   */
+                               /* the largest call, reused by later ones), besides the images */
 } ddof_stats;
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels

@@ -19,6 +19,7 @@ typedef struct adi_request {
     size_t out_stride;
     uint32_t width, height, channels;
     ddof_solver solver;
+    ddof_precision precision; /* packed half: GL Gruen only */
     uint32_t substeps;
     uint32_t jacobi_iterations;
     float beta_scale;   /* k in beta = k d^2                          */
@@ -35,6 +36,7 @@ typedef struct adi_report {
     float max_coc;
     double seconds_rows;
     double seconds_columns;
+    uint64_t device_bytes; /* GL: peak GPU memory of the call; 0 on the CPU */
 } adi_report;
 
 /* Conductance of the link between two pixels: k * min(|d_a|, |d_b|)^2 (a negative, near-field

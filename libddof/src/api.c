@@ -15,25 +15,62 @@ const char *ddof_version_string(void)
         DDOF_VERSION_PATCH);
 }
 
-void ddof_params_init(ddof_params *params)
+/* What a preset sets; everything else keeps its base default. */
+typedef struct preset_settings {
+    ddof_method method;
+    ddof_solver solver;
+    uint32_t substeps;
+    float beta_scale;
+    ddof_layer_mode background;
+    uint32_t background_levels;
+    ddof_layer_mode near_spread;
+} preset_settings;
+
+/* Written by the accuracy study from its measured front (docs/accuracy.md). */
+static const preset_settings presets[DDOF_PRESET_COUNT_] = {
+#include "presets_measured.inc"
+};
+
+const char *ddof_preset_name(ddof_preset preset)
+{
+    switch (preset) {
+    case DDOF_PRESET_PREVIEW: return "preview";
+    case DDOF_PRESET_DEFAULT: return "default";
+    case DDOF_PRESET_FINAL: return "final";
+    case DDOF_PRESET_COUNT_: break;
+    }
+    return NULL;
+}
+
+ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
 {
     if (!params)
-        return;
+        return DDOF_ERROR_NULL_POINTER;
+    const int known = (unsigned)preset < DDOF_PRESET_COUNT_;
+    const preset_settings *s = &presets[known ? preset : DDOF_PRESET_DEFAULT];
     *params = (ddof_params){
         .struct_size = sizeof *params,
-        .solver = DDOF_SOLVER_THOMAS,
-        .substeps = 1,
-        .beta_scale = DDOF_DEFAULT_BETA_SCALE,
+        .method = s->method,
+        .solver = s->solver,
+        .substeps = s->substeps,
+        .beta_scale = s->beta_scale,
         .pixel_aspect = 1.0f,
         .jacobi_iterations = 50,
         .coc_signed = 0,
-        .background = DDOF_LAYER_AUTO,
+        .background = s->background,
         .background_threshold_px = 8.0f,
         .background_ramp_start_px = 2.0f,
-        .background_levels = 1,
-        .near_spread = DDOF_LAYER_AUTO,
+        .background_levels = s->background_levels,
+        .near_spread = s->near_spread,
         .near_spread_threshold_px = 4.0f,
+        .precision = DDOF_PRECISION_FLOAT,
     };
+    return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
+}
+
+void ddof_params_init(ddof_params *params)
+{
+    (void)ddof_params_init_preset(params, DDOF_PRESET_DEFAULT);
 }
 
 void ddof_camera_init(ddof_camera *camera)
@@ -83,6 +120,7 @@ const char *ddof_solver_name(ddof_solver solver)
     case DDOF_SOLVER_PCR: return "pcr";
     case DDOF_SOLVER_JACOBI: return "jacobi";
     case DDOF_SOLVER_REFERENCE_F64: return "reference";
+    case DDOF_SOLVER_GRUEN: return "gruen";
     case DDOF_SOLVER_COUNT_: break;
     }
     return NULL;

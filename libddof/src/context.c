@@ -1,5 +1,5 @@
 /* context.c - context lifetime: allocator, worker threads, last error. */
-#include "internal.h"
+#include "backend.h"
 
 #include <stdlib.h>
 #include <unistd.h>
@@ -50,7 +50,8 @@ ddof_status ddof_context_create(const ddof_context_options *options, ddof_contex
     ddof_context *context = ddof_alloc(&allocator, sizeof *context);
     if (!context)
         return DDOF_ERROR_OUT_OF_MEMORY;
-    *context = (ddof_context){.allocator = allocator, .thread_count = 1};
+    *context = (ddof_context){.allocator = allocator, .thread_count = 1,
+                              .backend = {.kind = DDOF_BACKEND_CPU}};
 
     uint32_t threads = options->thread_count ? options->thread_count : online_cores();
     if (threads > 1) {
@@ -69,6 +70,7 @@ void ddof_context_free(ddof_context *context)
 {
     if (!context)
         return;
+    ddof_backend_release(context);
     thread_pool_free(context->pool);
     ddof_allocator allocator = context->allocator;
     for (int i = 0; i < DDOF_SCRATCH_COUNT; i++)

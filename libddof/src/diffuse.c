@@ -2,13 +2,16 @@
  * Every check happens before the first output pixel is written, so a failed call leaves the
  * output as it was. */
 #include "adi.h"
+#include "backend.h"
 #include "coc.h"
 #include "layers.h"
 #include "parallel_rows.h"
 #include "planner.h"
+#include "preview_cod4.h"
 
 #include <math.h>
 #include <stddef.h>
+#include <stdio.h>
 #include <string.h>
 
 #define DDOF_MAX_SUBSTEPS 4096u
@@ -67,6 +70,16 @@ static ddof_status read_params(ddof_context *context, const ddof_params *caller,
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_spread_threshold_px %g must be > 0",
                          (double)p->near_spread_threshold_px);
+    if ((unsigned)p->method > DDOF_METHOD_COD4_PREVIEW ||
+        (unsigned)p->precision > DDOF_PRECISION_PACKED_HALF)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.method %u or params.precision %u is not a known value",
+                         (unsigned)p->method, (unsigned)p->precision);
+    if (p->method == DDOF_METHOD_DIFFUSION) {
+        ddof_status supported = ddof_check_backend_supports(context, p->solver, p->precision);
+        if (supported != DDOF_OK)
+            return supported;
+    }
     if (p->near_spread == DDOF_LAYER_ON && !p->coc_signed)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_spread is forced on, but the CoC is unsigned: without "
@@ -157,6 +170,7 @@ static ddof_status check_coc_values(ddof_context *context, const ddof_image_in *
 static void fill_request_params(adi_request *r, const ddof_params *p)
 {
     r->solver = p->solver;
+    r->precision = p->precision;
     r->substeps = p->substeps;
     r->jacobi_iterations = p->jacobi_iterations;
     r->beta_scale = p->beta_scale;
@@ -176,8 +190,17 @@ static void write_stats(ddof_stats *stats, const ddof_stats *full)
     stats->struct_size = caller_size;
 }
 
-static ddof_stats stats_from(const adi_report *report, ddof_solver solver, double t_start,
-                             double seconds_coc)
+/* Working memory the context holds for its calls (grown, reused). */
+static uint64_t host_bytes(const ddof_context *context)
+{
+    uint64_t sum = 0;
+    for (int i = 0; i < DDOF_SCRATCH_COUNT; i++)
+        sum += context->scratch[i].size;
+    return sum;
+}
+
+static ddof_stats stats_from(const ddof_context *context, const adi_report *report,
+                             ddof_solver solver, double t_start, double seconds_coc)
 {
     return (ddof_stats){
         .struct_size = sizeof(ddof_stats),
@@ -193,6 +216,10 @@ static ddof_stats stats_from(const adi_report *report, ddof_solver solver, doubl
         .seconds_rows = report->seconds_rows,
         .seconds_columns = report->seconds_columns,
         .effects = report->substeps_run ? DDOF_EFFECT_MIDGROUND : 0u,
+        .backend = (uint32_t)context->backend.kind,
+        .method = (uint32_t)DDOF_METHOD_DIFFUSION,
+        .device_bytes = report->device_bytes,
+        .host_bytes = host_bytes(context),
     };
 }
 
@@ -312,16 +339,33 @@ static ddof_status read_foreground(ddof_context *context, const ddof_foreground 
 
 /* ---- running ------------------------------------------------------------------------------ */
 
+/* The CoD4 preview instead of the diffusion. */
+static ddof_status run_preview(ddof_context *context, const adi_request *r, int coc_signed,
+                               ddof_stats *stats, double t_start, double seconds_coc)
+{
+    adi_report report = {.threads = context->thread_count};
+    ddof_status status = ddof_cod4_preview(context, r, coc_signed, &report);
+    if (status != DDOF_OK)
+        return status;
+    ddof_stats full = stats_from(context, &report, r->solver, t_start, seconds_coc);
+    full.backend = (uint32_t)DDOF_BACKEND_CPU;
+    full.method = (uint32_t)DDOF_METHOD_COD4_PREVIEW;
+    full.substeps = 0;
+    full.copied_only = 0;
+    full.effects = 0;
+    snprintf(full.plan, sizeof full.plan, "preview: the CoD4 post-process (GPU Gems 3 ch. 28)");
+    write_stats(stats, &full);
+    return DDOF_OK;
+}
+
 static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_stats *stats,
                               double t_start, double seconds_coc)
 {
     adi_report report;
-    ddof_status status = r->solver == DDOF_SOLVER_REFERENCE_F64
-                             ? ddof_adi_reference(context, r, &report)
-                             : ddof_adi_run(context, r, &report);
+    ddof_status status = ddof_run_adi(context, r, &report);
     if (status != DDOF_OK)
         return status;
-    ddof_stats full = stats_from(&report, r->solver, t_start, seconds_coc);
+    ddof_stats full = stats_from(context, &report, r->solver, t_start, seconds_coc);
     write_stats(stats, &full);
     return DDOF_OK;
 }
@@ -332,6 +376,8 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
                                double seconds_coc)
 {
     const adi_request *r = &q->base;
+    if (q->params->method == DDOF_METHOD_COD4_PREVIEW)
+        return run_preview(context, r, (int)q->params->coc_signed, stats, t_start, seconds_coc);
     const double t_plan = ddof_seconds();
     coc_analysis analysis;
     ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
@@ -356,7 +402,7 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
         if (status != DDOF_OK)
             return status;
     }
-    ddof_stats full = stats_from(&report.adi, r->solver, t_start, seconds_coc);
+    ddof_stats full = stats_from(context, &report.adi, r->solver, t_start, seconds_coc);
     full.max_coc_px = analysis.max_coc;
     full.copied_only = plan.copy_only;
     full.effects = report.effects;
@@ -401,6 +447,9 @@ ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
     ddof_status status = prepare(context, params, color, coc, out, &p, &r);
     if (status != DDOF_OK)
         return status;
+    if (p.method == DDOF_METHOD_COD4_PREVIEW)
+        return run_preview(context, &r, (int)p.coc_signed, stats, t_start,
+                           ddof_seconds() - t_start);
     return run_single(context, &r, stats, t_start, ddof_seconds() - t_start);
 }
 
@@ -417,6 +466,9 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
     layers_request q = {.params = &p};
     int fg_visible = 0;
     ddof_status status = prepare(context, params, color, coc, out, &p, &q.base);
+    if (status == DDOF_OK && foreground && p.method == DDOF_METHOD_COD4_PREVIEW)
+        status = ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                           "the CoD4 preview takes no foreground element");
     if (status == DDOF_OK && foreground)
         status = read_foreground(context, foreground, &q, &fg_visible);
     if (status != DDOF_OK)

@@ -20,6 +20,9 @@ const char *ddof_status_string(ddof_status status)
     case DDOF_ERROR_OUT_OF_MEMORY: return "out of memory";
     case DDOF_ERROR_THREADS: return "a worker thread could not be started";
     case DDOF_ERROR_CANCELLED: return "cancelled by the progress callback";
+    case DDOF_ERROR_BACKEND_UNAVAILABLE: return "the requested GL backend is not available";
+    case DDOF_ERROR_UNSUPPORTED: return "the backend does not support this solver or precision";
+    case DDOF_ERROR_BACKEND_FAILED: return "the GL backend failed during the call";
     case DDOF_STATUS_COUNT_: break;
     }
     return "unknown status code";

@@ -31,8 +31,21 @@ enum {
     DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };
 
+struct ddof_backend_table;
+struct ddof_device;
+
+/* Where the context's diffusions run (backend.c). */
+typedef struct ddof_backend_state {
+    ddof_backend_kind kind;                 /* CPU, EGL, OSMESA or HOST_GL (AUTO resolved) */
+    void *plugin;                           /* dlopen handle of libddof_gl, NULL on the CPU */
+    const struct ddof_backend_table *table;
+    struct ddof_device *device;
+    char note[256];                         /* why AUTO chose what it did                  */
+} ddof_backend_state;
+
 struct ddof_context {
     ddof_allocator allocator;
+    ddof_backend_state backend;
     thread_pool *pool;      /* NULL when the context works on the caller's thread only */
     uint32_t thread_count;  /* workers + the caller                                    */
     ddof_scratch scratch[DDOF_SCRATCH_COUNT];

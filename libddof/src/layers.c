@@ -17,6 +17,7 @@
  * change (their sources plus the reach of their largest CoC). Per-pixel steps run on the
  * context's threads in row chunks; the diffusions are adi.c's. */
 #include "layers.h"
+#include "backend.h"
 
 #include "parallel_rows.h"
 
@@ -58,9 +59,7 @@ static ddof_status diffuse(ddof_context *context, adi_request *r, stages *st,
         r->progress_user = st;
     }
     adi_report a;
-    ddof_status status = r->solver == DDOF_SOLVER_REFERENCE_F64
-                             ? ddof_adi_reference(context, r, &a)
-                             : ddof_adi_run(context, r, &a);
+    ddof_status status = ddof_run_adi(context, r, &a);
     st->current++;
     if (status != DDOF_OK)
         return status;
@@ -70,6 +69,8 @@ static ddof_status diffuse(ddof_context *context, adi_request *r, stages *st,
     report->adi.seconds_columns += a.seconds_columns;
     report->adi.threads = a.threads;
     report->adi.max_coc = ddof_maxf(report->adi.max_coc, a.max_coc);
+    if (a.device_bytes > report->adi.device_bytes)
+        report->adi.device_bytes = a.device_bytes;
     if (a.substeps_run > report->adi.substeps_run)
         report->adi.substeps_run = a.substeps_run;
     return DDOF_OK;

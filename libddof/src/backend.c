@@ -1,0 +1,189 @@
+/* backend.c - choosing where the diffusion runs: the CPU solvers here, or a GL device from the
+ * plugin library, loaded at run time so that libddof itself never links GL. */
+#define _GNU_SOURCE /* dladdr */
+#include "backend.h"
+
+#include <dlfcn.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PLUGIN_FILE "libddof_gl.so"
+
+const char *ddof_backend_name(ddof_backend_kind kind)
+{
+    switch (kind) {
+    case DDOF_BACKEND_CPU: return "cpu";
+    case DDOF_BACKEND_AUTO: return "auto";
+    case DDOF_BACKEND_EGL: return "egl";
+    case DDOF_BACKEND_OSMESA: return "osmesa";
+    case DDOF_BACKEND_HOST_GL: return "host";
+    case DDOF_BACKEND_COUNT_: break;
+    }
+    return NULL;
+}
+
+/* The directory libddof was loaded from (so the plugin installed beside it is found first),
+ * written into dir with a trailing '/'; "" when unknown. */
+static void own_directory(char *dir, size_t size)
+{
+    dir[0] = '\0';
+    static const char anchor = 0; /* any object of libddof's tells dladdr which file it is */
+    Dl_info info;
+    if (!dladdr(&anchor, &info) || !info.dli_fname)
+        return;
+    const char *slash = strrchr(info.dli_fname, '/');
+    if (!slash || (size_t)(slash - info.dli_fname) + 2 > size)
+        return;
+    size_t n = (size_t)(slash - info.dli_fname) + 1;
+    memcpy(dir, info.dli_fname, n);
+    dir[n] = '\0';
+}
+
+/* dlopen()s the plugin and returns its table, or NULL with a sentence in message. */
+static void *load_plugin(const char *plugin_path, const ddof_backend_table **table,
+                         char *message, size_t size)
+{
+    char beside[4096], tried[1024] = "";
+    const char *env = getenv("DDOF_GL_PLUGIN");
+    own_directory(beside, sizeof beside - sizeof PLUGIN_FILE);
+    if (beside[0])
+        strcat(beside, PLUGIN_FILE);
+    const char *candidates[] = {plugin_path, plugin_path ? NULL : env,
+                                plugin_path ? NULL : beside, plugin_path ? NULL : PLUGIN_FILE};
+    void *handle = NULL;
+    for (size_t i = 0; i < sizeof candidates / sizeof *candidates && !handle; i++) {
+        if (!candidates[i] || !candidates[i][0])
+            continue;
+        handle = dlopen(candidates[i], RTLD_NOW | RTLD_LOCAL);
+        if (!handle && !tried[0]) {
+            const char *why = dlerror();
+            snprintf(tried, sizeof tried, "%s", why ? why : candidates[i]);
+        }
+    }
+    if (!handle) {
+        snprintf(message, size, "the GL plugin %s could not be loaded (%s)", PLUGIN_FILE,
+                 tried[0] ? tried : "not found");
+        return NULL;
+    }
+    ddof_backend_entry_fn entry;
+    void *symbol = dlsym(handle, DDOF_BACKEND_ENTRY_SYMBOL);
+    memcpy(&entry, &symbol, sizeof entry); /* ISO C has no object-to-function cast */
+    const ddof_backend_table *t = symbol ? entry() : NULL;
+    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size < sizeof *t) {
+        snprintf(message, size,
+                 "the GL plugin found is not built for this libddof (backend ABI %u, wanted %u)",
+                 t ? t->abi : 0u, DDOF_BACKEND_ABI);
+        dlclose(handle);
+        return NULL;
+    }
+    *table = t;
+    return handle;
+}
+
+static void drop_device(ddof_backend_state *b)
+{
+    if (b->device)
+        b->table->close(b->device);
+    if (b->plugin)
+        dlclose(b->plugin);
+    b->device = NULL;
+    b->plugin = NULL;
+    b->table = NULL;
+}
+
+void ddof_backend_release(ddof_context *context)
+{
+    drop_device(&context->backend);
+}
+
+ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
+                                     const char *plugin_path)
+{
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    if ((unsigned)kind >= DDOF_BACKEND_COUNT_)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "unknown backend %d", (int)kind);
+
+    ddof_backend_state next = {.kind = DDOF_BACKEND_CPU};
+    if (kind != DDOF_BACKEND_CPU) {
+        char why[512] = "";
+        next.plugin = load_plugin(plugin_path, &next.table, why, sizeof why);
+        if (next.plugin) {
+            const ddof_backend_kind open_kind = kind == DDOF_BACKEND_AUTO ? DDOF_BACKEND_EGL : kind;
+            next.device = next.table->open(open_kind, kind == DDOF_BACKEND_AUTO, why, sizeof why);
+            if (next.device)
+                next.kind = open_kind;
+            else
+                drop_device(&next);
+        }
+        if (!next.device) {
+            if (kind != DDOF_BACKEND_AUTO)
+                return ddof_fail(context, DDOF_ERROR_BACKEND_UNAVAILABLE, "backend %s: %s",
+                                 ddof_backend_name(kind), why);
+            snprintf(next.note, sizeof next.note, "auto: the CPU, because %s", why);
+        } else if (kind == DDOF_BACKEND_AUTO) {
+            snprintf(next.note, sizeof next.note, "auto: a GPU was found through EGL");
+        }
+    }
+    drop_device(&context->backend);
+    context->backend = next;
+    return DDOF_OK;
+}
+
+ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_info *info)
+{
+    if (!context || !info)
+        return DDOF_ERROR_NULL_POINTER;
+    if (info->struct_size < sizeof *info)
+        return DDOF_ERROR_BAD_PARAMETER;
+    const ddof_backend_state *b = &context->backend;
+    *info = (ddof_backend_info){.struct_size = sizeof *info, .kind = b->kind};
+    snprintf(info->note, sizeof info->note, "%s", b->note);
+    if (b->device) {
+        ddof_device_info d = {0};
+        b->table->describe(b->device, &d);
+        info->hardware = d.hardware;
+        snprintf(info->renderer, sizeof info->renderer, "%s", d.renderer);
+    } else {
+        snprintf(info->renderer, sizeof info->renderer, "CPU, %u thread%s",
+                 context->thread_count, context->thread_count == 1 ? "" : "s");
+    }
+    return DDOF_OK;
+}
+
+ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
+                                        ddof_precision precision)
+{
+    const ddof_backend_state *b = &context->backend;
+    int ok;
+    if (solver == DDOF_SOLVER_REFERENCE_F64)
+        ok = precision == DDOF_PRECISION_FLOAT;
+    else if (b->device)
+        ok = b->table->supports(b->device, solver, precision);
+    else
+        ok = solver != DDOF_SOLVER_GRUEN && precision == DDOF_PRECISION_FLOAT;
+    if (ok)
+        return DDOF_OK;
+    return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                     "the %s backend cannot run solver %s with %s precision",
+                     ddof_backend_name(b->kind), ddof_solver_name(solver),
+                     precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
+}
+
+ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
+{
+    ddof_backend_state *b = &context->backend;
+    if (request->solver == DDOF_SOLVER_REFERENCE_F64)
+        return ddof_adi_reference(context, request, report);
+    if (!b->device)
+        return ddof_adi_run(context, request, report);
+    char why[512] = "";
+    *report = (adi_report){0};
+    ddof_status status = b->table->run(b->device, request, report, why, sizeof why);
+    if (status != DDOF_OK)
+        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+                         why[0] ? why : ddof_status_string(status));
+    return DDOF_OK;
+}
