@@ -474,7 +474,14 @@ static void test_backend_selection(void)
     CHECK(ddof_backend_name(DDOF_BACKEND_COUNT_) == NULL);
     CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_CPU, NULL), DDOF_OK);
     call c = good_call();
-    CHECK_EQ_INT(run_call(&c), DDOF_OK);
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK_EQ_INT(ddof_diffuse(ctx, c.params, &c.color, &c.coc, &c.out, &st), DDOF_OK);
+    CHECK_EQ_INT(st.backend, DDOF_BACKEND_CPU);
+    CHECK_EQ_INT(st.method, DDOF_METHOD_DIFFUSION);
+    CHECK_EQ_INT(st.device_bytes, 0);
+    /* The solver's scratch: at least one line batch of the image's rows. */
+    CHECK_MSG(st.host_bytes >= (uint64_t)W * CH * sizeof(float), "host_bytes %llu",
+              (unsigned long long)st.host_bytes);
 }
 
 /* Counting allocator: balance check, and failure injection (the allocation after `budget`
