@@ -9,7 +9,7 @@
 #   pinhole.png   the input's preview, to compare before and after
 #   stats.json    what was simulated and why, and the time of every stage
 #
-#   bash scripts/demo.sh [ddof options]     e.g. --preset quality, --fstop 2.8, --solver pcr
+#   bash scripts/demo.sh [ddof options]     e.g. --preset final, --fstop 2.8, --solver pcr
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh

@@ -461,6 +461,12 @@ static void test_backend_selection(void)
         CHECK_EQ_INT(ddof_context_backend_info(ctx, &info), DDOF_OK);
         CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);
     }
+    /* A plugin named by the environment is the only one tried, like an explicit path. */
+    CHECK_EQ_INT(setenv("DDOF_GL_PLUGIN", missing, 1), 0);
+    CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_OSMESA, NULL),
+                 DDOF_ERROR_BACKEND_UNAVAILABLE);
+    CHECK(strstr(ddof_context_last_error(ctx), missing) != NULL);
+    CHECK_EQ_INT(unsetenv("DDOF_GL_PLUGIN"), 0);
     CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_AUTO, missing), DDOF_OK);
     CHECK_EQ_INT(ddof_context_backend_info(ctx, &info), DDOF_OK);
     CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);

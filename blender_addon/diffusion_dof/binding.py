@@ -1,9 +1,10 @@
-"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.2).
+"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.3).
 
 This module does not import bpy: it is the add-on's only contact with the C library and can be
 used (and is tested) from a plain Python interpreter. The structures mirror ddof.h field by field;
 every parameter struct is filled by its *_init function first, so fields the add-on does not set
-keep the library's defaults. Pixel buffers are array.array('f') objects (tightly packed floats,
+keep the library's defaults (and the quality presets are the library's: ddof_params_init_preset,
+never values of the add-on's own). Pixel buffers are array.array('f') objects (tightly packed floats,
 interleaved channels) handed to the library as pointers: Python never touches a pixel.
 """
 
@@ -15,7 +16,7 @@ import sys
 
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
 # version_compatible): in 0.x the same major.minor, from 1.0 the same major and a minor >= ours.
-BINDING_VERSION = (0, 2)
+BINDING_VERSION = (0, 3)
 
 # ---------------------------------------------------------------------------------------------
 # Constants (ddof.h enums and defines)
@@ -26,8 +27,16 @@ STATUS_NAMES = (
     "DDOF_ERROR_BAD_STRIDE", "DDOF_ERROR_BAD_CHANNELS", "DDOF_ERROR_SIZE_MISMATCH",
     "DDOF_ERROR_BAD_COLOR", "DDOF_ERROR_BAD_DEPTH", "DDOF_ERROR_BAD_COC",
     "DDOF_ERROR_BAD_CAMERA", "DDOF_ERROR_OUT_OF_MEMORY", "DDOF_ERROR_THREADS",
-    "DDOF_ERROR_CANCELLED",
+    "DDOF_ERROR_CANCELLED", "DDOF_ERROR_BACKEND_UNAVAILABLE", "DDOF_ERROR_UNSUPPORTED",
+    "DDOF_ERROR_BACKEND_FAILED",
 )
+DDOF_ERROR_BACKEND_UNAVAILABLE = STATUS_NAMES.index("DDOF_ERROR_BACKEND_UNAVAILABLE")
+DDOF_ERROR_UNSUPPORTED = STATUS_NAMES.index("DDOF_ERROR_UNSUPPORTED")
+DDOF_ERROR_BACKEND_FAILED = STATUS_NAMES.index("DDOF_ERROR_BACKEND_FAILED")
+
+# ddof_backend_kind, by ddof_backend_name()
+BACKENDS = {"cpu": 0, "auto": 1, "egl": 2, "osmesa": 3, "host": 4}
+BACKEND_COUNT = 5
 
 LENS_CYCLES = 0
 LENS_THIN_LENS = 1
@@ -42,7 +51,20 @@ SENSOR_FIT_VERTICAL = 2
 SENSOR_FITS = {"AUTO": SENSOR_FIT_AUTO, "HORIZONTAL": SENSOR_FIT_HORIZONTAL,
                "VERTICAL": SENSOR_FIT_VERTICAL}
 
-SOLVERS = {"thomas": 0, "cr": 1, "pcr": 2, "jacobi": 3, "reference": 4}
+SOLVERS = {"thomas": 0, "cr": 1, "pcr": 2, "jacobi": 3, "reference": 4, "gruen": 5}
+SOLVER_COUNT = 6
+
+# ddof_method: the diffusion, or the Call of Duty 4 preview (fast, approximate, CPU only)
+METHODS = {"diffusion": 0, "cod4": 1}
+METHOD_DIFFUSION = 0
+METHOD_COD4_PREVIEW = 1
+
+# ddof_precision of the GL solvers
+PRECISIONS = {"float": 0, "packed_half": 1}
+
+# ddof_preset, by ddof_preset_name(): the settings are the library's (ddof_params_init_preset)
+PRESETS = {"preview": 0, "default": 1, "final": 2}
+PRESET_COUNT = 3
 
 LAYER_AUTO = 0
 LAYER_OFF = 1
@@ -132,7 +154,10 @@ class Params(ctypes.Structure):
                 ("background_ramp_start_px", ctypes.c_float),
                 ("background_levels", ctypes.c_uint32),
                 ("near_spread", _enum),
-                ("near_spread_threshold_px", ctypes.c_float)]
+                ("near_spread_threshold_px", ctypes.c_float),
+                # version 0.3
+                ("method", _enum),
+                ("precision", _enum)]
 
 
 class Stats(ctypes.Structure):
@@ -153,7 +178,12 @@ class Stats(ctypes.Structure):
                 ("seconds_plan", ctypes.c_double),
                 ("seconds_background", ctypes.c_double),
                 ("seconds_foreground", ctypes.c_double),
-                ("plan", ctypes.c_char * 512)]
+                ("plan", ctypes.c_char * 512),
+                # version 0.3
+                ("backend", ctypes.c_uint32),
+                ("method", ctypes.c_uint32),
+                ("device_bytes", ctypes.c_uint64),
+                ("host_bytes", ctypes.c_uint64)]
 
 
 class Foreground(ctypes.Structure):
@@ -163,10 +193,20 @@ class Foreground(ctypes.Structure):
                 ("premultiplied", ctypes.c_uint32)]
 
 
+class BackendInfo(ctypes.Structure):
+    """ddof_backend_info: the backend a context runs on, its renderer, why AUTO chose it."""
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("kind", ctypes.c_uint32),
+                ("hardware", ctypes.c_uint32),
+                ("renderer", ctypes.c_char * 128),
+                ("note", ctypes.c_char * 256)]
+
+
 # Every struct by its C name, for the ABI check (tests/blender/check_abi.py).
 STRUCTS = {"ddof_image": Image, "ddof_image_in": ImageIn, "ddof_allocator": Allocator,
            "ddof_context_options": ContextOptions, "ddof_camera": Camera, "ddof_curve": Curve,
-           "ddof_params": Params, "ddof_stats": Stats, "ddof_foreground": Foreground}
+           "ddof_params": Params, "ddof_stats": Stats, "ddof_foreground": Foreground,
+           "ddof_backend_info": BackendInfo}
 
 _c_ctx = ctypes.c_void_p  # ddof_context *
 
@@ -180,11 +220,16 @@ _PROTOTYPES = {
     "ddof_context_free": (None, [_c_ctx]),
     "ddof_context_thread_count": (ctypes.c_uint32, [_c_ctx]),
     "ddof_context_last_error": (ctypes.c_char_p, [_c_ctx]),
+    "ddof_backend_name": (ctypes.c_char_p, [_enum]),
+    "ddof_context_set_backend": (_enum, [_c_ctx, _enum, ctypes.c_char_p]),
+    "ddof_context_backend_info": (_enum, [_c_ctx, ctypes.POINTER(BackendInfo)]),
     "ddof_camera_init": (None, [ctypes.POINTER(Camera)]),
     "ddof_coc_from_camera": (_enum, [_c_ctx, ctypes.POINTER(Camera), ctypes.POINTER(ImageIn),
                                      ctypes.POINTER(Image)]),
     "ddof_solver_name": (ctypes.c_char_p, [_enum]),
     "ddof_params_init": (None, [ctypes.POINTER(Params)]),
+    "ddof_params_init_preset": (_enum, [ctypes.POINTER(Params), _enum]),
+    "ddof_preset_name": (ctypes.c_char_p, [_enum]),
     "ddof_foreground_init": (None, [ctypes.POINTER(Foreground)]),
     "ddof_diffuse_layers": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(ImageIn),
                                     ctypes.POINTER(ImageIn), ctypes.POINTER(Foreground),
@@ -327,7 +372,42 @@ class Library:
         self._dll.ddof_params_init(ctypes.byref(params))
         return params
 
-    def _context(self, threads):
+    def backend_name(self, kind):
+        name = self._dll.ddof_backend_name(kind)
+        return name.decode("ascii") if name else "?"
+
+    def preset_name(self, preset):
+        name = self._dll.ddof_preset_name(preset)
+        return name.decode("ascii") if name else None
+
+    def preset_params(self, preset):
+        """The ddof_params of a preset ('preview', 'default', 'final' or its ddof_preset value),
+        from ddof_params_init_preset: the values are the library's, chosen by its accuracy
+        study. Raises ValueError for an unknown preset."""
+        value = PRESETS[preset] if isinstance(preset, str) else int(preset)
+        params = Params()
+        status = self._dll.ddof_params_init_preset(ctypes.byref(params), value)
+        if status != DDOF_OK:
+            raise ValueError("the ddof library has no preset %r (%s)"
+                             % (preset, self.status_string(status)))
+        return params
+
+    def preset_summary(self, preset):
+        """A preset's settings as names, for the UI: method, solver, substeps, beta_scale,
+        background, background_levels, near_spread."""
+        p = self.preset_params(preset)
+        modes = {v: k for k, v in LAYER_MODES.items()}
+        methods = {v: k for k, v in METHODS.items()}
+        return {"method": methods.get(p.method, "?"), "solver": self.solver_name(p.solver),
+                "substeps": p.substeps, "beta_scale": p.beta_scale,
+                "background": modes.get(p.background, "?"),
+                "background_levels": p.background_levels,
+                "near_spread": modes.get(p.near_spread, "?")}
+
+    def _context(self, threads, backend="cpu", plugin_path=None):
+        """A new context with `threads` threads on `backend` (a name in BACKENDS). 'auto' never
+        fails for want of a GPU (it runs on the CPU and says why); 'egl' or 'osmesa' that cannot
+        be had raise DdofError with the library's reason."""
         options = ContextOptions()
         self._dll.ddof_context_options_init(ctypes.byref(options))
         options.thread_count = max(0, int(threads))
@@ -336,7 +416,25 @@ class Library:
         if status != DDOF_OK:
             raise DdofError(status, "could not create a ddof context: %s"
                             % self.status_string(status))
+        kind = BACKENDS[backend] if isinstance(backend, str) else int(backend)
+        if kind != BACKENDS["cpu"]:
+            path = plugin_path.encode() if isinstance(plugin_path, str) else plugin_path
+            status = self._dll.ddof_context_set_backend(ctx, kind, path)
+            if status != DDOF_OK:
+                detail = self._dll.ddof_context_last_error(ctx).decode("utf-8", "replace")
+                self._dll.ddof_context_free(ctx)
+                raise DdofError(status, "the %s backend is not available: %s"
+                                % (self.backend_name(kind), detail))
         return ctx
+
+    def _backend_info(self, ctx):
+        info = BackendInfo()
+        info.struct_size = ctypes.sizeof(BackendInfo)
+        if self._dll.ddof_context_backend_info(ctx, ctypes.byref(info)) != DDOF_OK:
+            return {"kind": BACKENDS["cpu"], "hardware": 0, "renderer": "", "note": ""}
+        return {"kind": info.kind, "hardware": info.hardware,
+                "renderer": info.renderer.decode("utf-8", "replace"),
+                "note": info.note.decode("utf-8", "replace")}
 
     def _check(self, ctx, status, what):
         if status != DDOF_OK:
@@ -347,18 +445,24 @@ class Library:
     # -- the job -------------------------------------------------------------------------------
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
-                       camera, params=None, threads=0, foreground=None):
+                       camera, params=None, threads=0, foreground=None, preset=None,
+                       backend="cpu", plugin_path=None):
         """Diffusion depth of field of one frame.
 
         color, depth: array.array('f') of width * height * channels floats (the depth's first
         channel is read). camera: a dict of ddof_camera fields (lens_model, sensor_fit as the
-        names in LENS_MODELS / SENSOR_FITS). params: a dict of ddof_params fields (solver as a
-        name in SOLVERS, background / near_spread as names in LAYER_MODES); missing keys keep
-        the library defaults. foreground: None, or a dict with 'color' (4 channels, RGB
-        premultiplied by alpha) and 'depth' (+ 'depth_channels'), of the same size: the
-        separately rendered foreground element.
-        Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats.
-        Raises DdofError with the library's message on bad input.
+        names in LENS_MODELS / SENSOR_FITS). preset: None (ddof_params_init, the default
+        preset) or a name in PRESETS: the parameters start from ddof_params_init_preset.
+        params: a dict of ddof_params fields that override the preset's (solver as a name in
+        SOLVERS, background / near_spread as names in LAYER_MODES, method in METHODS, precision
+        in PRECISIONS). backend: a name in BACKENDS ('cpu', 'auto', ...); plugin_path the GL
+        plugin file (None: the library's search). foreground: None, or a dict with 'color' (4
+        channels, RGB premultiplied by alpha) and 'depth' (+ 'depth_channels'), of the same
+        size: the separately rendered foreground element.
+        Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
+        plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name' (and
+        'method_note' when the method was changed). Raises DdofError with the library's message
+        on bad input or an unavailable backend.
         """
         count = width * height
         if len(color) != count * color_channels or len(depth) != count * depth_channels:
@@ -370,13 +474,22 @@ class Library:
             elif key == "sensor_fit":
                 value = SENSOR_FITS[value] if isinstance(value, str) else value
             setattr(cam, key, value)
-        p = self.default_params()
+        p = self.default_params() if preset is None else self.preset_params(preset)
         for key, value in (params or {}).items():
             if key == "solver" and isinstance(value, str):
                 value = SOLVERS[value]
             elif key in ("background", "near_spread") and isinstance(value, str):
                 value = LAYER_MODES[value]
+            elif key == "method" and isinstance(value, str):
+                value = METHODS[value]
+            elif key == "precision" and isinstance(value, str):
+                value = PRECISIONS[value]
             setattr(p, key, value)
+        method_note = ""
+        if foreground is not None and p.method == METHOD_COD4_PREVIEW:
+            # The CoD4 preview blurs one image; a foreground element asks for the layers.
+            p.method = METHOD_DIFFUSION
+            method_note = ("the CoD4 preview takes no foreground element: the diffusion ran")
 
         out = new_buffer(count * color_channels)
         color_in = ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
@@ -385,8 +498,9 @@ class Library:
         stats = Stats()
         stats.struct_size = ctypes.sizeof(Stats)
 
-        ctx = self._context(threads)
+        ctx = self._context(threads, backend, plugin_path)
         try:
+            info = self._backend_info(ctx)
             if foreground is None:
                 status = self._dll.ddof_depth_of_field(ctx, ctypes.byref(p), ctypes.byref(cam),
                                                        ctypes.byref(color_in),
@@ -432,14 +546,28 @@ class Library:
                 self._check(ctx, status, "depth of field with a foreground element")
         finally:
             self._dll.ddof_context_free(ctx)
-        return out, self._stats_dict(stats)
+        result = self._stats_dict(stats, info)
+        if method_note:
+            result["method_note"] = method_note
+        return out, result
 
-    def _stats_dict(self, stats):
+    def _stats_dict(self, stats, info):
         result = {name: getattr(stats, name) for name, _ in Stats._fields_
                   if name not in ("struct_size", "plan")}
         result["plan"] = stats.plan.decode("utf-8", "replace")
         result["solver_name"] = self.solver_name(stats.solver)
         result["effect_names"] = [name for bit, name in EFFECT_NAMES if stats.effects & bit]
+        result["method_name"] = {v: k for k, v in METHODS.items()}.get(stats.method, "?")
+        result["backend_name"] = self.backend_name(stats.backend)
+        # The context's renderer, unless the call ran elsewhere (the CoD4 preview: the CPU).
+        if stats.backend == info["kind"]:
+            result["renderer"] = info["renderer"]
+            result["hardware"] = bool(info["hardware"])
+        else:
+            result["renderer"] = "CPU, %d thread%s" % (stats.threads,
+                                                       "" if stats.threads == 1 else "s")
+            result["hardware"] = False
+        result["backend_note"] = info["note"]
         return result
 
 
@@ -468,7 +596,7 @@ def get_library(reload=False):
 
 
 def library_status(reload=False):
-    """(ok, text): 'ddof 0.2.0 (path)' or the error message; never raises."""
+    """(ok, text): 'ddof 0.3.0 (path)' or the error message; never raises."""
     try:
         lib = get_library(reload)
     except LibraryError as err:

@@ -185,18 +185,29 @@ def write_frame(scene, image, frame, since):
 
 def run(scene, settings, width, height, color, color_channels, depth, depth_channels,
         camera, foreground=None):
-    """Calls the library; returns (out, stats). Raises LibraryError, DdofError."""
+    """Calls the library with the settings' preset (the library's values), their overrides and
+    their backend; returns (out, stats). Raises LibraryError, DdofError."""
     lib = binding.get_library()
     return lib.depth_of_field(width, height, color, color_channels, depth, depth_channels,
                               camera, settings.library_params(), threads=settings.threads,
-                              foreground=foreground)
+                              foreground=foreground, preset=settings.preset_name(),
+                              backend=settings.library_backend())
+
+
+def backend_line(stats):
+    """'cpu (CPU, 2 threads)': where a frame ran."""
+    return "%s (%s)" % (stats.get("backend_name", "?"), stats.get("renderer", ""))
 
 
 def summary(stats):
-    return "%.3f s, largest CoC %.1f px, %s" % (
-        stats["seconds_total"], stats["max_coc_px"],
-        "copied (nothing out of focus)" if stats["copied_only"]
-        else " + ".join(stats["effect_names"]) or "nothing")
+    if stats.get("method_name") == "cod4":
+        what = "CoD4 preview"
+    elif stats["copied_only"]:
+        what = "copied (nothing out of focus)"
+    else:
+        what = " + ".join(stats["effect_names"]) or "nothing"
+    return "%.3f s on %s, largest CoC %.1f px, %s" % (
+        stats["seconds_total"], backend_line(stats), stats["max_coc_px"], what)
 
 
 def process_job(job):

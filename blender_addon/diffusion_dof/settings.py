@@ -4,14 +4,17 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
                        StringProperty)
 
-# Quality presets: (sub-steps, background levels). Sub-steps split each ADI step into n steps of
-# beta/n (the kernel approaches a Gaussian at linear cost); background levels are the blurring-
-# underneath layers at thresholds t, 2t, 4t... An accuracy study will tune these.
-QUALITY_PRESETS = {
-    "PREVIEW": (1, 1),
-    "DEFAULT": (2, 1),
-    "FINAL": (4, 2),
-}
+from . import binding
+
+# Quality presets are the library's (ddof_params_init_preset): their values are chosen by the
+# accuracy study from measured data, so the add-on holds none of its own. Quality -> the name of
+# the library preset; CUSTOM starts from the default preset with the sub-steps and background
+# levels below.
+QUALITY_PRESETS = {"PREVIEW": "preview", "DEFAULT": "default", "FINAL": "final"}
+
+# Expert overrides: "PRESET" keeps the preset's value. Enum items carry explicit numbers (Blender
+# stores the number), so scenes saved by 0.2 keep their choices.
+PRESET = "PRESET"
 
 
 def _on_setup_change(self, context):
@@ -40,11 +43,14 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
 
     quality: EnumProperty(
         name="Quality",
-        items=[("PREVIEW", "Preview", "1 sub-step, 1 background level: fastest"),
-               ("DEFAULT", "Default", "2 sub-steps, 1 background level"),
-               ("FINAL", "Final", "4 sub-steps, 2 background levels: closest to a lens"),
-               ("CUSTOM", "Custom", "Sub-steps and background levels set below")],
-        default="DEFAULT")
+        items=[("PREVIEW", "Preview", "The library's preview preset: fastest"),
+               ("DEFAULT", "Default", "The library's default preset"),
+               ("FINAL", "Final", "The library's final preset: closest to a lens"),
+               ("CUSTOM", "Custom", "The default preset with the sub-steps and background "
+                                    "levels set below")],
+        default="DEFAULT",
+        description="The library's presets (ddof_params_init_preset), measured by its accuracy "
+                    "study; the Expert settings override them")
     substeps: IntProperty(
         name="Sub-steps", min=1, max=64, default=2,
         description="ADI steps of beta/n each: more approach a Gaussian kernel, at linear cost")
@@ -86,28 +92,39 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
         default="AUTO")
 
     # Expert knobs.
+    method: EnumProperty(
+        name="Method",
+        items=[(PRESET, "Preset's", "As the quality preset says", 2),
+               ("diffusion", "Diffusion", "The heat-diffusion solve with its layers", 0),
+               ("cod4", "CoD4 Preview", "The fast, approximate post-process depth of field of "
+                                        "Call of Duty 4 (GPU Gems 3 ch. 28); CPU only; not with "
+                                        "a foreground collection", 1)],
+        default=PRESET)
     solver: EnumProperty(
         name="Solver",
-        items=[("thomas", "Thomas", "LU forward/back substitution: the CPU workhorse"),
-               ("cr", "Cyclic Reduction", "Odd/even reduction (Kass et al. fig. 5)"),
-               ("pcr", "Parallel Cyclic Reduction", "Zhang, Cohen, Owens 2010"),
-               ("jacobi", "Jacobi", "Approximate: a fixed number of sweeps"),
-               ("reference", "Reference", "Double precision, one thread: for comparisons")],
-        default="thomas")
+        items=[(PRESET, "Preset's", "As the quality preset says", 6),
+               ("thomas", "Thomas", "LU forward/back substitution: the CPU workhorse", 0),
+               ("cr", "Cyclic Reduction", "Odd/even reduction (Kass et al. fig. 5)", 1),
+               ("pcr", "Parallel Cyclic Reduction", "Zhang, Cohen, Owens 2010", 2),
+               ("jacobi", "Jacobi", "Approximate: a fixed number of sweeps", 3),
+               ("reference", "Reference", "Double precision, one thread: for comparisons", 4)],
+        default=PRESET)
     background: EnumProperty(
         name="Background Layer",
-        items=[("AUTO", "Auto", "The planner decides from the CoC field"),
-               ("ON", "On", "Always blur the background underneath in-focus objects"),
-               ("OFF", "Off", "Never")],
-        default="AUTO",
+        items=[(PRESET, "Preset's", "As the quality preset says", 3),
+               ("AUTO", "Auto", "The planner decides from the CoC field", 0),
+               ("ON", "On", "Always blur the background underneath in-focus objects", 1),
+               ("OFF", "Off", "Never", 2)],
+        default=PRESET,
         description="Blurring underneath (Kass et al. 3.1): lets a far background blur behind "
                     "thin in-focus objects")
     near_spread: EnumProperty(
         name="Near Spread",
-        items=[("AUTO", "Auto", "The planner decides from the CoC field"),
-               ("ON", "On", "Always spread blurred near objects over what is behind them"),
-               ("OFF", "Off", "Never")],
-        default="AUTO",
+        items=[(PRESET, "Preset's", "As the quality preset says", 3),
+               ("AUTO", "Auto", "The planner decides from the CoC field", 0),
+               ("ON", "On", "Always spread blurred near objects over what is behind them", 1),
+               ("OFF", "Off", "Never", 2)],
+        default=PRESET,
         description="Soft silhouettes for blurred near objects from one image (GPU Gems 3 "
                     "ch. 28); not used with a foreground collection")
     foreground_collection: PointerProperty(
@@ -121,9 +138,12 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
                     "layer that renders)")
     backend: EnumProperty(
         name="Backend",
-        items=[("AUTO", "Auto", "The best backend available (the CPU in this version)"),
-               ("CPU", "CPU", "libddof's multi-threaded CPU solvers")],
-        default="AUTO")
+        items=[("CPU", "CPU", "libddof's multi-threaded CPU solvers", 1),
+               ("AUTO", "Auto (GPU when available)",
+                "A hardware GPU through libddof's GL plugin when one is found, else the CPU "
+                "(the panel shows which ran)", 0)],
+        default="CPU",
+        description="Where the diffusion runs")
     threads: IntProperty(name="Threads", min=0, max=1024, default=0,
                          description="Worker threads (0: one per core)")
 
@@ -141,17 +161,33 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
         name="Show Result", default=True,
         description="After F12, show the 'Diffusion DOF' image in the render window")
 
+    def preset_name(self):
+        """The library preset the quality starts from."""
+        return QUALITY_PRESETS.get(self.quality, "default")
+
     def quality_steps(self):
-        """(sub-steps, background levels) of the chosen quality."""
+        """(sub-steps, background levels) of the chosen quality: for a preset, the library's
+        values. Raises binding.LibraryError when the library cannot be loaded."""
         if self.quality == "CUSTOM":
             return self.substeps, self.background_levels
-        return QUALITY_PRESETS[self.quality]
+        summary = binding.get_library().preset_summary(self.preset_name())
+        return summary["substeps"], summary["background_levels"]
 
     def library_params(self):
-        """The ddof_params fields these settings set (the rest keep the library defaults)."""
-        substeps, levels = self.quality_steps()
-        return {"solver": self.solver, "substeps": substeps, "background": self.background,
-                "background_levels": levels, "near_spread": self.near_spread}
+        """The ddof_params fields these settings override on top of preset_name()'s."""
+        params = {}
+        if self.quality == "CUSTOM":
+            params["substeps"] = self.substeps
+            params["background_levels"] = self.background_levels
+        for key in ("method", "solver", "background", "near_spread"):
+            value = getattr(self, key)
+            if value != PRESET:
+                params[key] = value
+        return params
+
+    def library_backend(self):
+        """The binding's backend name: 'cpu' or 'auto'."""
+        return "auto" if self.backend == "AUTO" else "cpu"
 
 
 def get(scene):

@@ -22,6 +22,19 @@ def _settings(context):
     return settings_mod.get(context.scene)
 
 
+def _preset_line(s):
+    """'thomas, 4 sub-steps, 2 background levels' of the chosen preset: the library's values."""
+    try:
+        p = binding.get_library().preset_summary(s.preset_name())
+    except (binding.LibraryError, ValueError) as err:
+        return "preset values unknown: %s" % str(err).split(". ")[0]
+    if p["method"] == "cod4":
+        return "CoD4 preview (fast, approximate)"
+    return "%s, %d sub-step%s, %d background level%s" % (
+        p["solver"], p["substeps"], "" if p["substeps"] == 1 else "s", p["background_levels"],
+        "" if p["background_levels"] == 1 else "s")
+
+
 def draw_main(layout, context):
     scene = context.scene
     s = _settings(context)
@@ -50,9 +63,7 @@ def draw_main(layout, context):
         row.prop(s, "substeps")
         row.prop(s, "background_levels")
     else:
-        steps, levels = s.quality_steps()
-        col.label(text="%d sub-step%s, %d background level%s" % (
-            steps, "" if steps == 1 else "s", levels, "" if levels == 1 else "s"))
+        col.label(text=_preset_line(s))
     row = layout.row()
     row.operator("diffusion_dof.reapply", icon="FILE_REFRESH")
     report = render.reports.get(scene.name)
@@ -60,10 +71,15 @@ def draw_main(layout, context):
         box = layout.box()
         _wrapped(box, report["message"], icon="CHECKMARK" if report["ok"] else "ERROR")
         stats = report.get("stats")
-        if stats and stats.get("plan"):
+        if stats:
             sub = box.column(align=True)
             sub.scale_y = 0.8
-            for line in stats["plan"].strip().splitlines():
+            sub.label(text="Ran on: " + render.backend_line(stats),
+                      icon="DESKTOP" if stats.get("hardware") else "MEMORY")
+            for note in (stats.get("backend_note"), stats.get("method_note")):
+                if note:
+                    _wrapped(sub, note, icon="INFO")
+            for line in stats.get("plan", "").strip().splitlines():
                 sub.label(text=line)
 
 
@@ -95,16 +111,19 @@ def draw_expert(layout, context):
     s = _settings(context)
     layout.use_property_split = True
     layout.use_property_decorate = False
+    layout.prop(s, "method")
     layout.prop(s, "solver")
     layout.prop(s, "background")
     layout.prop(s, "near_spread")
     layout.prop(s, "foreground_collection")
     layout.prop_search(s, "view_layer", scene, "view_layers")
-    row = layout.row()
-    row.prop(s, "backend", expand=True)
-    gpu = layout.row()
-    gpu.enabled = False
-    gpu.label(text="GPU backend: not available in this version")
+    layout.prop(s, "backend")
+    report = render.reports.get(scene.name)
+    stats = report.get("stats") if report else None
+    if stats:
+        row = layout.row()
+        row.enabled = False
+        row.label(text="Last frame: " + render.backend_line(stats))
     layout.prop(s, "threads")
 
 

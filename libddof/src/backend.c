@@ -45,12 +45,14 @@ static void *load_plugin(const char *plugin_path, const ddof_backend_table **tab
                          char *message, size_t size)
 {
     char beside[4096], tried[1024] = "";
+    /* A path the caller names (argument, else the environment) is the only one tried: asking
+     * for a file and silently getting another would hide the mistake. */
     const char *env = getenv("DDOF_GL_PLUGIN");
+    const char *named = plugin_path ? plugin_path : env && env[0] ? env : NULL;
     own_directory(beside, sizeof beside - sizeof PLUGIN_FILE);
     if (beside[0])
         strcat(beside, PLUGIN_FILE);
-    const char *candidates[] = {plugin_path, plugin_path ? NULL : env,
-                                plugin_path ? NULL : beside, plugin_path ? NULL : PLUGIN_FILE};
+    const char *candidates[] = {named, named ? NULL : beside, named ? NULL : PLUGIN_FILE};
     void *handle = NULL;
     for (size_t i = 0; i < sizeof candidates / sizeof *candidates && !handle; i++) {
         if (!candidates[i] || !candidates[i][0])
@@ -122,7 +124,7 @@ ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind ki
             if (kind != DDOF_BACKEND_AUTO)
                 return ddof_fail(context, DDOF_ERROR_BACKEND_UNAVAILABLE, "backend %s: %s",
                                  ddof_backend_name(kind), why);
-            snprintf(next.note, sizeof next.note, "auto: the CPU, because %s", why);
+            snprintf(next.note, sizeof next.note, "auto: the CPU, because %.200s", why);
         } else if (kind == DDOF_BACKEND_AUTO) {
             snprintf(next.note, sizeof next.note, "auto: a GPU was found through EGL");
         }

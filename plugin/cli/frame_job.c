@@ -171,6 +171,32 @@ static int camera_for_window(ddof_camera *camera, const exrio_part *part, frame_
     return 0;
 }
 
+ddof_context *frame_context_create(const cli_options *options, uint32_t thread_count,
+                                   char *error, size_t error_size)
+{
+    ddof_context_options co;
+    ddof_context *context = NULL;
+    ddof_status status;
+    ddof_context_options_init(&co);
+    co.thread_count = thread_count;
+    status = ddof_context_create(&co, &context);
+    if (status != DDOF_OK) {
+        snprintf(error, error_size, "cannot create a ddof context: %s",
+                 ddof_status_string(status));
+        return NULL;
+    }
+    /* AUTO never fails for want of a GPU; an explicit GL backend that cannot be had does (main
+     * checked it once already; this is a GPU that went away in between). */
+    status = ddof_context_set_backend(context, options->backend, options->gl_plugin);
+    if (status != DDOF_OK) {
+        snprintf(error, error_size, "--backend %s is not available: %s",
+                 ddof_backend_name(options->backend), ddof_context_last_error(context));
+        ddof_context_free(context);
+        return NULL;
+    }
+    return context;
+}
+
 static int library_failed(frame_result *result, ddof_context *context, const char *what,
                           ddof_status status)
 {
@@ -462,6 +488,8 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
     memset(&fg, 0, sizeof fg);
     ddof_camera_init(&camera);
     result->stats.struct_size = sizeof result->stats;
+    result->backend.struct_size = sizeof result->backend;
+    (void)ddof_context_backend_info(context, &result->backend);
     link.bar = bar;
     link.slot = slot;
 

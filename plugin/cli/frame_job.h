@@ -47,6 +47,7 @@ typedef struct frame_result {
     char color_name[320];         /* e.g. "ViewLayer.Combined.RGBA" or "R,G,B,A" */
     char depth_name[256];         /* the depth or CoC channel used */
     ddof_stats stats;             /* from the library */
+    ddof_backend_info backend;    /* the context's backend: what runs, its renderer, AUTO's note */
     double seconds_read;          /* open + decode (+ depth file) */
     double seconds_coc;           /* our CoC stage when separate (curve, --write-coc) */
     double seconds_dof;           /* the library call(s) */
@@ -58,6 +59,11 @@ typedef struct frame_result {
     image_error error_result;     /* result vs truth */
     image_error error_input;      /* pinhole input vs truth */
 } frame_result;
+
+/* A context for one worker thread: thread_count threads (0: all cores) and the backend the
+ * options ask for. Returns NULL with a sentence in error when either cannot be had. */
+ddof_context *frame_context_create(const cli_options *options, uint32_t thread_count,
+                                   char *error, size_t error_size);
 
 /* Processes one frame with `context` (one per worker thread). `slot` is the worker's index for
  * the progress bar (which may be NULL). Fills *result; returns 0 on success, -1 on failure

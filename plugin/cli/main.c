@@ -25,13 +25,6 @@
 #include <time.h>
 #include <unistd.h>
 
-/* Sub-steps of the presets. "fast" is the library's default (one ADI step: diamond-shaped
- * kernels); "default" is the step count measured best against the Cycles ground truth of the
- * bundled sample for its cost (docs/cli.md has the figures); "quality" goes further. */
-#define PRESET_FAST_SUBSTEPS 1u
-#define PRESET_DEFAULT_SUBSTEPS 4u
-#define PRESET_QUALITY_SUBSTEPS 8u
-
 static double now(void)
 {
     struct timespec ts;
@@ -39,16 +32,21 @@ static double now(void)
     return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
 }
 
-/* defaults < preset < flags */
+/* The library's preset < flags. The command has no preset values of its own: they are the
+ * accuracy study's, in libddof (ddof_params_init_preset). */
 static void resolve_params(const cli_options *o, ddof_params *params)
 {
-    ddof_params_init(params);
-    if (strcmp(o->preset, "fast") == 0)
-        params->substeps = PRESET_FAST_SUBSTEPS;
-    else if (strcmp(o->preset, "quality") == 0)
-        params->substeps = PRESET_QUALITY_SUBSTEPS;
-    else
-        params->substeps = PRESET_DEFAULT_SUBSTEPS;
+    (void)ddof_params_init_preset(params, o->preset); /* the parser accepted only known ones */
+    if (o->method >= 0)
+        params->method = (ddof_method)o->method;
+    else if (params->method == DDOF_METHOD_COD4_PREVIEW && (o->foreground || o->foreground_layer)) {
+        /* The CoD4 preview blurs one image; a foreground element asks for the layers. */
+        fprintf(stderr, "ddof: note: the %s preset's CoD4 preview takes no foreground element: "
+                "using the diffusion\n", ddof_preset_name(o->preset));
+        params->method = DDOF_METHOD_DIFFUSION;
+    }
+    if (o->precision >= 0)
+        params->precision = (ddof_precision)o->precision;
     if (o->solver >= 0)
         params->solver = (ddof_solver)o->solver;
     if (o->substeps > 0)
@@ -104,10 +102,12 @@ static int resolve_camera(const cli_options *o, frame_setup *setup)
     return 0;
 }
 
-/* Lets the library judge the camera, curve and parameters once, on a 1x1 image, so that a bad
- * value is one clear error before any frame is read (the library's messages name the value). */
+/* Lets the library judge the backend, camera, curve and parameters once, on a 1x1 image, so
+ * that a bad value is one clear error before any frame is read (the library's messages name the
+ * value). Returns 0, or the exit status. */
 static int validate_with_library(const frame_setup *setup)
 {
+    const cli_options *o = setup->options;
     ddof_context_options co;
     ddof_context *context = NULL;
     float depth = 1.0f, coc = 0.0f, color[4] = {0, 0, 0, 0}, out[4];
@@ -124,7 +124,16 @@ static int validate_with_library(const frame_setup *setup)
     co.thread_count = 1;
     if (ddof_context_create(&co, &context) != DDOF_OK) {
         fprintf(stderr, "ddof: cannot create a ddof context\n");
-        return -1;
+        return CLI_EXIT_FAILED;
+    }
+    /* The backend first: the solver and precision are judged by the backend that runs them. */
+    status = ddof_context_set_backend(context, o->backend, o->gl_plugin);
+    if (status != DDOF_OK) {
+        fprintf(stderr, "ddof: --backend %s is not available: %s. Use --backend auto (a GPU "
+                "when there is one, else the CPU) or --backend cpu.\n",
+                ddof_backend_name(o->backend), ddof_context_last_error(context));
+        ddof_context_free(context);
+        return status == DDOF_ERROR_BACKEND_UNAVAILABLE ? CLI_EXIT_BACKEND : CLI_EXIT_USAGE;
     }
     if (setup->options->source == COC_FROM_CAMERA) {
         what = "camera";
@@ -141,9 +150,16 @@ static int validate_with_library(const frame_setup *setup)
         coc = 0.0f;
         status = ddof_diffuse(context, &setup->params, &color_in, &coc_in, &out_img, NULL);
     }
-    if (status != DDOF_OK) {
+    if (status == DDOF_ERROR_UNSUPPORTED) {
+        ddof_backend_info info = {.struct_size = sizeof info};
+        (void)ddof_context_backend_info(context, &info);
+        fprintf(stderr, "ddof: %s%s%s. --solver gruen and --precision packed-half (which needs "
+                "--solver gruen) run on a GL backend only: --backend egl or osmesa.\n",
+                ddof_context_last_error(context), info.note[0] ? "; " : "", info.note);
+        rc = CLI_EXIT_BACKEND;
+    } else if (status != DDOF_OK) {
         fprintf(stderr, "ddof: bad %s: %s\n", what, ddof_context_last_error(context));
-        rc = -1;
+        rc = CLI_EXIT_USAGE;
     }
     ddof_context_free(context);
     return rc;
@@ -475,10 +491,14 @@ int main(int argc, char **argv)
     setup.options = &options;
     setup.curve = options.curve;
     resolve_params(&options, &setup.params);
-    if ((options.source == COC_FROM_CAMERA && resolve_camera(&options, &setup) != 0) ||
-        validate_with_library(&setup) != 0) {
+    if (options.source == COC_FROM_CAMERA && resolve_camera(&options, &setup) != 0) {
         output_signals_shutdown();
-        return 2;
+        return CLI_EXIT_USAGE;
+    }
+    rc = validate_with_library(&setup);
+    if (rc != 0) {
+        output_signals_shutdown();
+        return rc;
     }
     paths = build_paths(&options, &count);
     if (!paths) {

@@ -39,21 +39,30 @@ void cli_usage(FILE *to)
         "                          start, far end (depth units), far blur px\n"
         "  --coc-channel NAME      a channel that holds CoC diameters in pixels\n"
         "\n",
-        "Quality and solver:\n"
-        "  --preset default|fast|quality   default: good output as it comes; fast: 1 sub-step;\n"
-        "                          quality: more sub-steps (rounder bokeh, slower)\n"
-        "  --solver thomas|cr|pcr|jacobi|reference\n"
+        "Quality, method, solver, backend:\n"
+        "  --preset preview|default|final  the library's named settings (ddof_params_init_preset,\n"
+        "                          chosen by the accuracy study); the flags below override them\n"
+        "                          (default: default)\n"
+        "  --method diffusion|cod4 diffusion: the heat-diffusion solve; cod4: the fast,\n"
+        "                          approximate Call of Duty 4 post-process (CPU; no --foreground)\n"
+        "  --solver thomas|cr|pcr|jacobi|reference|gruen   (gruen: GL backends only)\n"
+        "  --precision float|packed-half   arithmetic of the GL solvers (packed-half: gruen only)\n"
         "  --substeps N            ADI sub-steps (more: closer to a Gaussian, linear cost)\n"
-        "  --beta-scale K          k in beta = k * CoC^2 (library default 1/32)\n"
+        "  --beta-scale K          k in beta = k * CoC^2\n"
         "  --jacobi-iterations N   sweeps for --solver jacobi\n"
         "  --threads N             threads per frame (0 = all cores)\n"
-        "  --backend cpu           the only backend in this version (GL is planned)\n"
+        "  --backend auto|cpu|egl|osmesa   where the diffusion runs (default auto: a GPU through\n"
+        "                          EGL when there is one, else the CPU); egl and osmesa are an\n"
+        "                          error (exit 3) when they cannot be had\n"
+        "  --gl-plugin FILE.so     the GL backend plugin to load (default: $DDOF_GL_PLUGIN, then\n"
+        "                          libddof_gl.so beside libddof, then the loader's search path)\n"
         "\n",
-        "Layers (Kass et al. 3.1, 3.2; the planner runs them when the scene calls for them):\n"
+        "Layers (Kass et al. 3.1, 3.2; the planner runs them when the scene calls for them;\n"
+        "modes and levels default to the preset's):\n"
         "  --background auto|on|off        blurring underneath sharp midground objects\n"
         "  --background-threshold PX       CoC at which a pixel is wholly background (default 8)\n"
         "  --background-ramp-start PX      CoC below which it is wholly midground (default 2)\n"
-        "  --background-levels N           background layers at t, 2t, 4t, ... (1..8, default 1)\n"
+        "  --background-levels N           background layers at t, 2t, 4t, ... (1..8)\n"
         "  --near-spread auto|on|off       soft silhouettes of blurred near objects (one image)\n"
         "  --near-spread-threshold PX      (default 4)\n"
         "  --coc-signed            the --coc-channel is negative in front of the focus plane\n"
@@ -82,13 +91,35 @@ void cli_usage(FILE *to)
         "  --compare TRUTH.exr     print RMSE/PSNR of the result and of the input against TRUTH\n"
         "  --progress auto|always|never   progress bar on stderr (auto: when it is a terminal)\n"
         "  -q, --quiet             no per-frame summary\n"
+        "  -v, --verbose           per frame also the backend that ran, its renderer, why auto\n"
+        "                          chose it, memory used, and the planner's decisions\n"
         "  -h, --help  --version\n"
         "\n",
         "Exit status: 0 all frames written; 1 some frame failed (listed at the end); 2 usage error;\n"
+        "3 the backend is unavailable or cannot run the solver or precision asked for;\n"
         "130/143 interrupted (temporary files removed).\n"};
+    static const char *const modes[] = {"auto", "off", "on"};
     size_t i;
+    int p;
     for (i = 0; i < sizeof sections / sizeof sections[0]; i++)
         fputs(sections[i], to);
+    /* The values are the library's (the accuracy study writes them): asked, never copied. */
+    fprintf(to, "\nPresets of this libddof (%s):\n", ddof_version_string());
+    for (p = 0; p < DDOF_PRESET_COUNT_; p++) {
+        ddof_params params;
+        if (ddof_params_init_preset(&params, (ddof_preset)p) != DDOF_OK)
+            continue;
+        fprintf(to, "  %-8s %s", ddof_preset_name((ddof_preset)p),
+                params.method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion");
+        if (params.method == DDOF_METHOD_DIFFUSION)
+            fprintf(to, ", %s, %u sub-step%s, k %g, background %s (%u level%s), near spread %s",
+                    ddof_solver_name(params.solver), params.substeps,
+                    params.substeps == 1 ? "" : "s", (double)params.beta_scale,
+                    modes[(unsigned)params.background % 3u], params.background_levels,
+                    params.background_levels == 1 ? "" : "s",
+                    modes[(unsigned)params.near_spread % 3u]);
+        fputc('\n', to);
+    }
 }
 
 typedef enum arg_kind { ARG_FLAG, ARG_VALUE } arg_kind;
@@ -112,7 +143,9 @@ static const option_spec specs[] = {
     {"--preset", NULL, ARG_VALUE},      {"--solver", NULL, ARG_VALUE},
     {"--substeps", NULL, ARG_VALUE},    {"--beta-scale", NULL, ARG_VALUE},
     {"--jacobi-iterations", NULL, ARG_VALUE}, {"--threads", NULL, ARG_VALUE},
-    {"--backend", NULL, ARG_VALUE},     {"--foreground", NULL, ARG_VALUE},
+    {"--backend", NULL, ARG_VALUE},     {"--gl-plugin", NULL, ARG_VALUE},
+    {"--method", NULL, ARG_VALUE},      {"--precision", NULL, ARG_VALUE},
+    {"--verbose", "-v", ARG_FLAG},      {"--foreground", NULL, ARG_VALUE},
     {"--foreground-layer", NULL, ARG_VALUE},
     {"--foreground-coc-channel", NULL, ARG_VALUE},
     {"--foreground-straight", NULL, ARG_FLAG},
@@ -189,17 +222,45 @@ static int parse_choice(const char *name, const char *text, const char *const *c
     return bad(name, text, want);
 }
 
-static int parse_solver(const char *text, int *out)
+/* The choices a library enum has by name, "one of a | b | c" for messages. */
+static void name_list(const char *(*name_of)(int), int count, char *out, size_t size)
 {
-    int s;
-    for (s = 0; s < DDOF_SOLVER_COUNT_; s++) {
-        const char *n = ddof_solver_name((ddof_solver)s);
+    size_t used = 0;
+    int i;
+    out[0] = '\0';
+    for (i = 0; i < count && used < size; i++) {
+        const char *n = name_of(i);
+        int k = n ? snprintf(out + used, size - used, "%s%s", used ? " | " : "one of ", n) : 0;
+        if (k < 0)
+            break;
+        used += (size_t)k;
+    }
+}
+
+static const char *solver_name_of(int i) { return ddof_solver_name((ddof_solver)i); }
+static const char *preset_name_of(int i) { return ddof_preset_name((ddof_preset)i); }
+
+/* Backends the command can use: the host-GL one needs a host application's context. */
+static const char *backend_name_of(int i)
+{
+    return i == DDOF_BACKEND_HOST_GL ? NULL : ddof_backend_name((ddof_backend_kind)i);
+}
+
+/* Looks text up among the names name_of(0 .. count-1) gives. */
+static int parse_named(const char *option, const char *text, const char *(*name_of)(int),
+                       int count, int *out)
+{
+    char want[256];
+    int i;
+    for (i = 0; i < count; i++) {
+        const char *n = name_of(i);
         if (n && strcasecmp(n, text) == 0) {
-            *out = s;
+            *out = i;
             return 0;
         }
     }
-    return bad("--solver", text, "thomas | cr | pcr | jacobi | reference");
+    name_list(name_of, count, want, sizeof want);
+    return bad(option, text, want);
 }
 
 /* "NB,NS,NE,FS,FE,FB": six numbers in the order of ddof_curve. */
@@ -235,8 +296,11 @@ static void defaults(cli_options *o)
     o->source = COC_FROM_CAMERA;
     ddof_camera_init(&o->camera);
     ddof_curve_init(&o->curve);
-    o->preset = "default";
+    o->preset = DDOF_PRESET_DEFAULT;
+    o->method = -1;
+    o->precision = -1;
     o->solver = -1;
+    o->backend = DDOF_BACKEND_AUTO;
     o->pixel_type = -1;
     o->background = -1;
     o->near_spread = -1;
@@ -253,7 +317,8 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
     static const char *const lenses[] = {"cycles", "thin-lens"};
     static const char *const types[] = {"uint", "half", "float"};
     static const char *const progress[] = {"auto", "always", "never"};
-    static const char *const presets[] = {"default", "fast", "quality"};
+    static const char *const methods[] = {"diffusion", "cod4"};
+    static const char *const precisions[] = {"float", "packed-half"};
     int choice = 0;
 
     if (!strcmp(name, "--output")) o->output = value;
@@ -302,10 +367,28 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
         o->coc_channel = value;
         (*sources)++;
     } else if (!strcmp(name, "--preset")) {
-        if (parse_choice(name, value, presets, 3, &choice) != 0) return -1;
-        o->preset = presets[choice];
+        /* The names of 0.2's command, kept for scripts: their settings are the library's. */
+        if (strcasecmp(value, "fast") == 0 || strcasecmp(value, "quality") == 0) {
+            const ddof_preset now = value[0] == 'f' || value[0] == 'F' ? DDOF_PRESET_PREVIEW
+                                                                      : DDOF_PRESET_FINAL;
+            fprintf(stderr, "ddof: note: --preset %s is now called --preset %s\n", value,
+                    ddof_preset_name(now));
+            o->preset = now;
+            return 0;
+        }
+        if (parse_named(name, value, preset_name_of, DDOF_PRESET_COUNT_, &choice) != 0)
+            return -1;
+        o->preset = (ddof_preset)choice;
+    } else if (!strcmp(name, "--method")) {
+        if (strcasecmp(value, "cod4-preview") == 0)
+            value = "cod4";
+        if (parse_choice(name, value, methods, 2, &choice) != 0) return -1;
+        o->method = choice ? DDOF_METHOD_COD4_PREVIEW : DDOF_METHOD_DIFFUSION;
+    } else if (!strcmp(name, "--precision")) {
+        if (parse_choice(name, value, precisions, 2, &choice) != 0) return -1;
+        o->precision = choice ? DDOF_PRECISION_PACKED_HALF : DDOF_PRECISION_FLOAT;
     } else if (!strcmp(name, "--solver")) {
-        return parse_solver(value, &o->solver);
+        return parse_named(name, value, solver_name_of, DDOF_SOLVER_COUNT_, &o->solver);
     } else if (!strcmp(name, "--substeps")) {
         return parse_uint(name, value, &o->substeps, 1);
     } else if (!strcmp(name, "--beta-scale")) {
@@ -319,11 +402,11 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
     } else if (!strcmp(name, "--jobs")) {
         return parse_uint(name, value, &o->jobs, 1);
     } else if (!strcmp(name, "--backend")) {
-        if (strcasecmp(value, "cpu") != 0) {
-            fprintf(stderr, "ddof: --backend %s: this build has only the cpu backend (the "
-                    "OpenGL backend is planned)\n", value);
+        if (parse_named(name, value, backend_name_of, DDOF_BACKEND_COUNT_, &choice) != 0)
             return -1;
-        }
+        o->backend = (ddof_backend_kind)choice;
+    } else if (!strcmp(name, "--gl-plugin")) {
+        o->gl_plugin = value;
     } else if (!strcmp(name, "--foreground")) {
         o->foreground = value;
     } else if (!strcmp(name, "--foreground-layer")) {
@@ -387,6 +470,7 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
         if (parse_choice(name, value, progress, 3, &choice) != 0) return -1;
         o->progress = (progress_mode)choice;
     } else if (!strcmp(name, "--quiet")) o->quiet = 1;
+    else if (!strcmp(name, "--verbose")) o->verbose = 1;
     return 0;
 }
 
@@ -485,6 +569,15 @@ int cli_parse_options(int argc, char **argv, cli_options *o)
         !o->foreground_coc) {
         fprintf(stderr, "ddof: with --coc-channel, a foreground element needs its own CoC: give "
                 "--foreground-coc-channel\n");
+        return -1;
+    }
+    if (o->method == DDOF_METHOD_COD4_PREVIEW && (o->foreground || o->foreground_layer)) {
+        fprintf(stderr, "ddof: --method cod4 takes no foreground element: the CoD4 preview "
+                "blurs one image (use --method diffusion with --foreground)\n");
+        return -1;
+    }
+    if (o->gl_plugin && o->backend == DDOF_BACKEND_CPU) {
+        fprintf(stderr, "ddof: --gl-plugin names the GL backend, but --backend cpu uses none\n");
         return -1;
     }
     if (o->list_only)

@@ -1,8 +1,8 @@
 /* options.h - everything the `ddof` command line can say, parsed into one struct.
  *
  * The struct keeps, for each library parameter, whether the user set it, so that the sidecar
- * JSON, the preset and the flags combine in a fixed order: library defaults < preset <
- * camera.json < flags. */
+ * JSON, the preset and the flags combine in a fixed order: the library's preset
+ * (ddof_params_init_preset) < camera.json < flags. */
 #ifndef DDOF_CLI_OPTIONS_H
 #define DDOF_CLI_OPTIONS_H
 
@@ -59,13 +59,17 @@ typedef struct cli_options {
     unsigned camera_set;
     ddof_curve curve;
 
-    /* solver */
-    const char *preset;           /* "default", "fast", "quality" */
+    /* solver: every value starts from the library's preset (ddof_params_init_preset) */
+    ddof_preset preset;           /* --preset; default DDOF_PRESET_DEFAULT */
+    int method;                   /* ddof_method, or -1: the preset's */
+    int precision;                /* ddof_precision, or -1: the preset's */
     int solver;                   /* -1: preset's */
     uint32_t substeps;            /* 0: preset's */
     float beta_scale;             /* 0: preset's */
     uint32_t jacobi_iterations;   /* 0: library default */
     uint32_t threads;             /* 0: all cores */
+    ddof_backend_kind backend;    /* --backend; default DDOF_BACKEND_AUTO */
+    const char *gl_plugin;        /* --gl-plugin: the libddof_gl file; NULL: the library's search */
 
     /* layers (libddof 0.2): -1 / 0 mean "the preset's or the library's default" */
     int background;               /* ddof_layer_mode or -1 */
@@ -92,8 +96,16 @@ typedef struct cli_options {
     /* reporting */
     progress_mode progress;
     int quiet;
+    int verbose;                  /* -v: the backend, renderer and plan of every frame */
     int list_only;                /* --list: print the layout and channels, no processing */
 } cli_options;
+
+/* Exit statuses of the command (docs/cli.md). */
+#define CLI_EXIT_OK 0
+#define CLI_EXIT_FAILED 1   /* some frame failed, or an output was refused              */
+#define CLI_EXIT_USAGE 2    /* unknown option, bad value, bad camera                    */
+#define CLI_EXIT_BACKEND 3  /* the backend asked for is unavailable, or it cannot run   */
+                            /* the solver or precision asked for                        */
 
 /* Parses argv. Returns 0 to run, 1 when it printed help or the version (exit 0), or -1 after
  * printing a usage error to stderr (exit 2). */

@@ -66,7 +66,8 @@ static void report(shared_queue *q, int index)
 {
     const frame_paths *p = &q->paths[index];
     const frame_result *r = &q->results[index];
-    char prefix[64], line[2 * PATH_MAX + 512], read[48], dof[48], write[48], effects[96];
+    char prefix[64], line[2 * PATH_MAX + 1024], read[48], dof[48], write[48], effects[96];
+    char how[160];
     if (p->frame >= 0)
         snprintf(prefix, sizeof prefix, "frame %d: ", p->frame);
     else
@@ -76,39 +77,57 @@ static void report(shared_queue *q, int index)
         progress_print(q->bar, stderr, line);
         return;
     }
-    if (q->setup->options->quiet)
-        return;
-    stats_effects(&r->stats, effects, sizeof effects);
-    ms(read, sizeof read, "read", r->seconds_read);
-    ms(dof, sizeof dof, "dof", r->seconds_dof + r->seconds_coc);
-    ms(write, sizeof write, "write", r->seconds_write + r->seconds_preview);
-    snprintf(line, sizeof line,
-             "%s%s -> %s  %ux%u %s  max CoC %.1f px  %s  %s x%u, %u thread%s: %llu lines "
-             "solved, %llu skipped%s  (%s, %s, %s)\n",
-             prefix, p->input, p->output, r->width, r->height, r->channels == 4 ? "RGBA" : "RGB",
-             (double)r->stats.max_coc_px, effects, ddof_solver_name((ddof_solver)r->stats.solver),
-             r->stats.substeps, r->stats.threads, r->stats.threads == 1 ? "" : "s",
-             (unsigned long long)r->stats.lines_solved,
-             (unsigned long long)r->stats.lines_skipped,
-             r->stats.copied_only ? " (nothing out of focus: copied)" : "", read, dof, write);
-    progress_print(q->bar, stdout, line);
+    if (!q->setup->options->quiet) {
+        stats_effects(&r->stats, effects, sizeof effects);
+        ms(read, sizeof read, "read", r->seconds_read);
+        ms(dof, sizeof dof, "dof", r->seconds_dof + r->seconds_coc);
+        ms(write, sizeof write, "write", r->seconds_write + r->seconds_preview);
+        if (r->stats.method == DDOF_METHOD_COD4_PREVIEW) {
+            /* No diffusion, so no effects and no lines: the preview's own words. */
+            snprintf(effects, sizeof effects, "CoD4 preview");
+            snprintf(how, sizeof how, "%u thread%s", r->stats.threads,
+                     r->stats.threads == 1 ? "" : "s");
+        } else
+            snprintf(how, sizeof how, "%s x%u, %u thread%s: %llu lines solved, %llu skipped%s",
+                     ddof_solver_name((ddof_solver)r->stats.solver), r->stats.substeps,
+                     r->stats.threads, r->stats.threads == 1 ? "" : "s",
+                     (unsigned long long)r->stats.lines_solved,
+                     (unsigned long long)r->stats.lines_skipped,
+                     r->stats.copied_only ? " (nothing out of focus: copied)" : "");
+        snprintf(line, sizeof line, "%s%s -> %s  %ux%u %s  max CoC %.1f px  %s  %s  (%s, %s, %s)\n",
+                 prefix, p->input, p->output, r->width, r->height,
+                 r->channels == 4 ? "RGBA" : "RGB", (double)r->stats.max_coc_px, effects, how,
+                 read, dof, write);
+        progress_print(q->bar, stdout, line);
+    }
+    if (q->setup->options->verbose) {
+        char backend[768];
+        stats_backend_line(r, backend, sizeof backend);
+        snprintf(line, sizeof line, "%s  %s\n", prefix, backend);
+        progress_print(q->bar, stdout, line);
+        if (r->stats.plan[0]) {
+            char copy[sizeof r->stats.plan + 1], *plan_line, *save = NULL;
+            memcpy(copy, r->stats.plan, sizeof r->stats.plan);
+            copy[sizeof r->stats.plan] = '\0';
+            for (plan_line = strtok_r(copy, "\n", &save); plan_line;
+                 plan_line = strtok_r(NULL, "\n", &save)) {
+                snprintf(line, sizeof line, "%s  plan: %s\n", prefix, plan_line);
+                progress_print(q->bar, stdout, line);
+            }
+        }
+    }
 }
 
 static void *worker_main(void *arg)
 {
     worker *w = arg;
     shared_queue *q = w->queue;
-    ddof_context_options options;
-    ddof_context *context = NULL;
-    ddof_status status;
-
-    ddof_context_options_init(&options);
-    options.thread_count = q->threads_per_frame;
-    status = ddof_context_create(&options, &context);
-    if (status != DDOF_OK) {
+    char error[sizeof q->start_error];
+    ddof_context *context = frame_context_create(q->setup->options, q->threads_per_frame, error,
+                                                 sizeof error);
+    if (!context) {
         pthread_mutex_lock(&q->lock);
-        snprintf(q->start_error, sizeof q->start_error, "cannot create a ddof context: %s",
-                 ddof_status_string(status));
+        snprintf(q->start_error, sizeof q->start_error, "%s", error);
         pthread_mutex_unlock(&q->lock);
         return NULL;
     }

@@ -36,7 +36,10 @@ void stats_effects(const ddof_stats *s, char *out, size_t out_size)
 
 void stats_explain(const ddof_stats *s, char *out, size_t out_size)
 {
-    if (s->copied_only)
+    if (s->method == DDOF_METHOD_COD4_PREVIEW)
+        snprintf(out, out_size, "largest CoC %.3g px: the CoD4 post-process preview (GPU Gems 3 "
+                 "ch. 28), no system solved", (double)s->max_coc_px);
+    else if (s->copied_only)
         snprintf(out, out_size, "nothing out of focus (largest CoC %.3g px): the output is a "
                  "copy of the input, no system solved", (double)s->max_coc_px);
     else if (s->lines_skipped > 0)
@@ -48,6 +51,53 @@ void stats_explain(const ddof_stats *s, char *out, size_t out_size)
         snprintf(out, out_size, "largest CoC %.3g px: %llu lines solved in %u sub-step%s; no "
                  "line could be skipped", (double)s->max_coc_px,
                  (unsigned long long)s->lines_solved, s->substeps, s->substeps == 1 ? "" : "s");
+}
+
+const char *stats_method_name(uint32_t method)
+{
+    return method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion";
+}
+
+static const char *precision_name(uint32_t precision)
+{
+    return precision == DDOF_PRECISION_PACKED_HALF ? "packed-half" : "float";
+}
+
+/* The backend that ran the frame's call and its renderer. A call can run elsewhere than the
+ * context's backend (the CoD4 preview runs on the CPU): then the renderer is the CPU's. */
+static const char *frame_renderer(const frame_result *r, char *buffer, size_t size)
+{
+    if (r->stats.backend == r->backend.kind)
+        return r->backend.renderer;
+    snprintf(buffer, size, "CPU, %u thread%s", r->stats.threads, r->stats.threads == 1 ? "" : "s");
+    return buffer;
+}
+
+static const char *backend_name_or(uint32_t kind)
+{
+    const char *n = ddof_backend_name((ddof_backend_kind)kind);
+    return n ? n : "?";
+}
+
+static void bytes_text(uint64_t bytes, char *out, size_t size)
+{
+    if (bytes >= 1024u * 1024u)
+        snprintf(out, size, "%.1f MiB", (double)bytes / (1024.0 * 1024.0));
+    else if (bytes >= 1024u)
+        snprintf(out, size, "%.1f KiB", (double)bytes / 1024.0);
+    else
+        snprintf(out, size, "%llu B", (unsigned long long)bytes);
+}
+
+void stats_backend_line(const frame_result *r, char *out, size_t out_size)
+{
+    char renderer[64], host[32], device[32];
+    bytes_text(r->stats.host_bytes, host, sizeof host);
+    bytes_text(r->stats.device_bytes, device, sizeof device);
+    snprintf(out, out_size, "backend %s (%s), method %s, memory %s host, %s device%s%s",
+             backend_name_or(r->stats.backend), frame_renderer(r, renderer, sizeof renderer),
+             stats_method_name(r->stats.method), host, device, r->backend.note[0] ? "; " : "",
+             r->backend.note);
 }
 
 static cJSON *camera_json(const ddof_camera *c)
@@ -71,8 +121,10 @@ static cJSON *settings_json(const frame_setup *setup, uint32_t jobs, uint32_t th
 {
     const cli_options *opt = setup->options;
     cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "preset", opt->preset);
+    cJSON_AddStringToObject(o, "preset", ddof_preset_name(opt->preset));
+    cJSON_AddStringToObject(o, "method", stats_method_name((uint32_t)setup->params.method));
     cJSON_AddStringToObject(o, "solver", ddof_solver_name(setup->params.solver));
+    cJSON_AddStringToObject(o, "precision", precision_name((uint32_t)setup->params.precision));
     cJSON_AddNumberToObject(o, "substeps", setup->params.substeps);
     cJSON_AddNumberToObject(o, "beta_scale", setup->params.beta_scale);
     cJSON_AddNumberToObject(o, "jacobi_iterations", setup->params.jacobi_iterations);
@@ -99,7 +151,10 @@ static cJSON *settings_json(const frame_setup *setup, uint32_t jobs, uint32_t th
     }
     cJSON_AddNumberToObject(o, "frames_in_parallel", jobs);
     cJSON_AddNumberToObject(o, "threads_per_frame", threads);
-    cJSON_AddStringToObject(o, "backend", "cpu");
+    /* What was asked for; each frame says what ran. */
+    cJSON_AddStringToObject(o, "backend", ddof_backend_name(opt->backend));
+    if (opt->gl_plugin)
+        cJSON_AddStringToObject(o, "gl_plugin", opt->gl_plugin);
     switch (opt->source) {
     case COC_FROM_CAMERA:
         cJSON_AddStringToObject(o, "coc_source", "camera");
@@ -166,6 +221,15 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
     {
         cJSON *s = cJSON_CreateObject();
         stats_explain(&r->stats, why, sizeof why);
+        char renderer[64];
+        cJSON_AddStringToObject(s, "backend", backend_name_or(r->stats.backend));
+        cJSON_AddStringToObject(s, "renderer", frame_renderer(r, renderer, sizeof renderer));
+        cJSON_AddBoolToObject(s, "hardware", r->stats.backend == r->backend.kind &&
+                                                 r->backend.hardware != 0);
+        cJSON_AddStringToObject(s, "backend_note", r->backend.note);
+        cJSON_AddStringToObject(s, "method", stats_method_name(r->stats.method));
+        cJSON_AddNumberToObject(s, "device_bytes", (double)r->stats.device_bytes);
+        cJSON_AddNumberToObject(s, "host_bytes", (double)r->stats.host_bytes);
         cJSON_AddStringToObject(s, "solver", ddof_solver_name((ddof_solver)r->stats.solver));
         cJSON_AddNumberToObject(s, "threads", r->stats.threads);
         cJSON_AddNumberToObject(s, "substeps", r->stats.substeps);

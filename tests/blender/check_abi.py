@@ -76,6 +76,16 @@ def main():
         "DDOF_SOLVER_CYCLIC_REDUCTION": b.SOLVERS["cr"],
         "DDOF_SOLVER_PCR": b.SOLVERS["pcr"], "DDOF_SOLVER_JACOBI": b.SOLVERS["jacobi"],
         "DDOF_SOLVER_REFERENCE_F64": b.SOLVERS["reference"],
+        "DDOF_SOLVER_GRUEN": b.SOLVERS["gruen"], "DDOF_SOLVER_COUNT_": b.SOLVER_COUNT,
+        "DDOF_METHOD_DIFFUSION": b.METHODS["diffusion"],
+        "DDOF_METHOD_COD4_PREVIEW": b.METHODS["cod4"],
+        "DDOF_PRECISION_FLOAT": b.PRECISIONS["float"],
+        "DDOF_PRECISION_PACKED_HALF": b.PRECISIONS["packed_half"],
+        "DDOF_PRESET_PREVIEW": b.PRESETS["preview"], "DDOF_PRESET_DEFAULT": b.PRESETS["default"],
+        "DDOF_PRESET_FINAL": b.PRESETS["final"], "DDOF_PRESET_COUNT_": b.PRESET_COUNT,
+        "DDOF_BACKEND_CPU": b.BACKENDS["cpu"], "DDOF_BACKEND_AUTO": b.BACKENDS["auto"],
+        "DDOF_BACKEND_EGL": b.BACKENDS["egl"], "DDOF_BACKEND_OSMESA": b.BACKENDS["osmesa"],
+        "DDOF_BACKEND_HOST_GL": b.BACKENDS["host"], "DDOF_BACKEND_COUNT_": b.BACKEND_COUNT,
         "DDOF_LAYER_AUTO": b.LAYER_AUTO, "DDOF_LAYER_OFF": b.LAYER_OFF,
         "DDOF_LAYER_ON": b.LAYER_ON,
         "DDOF_EFFECT_MIDGROUND": b.EFFECT_MIDGROUND,
@@ -83,9 +93,15 @@ def main():
         "DDOF_EFFECT_FOREGROUND": b.EFFECT_FOREGROUND,
         "DDOF_EFFECT_NEAR_SPREAD": b.EFFECT_NEAR_SPREAD,
     }
+    # Every status by name, in order.
+    for value, name in enumerate(b.STATUS_NAMES):
+        expect[name] = value
     for name, value in expect.items():
         if enums.get(name) != value:
             failures.append("%s: C %s, binding %s" % (name, enums.get(name), value))
+    unchecked = set(enums) - set(expect)
+    if unchecked:
+        failures.append("C enums the binding does not mirror: %s" % sorted(unchecked))
     if version is None or b.version_tuple(version)[:2] != b.BINDING_VERSION:
         failures.append("header version %s, binding %s" % (version, b.BINDING_VERSION))
 
@@ -97,7 +113,7 @@ def main():
         failures.append("bl_info version %s, binding %s" % (addon_version, b.BINDING_VERSION))
 
     # Version rule.
-    for number, ok in ((200, True), (205, True), (300, False), (100, False), (10200, False)):
+    for number, ok in ((300, True), (305, True), (200, False), (400, False), (10300, False)):
         if b.version_compatible(number) != ok:
             failures.append("version_compatible(%d) should be %s" % (number, ok))
 
@@ -109,6 +125,21 @@ def main():
     for name, value in b.SOLVERS.items():
         if lib.solver_name(value) != name:
             failures.append("solver %d is %r in the library" % (value, lib.solver_name(value)))
+    for name, value in b.BACKENDS.items():
+        if lib.backend_name(value) != name:
+            failures.append("backend %d is %r in the library" % (value, lib.backend_name(value)))
+    for name, value in b.PRESETS.items():
+        if lib.preset_name(value) != name:
+            failures.append("preset %d is %r in the library" % (value, lib.preset_name(value)))
+    # Presets are the library's: ddof_params_init_preset through ctypes, default = params_init.
+    default = lib.default_params()
+    if bytes(lib.preset_params("default")) != bytes(default):
+        failures.append("the default preset differs from ddof_params_init")
+    try:
+        lib.preset_params(b.PRESET_COUNT)
+        failures.append("an unknown preset was accepted")
+    except ValueError:
+        pass
     w, h = 64, 32
     color = b.new_buffer(w * h * 4)
     depth = b.new_buffer(w * h)
@@ -136,6 +167,47 @@ def main():
                         % (spread(right), spread(right_in)))
     if "midground: on" not in stats["plan"] or stats["substeps"] != 2:
         failures.append("unexpected stats %r" % stats)
+    # depth_of_field(preset=...) is the preset's parameters, with params overriding them.
+    final = lib.preset_params("final")
+    fields = {name: getattr(final, name) for name, _ in b.Params._fields_
+              if name not in ("struct_size", "progress", "progress_user")}
+    out_final, stats_final = lib.depth_of_field(w, h, color, 4, depth, 1, camera, preset="final")
+    out_fields, _ = lib.depth_of_field(w, h, color, 4, depth, 1, camera, fields)
+    if out_final != out_fields or stats_final["substeps"] != final.substeps:
+        failures.append("preset='final' is not ddof_params_init_preset(FINAL)")
+    _, stats_over = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"substeps": 3},
+                                       preset="final")
+    if stats_over["substeps"] != 3:
+        failures.append("params do not override the preset: %r" % stats_over["substeps"])
+    # Backends: cpu reports itself; auto runs somewhere and says where; an explicit GL backend
+    # whose plugin is missing is an error with the library's reason, not a crash.
+    if stats["backend_name"] != "cpu" or not stats["renderer"].startswith("CPU, ") or \
+            stats["backend_note"] or stats["method_name"] != "diffusion":
+        failures.append("cpu backend stats: %r" % stats)
+    out_auto, stats_auto = lib.depth_of_field(w, h, color, 4, depth, 1, camera,
+                                              {"substeps": 2}, backend="auto")
+    if not stats_auto["backend_note"].startswith("auto: ") or not stats_auto["renderer"]:
+        failures.append("auto backend stats: %r" % stats_auto)
+    if stats_auto["backend_name"] == "cpu" and out_auto != out:
+        failures.append("auto on the CPU differs from cpu")
+    for kind in ("osmesa", "egl"):
+        try:
+            lib.depth_of_field(w, h, color, 4, depth, 1, camera, backend=kind,
+                               plugin_path="/nonexistent/libddof_gl.so")
+            failures.append("%s with a missing plugin ran" % kind)
+        except b.DdofError as err:
+            if err.status != b.DDOF_ERROR_BACKEND_UNAVAILABLE or \
+                    "/nonexistent/libddof_gl.so" not in str(err):
+                failures.append("%s with a missing plugin: %s" % (kind, err))
+    try:
+        lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"solver": "gruen"})
+        failures.append("gruen ran on the CPU")
+    except b.DdofError as err:
+        if err.status != b.DDOF_ERROR_UNSUPPORTED:
+            failures.append("gruen on the CPU: %s" % err)
+    _, stats_cod4 = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"method": "cod4"})
+    if stats_cod4["method_name"] != "cod4" or stats_cod4["backend_name"] != "cpu":
+        failures.append("cod4 stats: %r" % stats_cod4)
     depth[5] = -1.0
     try:
         lib.depth_of_field(w, h, color, 4, depth, 1, camera)
@@ -155,6 +227,13 @@ def main():
                                                   "depth_channels": 1})
     if not stats2["effects"] & b.EFFECT_FOREGROUND or any(math.isnan(v) for v in out2):
         failures.append("foreground path: %r" % stats2)
+    # The CoD4 preview takes no foreground element: the diffusion runs, and says so.
+    out3, stats3 = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"method": "cod4"},
+                                      foreground={"color": fg_color, "depth": fg_depth,
+                                                  "depth_channels": 1})
+    if stats3["method_name"] != "diffusion" or "CoD4" not in stats3.get("method_note", "") or \
+            out3 != out2:
+        failures.append("cod4 with a foreground element: %r" % stats3)
 
     # A library that is not ddof.
     os.environ[b.ENV_VAR] = "/nonexistent/libddof.so"

@@ -117,6 +117,36 @@ for round_ in (1, 2):
         draw(layout, ctx)
     checks.check(not problems and layout.calls > 20, "panel drawing: %s (%d calls)"
                  % (problems, layout.calls))
+    # Again with a frame's report (backend, renderer, note, plan) and every quality and backend.
+    diffusion_dof.render.reports[scene.name] = {
+        "ok": True, "message": "frame 1: ...", "frame": 1, "path": None, "time": 0.0,
+        "camera": "", "stats": {"backend_name": "cpu", "renderer": "CPU, 2 threads",
+                                "hardware": False, "backend_note": "auto: the CPU, because ...",
+                                "method_note": "", "plan": "midground: on: largest CoC 9 px"}}
+    for quality in ("PREVIEW", "DEFAULT", "FINAL", "CUSTOM"):
+        s.quality = quality
+        s.backend = "AUTO" if quality == "FINAL" else "CPU"
+        for draw in (diffusion_dof.ui.draw_main, diffusion_dof.ui.draw_expert):
+            draw(layout, ctx)
+    checks.check(not problems, "panel drawing with a report: %s" % problems)
+    s.quality = "FINAL"
+    final_line = diffusion_dof.ui._preset_line(s)
+    lib = diffusion_dof.binding.get_library()
+    final = lib.preset_summary("final")
+    checks.check(final_line.startswith("%s, %d sub-step" % (final["solver"], final["substeps"])),
+                 "the panel's final preset %r is not the library's %r" % (final_line, final))
+    # Expert overrides: none by default (the preset's values), each one when set.
+    s.quality = "DEFAULT"
+    checks.check(s.library_params() == {} and s.preset_name() == "default" and
+                 s.library_backend() == "cpu", "default overrides: %r" % s.library_params())
+    s.solver, s.background, s.method, s.quality = "pcr", "OFF", "diffusion", "CUSTOM"
+    checks.check(s.library_params() == {"solver": "pcr", "background": "OFF",
+                                        "method": "diffusion", "substeps": s.substeps,
+                                        "background_levels": s.background_levels},
+                 "overrides: %r" % s.library_params())
+    s.solver = s.background = s.method = "PRESET"
+    s.quality = "DEFAULT"
+    diffusion_dof.render.reports.clear()
 
     diffusion_dof.unregister()
     after = handler_snapshot()

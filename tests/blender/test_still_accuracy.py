@@ -61,6 +61,18 @@ depth = u.pixels(depth_img)
 checks.check(tuple(result_img.size) == (w, h), "result size %r" % (tuple(result_img.size),))
 checks.check(max(abs(a - b) for a, b in zip(result, result_file)) < 1e-6,
              "the written file is not the result")
+# The quality is the library's preset (ddof_params_init_preset), and the report says where the
+# frame ran (the default backend: the CPU).
+lib = addon.binding.get_library()
+final = lib.preset_summary("final")
+stats = report["stats"] if report else {}
+checks.check(s.quality_steps() == (final["substeps"], final["background_levels"]) and
+             stats.get("substeps") == final["substeps"],
+             "Final is not the library's final preset: %r, %r" % (s.quality_steps(), final))
+checks.check(s.backend == "CPU" and stats.get("backend_name") == "cpu" and
+             stats.get("renderer", "").startswith("CPU, ") and
+             "on cpu (CPU, " in report["message"],
+             "backend in the report: %r" % (report,))
 
 # Masks from the depth pass.
 n = w * h
@@ -99,6 +111,33 @@ for quality in ("PREVIEW", "DEFAULT"):
     bpy.ops.diffusion_dof.reapply()
     print("PSNR %s quality: %.2f dB" % (quality.lower(),
                                          u.psnr(u.pixels(bpy.data.images["Diffusion DOF"]), truth)))
+    summary = lib.preset_summary(quality.lower())
+    report = addon.render.reports.get(scene.name)
+    checks.check(report["stats"]["substeps"] == summary["substeps"],
+                 "%s: %r sub-steps, the library's preset %r" % (quality, report["stats"]["substeps"],
+                                                               summary))
+
+# Backend Auto: a GPU when the GL plugin finds one, else the CPU, with the same pixels; the
+# report says which ran, its renderer and why.
+s.quality = "FINAL"
+bpy.ops.diffusion_dof.reapply()
+cpu_result = u.pixels(bpy.data.images["Diffusion DOF"])
+s.backend = "AUTO"
+bpy.ops.diffusion_dof.reapply()
+report = addon.render.reports.get(scene.name)
+stats = report["stats"]
+print("backend auto ran on %s (%s): %s" % (stats["backend_name"], stats["renderer"],
+                                           stats["backend_note"]))
+checks.check(stats["backend_note"].startswith("auto: ") and stats["renderer"] and
+             ("on %s (%s)" % (stats["backend_name"], stats["renderer"])) in report["message"],
+             "auto report: %r" % (report,))
+auto_result = u.pixels(bpy.data.images["Diffusion DOF"])
+if stats["backend_name"] == "cpu":
+    checks.check(auto_result == cpu_result, "auto on the CPU differs from CPU")
+else:
+    checks.check(max(abs(a - b) for a, b in zip(auto_result, cpu_result)) < 1e-3,
+                 "auto on the GPU differs from the CPU")
+s.backend = "CPU"
 
 # 4. The post as a separately rendered foreground element (companion scene, Kass et al. 3.2).
 s.quality = "FINAL"

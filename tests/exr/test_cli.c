@@ -4,12 +4,13 @@
  *
  *   test_cli DDOF_BINARY CASE SCRATCH_DIR
  * CASE: values window refuse_same unwritable bad_inputs sequence interrupt sidecar options
- *       foreground */
+ *       foreground backend */
 #include "exr_test_util.h"
 
 #include <ddof.h>
 
 #include <cJSON.h>
+#include <dlfcn.h>
 #include <png.h>
 
 #include <errno.h>
@@ -128,8 +129,20 @@ typedef struct reference {
     ref_kind kind;
     ddof_camera camera;
     ddof_curve curve;
-    uint32_t substeps;
+    const char *preset;  /* ddof_params_init_preset by name; NULL: ddof_params_init */
+    uint32_t substeps;   /* 0: the preset's */
 } reference;
+
+/* The library's preset of this name (ddof_preset_name); asserts it exists. */
+static ddof_preset preset_named(const char *name)
+{
+    int p;
+    for (p = 0; p < DDOF_PRESET_COUNT_; p++)
+        if (ddof_preset_name((ddof_preset)p) && !strcmp(ddof_preset_name((ddof_preset)p), name))
+            return (ddof_preset)p;
+    CHECK_MSG(0, "the library has no preset %s", name);
+    return DDOF_PRESET_DEFAULT;
+}
 
 static void camera_50mm(ddof_camera *c, double fstop, double focus)
 {
@@ -156,8 +169,12 @@ static void library_result(const scene *s, const reference *ref, float *out, ddo
     ddof_context_options_init(&co);
     co.thread_count = 1;
     CHECK(ddof_context_create(&co, &ctx) == DDOF_OK);
-    ddof_params_init(&params);
-    params.substeps = ref->substeps;
+    if (ref->preset)
+        CHECK(ddof_params_init_preset(&params, preset_named(ref->preset)) == DDOF_OK);
+    else
+        ddof_params_init(&params);
+    if (ref->substeps)
+        params.substeps = ref->substeps;
     {
         const ddof_image_in color_in = {color, W, H, 4, 0};
         const ddof_image_in depth_in = {s->z, W, H, 1, 0};
@@ -257,6 +274,22 @@ static int case_values(void)
               cJSON_GetObjectItem(sim, "lines_solved")->valuedouble ==
                   (double)stats.lines_solved);
         CHECK(cJSON_GetObjectItem(sim, "substeps")->valuedouble == 3.0);
+        /* Where it ran and what it took (libddof 0.3). */
+        CHECK(cJSON_IsString(cJSON_GetObjectItem(sim, "backend")) &&
+              strcmp(cJSON_GetObjectItem(sim, "backend")->valuestring,
+                     ddof_backend_name((ddof_backend_kind)stats.backend)) == 0);
+        CHECK(cJSON_IsString(cJSON_GetObjectItem(sim, "renderer")) &&
+              cJSON_GetObjectItem(sim, "renderer")->valuestring[0]);
+        CHECK(cJSON_IsString(cJSON_GetObjectItem(sim, "backend_note")));
+        CHECK(cJSON_IsString(cJSON_GetObjectItem(sim, "method")) &&
+              strcmp(cJSON_GetObjectItem(sim, "method")->valuestring, "diffusion") == 0);
+        CHECK(cJSON_IsNumber(cJSON_GetObjectItem(sim, "device_bytes")));
+        CHECK(cJSON_IsNumber(cJSON_GetObjectItem(sim, "host_bytes")) &&
+              cJSON_GetObjectItem(sim, "host_bytes")->valuedouble > 0.0);
+        CHECK(strcmp(cJSON_GetObjectItem(cJSON_GetObjectItem(root, "settings"),
+                                         "backend")->valuestring, "auto") == 0);
+        CHECK(strcmp(cJSON_GetObjectItem(cJSON_GetObjectItem(root, "settings"),
+                                         "preset")->valuestring, "default") == 0);
         CHECK(cJSON_IsString(cJSON_GetObjectItem(sim, "why")));
         CHECK(cJSON_GetObjectItem(sec, "frame")->valuedouble > 0.0);
         CHECK(strcmp(cJSON_GetObjectItem(frame, "status")->valuestring, "ok") == 0);
@@ -264,13 +297,47 @@ static int case_values(void)
         free(text);
     }
 
-    /* Presets: fast is one sub-step; half output rounds the same result. */
-    r.substeps = 1;
-    library_result(&s, &r, ref2, NULL);
-    CHECK(ddof(in, "-o", test_path(dir, "fast.exr"), "--focal-length", "50", "--fstop", "2",
-               "--focus", "3", "--preset", "fast", "--pixel-type", "half", NULL) == 0);
-    bad = compare_output(test_path(dir, "fast.exr"), ref2, 1, 0.0, 1);
-    CHECK_MSG(bad == 0, "%d half values differ from the rounded library result", bad);
+    /* Presets come from the library: --preset NAME gives the pixels of the library called with
+     * ddof_params_init_preset(NAME), bit for bit; no --preset is ddof_params_init (the default
+     * preset); a flag overrides the preset's value. Half output rounds the same result. */
+    {
+        static const char *const names[] = {"preview", "default", "final"};
+        size_t k;
+        CHECK(DDOF_PRESET_COUNT_ == 3);
+        r.substeps = 0;
+        for (k = 0; k < 3; k++) {
+            char out[64];
+            r.preset = names[k];
+            library_result(&s, &r, ref2, NULL);
+            snprintf(out, sizeof out, "preset_%s.exr", names[k]);
+            CHECK(ddof(in, "-o", test_path(dir, out), "--focal-length", "50", "--fstop", "2",
+                       "--focus", "3", "--preset", names[k], "--pixel-type", "float",
+                       NULL) == 0);
+            bad = compare_output(test_path(dir, out), ref2, 1, 0.0, 0);
+            CHECK_MSG(bad == 0, "--preset %s: %d values differ from ddof_params_init_preset",
+                      names[k], bad);
+        }
+        r.preset = NULL;
+        library_result(&s, &r, ref2, NULL);
+        CHECK(ddof(in, "-o", test_path(dir, "no_preset.exr"), "--focal-length", "50", "--fstop",
+                   "2", "--focus", "3", "--pixel-type", "half", NULL) == 0);
+        bad = compare_output(test_path(dir, "no_preset.exr"), ref2, 1, 0.0, 1);
+        CHECK_MSG(bad == 0, "no --preset: %d half values differ from ddof_params_init", bad);
+        r.preset = "final";
+        r.substeps = 2;
+        library_result(&s, &r, ref2, NULL);
+        CHECK(ddof(in, "-o", test_path(dir, "final2.exr"), "--focal-length", "50", "--fstop",
+                   "2", "--focus", "3", "--preset", "final", "--substeps", "2", "--pixel-type",
+                   "float", NULL) == 0);
+        bad = compare_output(test_path(dir, "final2.exr"), ref2, 1, 0.0, 0);
+        CHECK_MSG(bad == 0, "--preset final --substeps 2: %d values differ", bad);
+        /* 0.2's names still run, as the presets they became. */
+        CHECK(ddof(in, "-o", test_path(dir, "quality.exr"), "--focal-length", "50", "--fstop",
+                   "2", "--focus", "3", "--preset", "quality", "--substeps", "2", "--pixel-type",
+                   "float", NULL) == 0 && err_contains("now called --preset final"));
+        CHECK(compare_output(test_path(dir, "quality.exr"), ref2, 1, 0.0, 0) == 0);
+        r.preset = NULL;
+    }
 
     /* The thin-lens model differs from the default Cycles one, and matches the library's. */
     r.substeps = 3;
@@ -863,6 +930,20 @@ static int case_options(void)
     write_scene(in, &s, 0);
 
     CHECK(ddof("--help", NULL) == 0 && out_contains("usage: ddof"));
+    {
+        /* --help lists the presets with the library's values, not values of its own. */
+        ddof_params final;
+        char line[128];
+        CHECK(ddof_params_init_preset(&final, DDOF_PRESET_FINAL) == DDOF_OK);
+        snprintf(line, sizeof line, "final    %s",
+                 final.method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion");
+        CHECK(out_contains("--backend auto|cpu|egl|osmesa") && out_contains(line));
+        if (final.method == DDOF_METHOD_DIFFUSION) {
+            snprintf(line, sizeof line, "%s, %u sub-step", ddof_solver_name(final.solver),
+                     final.substeps);
+            CHECK(out_contains(line));
+        }
+    }
     CHECK(ddof("--version", NULL) == 0 && out_contains("libddof"));
     CHECK(ddof(in, NULL) == 2 && err_contains("no output file"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), NULL) == 2 && err_contains("no camera"));
@@ -871,13 +952,24 @@ static int case_options(void)
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--fstop", "fast", NULL) == 2 &&
           err_contains("--fstop wants a number > 0"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--solver", "magic", NULL) == 2 &&
-          err_contains("thomas | cr | pcr | jacobi | reference"));
+          err_contains("thomas | cr | pcr | jacobi | reference | gruen"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--preset", "best", NULL) == 2 &&
+          err_contains("one of preview | default | final"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--method", "gauss", NULL) == 2 &&
+          err_contains("diffusion | cod4"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--precision", "double", NULL) == 2 &&
+          err_contains("float | packed-half"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--method", "cod4", "--foreground", "fg.exr",
+               "--focal-length", "50", "--fstop", "2", "--focus", "3", NULL) == 2 &&
+          err_contains("--method cod4 takes no foreground element"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--backend", "cpu", "--gl-plugin", "x.so",
+               NULL) == 2 && err_contains("--backend cpu uses none"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--coc-channel", "Z", "--foreground", "fg.exr",
                NULL) == 2 && err_contains("--foreground-coc-channel"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--background", "sometimes", NULL) == 2 &&
           err_contains("auto | off | on"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--backend", "gl", NULL) == 2 &&
-          err_contains("only the cpu backend"));
+          err_contains("one of cpu | auto | egl | osmesa"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "dwaa", NULL) == 2 &&
           err_contains("cannot write DWAA"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--curve", "1,2,3", NULL) == 2 &&
@@ -1027,6 +1119,179 @@ static int case_foreground(void)
     return test_finish("test_cli foreground");
 }
 
+/* The file libddof was loaded from; the GL plugin is looked for beside it. */
+static int gl_plugin_beside_library(void)
+{
+    Dl_info info;
+    char path[4096];
+    const char *slash;
+    if (!dladdr((void *)(uintptr_t)ddof_version_number, &info) || !info.dli_fname)
+        return 0;
+    slash = strrchr(info.dli_fname, '/');
+    if (!slash)
+        return 0;
+    snprintf(path, sizeof path, "%.*slibddof_gl.so", (int)(slash - info.dli_fname + 1),
+             info.dli_fname);
+    return test_file_exists(path);
+}
+
+/* A string of frame 0 of a --stats file's "simulated" (allocated; "" when missing). */
+static char *stats_string(const char *path, const char *key)
+{
+    char *text = test_read_file(path, NULL), *value = NULL;
+    cJSON *root = text ? cJSON_Parse(text) : NULL;
+    const cJSON *sim = cJSON_GetObjectItem(
+        cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0), "simulated");
+    const cJSON *item = cJSON_GetObjectItem(sim, key);
+    if (cJSON_IsString(item)) {
+        value = malloc(strlen(item->valuestring) + 1);
+        if (value)
+            strcpy(value, item->valuestring);
+    }
+    cJSON_Delete(root);
+    free(text);
+    if (!value)
+        value = calloc(1, 1);
+    return value;
+}
+
+/* Backends (libddof 0.3): an explicit GL backend that cannot be had is exit status 3 and a
+ * sentence, never a crash and never a silent CPU run; auto uses the CPU when there is no GPU and
+ * gives the CPU's pixels then; -v and --stats say what ran. Gruen and packed-half precision
+ * need a GL backend. The CoD4 preview runs through --method. */
+static int case_backend(void)
+{
+    static scene s;
+    static float ref[N * 4];
+    const char *in = test_path(dir, "in.exr");
+    const char *camera[] = {"--focal-length", "50", "--fstop", "2", "--focus", "3"};
+    reference r;
+    char *ran, *renderer, *note, *method;
+    int bad;
+
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+    memset(&r, 0, sizeof r);
+    r.kind = REF_CAMERA;
+    camera_50mm(&r.camera, 2.0, 3.0);
+
+#define CAMERA camera[0], camera[1], camera[2], camera[3], camera[4], camera[5]
+    /* A plugin that is not there: the explicit path wins over every other place. */
+    CHECK(ddof(in, "-o", test_path(dir, "osmesa.exr"), CAMERA, "--backend", "osmesa",
+               "--gl-plugin", "/nonexistent/libddof_gl.so", NULL) == 3);
+    CHECK(err_contains("--backend osmesa is not available") &&
+          err_contains("/nonexistent/libddof_gl.so") && err_contains("--backend cpu"));
+    CHECK(!test_file_exists(test_path(dir, "osmesa.exr")));
+    CHECK(ddof(in, "-o", test_path(dir, "egl.exr"), CAMERA, "--backend", "egl", "--gl-plugin",
+               "/nonexistent/libddof_gl.so", NULL) == 3 &&
+          err_contains("--backend egl is not available"));
+    /* The same through DDOF_GL_PLUGIN, when no plugin sits beside libddof (the library then
+     * goes on to that one: see the report on the search order). */
+    if (!gl_plugin_beside_library()) {
+        setenv("DDOF_GL_PLUGIN", "/nonexistent/libddof_gl.so", 1);
+        CHECK(ddof(in, "-o", test_path(dir, "osmesa.exr"), CAMERA, "--backend", "osmesa",
+                   NULL) == 3 && err_contains("--backend osmesa is not available"));
+        /* auto does not fail for it: it falls back to the CPU and says why. */
+        CHECK(ddof(in, "-o", test_path(dir, "auto_env.exr"), CAMERA, "--backend", "auto",
+                   "--stats", test_path(dir, "auto_env.json"), NULL) == 0);
+        ran = stats_string(test_path(dir, "auto_env.json"), "backend");
+        note = stats_string(test_path(dir, "auto_env.json"), "backend_note");
+        CHECK_MSG(!strcmp(ran, "cpu") && strstr(note, "auto: the CPU"), "ran %s, note %s", ran,
+                  note);
+        free(ran);
+        free(note);
+        unsetenv("DDOF_GL_PLUGIN");
+    }
+
+    /* cpu: the library's pixels. */
+    r.substeps = 2;
+    library_result(&s, &r, ref, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "cpu.exr"), CAMERA, "--backend", "cpu", "--substeps",
+               "2", "--pixel-type", "float", "--stats", test_path(dir, "cpu.json"), "-v",
+               NULL) == 0);
+    bad = compare_output(test_path(dir, "cpu.exr"), ref, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "--backend cpu: %d values differ from the library", bad);
+    CHECK(out_contains("backend cpu (CPU, ") && out_contains("method diffusion") &&
+          out_contains("plan: midground: "));
+    ran = stats_string(test_path(dir, "cpu.json"), "backend");
+    renderer = stats_string(test_path(dir, "cpu.json"), "renderer");
+    note = stats_string(test_path(dir, "cpu.json"), "backend_note");
+    CHECK_MSG(!strcmp(ran, "cpu") && !strncmp(renderer, "CPU, ", 5) && !note[0],
+              "cpu: ran %s on %s, note %s", ran, renderer, note);
+    free(ran);
+    free(renderer);
+    free(note);
+
+    /* auto (the default): on a machine without a GPU (or without the plugin) the CPU, the same
+     * pixels, and -v / --stats say so and why. With a GPU the pixels are the GL solver's: they
+     * agree within float rounding. */
+    CHECK(ddof(in, "-o", test_path(dir, "auto.exr"), CAMERA, "--substeps", "2", "--pixel-type",
+               "float", "--stats", test_path(dir, "auto.json"), "--verbose", NULL) == 0);
+    ran = stats_string(test_path(dir, "auto.json"), "backend");
+    renderer = stats_string(test_path(dir, "auto.json"), "renderer");
+    note = stats_string(test_path(dir, "auto.json"), "backend_note");
+    CHECK_MSG(strstr(note, "auto: ") == note, "auto's note: %s", note);
+    {
+        char line[512];
+        snprintf(line, sizeof line, "backend %s (%s)", ran, renderer);
+        CHECK(out_contains(line) && out_contains(note));
+    }
+    if (!strcmp(ran, "cpu")) {
+        bad = compare_output(test_path(dir, "auto.exr"), ref, 1, 0.0, 0);
+        CHECK_MSG(bad == 0, "--backend auto on the CPU: %d values differ from cpu", bad);
+        CHECK(strstr(note, "auto: the CPU, because") != NULL);
+    } else {
+        printf("auto ran on %s (%s)\n", ran, renderer);
+        CHECK(compare_output(test_path(dir, "auto.exr"), ref, 0, 1e-4, 0) == 0);
+    }
+    free(ran);
+    free(renderer);
+    free(note);
+
+    /* With the GL plugin built beside libddof: osmesa runs the same diffusion in software GL,
+     * within float rounding of the CPU's, and says so. (A machine without libOSMesa gives the
+     * backend error, exit 3.) */
+    if (gl_plugin_beside_library()) {
+        int rc;
+        setenv("MESA_SHADER_CACHE_DIR", test_path(dir, "mesa-cache"), 1);
+        rc = ddof(in, "-o", test_path(dir, "osmesa_gl.exr"), CAMERA, "--backend", "osmesa",
+                  "--substeps", "2", "--pixel-type", "float", "--stats",
+                  test_path(dir, "osmesa.json"), NULL);
+        CHECK_MSG(rc == 0 || (rc == 3 && err_contains("--backend osmesa is not available")),
+                  "osmesa with the plugin: exit %d", rc);
+        if (rc == 0) {
+            ran = stats_string(test_path(dir, "osmesa.json"), "backend");
+            renderer = stats_string(test_path(dir, "osmesa.json"), "renderer");
+            printf("osmesa ran on %s (%s)\n", ran, renderer);
+            CHECK_MSG(!strcmp(ran, "osmesa") && renderer[0], "osmesa: ran %s on %s", ran,
+                      renderer);
+            bad = compare_output(test_path(dir, "osmesa_gl.exr"), ref, 0, 1e-4, 0);
+            CHECK_MSG(bad == 0, "--backend osmesa: %d values differ from the CPU's by > 1e-4",
+                      bad);
+            free(ran);
+            free(renderer);
+        }
+    }
+
+    /* Gruen and packed half need GL: on the CPU, exit 3 and what to do. */
+    CHECK(ddof(in, "-o", test_path(dir, "gruen.exr"), CAMERA, "--backend", "cpu", "--solver",
+               "gruen", NULL) == 3);
+    CHECK(err_contains("cannot run solver gruen") && err_contains("--backend egl or osmesa"));
+    CHECK(ddof(in, "-o", test_path(dir, "half.exr"), CAMERA, "--backend", "cpu", "--precision",
+               "packed-half", NULL) == 3 && err_contains("packed half"));
+    CHECK(!test_file_exists(test_path(dir, "gruen.exr")) &&
+          !test_file_exists(test_path(dir, "half.exr")));
+
+    /* The CoD4 preview: --method cod4, reported as such. */
+    CHECK(ddof(in, "-o", test_path(dir, "cod4.exr"), CAMERA, "--method", "cod4", "--stats",
+               test_path(dir, "cod4.json"), NULL) == 0 && out_contains("CoD4 preview"));
+    method = stats_string(test_path(dir, "cod4.json"), "method");
+    CHECK_MSG(!strcmp(method, "cod4"), "method %s", method);
+    free(method);
+#undef CAMERA
+    return test_finish("test_cli backend");
+}
+
 int main(int argc, char **argv)
 {
     const char *which;
@@ -1048,6 +1313,7 @@ int main(int argc, char **argv)
     if (!strcmp(which, "sidecar")) return case_sidecar();
     if (!strcmp(which, "options")) return case_options();
     if (!strcmp(which, "foreground")) return case_foreground();
+    if (!strcmp(which, "backend")) return case_backend();
     fprintf(stderr, "test_cli: unknown case %s\n", which);
     return 2;
 }
