@@ -22,4 +22,4 @@ ensure_packages() {
 }
 
 # The packages every build needs.
-BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config libpng-dev libopenexr-dev libcjson-dev)
+BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config libpng-dev libopenexr-dev libcjson-dev libgl-dev libegl-dev libegl1-mesa-dev libosmesa6-dev)

@@ -6,6 +6,13 @@
  * after one warm-up. Absolute milliseconds are printed too (as *_ms) for the notes.
  *
  *   ddof-bench [--size WxH] [--reps N] [--solver NAME|layers|all]
+ *              [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]
+ *
+ * With a GL backend (docs/gl-backend.md) it prints the renderer, and per solver the time at the
+ * scene's CoC, the CoC 200 / 2 px ratio and device_bytes_per_mp (the GPU memory a call's buffers
+ * took, per megapixel); thread ratios are skipped (the GPU does not use the context's threads).
+ * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is found as
+ * ddof_context_set_backend says (DDOF_GL_PLUGIN, beside libddof.so, ...) unless --plugin names it.
  */
 #include "ddof.h"
 
@@ -33,6 +40,10 @@ static int compare_doubles(const void *a, const void *b)
     double x = *(const double *)a, y = *(const double *)b;
     return (x > y) - (x < y);
 }
+
+/* The precision every call asks for, and the device memory the last call reported. */
+static ddof_precision bench_precision = DDOF_PRECISION_FLOAT;
+static uint64_t last_device_bytes;
 
 static double median(double *t, uint32_t n)
 {
@@ -70,6 +81,7 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
     ddof_params params;
     ddof_params_init(&params);
     params.solver = solver;
+    params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
     params.background = config.background;
     ddof_image_in color = {b->color, b->width, b->height, 4, 0};
     ddof_image_in coc_image = {coc, b->width, b->height, 1, 0};
@@ -80,12 +92,16 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
     fg.coc = (ddof_image_in){b->fg_coc, b->width, b->height, 1, 0};
     double t[64];
     for (uint32_t i = 0; i <= b->reps; i++) {
+        ddof_stats stats = {.struct_size = sizeof stats};
         double t0 = now();
         ddof_status status =
             config.layered ? ddof_diffuse_layers(context, &params, &color, &coc_image,
-                                                 config.foreground ? &fg : NULL, &out, NULL)
-                           : ddof_diffuse(context, &params, &color, &coc_image, &out, NULL);
+                                                 config.foreground ? &fg : NULL, &out, &stats)
+                           : ddof_diffuse(context, &params, &color, &coc_image, &out, &stats);
         double seconds = now() - t0;
+        last_device_bytes = stats.device_bytes;
+        if (status == DDOF_ERROR_UNSUPPORTED)
+            return -1.0; /* e.g. Gruen on the CPU: the caller says so */
         if (status != DDOF_OK) {
             fprintf(stderr, "ddof-bench: %s: %s\n", ddof_status_string(status),
                     ddof_context_last_error(context));
@@ -174,6 +190,8 @@ int main(int argc, char **argv)
 {
     bench b = {.width = 1920, .height = 1080, .reps = 9};
     const char *only = "all";
+    const char *plugin = NULL;
+    ddof_backend_kind backend = DDOF_BACKEND_CPU;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--size") && i + 1 < argc && parse_size(argv[i + 1], &b.width, &b.height))
             i++;
@@ -182,9 +200,26 @@ int main(int argc, char **argv)
             b.reps = (uint32_t)atoi(argv[++i]);
         else if (!strcmp(argv[i], "--solver") && i + 1 < argc)
             only = argv[++i];
-        else {
+        else if (!strcmp(argv[i], "--plugin") && i + 1 < argc)
+            plugin = argv[++i];
+        else if (!strcmp(argv[i], "--packed-half"))
+            bench_precision = DDOF_PRECISION_PACKED_HALF;
+        else if (!strcmp(argv[i], "--backend") && i + 1 < argc) {
+            const char *name = argv[++i];
+            int found = 0;
+            for (int k = 0; k < DDOF_BACKEND_COUNT_ && !found; k++)
+                if (k != DDOF_BACKEND_HOST_GL && !strcmp(name, ddof_backend_name((ddof_backend_kind)k))) {
+                    backend = (ddof_backend_kind)k;
+                    found = 1;
+                }
+            if (!found) {
+                fprintf(stderr, "ddof-bench: --backend cpu|auto|egl|osmesa\n");
+                return 2;
+            }
+        } else {
             fprintf(stderr,
                     "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|layers|all]\n"
+                    "                  [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]\n"
                     "Prints `name value` lines: times as ratios measured in this run.\n");
             return 2;
         }
@@ -192,6 +227,22 @@ int main(int argc, char **argv)
     make_scene(&b);
     ddof_context *one = make_context(1), *two = make_context(2), *all = make_context(0);
 
+    if (backend != DDOF_BACKEND_CPU) {
+        /* One context runs on the chosen backend; the thread ratios need the CPU, so they go. */
+        ddof_status status = ddof_context_set_backend(all, backend, plugin);
+        if (status != DDOF_OK) {
+            fprintf(stderr, "ddof-bench: backend %s: %s\n", ddof_backend_name(backend),
+                    ddof_context_last_error(all));
+            return 1;
+        }
+    }
+    ddof_backend_info info = {.struct_size = sizeof info};
+    ddof_context_backend_info(all, &info);
+    const int on_gl = info.kind != DDOF_BACKEND_CPU;
+    printf("backend %s\n", ddof_backend_name((ddof_backend_kind)info.kind));
+    printf("renderer %s\n", info.renderer);
+    if (info.note[0])
+        printf("backend_note %s\n", info.note);
     printf("image %ux%u_rgba_f32\n", b.width, b.height);
     printf("threads_default %u\n", ddof_context_thread_count(all));
     const double memcpy_s = time_memcpy(&b);
@@ -203,7 +254,14 @@ int main(int argc, char **argv)
             continue;
         /* The reference is single-threaded and slow: one thread, fewer figures. */
         const int reference = s == DDOF_SOLVER_REFERENCE_F64;
+        if (reference && on_gl && strcmp(only, name))
+            continue; /* it runs on the CPU whatever the backend: not a GL figure */
         const double scene = time_diffuse(&b, reference ? one : all, (ddof_solver)s, b.coc_scene);
+        const uint64_t device_bytes = last_device_bytes;
+        if (scene < 0) {
+            printf("%s_unsupported_on %s\n", name, ddof_backend_name((ddof_backend_kind)info.kind));
+            continue;
+        }
         const double coc2 = time_diffuse(&b, reference ? one : all, (ddof_solver)s, b.coc_2);
         const double coc200 = time_diffuse(&b, reference ? one : all, (ddof_solver)s, b.coc_200);
         const char *prefix = s == DDOF_SOLVER_THOMAS ? "" : name;
@@ -211,7 +269,10 @@ int main(int argc, char **argv)
         printf("%s%ssingle_layer_ms %.3f\n", prefix, sep, 1e3 * scene);
         printf("%s%ssingle_layer_vs_memcpy %.3f\n", prefix, sep, scene / memcpy_s);
         printf("%s%scoc200_vs_coc2 %.3f\n", prefix, sep, coc200 / coc2);
-        if (!reference) {
+        if (on_gl && !reference)
+            printf("%s%sdevice_bytes_per_mp %.0f\n", prefix, sep,
+                   (double)device_bytes / ((double)b.width * b.height / 1e6));
+        if (!reference && !on_gl) {
             const double t1 = time_diffuse(&b, one, (ddof_solver)s, b.coc_scene);
             const double t2 = time_diffuse(&b, two, (ddof_solver)s, b.coc_scene);
             printf("%s%sthreads2_vs_threads1 %.3f\n", prefix, sep, t1 / t2);

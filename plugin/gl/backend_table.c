@@ -1,0 +1,75 @@
+/* backend_table.c - the plugin's one exported symbol: the table libddof/src/backend.c loads
+ * (open, close, describe, supports, run), and run() itself: upload, ADI, read back, with the
+ * device's context current only for the call. */
+#include "gl_io.h"
+
+#include <stdio.h>
+#include <string.h>
+
+#define DDOF_GL_EXPORT __attribute__((visibility("default")))
+
+static ddof_device *table_open(ddof_backend_kind kind, int require_hardware, char *message,
+                               size_t size)
+{
+    return gl_device_open(kind, require_hardware, message, size);
+}
+
+static void table_describe(const ddof_device *device, ddof_device_info *info)
+{
+    *info = device->info;
+}
+
+static int table_supports(const ddof_device *device, ddof_solver solver,
+                          ddof_precision precision)
+{
+    (void)device;
+    return gl_solver_supported(solver, precision);
+}
+
+static ddof_status table_run(ddof_device *device, const adi_request *r, adi_report *report,
+                             char *message, size_t size)
+{
+    if (!gl_solver_supported(r->solver, r->precision)) {
+        snprintf(message, size, "solver %d is not available on the GPU", (int)r->solver);
+        return DDOF_ERROR_UNSUPPORTED;
+    }
+    if (!gl_device_begin(device, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    const gl_functions *gl = &device->gl;
+    while (gl->GetError() != GL_NO_ERROR) { /* the host's errors are not ours */
+    }
+    gl_buffers_begin(&device->buffers);
+    const gl_diffusion d = {r->width, r->height, r->channels, r->solver, r->precision,
+                            r->substeps, r->jacobi_iterations, r->beta_scale, r->pixel_aspect,
+                            r->gamma != NULL, r->progress, r->progress_user};
+    ddof_status status = DDOF_ERROR_BACKEND_FAILED;
+    if (gl_io_upload(device, r, message, size))
+        status = gl_diffuse(device, &d, report, message, size);
+    /* Cancelled: IMAGE_A holds the masked input or the last finished substep, both finite. */
+    if ((status == DDOF_OK || status == DDOF_ERROR_CANCELLED) &&
+        !gl_io_download(device, r, message, size))
+        status = DDOF_ERROR_BACKEND_FAILED;
+    const GLenum error = gl->GetError();
+    if (status == DDOF_OK && error != GL_NO_ERROR) {
+        snprintf(message, size, error == GL_OUT_OF_MEMORY ? "out of GPU memory"
+                                                          : "GL error 0x%x", (unsigned)error);
+        status = DDOF_ERROR_BACKEND_FAILED;
+    }
+    report->device_bytes = gl_buffers_used(&device->buffers);
+    gl_device_end(device);
+    if (status == DDOF_OK && r->progress)
+        r->progress(r->progress_user, 1.0f);
+    return status;
+}
+
+static const ddof_backend_table table = {
+    DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
+    table_supports, table_run,
+};
+
+DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);
+
+const ddof_backend_table *ddof_gl_backend_table(void)
+{
+    return &table;
+}

@@ -1,0 +1,43 @@
+/* gl_buffers.h - the solver's GPU buffers, kept by the device between calls and grown to the
+ * largest call (a sequence of frames of one size allocates once), like the CPU path's scratch. */
+#ifndef DDOF_GL_BUFFERS_H
+#define DDOF_GL_BUFFERS_H
+
+#include "gl_functions.h"
+
+#include <stdint.h>
+
+typedef enum gl_buffer_slot {
+    GL_BUF_RAW_COLOR, /* the caller's colour as it lies; reused for the read-back */
+    GL_BUF_RAW_COC,
+    GL_BUF_RAW_GAMMA,
+    GL_BUF_COC,       /* |CoC| per pixel                       */
+    GL_BUF_GAMMA,     /* gamma per pixel                       */
+    GL_BUF_FLAGS,     /* singular-run marks per pixel          */
+    GL_BUF_IMAGE_A,   /* vec4 working images: passes ping-pong */
+    GL_BUF_IMAGE_B,
+    GL_BUF_IMAGE_C,   /* Jacobi's second sweep buffer          */
+    GL_BUF_WEIGHTS,   /* Thomas' back-substitution weights     */
+    GL_BUF_PYRAMID,   /* reduced levels (CR, hybrid, Gruen)    */
+    GL_BUF_COUNTERS,  /* active rows, columns, max CoC         */
+    GL_BUF_DUMMY,     /* bound where a kernel reads nothing    */
+    GL_BUF_COUNT
+} gl_buffer_slot;
+
+typedef struct gl_buffers {
+    GLuint name[GL_BUF_COUNT];
+    uint64_t capacity[GL_BUF_COUNT];
+    uint64_t used[GL_BUF_COUNT]; /* what the current call asked for */
+} gl_buffers;
+
+/* Starts a call: forgets what the last call used (for the device_bytes report). */
+void gl_buffers_begin(gl_buffers *buffers);
+/* The buffer of `slot` with at least `bytes` bytes (contents undefined after growth); 0 on an
+ * allocation failure (GL_OUT_OF_MEMORY). */
+GLuint gl_buffers_get(const gl_functions *gl, gl_buffers *buffers, gl_buffer_slot slot,
+                      uint64_t bytes);
+/* Bytes the current call asked for, over all slots: its peak device memory. */
+uint64_t gl_buffers_used(const gl_buffers *buffers);
+void gl_buffers_free(const gl_functions *gl, gl_buffers *buffers);
+
+#endif

@@ -1,0 +1,127 @@
+/* gl_programs.c - building the compute programs from the embedded shader sources.
+ *
+ * A program's source is "#version 450", its defines, shaders/prelude.glsl, then (solver
+ * kernels) line.glsl and (reduction kernels) pyramid.glsl, then the kernel itself. */
+#include "gl_programs.h"
+
+#include "gl_shader_sources.h"
+
+#include <stdio.h>
+#include <string.h>
+
+enum { PART_LINE = 1, PART_PYRAMID = 2 };
+
+typedef struct program_recipe {
+    const char *kernel;
+    unsigned parts;
+    const char *defines;
+} program_recipe;
+
+static const program_recipe recipes[GL_PROG_COUNT] = {
+    [GL_PROG_PACK] = {"pack.comp", 0, ""},
+    [GL_PROG_UNPACK] = {"unpack.comp", 0, ""},
+    [GL_PROG_ANALYSE] = {"analyse.comp", PART_LINE, ""},
+    [GL_PROG_COPY] = {"copy.comp", PART_LINE, ""},
+    [GL_PROG_THOMAS] = {"thomas.comp", PART_LINE, ""},
+    [GL_PROG_CR_REDUCE] = {"cr_reduce.comp", PART_LINE | PART_PYRAMID, ""},
+    [GL_PROG_CR_BACK] = {"cr_back.comp", PART_LINE | PART_PYRAMID, ""},
+    [GL_PROG_PCR_SHARED] = {"pcr_shared.comp", PART_LINE | PART_PYRAMID, ""},
+    [GL_PROG_GRUEN_REDUCE4] = {"gruen_reduce4.comp", PART_LINE | PART_PYRAMID, ""},
+    [GL_PROG_GRUEN_CRAMER] = {"gruen_cramer.comp", PART_LINE | PART_PYRAMID, ""},
+    [GL_PROG_GRUEN_BACK4] = {"gruen_back4.comp", PART_LINE | PART_PYRAMID, ""},
+    [GL_PROG_CR_REDUCE_PACKED] = {"cr_reduce.comp", PART_LINE | PART_PYRAMID,
+                                  "#define PACKED 1\n"},
+    [GL_PROG_CR_BACK_PACKED] = {"cr_back.comp", PART_LINE | PART_PYRAMID,
+                                "#define PACKED 1\n"},
+    [GL_PROG_GRUEN_REDUCE4_PACKED] = {"gruen_reduce4.comp", PART_LINE | PART_PYRAMID,
+                                      "#define PACKED 1\n"},
+    [GL_PROG_GRUEN_CRAMER_PACKED] = {"gruen_cramer.comp", PART_LINE | PART_PYRAMID,
+                                     "#define PACKED 1\n"},
+    [GL_PROG_GRUEN_BACK4_PACKED] = {"gruen_back4.comp", PART_LINE | PART_PYRAMID,
+                                    "#define PACKED 1\n"},
+    [GL_PROG_JACOBI_INIT] = {"jacobi_init.comp", PART_LINE, ""},
+    [GL_PROG_JACOBI_SWEEP] = {"jacobi_sweep.comp", PART_LINE, ""},
+    [GL_PROG_HOST_PACK] = {"host_pack.comp", 0, ""},
+    [GL_PROG_HOST_UNPACK_RGBA32F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba32f\n"},
+    [GL_PROG_HOST_UNPACK_RGBA16F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba16f\n"},
+};
+
+static const char *source_of(const char *name)
+{
+    for (size_t i = 0; i < sizeof gl_shader_sources / sizeof *gl_shader_sources; i++)
+        if (strcmp(gl_shader_sources[i].name, name) == 0)
+            return gl_shader_sources[i].text;
+    return NULL;
+}
+
+static GLuint build(const gl_functions *gl, const program_recipe *recipe, char *message,
+                    size_t size)
+{
+    const char *parts[6];
+    int count = 0;
+    parts[count++] = "#version 450\n";
+    parts[count++] = recipe->defines;
+    parts[count++] = source_of("prelude.glsl");
+    if (recipe->parts & PART_LINE)
+        parts[count++] = source_of("line.glsl");
+    if (recipe->parts & PART_PYRAMID)
+        parts[count++] = source_of("pyramid.glsl");
+    parts[count++] = source_of(recipe->kernel);
+    for (int i = 0; i < count; i++)
+        if (!parts[i]) {
+            snprintf(message, size, "shader source missing for %s", recipe->kernel);
+            return 0;
+        }
+
+    GLuint shader = gl->CreateShader(GL_COMPUTE_SHADER);
+    gl->ShaderSource(shader, count, parts, NULL);
+    gl->CompileShader(shader);
+    GLint ok = 0;
+    gl->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
+    if (!ok) {
+        char log[400] = "";
+        gl->GetShaderInfoLog(shader, sizeof log, NULL, log);
+        snprintf(message, size, "compiling %s failed: %s", recipe->kernel, log);
+        gl->DeleteShader(shader);
+        return 0;
+    }
+    GLuint program = gl->CreateProgram();
+    gl->AttachShader(program, shader);
+    gl->LinkProgram(program);
+    gl->DeleteShader(shader); /* stays alive while attached */
+    gl->GetProgramiv(program, GL_LINK_STATUS, &ok);
+    if (!ok) {
+        char log[400] = "";
+        gl->GetProgramInfoLog(program, sizeof log, NULL, log);
+        snprintf(message, size, "linking %s failed: %s", recipe->kernel, log);
+        gl->DeleteProgram(program);
+        return 0;
+    }
+    return program;
+}
+
+GLuint gl_programs_get(const gl_functions *gl, gl_programs *programs, gl_program_id id,
+                       char *message, size_t message_size)
+{
+    if (!programs->name[id])
+        programs->name[id] = build(gl, &recipes[id], message, message_size);
+    return programs->name[id];
+}
+
+void gl_programs_free(const gl_functions *gl, gl_programs *programs)
+{
+    for (int i = 0; i < GL_PROG_COUNT; i++)
+        if (programs->name[i])
+            gl->DeleteProgram(programs->name[i]);
+    memset(programs, 0, sizeof *programs);
+}
+
+void gl_uniform_u(const gl_functions *gl, GLuint program, const char *name, GLuint value)
+{
+    gl->ProgramUniform1ui(program, gl->GetUniformLocation(program, name), value);
+}
+
+void gl_uniform_f(const gl_functions *gl, GLuint program, const char *name, GLfloat value)
+{
+    gl->ProgramUniform1f(program, gl->GetUniformLocation(program, name), value);
+}

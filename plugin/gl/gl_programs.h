@@ -1,0 +1,46 @@
+/* gl_programs.h - the compute programs, built from the embedded shaders/ sources on first use
+ * (compiling all of them up front would cost a second on llvmpipe for solvers never run). */
+#ifndef DDOF_GL_PROGRAMS_H
+#define DDOF_GL_PROGRAMS_H
+
+#include "gl_functions.h"
+
+typedef enum gl_program_id {
+    GL_PROG_PACK,
+    GL_PROG_UNPACK,
+    GL_PROG_ANALYSE,
+    GL_PROG_COPY,
+    GL_PROG_THOMAS,
+    GL_PROG_CR_REDUCE,
+    GL_PROG_CR_BACK,
+    GL_PROG_PCR_SHARED,
+    GL_PROG_GRUEN_REDUCE4,
+    GL_PROG_GRUEN_CRAMER,
+    GL_PROG_GRUEN_BACK4,
+    GL_PROG_CR_REDUCE_PACKED,   /* the same kernels on RGBA32UI-packed rows */
+    GL_PROG_CR_BACK_PACKED,
+    GL_PROG_GRUEN_REDUCE4_PACKED,
+    GL_PROG_GRUEN_CRAMER_PACKED,
+    GL_PROG_GRUEN_BACK4_PACKED,
+    GL_PROG_JACOBI_INIT,
+    GL_PROG_JACOBI_SWEEP,
+    GL_PROG_HOST_PACK,
+    GL_PROG_HOST_UNPACK_RGBA32F,
+    GL_PROG_HOST_UNPACK_RGBA16F,
+    GL_PROG_COUNT
+} gl_program_id;
+
+typedef struct gl_programs {
+    GLuint name[GL_PROG_COUNT];
+} gl_programs;
+
+/* The program, compiled and linked on first use; 0 with the compiler's log in message. */
+GLuint gl_programs_get(const gl_functions *gl, gl_programs *programs, gl_program_id id,
+                       char *message, size_t message_size);
+void gl_programs_free(const gl_functions *gl, gl_programs *programs);
+
+/* Sets a uniform of a program by name (ignored when the program does not use it). */
+void gl_uniform_u(const gl_functions *gl, GLuint program, const char *name, GLuint value);
+void gl_uniform_f(const gl_functions *gl, GLuint program, const char *name, GLfloat value);
+
+#endif

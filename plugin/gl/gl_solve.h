@@ -1,0 +1,50 @@
+/* gl_solve.h - one diffusion on the GPU: the ADI driver (gl_solve.c) and the line solvers
+ * behind it (gl_solvers.c). Input and output stages are separate (gl_io.c for host memory,
+ * host_api.c for a host's textures), so both share everything in between. */
+#ifndef DDOF_GL_SOLVE_H
+#define DDOF_GL_SOLVE_H
+
+#include "gl_device.h"
+
+/* What the driver needs once the images are packed: IMAGE_A holds the vec4 colour (masked
+ * where gamma is 0), COC |CoC| and, with has_gamma, GAMMA. The result is left in IMAGE_A. */
+typedef struct gl_diffusion {
+    uint32_t width, height, channels;
+    ddof_solver solver;
+    ddof_precision precision;
+    uint32_t substeps;
+    uint32_t jacobi_iterations;
+    float beta_scale;
+    float pixel_aspect;
+    int has_gamma;
+    ddof_progress_fn progress;
+    void *progress_user;
+} gl_diffusion;
+
+/* One pass direction over the working image. */
+typedef struct gl_pass {
+    uint32_t n, lines, along, across;
+    float scale;       /* beta scale of the pass                       */
+    uint32_t flag_bit; /* 1 rows, 2 columns; 0 without heat capacities */
+    GLuint src, dst;   /* vec4 images                                  */
+} gl_pass;
+
+ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
+                       char *message, size_t message_size);
+
+/* Solves every line of a pass with d->solver; 0 with a sentence in message on failure. */
+int gl_solve_pass(ddof_device *device, const gl_diffusion *d, const gl_pass *pass,
+                  char *message, size_t message_size);
+
+/* Whether the GPU solvers cover this solver and precision. */
+int gl_solver_supported(ddof_solver solver, ddof_precision precision);
+
+/* Dispatch helpers shared by the stages: `invocations` threads of `local` each (2D beyond the
+ * 65535-group limit), then a storage barrier. */
+void gl_dispatch(const gl_functions *gl, uint64_t invocations, uint32_t local);
+void gl_bind(const gl_functions *gl, GLuint index, GLuint buffer);
+/* A buffer slot sized for `bytes`, checked against the renderer's SSBO size limit. */
+GLuint gl_need(ddof_device *device, gl_buffer_slot slot, uint64_t bytes, char *message,
+               size_t message_size);
+
+#endif

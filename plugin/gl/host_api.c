@@ -1,0 +1,220 @@
+/* host_api.c - ddof_gl.h: the single-layer diffusion on a host application's textures, through
+ * the same ADI driver as every other call, with texture-reading and image-writing stages
+ * (host_pack.comp, host_unpack.comp) in place of the host-memory upload and read-back. */
+#include "ddof_gl.h"
+#include "gl_solve.h"
+
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <time.h>
+
+struct ddof_gl_host {
+    ddof_device *device;
+};
+
+ddof_status ddof_gl_host_create(ddof_gl_host **out_host, char *message, size_t message_size)
+{
+    if (!out_host)
+        return DDOF_ERROR_NULL_POINTER;
+    *out_host = NULL;
+    ddof_gl_host *host = calloc(1, sizeof *host);
+    if (!host)
+        return DDOF_ERROR_OUT_OF_MEMORY;
+    host->device = gl_device_open(DDOF_BACKEND_HOST_GL, 0, message, message_size);
+    if (!host->device) {
+        free(host);
+        return DDOF_ERROR_BACKEND_UNAVAILABLE;
+    }
+    *out_host = host;
+    return DDOF_OK;
+}
+
+void ddof_gl_host_free(ddof_gl_host *host)
+{
+    if (!host)
+        return;
+    gl_device_close(host->device);
+    free(host);
+}
+
+/* Size and internal format of a 2D texture's level 0; 0 when it is not a texture. */
+static int texture_shape(const gl_functions *gl, GLuint texture, GLint *w, GLint *h,
+                         GLint *format)
+{
+    if (!texture || !gl->IsTexture(texture))
+        return 0;
+    gl->BindTexture(GL_TEXTURE_2D, texture);
+    gl->GetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_WIDTH, w);
+    gl->GetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_HEIGHT, h);
+    gl->GetTexLevelParameteriv(GL_TEXTURE_2D, 0, GL_TEXTURE_INTERNAL_FORMAT, format);
+    return 1;
+}
+
+typedef struct saved_state {
+    GLint program, active, texture[2];
+} saved_state;
+
+static void save_state(const gl_functions *gl, saved_state *s)
+{
+    gl->GetIntegerv(GL_CURRENT_PROGRAM, &s->program);
+    gl->GetIntegerv(GL_ACTIVE_TEXTURE, &s->active);
+    for (int unit = 0; unit < 2; unit++) {
+        gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        gl->GetIntegerv(GL_TEXTURE_BINDING_2D, &s->texture[unit]);
+    }
+}
+
+static void restore_state(const gl_functions *gl, const saved_state *s)
+{
+    for (int unit = 0; unit < 2; unit++) {
+        gl->ActiveTexture(GL_TEXTURE0 + (GLenum)unit);
+        gl->BindTexture(GL_TEXTURE_2D, (GLuint)s->texture[unit]);
+    }
+    gl->ActiveTexture((GLenum)s->active);
+    gl->UseProgram((GLuint)s->program);
+}
+
+static ddof_status check_params(const ddof_params *p, char *message, size_t size)
+{
+    if (p->struct_size < offsetof(ddof_params, coc_signed) || p->substeps < 1 ||
+        !(p->beta_scale > 0.0f) || !(p->pixel_aspect > 0.0f) ||
+        (p->solver == DDOF_SOLVER_JACOBI && p->jacobi_iterations < 1)) {
+        snprintf(message, size, "params: not initialised with ddof_params_init, or substeps, "
+                                "beta_scale, pixel_aspect or jacobi_iterations out of range");
+        return DDOF_ERROR_BAD_PARAMETER;
+    }
+    const ddof_precision precision =
+        p->struct_size >= offsetof(ddof_params, precision) + sizeof p->precision
+            ? p->precision
+            : DDOF_PRECISION_FLOAT;
+    if (!gl_solver_supported(p->solver, precision)) {
+        snprintf(message, size, "solver %d with precision %d does not run on the GPU",
+                 (int)p->solver, (int)precision);
+        return DDOF_ERROR_UNSUPPORTED;
+    }
+    return DDOF_OK;
+}
+
+static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, GLuint color,
+                               GLuint coc, GLuint out, GLint out_format, adi_report *report,
+                               char *message, size_t size)
+{
+    const gl_functions *gl = &device->gl;
+    const uint64_t pixels = (uint64_t)d->width * d->height;
+    GLuint pack = gl_programs_get(gl, &device->programs, GL_PROG_HOST_PACK, message, size);
+    GLuint unpack = gl_programs_get(gl, &device->programs,
+                                    out_format == GL_RGBA32F ? GL_PROG_HOST_UNPACK_RGBA32F
+                                                             : GL_PROG_HOST_UNPACK_RGBA16F,
+                                    message, size);
+    GLuint image = gl_need(device, GL_BUF_IMAGE_A, pixels * 16, message, size);
+    GLuint coc_buffer = gl_need(device, GL_BUF_COC, pixels * 4, message, size);
+    if (!pack || !unpack || !image || !coc_buffer)
+        return DDOF_ERROR_BACKEND_FAILED;
+    gl->ActiveTexture(GL_TEXTURE0);
+    gl->BindTexture(GL_TEXTURE_2D, color);
+    gl->ActiveTexture(GL_TEXTURE1);
+    gl->BindTexture(GL_TEXTURE_2D, coc);
+    gl_bind(gl, 0, coc_buffer);
+    gl_bind(gl, 4, image);
+    gl_uniform_u(gl, pack, "u_width", d->width);
+    gl_uniform_u(gl, pack, "u_height", d->height);
+    gl->UseProgram(pack);
+    gl->DispatchCompute((d->width + 15) / 16, (d->height + 15) / 16, 1);
+    gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+
+    ddof_status status = gl_diffuse(device, d, report, message, size);
+    if (status != DDOF_OK)
+        return status;
+    gl_bind(gl, 3, image);
+    gl->BindImageTexture(0, out, 0, GL_FALSE, 0, GL_WRITE_ONLY, (GLenum)out_format);
+    gl_uniform_u(gl, unpack, "u_width", d->width);
+    gl_uniform_u(gl, unpack, "u_height", d->height);
+    gl->UseProgram(unpack);
+    gl->DispatchCompute((d->width + 15) / 16, (d->height + 15) / 16, 1);
+    /* Whatever the host does next with the texture sees the writes. */
+    gl->MemoryBarrier(GL_ALL_BARRIER_BITS);
+    return DDOF_OK;
+}
+
+ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
+                                 unsigned color_texture, unsigned coc_texture,
+                                 unsigned out_texture, uint32_t width, uint32_t height,
+                                 ddof_stats *stats, char *message, size_t size)
+{
+    if (!host || !params)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_status status = check_params(params, message, size);
+    if (status != DDOF_OK)
+        return status;
+    if (width == 0 || height == 0 || width > DDOF_MAX_DIMENSION ||
+        height > DDOF_MAX_DIMENSION || (uint64_t)width * height > DDOF_MAX_PIXELS) {
+        snprintf(message, size, "size %ux%u out of range", width, height);
+        return DDOF_ERROR_BAD_SIZE;
+    }
+    ddof_device *device = host->device;
+    if (!gl_device_begin(device, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    const gl_functions *gl = &device->gl;
+    struct timespec t0;
+    clock_gettime(CLOCK_MONOTONIC, &t0);
+    saved_state saved;
+    save_state(gl, &saved);
+    while (gl->GetError() != GL_NO_ERROR) {
+    }
+    GLint w[3], h[3], format[3];
+    const GLuint textures[3] = {color_texture, coc_texture, out_texture};
+    for (int i = 0; i < 3 && status == DDOF_OK; i++)
+        if (!texture_shape(gl, textures[i], &w[i], &h[i], &format[i]) ||
+            (GLuint)w[i] != width || (GLuint)h[i] != height) {
+            snprintf(message, size, "texture %u is not a %ux%u 2D texture", textures[i], width,
+                     height);
+            status = DDOF_ERROR_BAD_PARAMETER;
+        }
+    if (status == DDOF_OK && ((format[2] != GL_RGBA32F && format[2] != GL_RGBA16F) ||
+                              out_texture == color_texture || out_texture == coc_texture)) {
+        snprintf(message, size, "the output texture must be GL_RGBA32F or GL_RGBA16F and "
+                                "differ from the inputs");
+        status = DDOF_ERROR_BAD_PARAMETER;
+    }
+    adi_report report = {0};
+    if (status == DDOF_OK) {
+        gl_buffers_begin(&device->buffers);
+        const ddof_precision precision =
+            params->struct_size >= offsetof(ddof_params, precision) + sizeof params->precision
+                ? params->precision
+                : DDOF_PRECISION_FLOAT;
+        const gl_diffusion d = {width, height, 4, params->solver, precision, params->substeps,
+                                params->jacobi_iterations, params->beta_scale,
+                                params->pixel_aspect, 0, params->progress,
+                                params->progress_user};
+        status = host_stages(device, &d, color_texture, coc_texture, out_texture, format[2],
+                             &report, message, size);
+        const GLenum error = gl->GetError();
+        if (status == DDOF_OK && error != GL_NO_ERROR) {
+            snprintf(message, size, "GL error 0x%x", (unsigned)error);
+            status = DDOF_ERROR_BACKEND_FAILED;
+        }
+    }
+    restore_state(gl, &saved);
+    device->context->ops->release(device->context);
+    if (stats && stats->struct_size >= sizeof *stats) {
+        struct timespec t1;
+        clock_gettime(CLOCK_MONOTONIC, &t1);
+        const uint32_t size_field = stats->struct_size;
+        *stats = (ddof_stats){.struct_size = size_field};
+        stats->solver = (uint32_t)params->solver;
+        stats->threads = 1;
+        stats->substeps = report.substeps_run;
+        stats->lines_solved = report.lines_solved;
+        stats->lines_skipped = report.lines_skipped;
+        stats->max_coc_px = report.max_coc;
+        stats->seconds_total = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        stats->seconds_rows = report.seconds_rows;
+        stats->seconds_columns = report.seconds_columns;
+        stats->effects = report.substeps_run ? DDOF_EFFECT_MIDGROUND : 0;
+        stats->backend = DDOF_BACKEND_HOST_GL;
+        stats->device_bytes = gl_buffers_used(&device->buffers);
+    }
+    return status;
+}

@@ -1,0 +1,57 @@
+/*
+ * ddof_gl.h - diffusion depth of field on a host application's own GL textures.
+ *
+ * For a host that already has an OpenGL 4.5 context (a DCC viewport): it hands in texture
+ * names and gets the single-layer diffusion (ddof_diffuse's semantics) written into its output
+ * texture, with no read-back to host memory. Exported by libddof_gl.so (link it, or dlopen it
+ * and look the functions up); the rest of ddof stays in libddof.
+ *
+ * The host's context must be current on the calling thread for every call, including
+ * ddof_gl_host_free (which deletes ddof's buffers and programs in it). ddof never makes a
+ * context current or releases one. It uses shader-storage binding points 0-7, image unit 0
+ * and texture units 0-1 during a call and restores the current program, the active texture
+ * unit and the 2D textures bound on units 0 and 1; other indexed bindings are left changed.
+ */
+#ifndef DDOF_GL_H
+#define DDOF_GL_H
+
+#include "ddof.h"
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+#if defined(__GNUC__) && __GNUC__ >= 4
+#  define DDOF_GL_API __attribute__((visibility("default")))
+#else
+#  define DDOF_GL_API
+#endif
+
+typedef struct ddof_gl_host ddof_gl_host;
+
+/* Adopts the context current on this thread. On failure (no current context, below GL 4.5)
+ * returns DDOF_ERROR_BACKEND_UNAVAILABLE with a sentence in message. */
+DDOF_GL_API ddof_status ddof_gl_host_create(ddof_gl_host **out_host, char *message,
+                                            size_t message_size);
+
+/* Diffuses color_texture (GL_TEXTURE_2D, level 0, RGBA read as floats) with the CoC diameters
+ * in pixels in the first channel of coc_texture (same size; the sign is ignored) into
+ * out_texture (GL_TEXTURE_2D of the same size, GL_RGBA32F or GL_RGBA16F; it may not be
+ * color_texture). params: ddof_params_init'ed; solver (not REFERENCE_F64), precision,
+ * substeps, beta_scale, pixel_aspect and jacobi_iterations are used. stats may be NULL.
+ * Returns DDOF_ERROR_BAD_PARAMETER / _BAD_SIZE / _UNSUPPORTED for bad arguments and
+ * DDOF_ERROR_BACKEND_FAILED (message says why) for GL failures. */
+DDOF_GL_API ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
+                                             unsigned color_texture, unsigned coc_texture,
+                                             unsigned out_texture, uint32_t width,
+                                             uint32_t height, ddof_stats *stats,
+                                             char *message, size_t message_size);
+
+/* Accepts NULL. */
+DDOF_GL_API void ddof_gl_host_free(ddof_gl_host *host);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif

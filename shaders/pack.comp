@@ -1,0 +1,42 @@
+// pack.comp - the caller's images (uploaded as they lie: strided rows, 1..4 channels, the CoC
+// and gamma as the first of several channels) into the solver's working layout: one vec4 per
+// pixel, |CoC| and gamma as one float each. Where gamma is 0 the colour is not read (it may be
+// NaN): it becomes 0, as in libddof/src/adi.c.
+layout(local_size_x = 256) in;
+
+layout(std430, binding = 0) writeonly buffer CocOut { float coc_out[]; };
+layout(std430, binding = 1) writeonly buffer HeatOut { float heat_out[]; };
+layout(std430, binding = 4) writeonly buffer ValueOut { vec4 value_out[]; };
+layout(std430, binding = 5) readonly buffer RawColor { float raw_color[]; };
+layout(std430, binding = 6) readonly buffer RawCoc { float raw_coc[]; };
+layout(std430, binding = 7) readonly buffer RawHeat { float raw_heat[]; };
+
+uniform uint u_width;
+uniform uint u_height;
+uniform uint u_channels;
+uniform uint u_color_stride;  // floats
+uniform uint u_has_coc;       // 0: every pixel has u_uniform_coc
+uniform float u_uniform_coc;
+uniform uint u_coc_stride;
+uniform uint u_coc_channels;
+uniform uint u_has_gamma;
+uniform uint u_gamma_stride;
+uniform uint u_gamma_channels;
+
+void main()
+{
+    uint p = global_id();
+    if (p >= u_width * u_height)
+        return;
+    uint x = p % u_width, y = p / u_width;
+    float g = u_has_gamma != 0u ? raw_heat[y * u_gamma_stride + x * u_gamma_channels] : 1.0;
+    vec4 v = vec4(0.0);
+    if (g > 0.0)
+        for (uint c = 0u; c < u_channels; c++)
+            v[c] = raw_color[y * u_color_stride + x * u_channels + c];
+    value_out[p] = v;
+    coc_out[p] = u_has_coc != 0u ? abs(raw_coc[y * u_coc_stride + x * u_coc_channels])
+                                 : abs(u_uniform_coc);
+    if (u_has_gamma != 0u)
+        heat_out[p] = g;
+}

@@ -1,0 +1,58 @@
+/* gl_test.h - what the GL tests share: opening a backend (a missing EGL is a skip, exit 77),
+ * the cases they run, and error measures. Everything static inline, as in ../test_images.h. */
+#ifndef DDOF_GL_TEST_H
+#define DDOF_GL_TEST_H
+
+#include "ddof.h"
+#include "test_images.h"
+
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define GL_TEST_SKIP 77 /* ctest SKIP_RETURN_CODE */
+
+static inline ddof_backend_kind backend_from_name(const char *name)
+{
+    if (name && strcmp(name, "egl") == 0)
+        return DDOF_BACKEND_EGL;
+    return DDOF_BACKEND_OSMESA;
+}
+
+/* A context on `kind` (the plugin built beside this test, DDOF_TEST_GL_PLUGIN), or NULL when
+ * the backend is unavailable (the reason printed). */
+static inline ddof_context *gl_context_for(ddof_backend_kind kind)
+{
+    ddof_context *ctx = make_context(0);
+    ddof_status s = ddof_context_set_backend(ctx, kind, DDOF_TEST_GL_PLUGIN);
+    if (s != DDOF_OK) {
+        printf("backend %s unavailable: %s\n", ddof_backend_name(kind),
+               ddof_context_last_error(ctx));
+        ddof_context_free(ctx);
+        return NULL;
+    }
+    ddof_backend_info info = {.struct_size = sizeof info};
+    ddof_context_backend_info(ctx, &info);
+    printf("backend %s: %s\n", ddof_backend_name(kind), info.renderer);
+    return ctx;
+}
+
+/* max |a - b| over n floats, NaN counting as infinitely wrong. */
+static inline double max_diff(const float *a, const float *b, size_t n)
+{
+    double worst = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        const double d = fabs((double)a[i] - (double)b[i]);
+        if (!(d <= worst))
+            worst = isnan(d) ? INFINITY : d;
+    }
+    return worst;
+}
+
+static inline int verbose_test(void)
+{
+    const char *v = getenv("DDOF_TEST_VERBOSE");
+    return v && v[0] && v[0] != '0';
+}
+
+#endif

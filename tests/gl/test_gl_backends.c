@@ -1,0 +1,260 @@
+/* test_gl_backends.c - the backends side by side in one process: OSMesa then EGL then OSMesa
+ * again (each call releases its context, so the next backend can make its own current), GL
+ * missing (a clear DDOF_ERROR_BACKEND_UNAVAILABLE, and the context keeps working on the CPU),
+ * AUTO without a GPU (the CPU, with a note), cancellation, and a host application's context:
+ * an OSMesa context this test creates and makes current itself, used through
+ * DDOF_BACKEND_HOST_GL and through ddof_gl_host_diffuse on textures. */
+#define _GNU_SOURCE /* setenv, unsetenv */
+#include "gl_test.h"
+#include "ddof_gl.h"
+
+#include <GL/osmesa.h>
+#include <dlfcn.h>
+
+enum { W = 53, H = 37, CH = 4 };
+
+static float color[W * H * CH], coc[W * H], ref[W * H * CH];
+
+static void make_images(void)
+{
+    test_rng rng = {5};
+    fill_uniform(color, W * H * CH, &rng, 0.0, 1.0);
+    fill_coc(coc, W * H, &rng, 25.0, 0.2);
+    ddof_context *cpu = make_context(1);
+    ddof_params p = params_for(DDOF_SOLVER_REFERENCE_F64, 1);
+    CHECK(diffuse(cpu, &p, color, coc, ref, W, H, CH, NULL) == DDOF_OK);
+    ddof_context_free(cpu);
+}
+
+/* ddof_diffuse with `solver` on ctx into out; its status. */
+static ddof_status run(ddof_context *ctx, ddof_solver solver, float *out)
+{
+    ddof_params p = params_for(solver, 1);
+    return diffuse(ctx, &p, color, coc, out, W, H, CH, NULL);
+}
+
+static void test_one_after_the_other(void)
+{
+    ddof_context *osmesa = gl_context_for(DDOF_BACKEND_OSMESA);
+    ddof_context *egl = gl_context_for(DDOF_BACKEND_EGL);
+    CHECK(osmesa != NULL);
+    if (!osmesa)
+        return;
+    static float a[W * H * CH], b[W * H * CH], c[W * H * CH];
+    const ddof_solver solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_PCR, DDOF_SOLVER_GRUEN};
+    for (size_t k = 0; k < 3; k++) {
+        CHECK(run(osmesa, solvers[k], a) == DDOF_OK);
+        CHECK(max_diff(a, ref, W * H * CH) <= 1e-5);
+        if (!egl) {
+            printf("EGL unavailable: only OSMesa checked\n");
+            continue;
+        }
+        CHECK(run(egl, solvers[k], b) == DDOF_OK);
+        CHECK(run(osmesa, solvers[k], c) == DDOF_OK);
+        /* The same llvmpipe behind both: the same code on the same data, bit for bit. */
+        CHECK_MSG(memcmp(a, b, sizeof a) == 0, "%s: OSMesa and EGL differ by %.3g",
+                  ddof_solver_name(solvers[k]), max_diff(a, b, W * H * CH));
+        CHECK_MSG(memcmp(a, c, sizeof a) == 0, "%s: OSMesa after EGL differs by %.3g",
+                  ddof_solver_name(solvers[k]), max_diff(a, c, W * H * CH));
+    }
+    ddof_context_free(egl);
+    ddof_context_free(osmesa);
+}
+
+static void test_gl_missing(void)
+{
+    static float out[W * H * CH];
+    const struct {
+        const char *env;
+        ddof_backend_kind kind;
+    } cases[] = {{"DDOF_GL_OSMESA_LIBRARY", DDOF_BACKEND_OSMESA},
+                 {"DDOF_GL_EGL_LIBRARY", DDOF_BACKEND_EGL}};
+    for (size_t k = 0; k < 2; k++) {
+        setenv(cases[k].env, "/nonexistent/libGL-is-missing.so", 1);
+        ddof_context *ctx = make_context(1);
+        ddof_status s = ddof_context_set_backend(ctx, cases[k].kind, DDOF_TEST_GL_PLUGIN);
+        CHECK_EQ_INT(s, DDOF_ERROR_BACKEND_UNAVAILABLE);
+        CHECK_MSG(strstr(ddof_context_last_error(ctx), "libGL-is-missing") != NULL,
+                  "message does not name the library: %s", ddof_context_last_error(ctx));
+        ddof_backend_info info = {.struct_size = sizeof info};
+        CHECK(ddof_context_backend_info(ctx, &info) == DDOF_OK);
+        CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);
+        CHECK(run(ctx, DDOF_SOLVER_THOMAS, out) == DDOF_OK); /* still works, on the CPU */
+        CHECK(max_diff(out, ref, W * H * CH) <= 1e-5);
+        if (cases[k].kind == DDOF_BACKEND_EGL) { /* AUTO falls back to the CPU, with a note */
+            CHECK(ddof_context_set_backend(ctx, DDOF_BACKEND_AUTO, DDOF_TEST_GL_PLUGIN) ==
+                  DDOF_OK);
+            CHECK(ddof_context_backend_info(ctx, &info) == DDOF_OK);
+            CHECK_EQ_INT(info.kind, DDOF_BACKEND_CPU);
+            CHECK(info.note[0] != '\0');
+        }
+        ddof_context_free(ctx);
+        unsetenv(cases[k].env);
+    }
+    /* A plugin that is not there at all. */
+    ddof_context *ctx = make_context(1);
+    CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_OSMESA, "/nonexistent/libddof_gl.so"),
+                 DDOF_ERROR_BACKEND_UNAVAILABLE);
+    ddof_context_free(ctx);
+}
+
+static void test_auto(void)
+{
+    ddof_context *ctx = make_context(1);
+    CHECK(ddof_context_set_backend(ctx, DDOF_BACKEND_AUTO, DDOF_TEST_GL_PLUGIN) == DDOF_OK);
+    ddof_backend_info info = {.struct_size = sizeof info};
+    CHECK(ddof_context_backend_info(ctx, &info) == DDOF_OK);
+    printf("auto: %s (%s)\n", ddof_backend_name(info.kind), info.note);
+    /* AUTO never picks software GL: a GPU through EGL, or the CPU. */
+    CHECK(info.kind == DDOF_BACKEND_CPU || (info.kind == DDOF_BACKEND_EGL && info.hardware));
+    ddof_context_free(ctx);
+}
+
+static int cancel_at_half(void *user, float fraction)
+{
+    (void)user;
+    return fraction >= 0.5f;
+}
+
+static void test_cancel(void)
+{
+    ddof_context *ctx = gl_context_for(DDOF_BACKEND_OSMESA);
+    if (!ctx)
+        return;
+    static float out[W * H * CH];
+    ddof_params p = params_for(DDOF_SOLVER_CYCLIC_REDUCTION, 2);
+    p.progress = cancel_at_half;
+    CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, W, H, CH, NULL), DDOF_ERROR_CANCELLED);
+    int finite = 1;
+    for (size_t i = 0; i < W * H * CH; i++)
+        finite &= isfinite(out[i]) != 0;
+    CHECK(finite);
+    ddof_context_free(ctx);
+}
+
+/* ---- a host application's context ----------------------------------------------------- */
+
+typedef OSMesaContext (*create_fn)(const int *, OSMesaContext);
+typedef GLboolean (*make_current_fn)(OSMesaContext, void *, GLenum, GLsizei, GLsizei);
+typedef void (*destroy_fn)(OSMesaContext);
+typedef void (*(*get_proc_fn)(const char *))(void);
+typedef void (*gen_textures_fn)(GLsizei, GLuint *);
+typedef void (*bind_texture_fn)(GLenum, GLuint);
+typedef void (*tex_storage_fn)(GLenum, GLsizei, GLenum, GLsizei, GLsizei);
+typedef void (*tex_sub_image_fn)(GLenum, GLint, GLint, GLint, GLsizei, GLsizei, GLenum, GLenum,
+                                 const void *);
+typedef void (*get_tex_image_fn)(GLenum, GLint, GLenum, GLenum, void *);
+typedef void (*delete_textures_fn)(GLsizei, const GLuint *);
+typedef ddof_status (*host_create_fn)(ddof_gl_host **, char *, size_t);
+typedef ddof_status (*host_diffuse_fn)(ddof_gl_host *, const ddof_params *, unsigned, unsigned,
+                                       unsigned, uint32_t, uint32_t, ddof_stats *, char *,
+                                       size_t);
+typedef void (*host_free_fn)(ddof_gl_host *);
+
+static void *symbol(void *lib, const char *name)
+{
+    return dlsym(lib, name);
+}
+
+#define LOOKUP(type, var, lib, name)                                                       \
+    type var;                                                                              \
+    do {                                                                                   \
+        void *s_ = symbol(lib, name);                                                      \
+        memcpy(&var, &s_, sizeof var);                                                     \
+    } while (0)
+
+static void test_host_context(void)
+{
+    void *osmesa = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
+    void *plugin = dlopen(DDOF_TEST_GL_PLUGIN, RTLD_NOW | RTLD_LOCAL);
+    CHECK(osmesa && plugin);
+    if (!osmesa || !plugin)
+        return;
+    LOOKUP(create_fn, create, osmesa, "OSMesaCreateContextAttribs");
+    LOOKUP(make_current_fn, make_current, osmesa, "OSMesaMakeCurrent");
+    LOOKUP(destroy_fn, destroy, osmesa, "OSMesaDestroyContext");
+    LOOKUP(get_proc_fn, get_proc, osmesa, "OSMesaGetProcAddress");
+    const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA, OSMESA_PROFILE, OSMESA_CORE_PROFILE,
+                           OSMESA_CONTEXT_MAJOR_VERSION, 4, OSMESA_CONTEXT_MINOR_VERSION, 5, 0};
+    OSMesaContext host = create(attribs, NULL);
+    static unsigned char framebuffer[4 * 4 * 4];
+    CHECK(host && make_current(host, framebuffer, GL_UNSIGNED_BYTE, 4, 4));
+
+    /* 1: the library's calls on the current context (ddof_diffuse reads host memory). */
+    static float out[W * H * CH];
+    ddof_context *ctx = make_context(1);
+    CHECK(ddof_context_set_backend(ctx, DDOF_BACKEND_HOST_GL, DDOF_TEST_GL_PLUGIN) == DDOF_OK);
+    ddof_params p = params_for(DDOF_SOLVER_PCR, 1);
+    ddof_stats st = stats_init();
+    CHECK(diffuse(ctx, &p, color, coc, out, W, H, CH, &st) == DDOF_OK);
+    CHECK_EQ_INT(st.backend, DDOF_BACKEND_HOST_GL);
+    CHECK(max_diff(out, ref, W * H * CH) <= 1e-5);
+
+    /* 2: the host's own textures, no read-back by ddof. */
+    gen_textures_fn gen_textures = (gen_textures_fn)get_proc("glGenTextures");
+    bind_texture_fn bind_texture = (bind_texture_fn)get_proc("glBindTexture");
+    tex_storage_fn tex_storage = (tex_storage_fn)get_proc("glTexStorage2D");
+    tex_sub_image_fn tex_sub_image = (tex_sub_image_fn)get_proc("glTexSubImage2D");
+    get_tex_image_fn get_tex_image = (get_tex_image_fn)get_proc("glGetTexImage");
+    delete_textures_fn delete_textures = (delete_textures_fn)get_proc("glDeleteTextures");
+    GLuint tex[3];
+    gen_textures(3, tex);
+    const GLenum formats[3] = {GL_RGBA32F, GL_R32F, GL_RGBA32F};
+    for (int i = 0; i < 3; i++) {
+        bind_texture(GL_TEXTURE_2D, tex[i]);
+        tex_storage(GL_TEXTURE_2D, 1, formats[i], W, H);
+    }
+    bind_texture(GL_TEXTURE_2D, tex[0]);
+    tex_sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, color);
+    bind_texture(GL_TEXTURE_2D, tex[1]);
+    tex_sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED, GL_FLOAT, coc);
+
+    LOOKUP(host_create_fn, host_create, plugin, "ddof_gl_host_create");
+    LOOKUP(host_diffuse_fn, host_diffuse, plugin, "ddof_gl_host_diffuse");
+    LOOKUP(host_free_fn, host_free, plugin, "ddof_gl_host_free");
+    CHECK(host_create && host_diffuse && host_free);
+    char message[256] = "";
+    ddof_gl_host *gl_host = NULL;
+    CHECK_MSG(host_create(&gl_host, message, sizeof message) == DDOF_OK, "%s", message);
+    static const ddof_solver solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
+                                          DDOF_SOLVER_PCR, DDOF_SOLVER_GRUEN};
+    for (size_t k = 0; gl_host && k < 4; k++) {
+        p = params_for(solvers[k], 1);
+        st = stats_init();
+        ddof_status s = host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, &st, message,
+                                     sizeof message);
+        CHECK_MSG(s == DDOF_OK, "host %s: %d %s", ddof_solver_name(solvers[k]), (int)s, message);
+        memset(out, 0, sizeof out);
+        bind_texture(GL_TEXTURE_2D, tex[2]);
+        get_tex_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
+        const double e = max_diff(out, ref, W * H * CH);
+        CHECK_MSG(e <= 1e-5, "host %s: max error %.3g", ddof_solver_name(solvers[k]), e);
+        CHECK(st.device_bytes > 0);
+    }
+    /* A wrong texture is a status, not a crash. */
+    CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], 987654u, W, H, NULL, message,
+                              sizeof message),
+                 DDOF_ERROR_BAD_PARAMETER);
+    host_free(gl_host);
+    delete_textures(3, tex);
+    ddof_context_free(ctx);
+    make_current(NULL, NULL, 0, 0, 0);
+    destroy(host);
+    /* With nothing current, the host backend is unavailable. */
+    ctx = make_context(1);
+    CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_HOST_GL, DDOF_TEST_GL_PLUGIN),
+                 DDOF_ERROR_BACKEND_UNAVAILABLE);
+    ddof_context_free(ctx);
+    dlclose(plugin);
+}
+
+int main(void)
+{
+    make_images();
+    test_one_after_the_other();
+    test_gl_missing();
+    test_auto();
+    test_cancel();
+    test_host_context();
+    return test_report("test_gl_backends");
+}
