@@ -288,7 +288,9 @@ typedef enum ddof_method {
     DDOF_METHOD_COD4_PREVIEW = 1  /* the practical post-process DOF of Call of Duty 4 (GPU    */
                                   /* Gems 3 ch. 28): quarter-resolution near CoC, blurred and */
                                   /* dilated, three blur levels interpolated. Fast, approximate;*/
-                                  /* CPU only; ignores solver, substeps and layer fields.     */
+                                  /* CPU only; ignores solver, substeps and layer fields. The */
+                                  /* near spread needs signed CoC; blur beyond a quarter of   */
+                                  /* the image's larger side saturates at that size.          */
 } ddof_method;
 
 /* Arithmetic of the GL solvers. The CPU solvers compute in float (Thomas carries its running
