@@ -1229,6 +1229,110 @@ static void test_depth_of_field_near(void)
     free(coc);
 }
 
+/* A small near object (a 5x5 light of CoC 20 px, value 30) over an in-focus background: the
+ * near spread must let it blur as a large one of the same CoC would. Measured (160x120 and
+ * 64x48, the default preset): its peak falls to 0.30 of its value and 0.71 of its energy leaves
+ * its own pixels; GPU Gems 3's D = max(D0, 2 D_blurred - D0), which the spread used before,
+ * barely raised its surroundings' CoC and left 0.66 and 0.36 (a sharp dot in a faint halo). */
+static void test_small_near_light(void)
+{
+    const size_t npx = (size_t)W * H;
+    float *img = alloc_f(npx * CH), *coc = alloc_f(npx), *out = alloc_f(npx * CH);
+    const uint32_t cx = W / 2, cy = H / 2;
+    double inside = 0.0, total_in = 0.0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const size_t i = (size_t)y * W + x;
+            const int light = x + 2 >= cx && x <= cx + 2 && y + 2 >= cy && y <= cy + 2;
+            for (uint32_t c = 0; c < CH; c++)
+                img[i * CH + c] = light ? 30.0f : 0.1f;
+            coc[i] = light ? -20.0f : 0.0f;
+            total_in += img[i * CH];
+        }
+    ddof_params p;
+    ddof_params_init(&p);
+    p.coc_signed = 1;
+    ddof_stats st;
+    CHECK_EQ_INT(layers(&p, img, coc, NULL, out, CH, &st), DDOF_OK);
+    CHECK_MSG(st.effects & DDOF_EFFECT_NEAR_SPREAD, "small near light: effects 0x%x", st.effects);
+    double total_out = 0.0, peak = 0.0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const size_t i = (size_t)y * W + x;
+            const double v = out[i * CH] - 0.1; /* the light's part */
+            total_out += out[i * CH];
+            peak = fmax(peak, v);
+            if (x + 2 >= cx && x <= cx + 2 && y + 2 >= cy && y <= cy + 2)
+                inside += v;
+        }
+    const double energy = 25.0 * (30.0 - 0.1);
+    if (verbose)
+        printf("small near light: peak %.3f of its value, %.3f of its energy outside it\n",
+               peak / (30.0 - 0.1), 1.0 - inside / energy);
+    CHECK_MSG(peak <= 0.6 * (30.0 - 0.1), "small near light stays sharp: peak %.3g", peak);
+    CHECK_MSG(inside <= 0.45 * energy, "small near light: %.3g of its energy stayed on it",
+              inside / energy);
+    CHECK_NEAR(total_out, total_in, 1e-4 * total_in); /* diffusion conserves it */
+    free(img);
+    free(coc);
+    free(out);
+}
+
+/* The background layer replaces the midground only within the reach of in-focus pixels: a far
+ * field (CoC 16) with an in-focus bar at the left and a near light (CoC -16) at the right, far
+ * from the bar. With the layer on, pixels more than 16 px (their CoC) from the bar are exactly
+ * the midground's, so the light keeps its halo; near the bar the layer does change the image.
+ * Before the reach was taken into account, the layer (whose holes include the near field)
+ * replaced the light's halo (value 30) with a background that lacks it: 3.8 max difference. */
+static void test_background_reach(void)
+{
+    const size_t npx = (size_t)W * H, n = npx * CH;
+    float *img = alloc_f(n), *coc = alloc_f(npx), *on = alloc_f(n), *off = alloc_f(n);
+    const uint32_t bar0 = W / 8, bar1 = W / 8 + 3, lx = bar1 + 40, ly = H / 2;
+    texture(img, CH, 77);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const size_t i = (size_t)y * W + x;
+            const int light = x + 2 >= lx && x <= lx + 2 && y + 2 >= ly && y <= ly + 2;
+            coc[i] = x >= bar0 && x <= bar1 ? 0.0f : light ? -16.0f : 16.0f;
+            if (light)
+                for (uint32_t c = 0; c < CH; c++)
+                    img[i * CH + c] = 30.0f;
+        }
+    ddof_params p;
+    ddof_params_init(&p);
+    p.coc_signed = 1;
+    p.near_spread = DDOF_LAYER_OFF;
+    ddof_stats st;
+    p.background = DDOF_LAYER_ON;
+    CHECK_EQ_INT(layers(&p, img, coc, NULL, on, CH, &st), DDOF_OK);
+    CHECK(st.effects & DDOF_EFFECT_BACKGROUND);
+    p.background = DDOF_LAYER_OFF;
+    CHECK_EQ_INT(layers(&p, img, coc, NULL, off, CH, &st), DDOF_OK);
+    double far_diff = 0.0, near_diff = 0.0;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const uint32_t dx = x < bar0 ? bar0 - x : x > bar1 ? x - bar1 : 0;
+            for (uint32_t c = 0; c < CH; c++) {
+                const size_t i = ((size_t)y * W + x) * CH + c;
+                const double d = fabs((double)on[i] - off[i]);
+                if (dx > 16)
+                    far_diff = fmax(far_diff, d);
+                else if (dx >= 1 && dx <= 4)
+                    near_diff = fmax(near_diff, d);
+            }
+        }
+    if (verbose)
+        printf("background reach: max |on - off| beyond the reach %.3g, beside the bar %.3g\n",
+               far_diff, near_diff);
+    CHECK_MSG(far_diff == 0.0, "background layer beyond the in-focus reach: %.3g", far_diff);
+    CHECK_MSG(near_diff > 1e-3, "background layer did nothing beside the bar: %.3g", near_diff);
+    free(img);
+    free(coc);
+    free(on);
+    free(off);
+}
+
 int main(void)
 {
     verbose = getenv("DDOF_TEST_VERBOSE") && atoi(getenv("DDOF_TEST_VERBOSE"));
@@ -1240,6 +1344,8 @@ int main(void)
     test_bars_error(0);
     test_bars_error(1);
     test_near_error();
+    test_small_near_light();
+    test_background_reach();
     test_small_element();
     test_foreground_forms();
     test_stability();

@@ -278,9 +278,11 @@ typedef enum ddof_solver {
 DDOF_API const char *ddof_solver_name(ddof_solver solver);
 
 /* k that matches second moments: an implicit step's variance 2 beta equals a uniform disk's
- * d^2 / 16. The default k of ddof_params_init is the measured one of the default preset. */
+ * d^2 / 16. It is *not* ddof_params_init's k: that is the default preset's, which the accuracy
+ * study (docs/accuracy.md) measures against lens renders and chooses together with the
+ * sub-steps (fewer steps want a larger k). */
 #define DDOF_MOMENT_BETA_SCALE (1.0f / 32.0f)
-#define DDOF_DEFAULT_BETA_SCALE DDOF_MOMENT_BETA_SCALE /* kept for 0.2 callers */
+#define DDOF_DEFAULT_BETA_SCALE DDOF_MOMENT_BETA_SCALE /* 0.2's default k; kept for its callers */
 
 /* How a call computes the blur. */
 typedef enum ddof_method {
@@ -326,12 +328,12 @@ typedef enum ddof_layer_mode {
 
 typedef struct ddof_params {
     uint32_t struct_size;      /* sizeof(ddof_params)                                         */
-    ddof_solver solver;        /* default DDOF_SOLVER_THOMAS                                  */
+    ddof_solver solver;        /* default: the default preset's (DDOF_SOLVER_THOMAS)          */
     uint32_t substeps;         /* n >= 1 ADI steps of beta/n each; more approaches a Gaussian  */
-                               /* kernel at linear cost. Default 1.                            */
+                               /* kernel at linear cost. Default: the default preset's.       */
     float beta_scale;          /* k in beta = k * d^2 (d: CoC diameter in pixels). 1/32 makes  */
                                /* the kernel's per-axis variance (2 beta) equal a uniform     */
-                               /* disk's (d^2 / 16). Default DDOF_DEFAULT_BETA_SCALE; > 0.    */
+                               /* disk's (d^2 / 16). Default: the default preset's; > 0.      */
     float pixel_aspect;        /* pixel width / height: column links use d * pixel_aspect.    */
                                /* Default 1; > 0.                                             */
     uint32_t jacobi_iterations;/* sweeps for DDOF_SOLVER_JACOBI, >= 1; default 50             */
@@ -352,8 +354,11 @@ typedef struct ddof_params {
     uint32_t background_levels;     /* background layers at thresholds t, 2t, 4t, ... (a log  */
                                     /* scale; the paper's highest quality). Default 1, 1..8.   */
     ddof_layer_mode near_spread;    /* one image only: spread near-field CoC over what lies    */
-                                    /* behind it, D = max(D0, 2 D_blurred - D0), so blurred    */
-                                    /* near objects get soft silhouettes. Needs signed CoC.    */
+                                    /* behind it, D(p) = max over near q of |CoC(q)| - 4|p-q| */
+                                    /* (falls to 0 a quarter of the CoC away; GPU Gems 3 ch.  */
+                                    /* 28's dilation, made to hold for small objects too), so */
+                                    /* blurred near objects get soft silhouettes. Needs signed */
+                                    /* CoC.                                                    */
                                     /* Default AUTO: on when a near CoC >= the threshold       */
                                     /* borders a pixel with less than half its CoC.            */
     float near_spread_threshold_px; /* default 4; > 0                                          */
@@ -442,8 +447,11 @@ DDOF_API void ddof_foreground_init(ddof_foreground *foreground);
  * diffusion, the background layer(s), the near-field spread and the foreground element as
  * params and the scene call for (ddof_stats.effects and .plan say what ran and why).
  *  - Background: matte a = 0 below background_ramp_start_px, 1 at the threshold; the CoC is
- *    filled into the holes (diffused with gamma = a, constant beta of the threshold), then the
- *    colour is diffused with gamma = a and the filled CoC; out = (1 - a) mid + a background.
+ *    filled into the holes (where a = 0: diffused with gamma = 0 there and 1 elsewhere,
+ *    constant beta of the threshold), then the colour is diffused with the same gamma and the
+ *    filled CoC; out = (1 - a w) mid + a w background, where w = 1 within |CoC| / 2 of an
+ *    in-focus pixel (|CoC| < background_ramp_start_px), falling linearly to 0 at |CoC| away:
+ *    farther out the midground met no insulator, and it keeps the halos of near objects.
  *    Pixels that no background pixel can reach (a run of a = 0 closed by insulators in both
  *    passes) have no background: their background value is 0 and their matte 0, so they keep
  *    the midground; never NaN, never a division by a tiny number.

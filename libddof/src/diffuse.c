@@ -398,6 +398,7 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
     } else {
         q->fg_color = fg_visible ? q->fg_color : NULL;
         q->background_box = analysis.background_box;
+        q->near_box = analysis.near_box;
         ddof_status status = ddof_run_layers(context, q, &plan, analysis.max_near_coc, &report);
         if (status != DDOF_OK)
             return status;

@@ -18,6 +18,7 @@ typedef struct layers_request {
     pixel_box fg_box;          /* where the element's alpha > 0                              */
     float fg_max_coc;          /* its largest |CoC| there                                    */
     pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */
+    pixel_box near_box;        /* where the near-field pixels are (CoC < 0)                  */
 } layers_request;
 
 /* Everything a layered call reports (folded into ddof_stats by the caller). */

@@ -49,15 +49,17 @@ static float min_neighbour(const analysis_job *job, uint32_t x, uint32_t y)
 static void analyse_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     const analysis_job *job = user;
-    coc_analysis a = {.background_box = box_empty()};
+    coc_analysis a = {.background_box = box_empty(), .near_box = box_empty()};
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = job->coc + (size_t)y * job->stride;
         for (uint32_t x = 0; x < job->width; x++) {
             const float c = row[(size_t)x * job->channels];
             const float d = fabsf(c);
             a.max_coc = ddof_maxf(a.max_coc, d);
-            if (c < 0.0f)
+            if (c < 0.0f) {
                 a.max_near_coc = ddof_maxf(a.max_near_coc, d);
+                box_add(&a.near_box, x, y);
+            }
             /* The neighbour look-up only where an edge is possible: most pixels skip it. */
             if (c >= job->bg_threshold && min_neighbour(job, x, y) < job->bg_insulator) {
                 a.background_edges++;
@@ -83,8 +85,10 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
     ddof_parallel_rows(context, height, analyse_rows, &job);
     *analysis = none;
     analysis->background_box = box_empty();
+    analysis->near_box = box_empty();
     for (uint32_t c = 0; c < ddof_row_chunks(height); c++) {
         analysis->background_box = box_union(analysis->background_box, chunks[c].background_box);
+        analysis->near_box = box_union(analysis->near_box, chunks[c].near_box);
         analysis->max_coc = ddof_maxf(analysis->max_coc, chunks[c].max_coc);
         analysis->max_near_coc = ddof_maxf(analysis->max_near_coc, chunks[c].max_near_coc);
         analysis->background_edges += chunks[c].background_edges;

@@ -12,6 +12,7 @@ typedef struct coc_analysis {
     uint64_t near_edges;      /* near pixels with |CoC| >= near threshold next to a pixel  */
                               /* with less than half their |CoC|                           */
     pixel_box background_box; /* where the background edges are                            */
+    pixel_box near_box;       /* where the near-field pixels are (CoC < 0)                  */
 } coc_analysis;
 
 typedef struct frame_plan {

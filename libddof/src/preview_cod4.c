@@ -11,8 +11,9 @@
  *     a quarter pixel is the maximum over its block. The same pass finds each channel's range,
  *     the largest |CoC| and the largest near CoC.
  *  2. Near CoC: D0 is blurred (three box passes per axis, a Gaussian to within a few percent)
- *     with the per-axis variance of a disk of the largest near CoC, dn^2 / 16, the size the
- *     diffusion's near spread uses (layers.c); then D = max(D0, 2 D_blurred - D0), limited to
+ *     with the per-axis variance of a disk of the largest near CoC, dn^2 / 16; then
+ *     D = max(D0, 2 D_blurred - D0) (the chapter's formula; the diffusion's near spread in
+ *     layers.c uses a cone dilation instead, which small objects survive), limited to
  *     the largest near CoC, so a blurred near object's CoC spreads over what lies behind it.
  *  3. Three blur levels, as in the chapter:
  *       small   full resolution, 17 taps: the pixel and four 2x2 blocks in a pinwheel around it
