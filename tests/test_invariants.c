@@ -27,11 +27,12 @@ static void test_matches_independent_double(ddof_context *ctx)
         for (int ai = 0; ai < 2; ai++) {
             for (size_t i = 0; i < im.n; i++)
                 ref[i] = im.color[i];
-            ref_adi(ref, im.coc, im.w, im.h, im.ch, DDOF_DEFAULT_BETA_SCALE, aspects[ai],
+            ref_adi(ref, im.coc, im.w, im.h, im.ch, DDOF_MOMENT_BETA_SCALE, aspects[ai],
                     substeps[si]);
 
             ddof_params p;
             ddof_params_init(&p); /* default solver: Thomas, float */
+            p.beta_scale = DDOF_MOMENT_BETA_SCALE; /* the k of ref_adi, not the preset's */
             p.substeps = substeps[si];
             p.pixel_aspect = aspects[ai];
             CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
@@ -366,7 +367,7 @@ static void test_second_moment(ddof_context *ctx)
     /* beta_scale is k: doubling it doubles the variance. */
     {
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 1);
-        p.beta_scale = 2.0f * DDOF_DEFAULT_BETA_SCALE;
+        p.beta_scale = 2.0f * DDOF_MOMENT_BETA_SCALE;
         fill_const(im.coc, im.px, d / 2);
         CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         moments m = image_moments(im.out, w, h);

@@ -80,6 +80,9 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
 {
     ddof_params params;
     ddof_params_init(&params);
+    /* One ADI step, the unit every figure here is about (a preset's sub-steps multiply it),
+     * so the figures stay comparable when the study changes the presets. */
+    params.substeps = 1;
     params.solver = solver;
     params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
     params.background = config.background;
