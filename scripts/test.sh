@@ -18,6 +18,7 @@ case "$mode" in
     # when Debian's Blender is installed; without it they are reported as skipped.
     ensure_packages blender python3 ||
         echo "warning: could not install blender: the Blender add-on tests will be skipped" >&2
+    ensure_packages python3-numpy python3-matplotlib || echo "warning: could not install numpy/matplotlib: the study smoke test (tests/study) will be skipped" >&2
     cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DDDOF_WERROR=ON
     cmake --build build/test -j "$jobs"
     ctest --test-dir build/test --output-on-failure -j "$jobs"

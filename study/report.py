@@ -1,0 +1,1162 @@
+#!/usr/bin/env python3
+"""The accuracy-vs-cost report of the study (issue 7): results.jsonl -> docs/accuracy.md, its
+plots (docs/images/accuracy_*.png) and libddof/src/presets_measured.inc.
+
+    python3 study/report.py RESULTS.jsonl [--md docs/accuracy.md] [--images docs/images]
+        [--presets libddof/src/presets_measured.inc] [--study-exe build/study/study/ddof-study]
+        [--work DIR] [--smoke] [--command "bash study/run.sh"]
+
+RESULTS.jsonl is what `ddof-study run` writes (study/main.c): a machine line, a line per scene,
+a line per (scene, configuration). With --study-exe the crops of the chosen presets and the
+baselines are rendered by `ddof-study images` into --work and drawn as a grid.
+
+Needs python3, numpy and matplotlib (Debian: python3-numpy python3-matplotlib).
+
+Everything the report says about the presets comes from PRESET_RULE below, applied to the
+measurements: the presets are chosen from the measured front, not by hand.
+"""
+
+import argparse
+import json
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+
+import matplotlib
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+
+# ---------------------------------------------------------------------------------------------
+# The rule that chooses the presets (stated in the report from these constants).
+
+# Accuracy of a configuration: the mean, over the scenes with blur, of its PSNR against the
+# Cycles truth over the image and over the band around depth edges (ACCURACY_TEXT).
+# Cost: its median time per frame on the CPU at 1920x1080 (at the scenes' size when no 1080p
+# frame was measured), mean over the same scenes.
+# Each preset is the fastest configuration on the front whose accuracy is within its tolerance
+# of the most accurate one:
+PRESET_TOLERANCE_DB = {"final": 0.1, "default": 0.5, "preview": 2.0}
+PRESET_ORDER = ["preview", "default", "final"]  # ddof_preset order
+# default and final must be the diffusion: ddof.h promises, for ddof_params_init's settings,
+# that in-focus pixels stay untouched and nothing diffuses across them, which the CoD4
+# post-process does not keep. The preview may be the CoD4 method.
+PRESET_METHODS = {"preview": {"diffusion", "cod4"}, "default": {"diffusion"},
+                  "final": {"diffusion"}}
+# Only settings a preset can hold and the CPU can run: ddof_params_init_preset sets method,
+# solver, substeps, beta_scale, background, background_levels and near_spread (Jacobi keeps its
+# default 50 sweeps); no foreground element (that is an input, not a setting).
+PRESET_SOLVERS = {"thomas", "cr", "pcr", "reference"}
+PRESET_LAYERS = {"single", "bg", "bg2", "bgnear", "auto", "auto2"}
+
+ACCURACY_TEXT = ("the mean of two means over the scenes with blur: the PSNR over the whole image, "
+                 "and the PSNR over the band around depth edges (scenes without such edges count "
+                 "in the first mean only)")
+
+SOLVER_C = {"thomas": "DDOF_SOLVER_THOMAS", "cr": "DDOF_SOLVER_CYCLIC_REDUCTION",
+            "pcr": "DDOF_SOLVER_PCR", "jacobi": "DDOF_SOLVER_JACOBI",
+            "reference": "DDOF_SOLVER_REFERENCE_F64", "gruen": "DDOF_SOLVER_GRUEN"}
+LAYER_C = {"on": "DDOF_LAYER_ON", "off": "DDOF_LAYER_OFF", "auto": "DDOF_LAYER_AUTO"}
+
+LAYERS_TEXT = {
+    "single": "single layer (background off, near spread off)",
+    "bg": "+ background layer (on, 1 level)",
+    "bg2": "+ background layer (on, 2 levels)",
+    "bgnear": "+ background + near spread (both on)",
+    "auto": "background and near spread as the planner decides (AUTO)",
+    "auto2": "AUTO, 2 background levels",
+    "fg": "+ background + the scene's separately rendered foreground element (fg.exr: the near "
+          "objects alone) composited over rest.exr (the scene without them), the paper's layers, "
+          "where it has one; else near spread on",
+    "fgpin": "the same element composited over pinhole.exr (the near objects then lie in the "
+             "main image too, as in `ddof pinhole.exr --foreground fg.exr`)",
+}
+
+BASELINE_NAMES = {"pinhole": "pinhole input", "cod4": "CoD4 preview", "gather": "gather blur",
+                  "defocus": "Blender Defocus node"}
+
+
+def num(v):
+    """JSON value -> float (None and missing -> nan; "inf" -> inf)."""
+    if v is None:
+        return math.nan
+    if isinstance(v, str):
+        return math.inf if v == "inf" else math.nan
+    return float(v)
+
+
+def mean(values):
+    vals = [v for v in values if not math.isnan(v)]
+    return sum(vals) / len(vals) if vals else math.nan
+
+
+# ---------------------------------------------------------------------------------------------
+# Reading
+
+
+class Study:
+    def __init__(self, paths):
+        self.machine = {}
+        self.scenes = {}        # name -> scene record
+        self.scene_order = []
+        self.results = {}       # id -> {scene: record}
+        self.order = []         # ids in first-seen order
+        self.seconds = 0.0
+        self.peak_rss = 0.0
+        for path in paths:
+            with open(path) as f:
+                for line in f:
+                    line = line.strip()
+                    if not line:
+                        continue
+                    rec = json.loads(line)
+                    t = rec.get("type")
+                    if t == "machine":
+                        if not self.machine:
+                            self.machine = rec
+                    elif t == "scene":
+                        if rec["scene"] not in self.scenes:
+                            self.scene_order.append(rec["scene"])
+                        self.scenes[rec["scene"]] = rec
+                    elif t == "result":
+                        cid = rec["id"]
+                        if cid not in self.results:
+                            self.results[cid] = {}
+                            self.order.append(cid)
+                        self.results[cid][rec["scene"]] = rec
+                    elif t == "done":
+                        self.seconds += float(rec.get("seconds", 0.0))
+                        self.peak_rss = max(self.peak_rss, float(rec.get("peak_rss_bytes", 0)))
+        self.blurred = [s for s in self.scene_order if self.scenes[s].get("blurred")]
+        self.with_band = [s for s in self.blurred if self.scenes[s].get("band_pixels", 0) > 0]
+        self.has_large = any(self.scenes[s].get("large_width") for s in self.scene_order)
+        self.configs = [Config(cid, self.results[cid], self) for cid in self.order]
+        self.by_id = {c.id: c for c in self.configs}
+
+
+class Config:
+    def __init__(self, cid, per_scene, study):
+        self.id = cid
+        self.per = per_scene
+        first = next(iter(per_scene.values()))
+        self.first = first
+        self.kind = first["kind"]
+        self.label = first.get("label", cid)
+        self.sweeps = first.get("sweeps", "")
+        self.backend = first.get("backend", "cpu")
+        self.solver = first.get("solver", "")
+        self.jacobi = int(first.get("jacobi_iterations", 50) or 50)
+        self.precision = first.get("precision", "")
+        self.substeps = first.get("substeps")
+        self.k = first.get("beta_scale")
+        self.layers = first.get("layers", "")
+        blurred = study.blurred
+        self.available = all(per_scene.get(s, {}).get("available") for s in study.scene_order
+                             if s in per_scene) and all(s in per_scene for s in blurred)
+        notes = [r.get("note", "") for r in per_scene.values() if r.get("note")]
+        self.note = notes[0] if notes else ""
+
+        def col(key, scenes):
+            return [num(per_scene.get(s, {}).get(key)) for s in scenes]
+
+        self.ms = mean(col("ms", blurred))
+        self.ms_large = math.nan
+        self.estimated = False  # 1080p time predicted from the scenes' size (too slow to run)
+        if study.has_large:
+            large = col("ms_large", blurred)
+            if any(math.isnan(v) for v in large):
+                est = col("ms_large_estimate", blurred)
+                large = [e if math.isnan(v) else v for v, e in zip(large, est)]
+                self.estimated = not all(math.isnan(v) for v in large)
+            if not any(math.isnan(v) for v in large):
+                self.ms_large = mean(large)
+        self.psnr = {s: num(per_scene.get(s, {}).get("psnr")) for s in study.scene_order}
+        self.band = {s: num(per_scene.get(s, {}).get("psnr_band")) for s in study.scene_order}
+        self.image_mean = mean([self.psnr[s] for s in blurred])
+        self.band_mean = mean([self.band[s] for s in study.with_band])
+        if any(math.isnan(self.psnr[s]) for s in blurred):
+            self.image_mean = math.nan
+        if any(math.isnan(self.band[s]) for s in study.with_band):
+            self.band_mean = math.nan
+        parts = [self.image_mean] + ([self.band_mean] if study.with_band else [])
+        self.accuracy = math.nan if any(math.isnan(p) for p in parts) else sum(parts) / len(parts)
+        ref = col("ref_psnr", study.scene_order)
+        self.ref_psnr = min(ref) if ref and not any(math.isnan(v) for v in ref) else math.nan
+        refmax = col("ref_max_abs", study.scene_order)
+        self.ref_max = max(refmax) if refmax and not any(math.isnan(v) for v in refmax) \
+            else math.nan
+        mem = []
+        for r in per_scene.values():
+            if "host_bytes_large" in r:
+                mem.append(num(r.get("host_bytes_large")) + num(r.get("device_bytes_large", 0)))
+            elif "host_bytes" in r:
+                mem.append(num(r.get("host_bytes")) + num(r.get("device_bytes", 0)))
+        self.mem = max(mem) if mem else math.nan
+        self.renderer = first.get("renderer", "")
+        # the cost used for the front: 1080p when measured, else the scenes' size
+        self.cost = self.ms_large if study.has_large else self.ms
+
+    def eligible(self):
+        """Whether a preset can hold this configuration (and the CPU run it)."""
+        if not self.available or math.isnan(self.accuracy) or math.isnan(self.cost) or \
+                self.estimated:
+            return False
+        if self.kind == "cod4":
+            return True
+        if self.kind != "diffusion" or self.backend != "cpu":
+            return False
+        if self.layers not in PRESET_LAYERS or self.precision not in ("float", "double"):
+            return False
+        return self.solver in PRESET_SOLVERS or (self.solver == "jacobi" and self.jacobi == 50)
+
+    def settings_c(self):
+        f = self.first
+        if self.kind == "cod4":
+            return ("DDOF_METHOD_COD4_PREVIEW", "DDOF_SOLVER_THOMAS", 1, 1.0 / 32,
+                    "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO")
+        return ("DDOF_METHOD_DIFFUSION", SOLVER_C[self.solver], int(self.substeps),
+                float(self.k), LAYER_C[f["background"]], int(f["background_levels"]),
+                LAYER_C[f["near_spread"]])
+
+
+def k_text(k):
+    if k is None:
+        return ""
+    inv = 1.0 / k
+    if abs(inv - round(inv)) < 1e-3 * inv:
+        return "1/%d" % round(inv)
+    return "%.4g" % k
+
+
+# ---------------------------------------------------------------------------------------------
+# The front and the presets
+
+
+# A point joins the front only if it is more accurate than every faster point by more than
+# this (differences below it are not resolved by the measurement).
+FRONT_MIN_GAIN_DB = 0.01
+
+
+def pareto(points):
+    """Configurations not dominated (another at most as slow and more accurate, or faster and
+    at least as accurate), fastest first."""
+    pts = sorted(points, key=lambda c: (c.cost, -c.accuracy))
+    front, best = [], -math.inf
+    for c in pts:
+        if c.accuracy > best + FRONT_MIN_GAIN_DB:
+            front.append(c)
+            best = c.accuracy
+    return front
+
+
+def choose_presets(study):
+    cands = [c for c in study.configs if c.eligible()]
+    if not cands:
+        return None, [], []
+    front = pareto(cands)
+    best = max(c.accuracy for c in front)
+    chosen = {}
+    for name in PRESET_ORDER:
+        tol = PRESET_TOLERANCE_DB[name]
+        pool = [c for c in cands if c.kind in PRESET_METHODS[name]] or cands
+        ok = [c for c in front if c in pool and c.accuracy >= best - tol]
+        if not ok:  # the front's points within tolerance are all of another method
+            sub = pareto(pool)
+            ok = [c for c in sub if c.accuracy >= best - tol] or \
+                [max(sub, key=lambda c: c.accuracy)]
+        chosen[name] = min(ok, key=lambda c: (c.cost, -c.accuracy))
+    return chosen, front, cands
+
+
+def write_presets(path, chosen, study, smoke):
+    m = study.machine
+    lines = [
+        "/* presets_measured.inc - the settings of the three presets, in ddof_preset order.",
+        " * Written by study/report.py from the accuracy study (docs/accuracy.md): each preset is "
+        "the",
+        " * fastest CPU configuration of the measured accuracy-vs-time front within %s dB"
+        % "/".join("%g" % PRESET_TOLERANCE_DB[n] for n in PRESET_ORDER),
+        " * (preview/default/final) of the most accurate one. Measured %s on %s, %s cores."
+        % (m.get("date_utc", "?")[:10], m.get("cpu", "?"), m.get("cores", "?")),
+        " * Regenerate with: bash study/run.sh%s" % ("  (THIS IS A SMOKE RUN)" if smoke else ""),
+        " * Fields: method, solver, substeps, beta_scale, background, background_levels, "
+        "near_spread */",
+    ]
+    for name in PRESET_ORDER:
+        s = chosen[name].settings_c()
+        if chosen[name].kind == "cod4":
+            # The fields the CoD4 preview ignores keep the default preset's values, so that
+            # `--preset preview --method diffusion` is the default diffusion.
+            s = (s[0],) + chosen["default"].settings_c()[1:]
+        lines.append("{%s, %s, %d, %sf, %s, %d, %s}, /* %s */"
+                     % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], name))
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(lines) + "\n")
+    os.replace(tmp, path)
+
+
+def float_c(v):
+    text = "%.7g" % v
+    if "." not in text and "e" not in text:
+        text += ".0"
+    return text
+
+
+# ---------------------------------------------------------------------------------------------
+# Plots
+
+FAMILY_STYLE = [  # (test, label, colour, marker)
+    (lambda c: c.backend not in ("cpu", "blender") and c.kind == "diffusion", "GL backends",
+     "tab:purple", "D"),
+    (lambda c: c.solver == "jacobi", "Jacobi (approximate)", "tab:red", "v"),
+    (lambda c: c.solver in ("cr", "pcr", "reference"), "CR / PCR / double reference",
+     "tab:brown", "s"),
+    (lambda c: c.layers in ("fg", "fgpin"), "+ foreground element (separate render)",
+     "tab:olive", "P"),
+    (lambda c: c.kind == "diffusion", "CPU Thomas: sub-steps x k x layers", "tab:blue", "o"),
+]
+BASELINE_STYLE = {"pinhole": ("black", "x"), "cod4": ("tab:orange", "*"),
+                  "gather": ("tab:pink", "X"), "defocus": ("tab:green", "^")}
+
+
+def family(c):
+    for test, label, colour, marker in FAMILY_STYLE:
+        if test(c):
+            return label, colour, marker
+    return "other", "grey", "."
+
+
+def pareto_plot(study, chosen, front, path, metric, ylabel, title):
+    fig, ax = plt.subplots(figsize=(9, 5.6), dpi=110)
+    seen = set()
+    for c in study.configs:
+        y = getattr(c, metric)
+        if not c.available or math.isnan(y) or math.isnan(c.cost) or c.kind != "diffusion":
+            continue
+        label, colour, marker = family(c)
+        if c.estimated:
+            ax.scatter([c.cost], [y], s=22, facecolors="none", edgecolors=colour, marker=marker,
+                       label=None if "est" in seen else "time estimated (not run at 1080p)",
+                       zorder=2)
+            seen.add("est")
+            continue
+        ax.scatter([c.cost], [y], s=18, c=colour, marker=marker, alpha=0.6,
+                   label=None if label in seen else label, zorder=2)
+        seen.add(label)
+    for cid, (colour, marker) in BASELINE_STYLE.items():
+        c = study.by_id.get(cid)
+        if not c or not c.available:
+            continue
+        y = getattr(c, metric)
+        if math.isnan(y):
+            continue
+        x = c.cost
+        name = BASELINE_NAMES[cid]
+        if math.isnan(x) or x <= 0:
+            ax.axhline(y, color=colour, lw=0.8, ls=":", zorder=1)
+            ax.annotate(name + " (no time)", (0.01, y), xycoords=("axes fraction", "data"),
+                        fontsize=8, va="bottom")
+            continue
+        edge = {} if marker in ("x", "+") else {"edgecolors": "black", "linewidths": 0.5}
+        ax.scatter([x], [y], s=90, c=colour, marker=marker, label=name, zorder=4, **edge)
+    if front and metric == "accuracy":
+        ax.plot([c.cost for c in front], [c.accuracy for c in front], "-", color="tab:blue",
+                lw=1.2, alpha=0.8, zorder=3, label="front (preset candidates)")
+    if chosen:
+        names = {}
+        for name in PRESET_ORDER:
+            names.setdefault(chosen[name].id, []).append(name)
+        for cid, preset_names in names.items():
+            c = study.by_id[cid]
+            y = getattr(c, metric)
+            if math.isnan(y):
+                continue
+            ax.scatter([c.cost], [y], s=160, facecolors="none", edgecolors="red", linewidths=1.6,
+                       zorder=5)
+            ax.annotate(", ".join(preset_names), (c.cost, y), textcoords="offset points",
+                        xytext=(7, -12), fontsize=9, color="red", weight="bold")
+    ax.set_xscale("log")
+    size = "1920x1080" if study.has_large else "the scenes' size"
+    ax.set_xlabel("time per frame at %s, ms (log scale; mean over the scenes with blur)" % size)
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=7.5, loc="lower right", framealpha=0.85)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def solver_plot(study, path):
+    """The largest difference from the double-precision solve against time, per solver,
+    precision and backend at the base settings."""
+    fig, ax = plt.subplots(figsize=(8, 4.6), dpi=110)
+    floor = 1e-9
+    for c in study.configs:
+        if c.kind != "diffusion" or not c.available or math.isnan(c.cost):
+            continue
+        if (c.substeps, k_text(c.k), c.layers) != (4, "1/32", "auto"):
+            continue
+        if c.solver == "reference" or math.isnan(c.ref_max):
+            continue
+        y = max(c.ref_max, floor)
+        label, colour, marker = family(c)
+        if c.estimated:
+            ax.scatter([c.cost], [y], facecolors="none", edgecolors=colour, marker=marker, s=40,
+                       zorder=3)
+        else:
+            ax.scatter([c.cost], [y], c=colour, marker=marker, s=40, zorder=3)
+        name = c.solver + ("%d" % c.jacobi if c.solver == "jacobi" else "")
+        if c.backend != "cpu":
+            name = c.backend + " " + name + (" half" if c.precision == "packed half" else "")
+        ax.annotate(name, (c.cost, y), textcoords="offset points", xytext=(5, 3), fontsize=7.5)
+    ax.set_xscale("log")
+    ax.set_yscale("log")
+    ax.set_xlabel("time per frame at %s, ms (log; hollow: estimated)"
+                  % ("1920x1080" if study.has_large else "the scenes' size"))
+    ax.set_ylabel("largest |difference| from the double-\nprecision solve (linear RGBA; log)")
+    ax.set_title("Solver and precision error at the base settings (n = 4, k = 1/32, AUTO)",
+                 fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+
+
+def k_plot(study, path):
+    """Accuracy against k for each sub-step count (layers AUTO, CPU Thomas)."""
+    fig, ax = plt.subplots(figsize=(8, 4.6), dpi=110)
+    any_line = False
+    for n, colour in zip((1, 2, 4, 8), ("tab:red", "tab:orange", "tab:blue", "tab:green")):
+        pts = sorted((c.k, c.accuracy) for c in study.configs
+                     if c.kind == "diffusion" and c.backend == "cpu" and c.solver == "thomas"
+                     and c.layers == "auto" and c.substeps == n and not math.isnan(c.accuracy))
+        if len(pts) < 2:
+            continue
+        any_line = True
+        ax.plot([p[0] for p in pts], [p[1] for p in pts], "o-", color=colour, label="n = %d" % n)
+    if not any_line:
+        plt.close(fig)
+        return False
+    ax.set_xscale("log", base=2)
+    ax.axvline(1.0 / 32, color="grey", ls=":", lw=0.8)
+    ax.annotate("1/32 (moments)", (1.0 / 32, ax.get_ylim()[0]), fontsize=8,
+                textcoords="offset points", xytext=(3, 5))
+    ax.set_xlabel("k in beta = k d^2 (log scale)")
+    ax.set_ylabel("accuracy, dB")
+    ax.set_title("Calibration of k: accuracy against k per sub-step count (CPU Thomas, AUTO)",
+                 fontsize=10)
+    ax.grid(True, which="both", alpha=0.3)
+    ax.legend(fontsize=8)
+    fig.tight_layout()
+    fig.savefig(path)
+    plt.close(fig)
+    return True
+
+
+# ---------------------------------------------------------------------------------------------
+# The crop grid
+
+
+def srgb(img):
+    x = np.clip(img[..., :3], 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+
+
+def pick_crop(pinhole, truth, band, size):
+    """The size x size window with the largest pinhole-vs-truth error inside the band (on the
+    whole image when the scene has no band): where the depth edges matter most."""
+    err = np.abs(srgb(pinhole) - srgb(truth)).mean(axis=2)
+    if band is not None and band.sum() > 0:
+        err = err * (band > 0)
+    h, w = err.shape
+    size = min(size, h, w)
+    sat = np.zeros((h + 1, w + 1))
+    sat[1:, 1:] = err.cumsum(0).cumsum(1)
+    best, where = -1.0, (0, 0)
+    for y in range(0, h - size + 1, 2):
+        for x in range(0, w - size + 1, 2):
+            s = sat[y + size, x + size] - sat[y, x + size] - sat[y + size, x] + sat[y, x]
+            if s > best:
+                best, where = s, (y, x)
+    return where[0], where[1], size
+
+
+def crop_grid(study, chosen, exe, work, path):
+    """Rows: a hard-edge crop of each scene with blur; columns: pinhole, truth, the presets and
+    the baselines. Returns the list of rows drawn, or None."""
+    d = chosen["default"]
+    fg_id = None
+    if d.kind == "diffusion" and any(study.scenes[s].get("fg_element") for s in study.blurred):
+        # the default preset's settings with the scene's foreground element (over rest.exr)
+        fg_id = "/".join(d.id.split("/")[:5] + ["fg"])
+    ids = ["pinhole", "defocus", "cod4", "gather"] + [chosen[n].id for n in PRESET_ORDER]
+    ids = list(dict.fromkeys(ids + ([fg_id] if fg_id else [])))
+    dirs = [study.scenes[s]["dir"] for s in study.blurred]
+    if not dirs:
+        return None
+    cmd = [exe, "images", "--out", work, "--configs", ",".join(ids), "-q"] + dirs
+    subprocess.run(cmd, check=True)
+    columns = [("pinhole", "pinhole (input)"), ("truth", "Cycles truth")]
+    columns += [(chosen[n].id, "%s preset" % n) for n in PRESET_ORDER]
+    if fg_id:
+        columns += [(fg_id, "default + fg element")]
+    columns += [("cod4", "CoD4 preview"), ("gather", "gather blur"), ("defocus", "Defocus node")]
+    rows = []
+    for scene in study.blurred:
+        d = os.path.join(work, scene)
+
+        def load(name):
+            p = os.path.join(d, name.replace("/", "_") + ".npy")
+            return np.load(p) if os.path.exists(p) else None
+
+        pinhole, truth, band = load("input_pinhole"), load("input_truth"), load("input_band")
+        if pinhole is None or truth is None:
+            continue
+        h, w = pinhole.shape[:2]
+        size = max(16, min(96, h // 2))
+        y, x, size = pick_crop(pinhole, truth, band, size)
+        imgs = []
+        for cid, _ in columns:
+            img = pinhole if cid == "pinhole" else truth if cid == "truth" else load(cid)
+            if cid == fg_id and not study.scenes[scene].get("fg_element"):
+                img = None  # that scene has no element: the column is about the element
+            imgs.append(None if img is None else srgb(img[y:y + size, x:x + size]))
+        rows.append((scene, (x, y, size), imgs))
+    if not rows:
+        return None
+    ncol = len(columns)
+    fig, axes = plt.subplots(len(rows), ncol, figsize=(1.45 * ncol, 1.5 * len(rows) + 0.4),
+                             dpi=120, squeeze=False)
+    for r, (scene, (x, y, size), imgs) in enumerate(rows):
+        for cidx, img in enumerate(imgs):
+            ax = axes[r][cidx]
+            ax.set_xticks([])
+            ax.set_yticks([])
+            if img is None:
+                ax.imshow(np.full((size, size, 3), 0.87), vmin=0, vmax=1)
+                ax.text(size / 2, size / 2, "n/a", ha="center", va="center", fontsize=8)
+            else:
+                ax.imshow(img, interpolation="nearest")
+            if r == 0:
+                ax.set_title(columns[cidx][1], fontsize=7.5)
+            if cidx == 0:
+                ax.set_ylabel("%s\n(%d,%d) %dpx" % (scene, x, y, size), fontsize=7)
+    fig.tight_layout(pad=0.3)
+    fig.savefig(path)
+    plt.close(fig)
+    return [(scene, box) for scene, box, _ in rows]
+
+
+# ---------------------------------------------------------------------------------------------
+# Markdown
+
+
+def fmt(v, digits=2, unit=""):
+    if v is None or (isinstance(v, float) and math.isnan(v)):
+        return "–"
+    if isinstance(v, float) and math.isinf(v):
+        return "exact"
+    return ("%." + str(digits) + "f%s") % (v, unit)
+
+
+def fmt_ms(v, estimated=False):
+    if math.isnan(v):
+        return "–"
+    text = "%.0f" % v if v >= 100 else "%.1f" % v if v >= 1 else "%.2f" % v
+    return "~" + text if estimated else text
+
+
+def fmt_mem(b):
+    if math.isnan(b):
+        return "–"
+    return "%.0f" % (b / 2 ** 20) if b >= 10 * 2 ** 20 else "%.1f" % (b / 2 ** 20)
+
+
+def fmt_ref(c):
+    if c.kind != "diffusion":
+        return "–"
+    if c.solver == "reference":
+        return "(reference)"
+    if math.isnan(c.ref_psnr):
+        return "–"
+    db = "exact" if math.isinf(c.ref_psnr) else "%.0f dB" % c.ref_psnr
+    return "%s / %.1e" % (db, c.ref_max)
+
+
+def config_name(c):
+    if c.kind != "diffusion":
+        return BASELINE_NAMES.get(c.id, c.id)
+    solver = c.solver + ("%d" % c.jacobi if c.solver == "jacobi" else "")
+    prec = {"packed half": " half", "double": " (double)"}.get(c.precision, "")
+    return "%s %s%s, n=%s, k=%s, %s" % (c.backend, solver, prec, c.substeps, k_text(c.k),
+                                         c.layers)
+
+
+def table_rows(study, configs, marks):
+    head = ("| configuration | ms %s | ms 1080p | MiB | vs double (PSNR / max abs) | "
+            "image dB | band dB | accuracy dB |" % scene_size(study))
+    out = [head, "|---|---:|---:|---:|---|---:|---:|---:|"]
+    for c in configs:
+        if not c.available:
+            why = short(c.note) if c.note else ""
+            if not why.startswith("not available"):
+                why = "not available" + (": " + why if why else "")
+            out.append("| %s | %s | | | | | | |" % (config_name(c), why))
+            continue
+        out.append("| %s%s | %s | %s | %s | %s | %s | %s | %s |" % (
+            config_name(c), marks.get(c.id, ""), fmt_ms(c.ms), fmt_ms(c.ms_large, c.estimated),
+            fmt_mem(c.mem), fmt_ref(c), fmt(c.image_mean), fmt(c.band_mean), fmt(c.accuracy)))
+    return out
+
+
+def short(text, n=110):
+    text = " ".join(text.split())
+    return text if len(text) <= n else text[:n - 1] + "…"
+
+
+def scene_size(study):
+    """The scenes' own frame sizes (where the errors are measured), e.g. "480x270" or
+    "480x270 / 320x180" when they differ."""
+    sizes = []
+    for name in study.scene_order:
+        text = "%dx%d" % (study.scenes[name]["width"], study.scenes[name]["height"])
+        if text not in sizes:
+            sizes.append(text)
+    return " / ".join(sizes)
+
+
+def per_scene_rows(study, configs, marks):
+    names = study.scene_order
+    head = "| configuration | " + " | ".join("%s img / band" % n for n in names) + " |"
+    out = [head, "|---|" + "---:|" * len(names)]
+    for c in configs:
+        if not c.available:
+            continue
+        cells = []
+        for s in names:
+            cells.append("%s / %s" % (fmt(c.psnr[s]), fmt(c.band[s])))
+        out.append("| %s%s | %s |" % (config_name(c), marks.get(c.id, ""), " | ".join(cells)))
+    return out
+
+
+def sweep_table(study, sweep, key, label, marks):
+    """The configurations of one one-at-a-time sweep (and the base configuration)."""
+    cs = [c for c in study.configs if sweep in c.sweeps.split(",") or
+          (sweep in ("solver", "backend") and "base" in c.sweeps.split(","))]
+    if not cs:
+        return []
+    cs = sorted(cs, key=key)
+    out = ["", "**%s**" % label, ""]
+    out += table_rows(study, cs, marks)
+    return out
+
+
+def spread(study, key):
+    """Median over the (scene, configuration) measurements with 3 or more timed calls of
+    (max - min) / median, as a percentage."""
+    values = []
+    for c in study.configs:
+        for r in c.per.values():
+            runs = r.get(key) or []
+            if len(runs) >= 3:
+                med = float(np.median(runs))
+                if med > 0:
+                    values.append((max(runs) - min(runs)) / med)
+    return "%.0f%%" % (100 * float(np.median(values))) if values else "–"
+
+
+def describe_machine(m, study, blender_version):
+    mem = m.get("memory_bytes")
+    gl = m.get("gl", {})
+    lines = [
+        "- CPU: %s, %s cores online (%s threads used by the CPU contexts)%s"
+        % (m.get("cpu", "?"), m.get("cores", "?"), m.get("threads", "?"),
+           "; AVX-512" if m.get("avx512") else ""),
+        "- memory: %s GiB; OS: %s (%s)" % ("%.0f" % (mem / 2 ** 30) if mem else "?",
+                                            m.get("os", "?"), m.get("kernel", "?")),
+        "- compiler: %s, build type %s; ddof %s" % (m.get("compiler", "?"),
+                                                    m.get("build_type", "?"),
+                                                    m.get("ddof_version", "?")),
+        "- Blender (scenes, truth and the Defocus node): %s" % (blender_version or "unknown"),
+    ]
+    for name in ("osmesa", "egl"):
+        g = gl.get(name, {})
+        if g.get("available"):
+            lines.append("- GL %s: %s%s" % (name, g.get("renderer", "?"),
+                                            " (hardware)" if g.get("hardware") else ""))
+        else:
+            lines.append("- GL %s: not available (%s)" % (name, short(g.get("why", "?"), 160)))
+    lines.append("- sweep: %.0f s of measuring%s; peak memory of the process %.0f MiB"
+                 % (study.seconds, "", study.peak_rss / 2 ** 20))
+    return lines
+
+
+BASE_ID = "cpu/thomas/f32/n4/k0.03125/auto"
+
+
+def cfg_id(n=4, k="0.03125", layers="auto", solver="thomas", backend="cpu", prec="f32"):
+    return "%s/%s/%s/n%d/k%s/%s" % (backend, solver, prec, n, k, layers)
+
+
+def findings(study):
+    """Sentences that read the measurements: each states numbers, none a judgement made by
+    hand."""
+    out = []
+    by = study.by_id
+
+    def acc(cid):
+        c = by.get(cid)
+        return c.accuracy if c and c.available else math.nan
+
+    def cost(cid):
+        c = by.get(cid)
+        return c.cost if c and c.available else math.nan
+
+    items = []
+    # sub-steps
+    pts = [(n, acc(cfg_id(n=n)), cost(cfg_id(n=n))) for n in (1, 2, 4, 8)]
+    pts = [p for p in pts if not math.isnan(p[1])]
+    if len(pts) > 1:
+        items.append("**Sub-steps** (k = 1/32, AUTO): " + ", ".join(
+            "n = %d: %.2f dB in %s ms" % (n, a, fmt_ms(t)) for n, a, t in pts) + ".")
+    # k
+    best_k = []
+    for n in (1, 2, 4, 8):
+        cs = [c for c in study.configs if c.kind == "diffusion" and c.backend == "cpu" and
+              c.solver == "thomas" and c.layers == "auto" and c.substeps == n and
+              c.available and not math.isnan(c.accuracy)]
+        if len(cs) > 2:
+            b = max(cs, key=lambda c: c.accuracy)
+            m = next((c for c in cs if k_text(c.k) == "1/32"), None)
+            best_k.append("n = %d: k = %s, %.2f dB%s" % (
+                n, k_text(b.k), b.accuracy,
+                " (1/32: %.2f dB)" % m.accuracy if m and m is not b else ""))
+    if best_k:
+        items.append("**k** giving the best accuracy (layers AUTO): " + "; ".join(best_k) +
+                     ". (k = 1/32 is the match of second moments with a uniform disk.)")
+    # layers
+    lay = [(lname, acc(cfg_id(layers=lname)), cost(cfg_id(layers=lname)))
+           for lname in ("single", "bg", "bg2", "bgnear", "auto", "auto2")]
+    lay = [x for x in lay if not math.isnan(x[1])]
+    if len(lay) > 1:
+        items.append("**Layers** (n = 4, k = 1/32): " + ", ".join(
+            "%s %.2f dB in %s ms" % (lname, a, fmt_ms(t)) for lname, a, t in lay) + ".")
+    # the foreground element
+    fg_scenes = [sc for sc in study.blurred if study.scenes[sc].get("fg_element")]
+    if fg_scenes and all(x in by for x in (cfg_id(), cfg_id(layers="fg"))):
+        parts = []
+        for sc in fg_scenes:
+            vals = [by[x].psnr.get(sc, math.nan) if x in by else math.nan
+                    for x in (cfg_id(), cfg_id(layers="fg"), cfg_id(layers="fgpin"))]
+            parts.append("%s: AUTO %s dB, element over the rest %s dB, element over the pinhole "
+                         "%s dB" % (sc, fmt(vals[0]), fmt(vals[1]), fmt(vals[2])))
+        items.append("**The foreground element** (image PSNR, n = 4, k = 1/32): " +
+                     "; ".join(parts) + ".")
+    # solvers
+    exact = [by[x] for x in (cfg_id(), cfg_id(solver="cr"), cfg_id(solver="pcr"))
+             if x in by and by[x].available]
+    if exact:
+        items.append("**Exact solvers** (Thomas, CR, PCR) differ from the double-precision "
+                     "solve by at most %.1e (linear RGBA); their accuracy against the truth "
+                     "differs by at most %.3f dB." % (
+                         max(c.ref_max for c in exact),
+                         max(c.accuracy for c in exact) - min(c.accuracy for c in exact)))
+    jac = [(it, by[cfg_id(solver="jacobi%d" % it)]) for it in (10, 50, 200, 1000)
+           if cfg_id(solver="jacobi%d" % it) in by and by[cfg_id(solver="jacobi%d" % it)].available]
+    if jac and BASE_ID in by:
+        items.append("**Jacobi**: " + "; ".join(
+            "%d sweeps %.1e from the exact solve, %+.2f dB against the truth, %s ms" % (
+                it, c.ref_max, c.accuracy - by[BASE_ID].accuracy,
+                fmt_ms(c.cost, c.estimated)) for it, c in jac) +
+            " (differences in accuracy relative to Thomas).")
+    # baselines
+    base = by.get(BASE_ID)
+    if base:
+        for cid in ("defocus", "gather", "cod4"):
+            c = by.get(cid)
+            if not c or not c.available:
+                continue
+            better = [sc for sc in study.blurred
+                      if c.psnr.get(sc, math.nan) > base.psnr.get(sc, math.nan)]
+            items.append("**%s** against the base configuration: accuracy %s vs %s dB; better "
+                         "image PSNR on %s." % (BASE_NAMES_CAP.get(cid, cid), fmt(c.accuracy),
+                                                fmt(base.accuracy),
+                                                ", ".join(better) if better else "no scene"))
+    if items:
+        out += ["### What the numbers say", ""] + ["- " + x for x in items] + [""]
+    return out
+
+
+BASE_NAMES_CAP = {"defocus": "Blender's Defocus node", "gather": "The gather blur",
+                  "cod4": "The CoD4 preview"}
+
+
+def write_markdown(study, chosen, front, cands, args, plots, crops):
+    m = study.machine
+    opts = m.get("options", {})
+    md_dir = os.path.dirname(os.path.abspath(args.md))
+
+    def rel(p):
+        return os.path.relpath(os.path.abspath(p), md_dir)
+
+    blender = sorted({study.scenes[s].get("blender", "") for s in study.scene_order} - {""})
+    small = scene_size(study)
+    marks = {}
+    front_ids = {c.id for c in front}
+    for c in study.configs:
+        if c.id in front_ids:
+            marks[c.id] = " ◆"
+    if chosen:
+        for n in PRESET_ORDER:
+            marks[chosen[n].id] = marks.get(chosen[n].id, "") + " **%s**" % n
+    L = []
+    L.append("# Accuracy versus cost")
+    L.append("")
+    if args.smoke:
+        L.append("> **Smoke run** (`bash study/run.sh --smoke`): one tiny scene and two "
+                 "configurations, to keep the study's code from rotting. The numbers mean "
+                 "nothing; the real report is `docs/accuracy.md` from `bash study/run.sh`.")
+        L.append("")
+    L.append("What each knob of ddof costs in time and buys in accuracy, measured against "
+             "physically based ground truth (Cycles renders with lens depth of field) on "
+             "procedural scenes, with the baselines users already have. This page is generated: "
+             "`%s` renders the scenes (cached), runs the sweep and rewrites this file, its "
+             "plots and `libddof/src/presets_measured.inc`; nothing here is edited by hand. "
+             "`study/README.md` says how it works." % args.command)
+    L.append("")
+    L.append("Measured %s." % m.get("date_utc", "?").replace("T", " ").replace("Z", " UTC"))
+    L.append("")
+    L += describe_machine(m, study, ", ".join(blender))
+    L.append("")
+
+    # --- scenes
+    L.append("## Scenes")
+    L.append("")
+    L.append("Rendered by `study/scenes/make_scenes.py` (Blender, Cycles): the pinhole colour + "
+             "depth that ddof gets, and the same camera with lens depth of field as the truth "
+             "(`study/scenes/README.md` describes each scene; `bundled_sample` is the "
+             "bundled sample, `samples/`, rendered by `samples/make_sample.py`: a lit scene "
+             "where the others are emission-only). Errors are measured at %s; "
+             "times at that size and at 1920x1080 (a 1080p pinhole render of the same scene)."
+             % small)
+    L.append("")
+    L.append("| scene | size | largest CoC (px) | band | foreground element | pinhole dB "
+             "(image / band) | Defocus node time |")
+    L.append("|---|---|---:|---:|---|---:|---:|")
+    pin = study.by_id.get("pinhole")
+    dfc = study.by_id.get("defocus")
+    for s in study.scene_order:
+        r = study.scenes[s]
+        dtime = "–"
+        if dfc and s in dfc.per and dfc.per[s].get("available"):
+            a, b = num(dfc.per[s].get("ms")), num(dfc.per[s].get("ms_large"))
+            dtime = "%s ms%s" % (fmt_ms(a), (" (1080p %s ms)" % fmt_ms(b)) if not math.isnan(b)
+                                 else "")
+        L.append("| %s | %dx%d%s | %.1f | %.1f%% | %s | %s | %s |" % (
+            s, r["width"], r["height"],
+            " + %dx%d" % (r["large_width"], r["large_height"]) if r.get("large_width") else "",
+            r["max_abs_coc_px"], 100 * r["band_fraction"],
+            "yes" + (" (upscaled for 1080p timing)" if r.get("fg_resampled_large") else "")
+            if r.get("fg_element") else "no",
+            "%s / %s" % (fmt(pin.psnr[s]), fmt(pin.band[s])) if pin else "–", dtime))
+    L.append("")
+    L.append("Scenes with blur (largest CoC >= 1 px), over which means are taken: %s. "
+             "Scenes with a band: %s." % (", ".join(study.blurred) or "none",
+                                          ", ".join(study.with_band) or "none"))
+    L.append("")
+
+    # --- metrics
+    L.append("## What is measured")
+    L.append("")
+    L.append("- **Error against the truth**: PSNR over R, G, B of sRGB-encoded values clamped to "
+             "[0, 1], peak 1: exactly what `ddof --compare` and `bash scripts/demo.sh` print "
+             "(`plugin/cli/compare.c`; the study links that code). *image*: every pixel; "
+             "*band*: the pixels around depth edges.")
+    L.append("- **The band**: a depth edge is a pair of 4-neighbours whose signed CoC differs "
+             "by at least 2 px (a depth discontinuity that changes the blur); every pixel within "
+             "max(4 px, half the larger |CoC| of the pair) of either pixel (Euclidean distance) "
+             "is in the band: the reach of the blur that crosses the edge, where bleeding and "
+             "missing partial occlusion show. A smooth depth ramp (the receding plane) has no "
+             "band.")
+    L.append("- **Accuracy** (the y axis of the front): %s." % ACCURACY_TEXT)
+    L.append("- **Error against the double-precision solve** (*vs double*): the same settings "
+             "with `DDOF_SOLVER_REFERENCE_F64` (double throughout, one thread) on the CPU; PSNR "
+             "as above (worst scene) and the largest absolute difference of linear RGBA values "
+             "(largest over the scenes). This isolates solver and precision error from "
+             "modelling error.")
+    L.append("- **Time**: the whole `ddof_diffuse_layers` call (planner, layers, solves; the "
+             "signed CoC is computed once beforehand from the camera with "
+             "`ddof_coc_from_camera`, %.2f ms at 1080p), median of up to %d (%s) or %d "
+             "(1080p) calls after one warm-up call, each size in a fresh context; a call over "
+             "1 s is measured once; a call that the %s time predicts (x the pixel ratio) to "
+             "take "
+             "over %g s is not run at 1080p: its time is shown as ~estimate and it is no preset "
+             "candidate. Mean over the scenes with blur. Spread of the timed calls (max - min "
+             "over the median, median over the configurations): %s at %s, %s at 1080p. The "
+             "Defocus node's time is the compositing step only (`seconds_median` of "
+             "`defocus.json`: the median of its timed composites after a warm-up; a warm-up "
+             "over 20 s is itself the measurement); the pinhole's is one copy of the frame."
+             % (mean([num(study.scenes[s].get("coc_ms_large")) for s in study.scene_order]),
+                opts.get("reps", 5), small, opts.get("large_reps", 3), small,
+                opts.get("large_limit_s", 5), spread(study, "ms_runs"), small,
+                spread(study, "ms_large_runs")))
+    L.append("- **Memory** (MiB): `ddof_stats.host_bytes + device_bytes` of the 1080p call "
+             "(the working memory the context holds, besides the caller's images), largest over "
+             "the scenes.")
+    L.append("")
+
+    # --- presets
+    L.append("## Presets")
+    L.append("")
+    if chosen:
+        L.append("The rule (`choose_presets` in `study/report.py`): candidates are the "
+                 "configurations a preset can hold and the CPU (the default backend) can run: "
+                 "the diffusion with solver %s (Jacobi only with its default 50 sweeps, which a "
+                 "preset cannot change) and layers %s, without a foreground element (an input, "
+                 "not a setting), and the CoD4 preview. Their accuracy-vs-time front (%d of %d "
+                 "candidates; a point joins it only when it is more accurate than every faster "
+                 "point by more than %g dB) is taken, and each preset is the fastest point of the "
+                 "front within its tolerance of the most accurate point: **final** %g dB, "
+                 "**default** %g dB, **preview** %g dB. The time is the CPU time per frame at %s. "
+                 "Default and final must be the diffusion (ddof.h promises for the default "
+                 "settings that in-focus pixels stay untouched and nothing diffuses across them, "
+                 "which the CoD4 post-process does not keep); the preview may be the CoD4 "
+                 "preview, and then its ignored fields keep the default preset's values. "
+                 "The default beta calibration k (`ddof_params_init`) is the default preset's."
+                 % (", ".join(sorted(PRESET_SOLVERS | {"jacobi"})),
+                    ", ".join(sorted(PRESET_LAYERS)), len(front), len(cands),
+                    FRONT_MIN_GAIN_DB, PRESET_TOLERANCE_DB["final"], PRESET_TOLERANCE_DB["default"],
+                    PRESET_TOLERANCE_DB["preview"],
+                    "1920x1080" if study.has_large else "the scenes' size"))
+        L.append("")
+        L.append("| preset | settings | ms %s | ms 1080p | image dB | band dB | accuracy dB |"
+                 % small)
+        L.append("|---|---|---:|---:|---:|---:|---:|")
+        best = max(c.accuracy for c in front)
+        for n in PRESET_ORDER:
+            c = chosen[n]
+            L.append("| **%s** | %s | %s | %s | %s | %s | %s (best %s) |" % (
+                n, config_name(c), fmt_ms(c.ms), fmt_ms(c.ms_large), fmt(c.image_mean),
+                fmt(c.band_mean), fmt(c.accuracy), fmt(best)))
+        if pin:
+            L.append("| *pinhole* | the input | | | %s | %s | %s |"
+                     % (fmt(pin.image_mean), fmt(pin.band_mean), fmt(pin.accuracy)))
+        L.append("")
+        d = chosen["default"]
+        if d.kind == "diffusion":
+            L.append("Default k: **%s** (%.6g), the default preset's." % (k_text(d.k), d.k))
+        L.append("")
+        L.append("Written to `libddof/src/presets_measured.inc`, which `ddof_params_init_preset` "
+                 "(and through it the `ddof` command's `--preset` and the Blender add-on) uses.")
+    else:
+        L.append("No configuration qualified as a preset candidate in this run.")
+    L.append("")
+
+    # --- presets against the baselines, per scene
+    if chosen:
+        cols = [("pinhole", "pinhole")]
+        cols += [(chosen[n].id, n) for n in PRESET_ORDER]
+        d = chosen["default"]
+        fg_id = "/".join(d.id.split("/")[:5] + ["fg"]) if d.kind == "diffusion" else None
+        if fg_id in study.by_id and any(study.scenes[x].get("fg_element")
+                                        for x in study.scene_order):
+            cols.append((fg_id, "default + fg element"))
+        cols += [("cod4", "CoD4"), ("gather", "gather"), ("defocus", "Defocus node")]
+        cols = [(cid, name) for cid, name in cols if cid in study.by_id]
+        L.append("### The presets against the baselines, per scene")
+        L.append("")
+        L.append("PSNR against the truth, image / band (dB); *default + fg element*: the default "
+                 "preset's settings with the scene's separately rendered foreground element over "
+                 "the rest of the scene (scenes that have one; the others: near spread on).")
+        L.append("")
+        L.append("| scene | " + " | ".join(name for _, name in cols) + " |")
+        L.append("|---|" + "---:|" * len(cols))
+        for sc in study.scene_order:
+            cells = []
+            for cid, _ in cols:
+                c = study.by_id[cid]
+                r = c.per.get(sc, {})
+                if not r.get("available"):
+                    cells.append("–")
+                else:
+                    cells.append("%s / %s" % (fmt(c.psnr[sc]), fmt(c.band[sc])))
+            L.append("| %s | %s |" % (sc, " | ".join(cells)))
+        L.append("")
+    L += findings(study)
+
+    # --- plots
+    L.append("## The front")
+    L.append("")
+    for p, alt in plots:
+        L.append("![%s](%s)" % (alt, rel(p)))
+        L.append("")
+    L.append("Front (◆ in the tables), fastest first:")
+    L.append("")
+    L += table_rows(study, front, marks)
+    L.append("")
+
+    if crops:
+        L.append("## Hard edges")
+        L.append("")
+        L.append("![Crops at hard edges](%s)" % rel(crops[0]))
+        L.append("")
+        L.append("Each row is the %s window of a scene where the pinhole differs most from the "
+                 "truth inside the band (around depth edges), enlarged without interpolation, as "
+                 "sRGB clamped to [0, 1] (what the PSNR measures). Columns: the input, the truth, "
+                 "the three presets%s, the baselines." % (
+                     "square", ", the default preset's settings with the scene's separately "
+                     "rendered foreground element composited over the rest of the scene (scenes "
+                     "that have one)" if any(study.scenes[s].get("fg_element")
+                                             for s in study.blurred) else ""))
+        L.append("")
+
+    # --- knobs
+    L.append("## The knobs")
+    L.append("")
+    L.append("Each knob is swept one at a time around the base configuration (CPU, Thomas, "
+             "n = 4, k = 1/32, layers AUTO); sub-steps x k x layers, which interact, are swept "
+             "as a cross product on the CPU Thomas solver.")
+    L.append("")
+    L.append("- **solver**: Thomas (LU, the CPU default), CR (cyclic reduction), PCR (parallel "
+             "cyclic reduction) solve the same systems exactly: their differences are rounding. "
+             "Jacobi with a fixed number of sweeps (10 to 1000) is approximate: it shows what "
+             "an iterative solver costs in "
+             "accuracy. Gruen's solver exists on the GL backends only.")
+    L.append("- **sub-steps n**: n ADI steps of beta/n each; the kernel goes from a diamond-"
+             "shaped exponential (n = 1) towards a Gaussian, at linear cost.")
+    L.append("- **precision**: float (all CPU solvers; Thomas keeps its running value in "
+             "double), double (the reference solver, one thread), packed half (GL Gruen: a, b, "
+             "c and x in one RGBA32UI texel).")
+    L.append("- **k** in beta = k d^2: the calibration of the blur size; k = 1/32 matches the "
+             "second moments of a uniform disk of diameter d.")
+    L.append("- **layers**: " + "; ".join("*%s*: %s" % (k, v) for k, v in LAYERS_TEXT.items())
+             + ".")
+    L.append("- **backend**: the CPU, or the GL plugin through OSMesa (software) or EGL (a GPU "
+             "when one is found, else Mesa's software renderer); configurations of a backend "
+             "that cannot be opened on this machine are listed as not available.")
+    L.append("- **baselines**: the pinhole input (no blur), the CoD4 post-process DOF (GPU Gems "
+             "3 ch. 28, `DDOF_METHOD_COD4_PREVIEW`), a naive gather blur by CoC "
+             "(`study/baselines/`, it bleeds sharp objects into their blurred background), and "
+             "Blender's compositor Defocus node on the same pinhole input "
+             "(`study/scenes/defocus_node.py`).")
+    L.append("")
+
+    def k_key(c):
+        return (c.k or 0)
+
+    L += sweep_table(study, "solver", lambda c: (c.solver, c.jacobi), "Solvers and precision",
+                     marks)
+    L += sweep_table(study, "substeps", lambda c: c.substeps or 0, "Sub-steps", marks)
+    L += sweep_table(study, "k", k_key, "k", marks)
+    L += sweep_table(study, "layers", lambda c: list(LAYERS_TEXT).index(c.layers)
+                     if c.layers in LAYERS_TEXT else 99, "Layers", marks)
+    L += sweep_table(study, "backend", lambda c: (c.backend, c.solver, c.precision),
+                     "Backends", marks)
+    base = [c for c in study.configs if c.kind != "diffusion"]
+    if base:
+        L += ["", "**Baselines**", ""] + table_rows(study, base, marks)
+    L.append("")
+
+    # --- everything
+    L.append("## All configurations")
+    L.append("")
+    L.append("Sorted by accuracy; ◆ marks the front of the preset candidates. *ms*: median time "
+             "per frame; *vs double*: error against the double-precision solve of the same "
+             "settings; *image*, *band*, *accuracy*: PSNR against the truth (means over the "
+             "scenes with blur).")
+    L.append("")
+    ordered = sorted(study.configs, key=lambda c: (not c.available,
+                                                   -(c.accuracy if not math.isnan(c.accuracy)
+                                                     else -1e9)))
+    L.append("<details><summary>%d configurations</summary>" % len(ordered))
+    L.append("")
+    L += table_rows(study, ordered, marks)
+    L.append("")
+    L.append("</details>")
+    L.append("")
+    L.append("### Per scene (PSNR against the truth, image / band)")
+    L.append("")
+    L.append("<details><summary>per scene</summary>")
+    L.append("")
+    L += per_scene_rows(study, ordered, marks)
+    L.append("")
+    L.append("</details>")
+    L.append("")
+    tmp = args.md + ".tmp"
+    with open(tmp, "w") as f:
+        f.write("\n".join(L))
+    os.replace(tmp, args.md)
+
+
+# ---------------------------------------------------------------------------------------------
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("results", nargs="+")
+    ap.add_argument("--md", default="docs/accuracy.md")
+    ap.add_argument("--images", default="docs/images")
+    ap.add_argument("--presets", default="libddof/src/presets_measured.inc")
+    ap.add_argument("--study-exe", default=None)
+    ap.add_argument("--work", default=None)
+    ap.add_argument("--smoke", action="store_true")
+    ap.add_argument("--command", default="bash study/run.sh")
+    args = ap.parse_args()
+
+    study = Study(args.results)
+    if not study.scene_order or not study.configs:
+        sys.exit("report.py: no results in %s" % ", ".join(args.results))
+    os.makedirs(args.images, exist_ok=True)
+    os.makedirs(os.path.dirname(os.path.abspath(args.md)), exist_ok=True)
+
+    chosen, front, cands = choose_presets(study)
+    plots = []
+    p = os.path.join(args.images, "accuracy_pareto.png")
+    pareto_plot(study, chosen, front, p, "accuracy", "accuracy, dB (image and band PSNR)",
+                "Accuracy against time: every configuration, the front and the presets")
+    plots.append((p, "Accuracy against time per frame, the Pareto front and the presets"))
+    p = os.path.join(args.images, "accuracy_pareto_band.png")
+    if study.with_band:
+        pareto_plot(study, chosen, front, p, "band_mean", "PSNR in the band, dB",
+                    "PSNR in the band around depth edges against time")
+        plots.append((p, "Band PSNR against time"))
+    p = os.path.join(args.images, "accuracy_pareto_image.png")
+    pareto_plot(study, chosen, front, p, "image_mean", "PSNR over the image, dB",
+                "PSNR over the image against time")
+    plots.append((p, "Image PSNR against time"))
+    p = os.path.join(args.images, "accuracy_solver_error.png")
+    solver_plot(study, p)
+    plots.append((p, "Solver error against the double-precision solve"))
+    p = os.path.join(args.images, "accuracy_k.png")
+    if k_plot(study, p):
+        plots.append((p, "Accuracy against k for each number of sub-steps"))
+
+    crops = None
+    if chosen and args.study_exe:
+        work = args.work or os.path.join(os.path.dirname(os.path.abspath(args.results[0])),
+                                         "images")
+        p = os.path.join(args.images, "accuracy_crops.png")
+        rows = crop_grid(study, chosen, args.study_exe, work, p)
+        if rows:
+            crops = (p, rows)
+    write_markdown(study, chosen, front, cands, args, plots, crops)
+    if chosen:
+        write_presets(args.presets, chosen, study, args.smoke)
+    print("report.py: %s (%d configurations x %d scenes), plots in %s%s"
+          % (args.md, len(study.configs), len(study.scene_order), args.images,
+             ", presets -> %s" % args.presets if chosen else ""))
+    if chosen:
+        for n in PRESET_ORDER:
+            c = chosen[n]
+            print("  %-8s %s: %s ms, accuracy %s dB" % (n, c.id, fmt_ms(c.cost),
+                                                        fmt(c.accuracy)))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,256 @@
+"""The baseline users already have: Blender's compositor Defocus node on a scene's pinhole input.
+
+    blender -b --factory-startup --python-exit-code 1 --python study/scenes/defocus_node.py -- \
+        --scene-dir DIR/<scene> [--size-tag 1080] [--fstop-scale S] [--threshold T] \
+        [--blur-max PX] [--execution-mode TILED|FULL_FRAME] [--repeats N] [--long S] \
+        [--threads N] \
+        [--out-dir DIR] [--out-name NAME] [--write-image] [--verbose]
+
+Reads DIR/<scene>/pinhole.exr (with --size-tag 1080: pinhole_1080.exr) and camera.json, and
+composites Image node (ViewLayer: Combined -> Image, Depth -> Z) -> Defocus -> Composite, with
+no Render Layers node, so `bpy.ops.render.render()` runs the compositor alone (Blender renders
+nothing when no Render Layers node is in the tree). The Defocus node gets the camera of the
+sidecar (focal length, sensor, AUTO fit, focus distance) as its scene camera, use_zbuffer on,
+circular bokeh, no gamma correction, use_preview off (full quality), blur_max 512 px radius
+(so that nothing is clipped), threshold 1 (Blender's default), and the f-stop
+N * 1000 / sensor_mm * fstop-scale: DESIGN.md section 1 says the node blurs 1000/sensor_mm
+times more than the physical lens at the same f-number (README.md, "Defocus node f-stop",
+checks it).
+
+Timing: one untimed warm-up composite (it loads and decodes the EXR into Blender's image cache
+and is reported as seconds_first), then --repeats (default 5) timed composites, each
+time.perf_counter() around bpy.ops.render.render() (write_still off): the compositor tree's
+conversion and execution and the render result's bookkeeping, not the EXR decoding and not
+writing a file. seconds is the best of those (the machine is shared: the minimum is the least
+disturbed), seconds_median their median. When the warm-up alone takes more than --long
+seconds (default 20: the 1080p frames with large blur take minutes), it is the one measurement
+(seconds_runs is empty; the EXR decoding it includes is under a second). Then the result is
+written, untimed.
+
+Writes DIR/<scene>/defocus.exr (plain single-layer R, G, B, A, 32-bit float, ZIP) and
+defocus.json; with --size-tag 1080, defocus_1080.json only (the image too with --write-image).
+--out-dir writes them elsewhere, --out-name under another name (the f-stop check of README.md).
+"""
+
+import json
+import os
+import statistics
+import struct
+import sys
+import time
+
+import bpy
+
+
+def parse_args():
+    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+    args = {"scene-dir": None, "size-tag": "", "fstop-scale": "1.0", "threshold": "1.0",
+            "blur-max": "512", "execution-mode": "TILED", "repeats": "5", "threads": "2",
+            "long": "20",
+            "out-dir": None, "out-name": None, "write-image": False, "verbose": False}
+    flags = {"write-image", "verbose"}
+    i = 0
+    while i < len(argv):
+        key = argv[i][2:] if argv[i].startswith("--") else None
+        if key in flags:
+            args[key] = True
+            i += 1
+            continue
+        if key not in args or i + 1 >= len(argv):
+            raise SystemExit("defocus_node.py: unknown or incomplete argument %r" % argv[i])
+        args[key] = argv[i + 1]
+        i += 2
+    if not args["scene-dir"]:
+        raise SystemExit("defocus_node.py: --scene-dir DIR is required")
+    return args
+
+
+def exr_size(path):
+    """(width, height) of an EXR's display window, read from its header."""
+    with open(path, "rb") as f:
+        data = f.read(65536)
+    if data[:4] != b"\x76\x2f\x31\x01":
+        raise SystemExit("defocus_node.py: %s is not an OpenEXR file" % path)
+    pos = 8
+    while data[pos] != 0:
+        end = data.index(b"\0", pos)
+        name = data[pos:end]
+        pos = data.index(b"\0", end + 1) + 1
+        size = struct.unpack_from("<i", data, pos)[0]
+        pos += 4
+        if name == b"displayWindow":
+            x0, y0, x1, y1 = struct.unpack_from("<4i", data, pos)
+            return x1 - x0 + 1, y1 - y0 + 1
+        pos += size
+    raise SystemExit("defocus_node.py: %s has no displayWindow" % path)
+
+
+def quiet(enabled):
+    class Quiet:
+        def __enter__(self):
+            if enabled:
+                sys.stdout.flush()
+                self.saved = os.dup(1)
+                self.null = os.open(os.devnull, os.O_WRONLY)
+                os.dup2(self.null, 1)
+
+        def __exit__(self, *exc):
+            if enabled:
+                sys.stdout.flush()
+                os.dup2(self.saved, 1)
+                os.close(self.saved)
+                os.close(self.null)
+    return Quiet()
+
+
+def write_json(path, data):
+    tmp = path + ".tmp"
+    with open(tmp, "w") as f:
+        json.dump(data, f, indent=2)
+        f.write("\n")
+    os.replace(tmp, path)
+
+
+def main():
+    args = parse_args()
+    scene_dir = os.path.abspath(args["scene-dir"])
+    tag = args["size-tag"]
+    suffix = "_" + tag if tag else ""
+    source = os.path.join(scene_dir, "pinhole%s.exr" % suffix)
+    with open(os.path.join(scene_dir, "camera.json")) as f:
+        cam = json.load(f)
+    if not os.path.exists(source):
+        raise SystemExit("defocus_node.py: no %s" % source)
+    width, height = exr_size(source)
+    base = args["out-name"] or "defocus%s" % suffix
+    out_dir = os.path.abspath(args["out-dir"]) if args["out-dir"] else scene_dir
+    os.makedirs(out_dir, exist_ok=True)
+    write_image = args["write-image"] or not tag
+    sensor = float(cam["sensor_width_mm"])
+    fstop_node = float(cam["fstop"]) * 1000.0 / sensor * float(args["fstop-scale"])
+    threads = int(args["threads"])
+
+    bpy.ops.wm.read_factory_settings(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.engine = "CYCLES"  # never runs: there is no Render Layers node
+    render = scene.render
+    render.resolution_x, render.resolution_y = width, height
+    render.resolution_percentage = 100
+    render.pixel_aspect_x = render.pixel_aspect_y = float(cam.get("pixel_aspect", 1.0))
+    render.use_compositing = True
+    render.use_sequencer = False
+    render.threads_mode = "FIXED"
+    render.threads = threads
+    render.film_transparent = False
+    scene.view_settings.view_transform = "Standard"
+    scene.view_settings.look = "None"
+
+    cam_data = bpy.data.cameras.new("Camera")
+    cam_data.lens = float(cam["focal_length_mm"])
+    cam_data.sensor_width = sensor
+    cam_data.sensor_fit = cam.get("sensor_fit", "AUTO")
+    cam_data.dof.use_dof = False  # the Defocus node reads focus_distance either way
+    cam_data.dof.focus_distance = float(cam["focus_distance_m"]) / float(
+        cam.get("unit_scale_m", 1.0))
+    cam_obj = bpy.data.objects.new("Camera", cam_data)
+    scene.collection.objects.link(cam_obj)
+    scene.camera = cam_obj
+
+    scene.use_nodes = True
+    tree = scene.node_tree
+    tree.execution_mode = args["execution-mode"]
+    tree.nodes.clear()
+    image = bpy.data.images.load(source)
+    image_node = tree.nodes.new("CompositorNodeImage")
+    image_node.image = image
+    image_node.layer = "ViewLayer"
+    defocus = tree.nodes.new("CompositorNodeDefocus")
+    defocus.scene = scene
+    defocus.use_zbuffer = True
+    defocus.bokeh = "CIRCLE"
+    defocus.angle = 0.0
+    defocus.use_gamma_correction = False
+    defocus.use_preview = False
+    defocus.f_stop = fstop_node
+    defocus.blur_max = float(args["blur-max"])
+    defocus.threshold = float(args["threshold"])
+    composite = tree.nodes.new("CompositorNodeComposite")
+    composite.use_alpha = True
+    tree.links.new(image_node.outputs["Combined"], defocus.inputs["Image"])
+    tree.links.new(image_node.outputs["Depth"], defocus.inputs["Z"])
+    tree.links.new(defocus.outputs["Image"], composite.inputs["Image"])
+
+    settings = render.image_settings
+    settings.file_format = "OPEN_EXR"
+    settings.color_mode = "RGBA"
+    settings.color_depth = "32"
+    settings.exr_codec = "ZIP"
+
+    def composite_once():
+        t0 = time.perf_counter()
+        with quiet(not args["verbose"]):
+            bpy.ops.render.render(write_still=False)
+        return time.perf_counter() - t0
+
+    print("defocus_node.py: %s %dx%d, f-stop %.4g (N %.4g x 1000 / %.4g mm x %.4g), "
+          "threshold %g, blur_max %g, %s, %d threads ..."
+          % (os.path.basename(scene_dir), width, height, fstop_node, cam["fstop"], sensor,
+             float(args["fstop-scale"]), defocus.threshold, defocus.blur_max,
+             tree.execution_mode, threads), end=" ", flush=True)
+    first = composite_once()
+    if first > float(args["long"]):
+        # Minutes per composite (large blur at 1080p): the warm-up is the measurement; the
+        # EXR decoding it includes is well under a second.
+        runs = []
+        seconds = first
+        print("%.3f s (one run, EXR load included)" % seconds, flush=True)
+    else:
+        runs = [composite_once() for _ in range(int(args["repeats"]))]
+        seconds = min(runs)
+        print("%.3f s best of %d, median %.3f s (first, with the EXR load: %.3f s)"
+              % (seconds, len(runs), statistics.median(runs), first), flush=True)
+
+    result = {
+        "scene": os.path.basename(scene_dir),
+        "input": os.path.basename(source),
+        "size": [width, height],
+        "fstop_camera": cam["fstop"],
+        "fstop_node": round(fstop_node, 6),
+        "fstop_scale": float(args["fstop-scale"]),
+        "fstop_rule": "N * 1000 / sensor_width_mm * fstop_scale",
+        "blur_max": defocus.blur_max,
+        "threshold": defocus.threshold,
+        "bokeh": "CIRCLE",
+        "use_zbuffer": True,
+        "use_preview": False,
+        "use_gamma_correction": False,
+        "execution_mode": tree.execution_mode,
+        "threads": threads,
+        "seconds": round(seconds, 4),
+        "seconds_median": round(statistics.median(runs), 4) if runs else round(seconds, 4),
+        "seconds_runs": [round(t, 4) for t in runs],
+        "seconds_first": round(first, 4),
+        "timing": ("best (minimum) of the timed runs of bpy.ops.render.render() on a tree "
+                   "with no "
+                   "Render Layers node (compositor only: Image -> Defocus -> Composite), after "
+                   "one untimed warm-up that loads the EXR (seconds_first); excludes EXR "
+                   "decoding and file writing") if runs else (
+                   "one bpy.ops.render.render() on a tree with no Render Layers node "
+                   "(compositor only), longer than --long s, so not repeated; includes "
+                   "decoding the EXR on first use (well under a second), not file writing"),
+        "blender": bpy.app.version_string,
+    }
+    if write_image:
+        out_path = os.path.join(out_dir, base + ".exr")
+        tmp = os.path.join(out_dir, "." + base + ".tmp.exr")
+        with quiet(not args["verbose"]):
+            bpy.data.images["Render Result"].save_render(tmp, scene=scene)
+        if not os.path.exists(tmp):
+            raise SystemExit("defocus_node.py: Blender did not write %s" % tmp)
+        os.replace(tmp, out_path)
+        result["output"] = os.path.basename(out_path)
+        result["output_layout"] = "single-layer R, G, B, A, 32-bit float, ZIP"
+    write_json(os.path.join(out_dir, base + ".json"), result)
+
+
+main()

@@ -1,0 +1,146 @@
+/* study.h - the accuracy-vs-cost study (issue 7, docs/accuracy.md): shared types.
+ *
+ * ddof-study loads a scene folder (pinhole.exr, truth.exr, camera.json, and when present fg.exr,
+ * pinhole_1080.exr, defocus.exr/.json), runs a list of configurations on it and writes one JSON
+ * object per (scene, configuration) to a results file. study/report.py turns the results into
+ * docs/accuracy.md, its plots and libddof/src/presets_measured.inc. */
+#ifndef DDOF_STUDY_H
+#define DDOF_STUDY_H
+
+#include <ddof.h>
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* ---- configurations (configs.c) ----------------------------------------------------------- */
+
+typedef enum study_kind {
+    STUDY_DIFFUSION = 0, /* ddof_diffuse_layers with the method DIFFUSION                       */
+    STUDY_COD4,          /* the library's CoD4 preview (DDOF_METHOD_COD4_PREVIEW)               */
+    STUDY_GATHER,        /* study/baselines/gather_blur.c: a naive per-pixel gather by CoC     */
+    STUDY_PINHOLE,       /* the input itself (identity)                                         */
+    STUDY_DEFOCUS        /* Blender's compositor Defocus node (defocus.exr/.json of the scene)  */
+} study_kind;
+
+/* What the layer knob sets. */
+typedef enum study_layers {
+    LAYERS_SINGLE = 0, /* background OFF, near spread OFF                                      */
+    LAYERS_BG,         /* background ON, 1 level, near spread OFF                               */
+    LAYERS_BG2,        /* background ON, 2 levels, near spread OFF                              */
+    LAYERS_BGNEAR,     /* background ON, 1 level, near spread ON                                */
+    LAYERS_AUTO,       /* background AUTO, 1 level, near spread AUTO (the planner decides)      */
+    LAYERS_AUTO2,      /* background AUTO, 2 levels, near spread AUTO                           */
+    LAYERS_FG,         /* background ON, 1 level, and the scene's fg.exr as a foreground       */
+                       /* element over rest.exr (everything but the near objects: the paper's  */
+                       /* separately rendered layers); scenes without one: near spread ON       */
+    LAYERS_FGPIN,      /* the same element over pinhole.exr (`ddof pinhole.exr --foreground`):  */
+                       /* the near objects are then in the main image too                       */
+    LAYERS_COUNT_
+} study_layers;
+
+typedef struct study_config {
+    char id[96];              /* unique, parseable: "cpu/thomas/f32/n4/k0.03125/auto", "cod4"  */
+    char sweeps[96];          /* the sweeps it belongs to, comma-separated: "base,solver,..."   */
+    study_kind kind;
+    ddof_backend_kind backend;
+    ddof_solver solver;
+    uint32_t jacobi_iterations;
+    ddof_precision precision;
+    uint32_t substeps;
+    float beta_scale;
+    study_layers layers;
+} study_config;
+
+typedef struct study_config_list {
+    study_config *items;
+    size_t count, capacity;
+} study_config_list;
+
+const char *study_layers_name(study_layers layers);
+/* Parses an id (as study_config_id writes them) into *out; 0 or -1. */
+int study_config_parse(const char *id, study_config *out);
+/* Writes cfg->id from its fields. */
+void study_config_make_id(study_config *cfg);
+/* "cpu thomas n=4 k=1/32 auto": for progress lines. */
+void study_config_label(const study_config *cfg, char *out, size_t size);
+/* Whether cfg runs with the scene's foreground element (fg_element: the scene has one). */
+int study_config_uses_fg(const study_config *cfg, int fg_element);
+/* Appends cfg (merging its sweep tag when the same id is already listed); 0 or -1. */
+int study_config_add(study_config_list *list, const study_config *cfg, const char *sweep);
+/* The named list: "full" (the study), "smoke" (two configurations), "baselines". 0 or -1. */
+int study_config_named(study_config_list *list, const char *name);
+/* A comma-separated list of ids and names; 0 or -1 with a message. */
+int study_config_from_spec(study_config_list *list, const char *spec, char *error, size_t size);
+void study_config_list_free(study_config_list *list);
+/* ddof_params for a diffusion or CoD4 configuration, every preset field set explicitly (so the
+ * study does not depend on the presets it chooses); fg_element: whether the scene gives one. */
+void study_config_params(const study_config *cfg, int fg_element, ddof_params *params);
+
+/* ---- scenes (scene.c) --------------------------------------------------------------------- */
+
+/* One frame size of a scene. */
+typedef struct study_frame {
+    uint32_t width, height;
+    float *rgba;          /* premultiplied linear RGBA                                          */
+    float *depth;         /* planar Z                                                            */
+    float *coc;           /* signed CoC in pixels (negative in front of the focus plane)        */
+    float *fg_rgba;       /* the foreground element (NULL when the scene has none)              */
+    float *fg_coc;        /* its CoC                                                             */
+    float *rest_rgba;     /* rest.exr: the scene without the near objects (NULL when absent)    */
+    float *rest_coc;      /* its CoC                                                             */
+    int fg_resampled;     /* 1: fg and rest upscaled (nearest) from the small frame (no 1080p   */
+                          /* renders of them): for timing only                                  */
+} study_frame;
+
+typedef struct study_scene {
+    char name[128];
+    char dir[4096];
+    ddof_camera camera;
+    study_frame small;    /* the scene's own size (480x270): errors and small timings           */
+    study_frame large;    /* pinhole_1080.exr (width 0 when absent): timings only               */
+    float *truth;         /* RGBA of the Cycles lens-DOF render, small size                     */
+    unsigned char *band;  /* 1 where a pixel lies in the band around depth edges                */
+    size_t band_pixels;
+    float max_abs_coc;
+    double seconds_coc_small, seconds_coc_large; /* ddof_coc_from_camera, median             */
+    float *defocus;       /* the Defocus node's image (NULL when absent)                        */
+    double defocus_seconds, defocus_seconds_large; /* < 0 when absent                         */
+    char blender[64];     /* Blender version from render.json / defocus.json, "" if unknown     */
+} study_scene;
+
+/* Loads the scene folder; on failure returns -1 with a message. ctx computes the CoC. */
+int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_scene *scene,
+                     char *error, size_t size);
+void study_scene_free(study_scene *scene);
+
+/* ---- metrics (metrics.c) ------------------------------------------------------------------ */
+
+/* The band around depth edges: a depth edge is a pair of 4-neighbours whose signed CoC differs
+ * by at least STUDY_EDGE_COC_PX; every pixel within max(STUDY_BAND_MIN_PX, max |CoC| of the
+ * pair / 2) pixels (Euclidean) of either pixel of the pair belongs to the band. */
+#define STUDY_EDGE_COC_PX 2.0f
+#define STUDY_BAND_MIN_PX 4.0f
+size_t study_band(const float *coc, uint32_t width, uint32_t height, unsigned char *band);
+
+/* PSNR over RGB of sRGB-encoded values clamped to [0, 1], peak 1: plugin/cli/compare.c's
+ * definition (`ddof --compare`). mask NULL: every pixel. +inf when identical; NAN when the mask
+ * is empty. Both images RGBA. */
+double study_psnr(const float *a, const float *b, size_t pixels, const unsigned char *mask);
+/* Linear differences over RGBA: the largest absolute and the root mean square. */
+void study_linear_diff(const float *a, const float *b, size_t pixels, double *max_abs,
+                       double *rms);
+
+/* ---- output (output.c) -------------------------------------------------------------------- */
+
+/* Writes a float32 .npy file of shape (height, width, channels) (channels 1: (height, width)). */
+int study_write_npy(const char *path, const float *data, uint32_t width, uint32_t height,
+                    uint32_t channels);
+/* mkdir -p; 0 or -1. */
+int study_mkdirs(const char *path);
+/* Reads a small text file into a malloc'ed, NUL-terminated string (NULL on failure). */
+char *study_read_text(const char *path);
+
+double study_now(void);
+double study_median(double *values, size_t count);
+
+#endif
