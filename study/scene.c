@@ -219,6 +219,22 @@ void study_scene_free(study_scene *s)
     memset(s, 0, sizeof *s);
 }
 
+/* A layer of the small frame (RGBA and its depth) upscaled to the large frame (nearest), and
+ * its CoC there; 0, or -1 with a message. */
+static int upscale_layer(ddof_context *ctx, study_scene *s, const float *rgba, const float *depth,
+                         float **out_rgba, float **out_coc, char *error, size_t size)
+{
+    const study_frame *small = &s->small, *L = &s->large;
+    float *big_depth = resample(depth, small->width, small->height, 1, L->width, L->height);
+    *out_rgba = resample(rgba, small->width, small->height, 4, L->width, L->height);
+    const int rc = big_depth && *out_rgba
+                       ? compute_coc(ctx, &s->camera, big_depth, L->width, L->height, out_coc,
+                                     NULL, error, size)
+                       : fail(error, size, "out of memory");
+    free(big_depth);
+    return rc ? -1 : 0;
+}
+
 int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_scene *s,
                      char *error, size_t size)
 {
@@ -238,6 +254,7 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
     }
     char path[4352];
     uint32_t w, h;
+    float *fg_depth = NULL, *rest_depth = NULL; /* the small frame's, freed on every way out */
 
     snprintf(path, sizeof path, "%s/camera.json", dir);
     camera_sidecar sidecar;
@@ -263,13 +280,11 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         goto failed;
     }
 
-    float *fg_depth = NULL;
     snprintf(path, sizeof path, "%s/fg.exr", dir);
     if (exists(path)) {
         if (read_exr(path, &s->small.fg_rgba, &fg_depth, &w, &h, error, size) != 0)
             goto failed;
         if (w != s->small.width || h != s->small.height) {
-            free(fg_depth);
             fail(error, size, "%s is %ux%u, pinhole.exr %ux%u", path, w, h, s->small.width,
                  s->small.height);
             goto failed;
@@ -279,15 +294,10 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         for (size_t i = 0; i < (size_t)w * h; i++)
             if (!(s->small.fg_rgba[i * 4 + 3] > 0.0f))
                 fg_depth[i] = INFINITY;
-        int rc = compute_coc(ctx, &s->camera, fg_depth, w, h, &s->small.fg_coc, NULL, error,
-                             size);
-        if (rc != 0) {
-            free(fg_depth);
+        if (compute_coc(ctx, &s->camera, fg_depth, w, h, &s->small.fg_coc, NULL, error, size))
             goto failed;
-        }
     }
 
-    float *rest_depth = NULL;
     snprintf(path, sizeof path, "%s/rest.exr", dir);
     if (s->small.fg_rgba && exists(path)) {
         if (read_exr(path, &s->small.rest_rgba, &rest_depth, &w, &h, error, size) != 0 ||
@@ -297,16 +307,12 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
             if (!error[0])
                 fail(error, size, "%s is %ux%u, pinhole.exr %ux%u", path, w, h,
                      s->small.width, s->small.height);
-            free(fg_depth);
-            free(rest_depth);
             goto failed;
         }
     }
 
     s->band = malloc(pixels);
     if (!s->band) {
-        free(fg_depth);
-        free(rest_depth);
         fail(error, size, "out of memory");
         goto failed;
     }
@@ -319,49 +325,19 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         study_frame *L = &s->large;
         if (read_exr(path, &L->rgba, &L->depth, &L->width, &L->height, error, size) != 0 ||
             compute_coc(ctx, &s->camera, L->depth, L->width, L->height, &L->coc,
-                        &s->seconds_coc_large, error, size) != 0) {
-            free(fg_depth);
-            free(rest_depth);
+                        &s->seconds_coc_large, error, size) != 0)
             goto failed;
-        }
+        /* No 1080p renders of the element and the rest: the small ones upscaled, for timing. */
         if (s->small.fg_rgba) {
-            float *big_depth = resample(fg_depth, s->small.width, s->small.height, 1, L->width,
-                                        L->height);
-            L->fg_rgba = resample(s->small.fg_rgba, s->small.width, s->small.height, 4,
-                                  L->width, L->height);
             L->fg_resampled = 1;
-            if (!big_depth || !L->fg_rgba ||
-                compute_coc(ctx, &s->camera, big_depth, L->width, L->height, &L->fg_coc, NULL,
-                            error, size) != 0) {
-                free(big_depth);
-                free(fg_depth);
-                free(rest_depth);
-                if (!error[0])
-                    fail(error, size, "out of memory");
+            if (upscale_layer(ctx, s, s->small.fg_rgba, fg_depth, &L->fg_rgba, &L->fg_coc,
+                              error, size) != 0)
                 goto failed;
-            }
-            free(big_depth);
         }
-        if (s->small.rest_rgba) {
-            float *big_depth = resample(rest_depth, s->small.width, s->small.height, 1,
-                                        L->width, L->height);
-            L->rest_rgba = resample(s->small.rest_rgba, s->small.width, s->small.height, 4,
-                                    L->width, L->height);
-            if (!big_depth || !L->rest_rgba ||
-                compute_coc(ctx, &s->camera, big_depth, L->width, L->height, &L->rest_coc,
-                            NULL, error, size) != 0) {
-                free(big_depth);
-                free(fg_depth);
-                free(rest_depth);
-                if (!error[0])
-                    fail(error, size, "out of memory");
-                goto failed;
-            }
-            free(big_depth);
-        }
+        if (s->small.rest_rgba && upscale_layer(ctx, s, s->small.rest_rgba, rest_depth,
+                                                &L->rest_rgba, &L->rest_coc, error, size) != 0)
+            goto failed;
     }
-    free(fg_depth);
-    free(rest_depth);
 
     snprintf(path, sizeof path, "%s/defocus.exr", dir);
     if (exists(path)) {
@@ -386,9 +362,13 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         s->defocus_seconds_large = isfinite(t) ? t : -1.0;
     }
     blender_version(dir, s->blender, sizeof s->blender);
+    free(fg_depth);
+    free(rest_depth);
     return 0;
 
 failed:
+    free(fg_depth);
+    free(rest_depth);
     study_scene_free(s);
     return -1;
 }

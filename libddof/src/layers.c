@@ -5,10 +5,11 @@
  *               around it with D(p) = max_q D0(q) - 4 |p - q| (a cone dilation, cone_dilate.c),
  *               and the midground conducts with max(|CoC|, D), so a blurred near object
  *               spreads over its edges. GPU Gems 3 ch. 28's D = max(D0, 2 D_blurred - D0)
- *               gives the same ramp at the edge of a large object, but blurring the CoC map
- *               dilutes a small one (a 5 px light of CoC 20 raised its surroundings by ~1 px
- *               and stayed a sharp dot); the slope 4 (D falls to 0 a quarter of the CoC away)
- *               is the accuracy study's best of 1.5 ... 8 on its two scenes with near objects.
+ *               gives a similar ramp at the edge of a large object, but blurring the CoC map
+ *               dilutes a small one (a 5 px light of CoC 20 over an in-focus background kept
+ *               0.66 of its peak, a sharp dot in a faint halo; 0.30 now: test_layers); the
+ *               slope 4 (D falls to 0 a quarter of the CoC away) measured best of 1.5 ... 8
+ *               on the accuracy study's two scenes with near objects.
  *  background   matte a from the CoC; holes where a = 0; the CoC filled into the holes (heat
  *               capacity 1 outside them, 0 in them; uniform beta of the threshold); the colour
  *               diffused with that capacity and the filled CoC; blended under the midground:
@@ -189,7 +190,7 @@ static void insulator_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 static float within_reach(float distance, float c)
 {
     const float d = fabsf(c);
-    return ddof_minf(1.0f, ddof_maxf(0.0f, (d - distance) / (0.5f * d)));
+    return d > 0.0f ? ddof_minf(1.0f, ddof_maxf(0.0f, (d - distance) / (0.5f * d))) : 0.0f;
 }
 
 /* out += a w (B - out): the midground over the background by its matte a and the reach w of

@@ -41,28 +41,17 @@ import time
 
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import script_args  # noqa: E402
+
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    args = {"scene-dir": None, "size-tag": "", "fstop-scale": "1.0", "threshold": "1.0",
-            "blur-max": "512", "execution-mode": "TILED", "repeats": "5", "threads": "2",
-            "long": "20",
-            "out-dir": None, "out-name": None, "write-image": False, "verbose": False}
-    flags = {"write-image", "verbose"}
-    i = 0
-    while i < len(argv):
-        key = argv[i][2:] if argv[i].startswith("--") else None
-        if key in flags:
-            args[key] = True
-            i += 1
-            continue
-        if key not in args or i + 1 >= len(argv):
-            raise SystemExit("defocus_node.py: unknown or incomplete argument %r" % argv[i])
-        args[key] = argv[i + 1]
-        i += 2
-    if not args["scene-dir"]:
-        raise SystemExit("defocus_node.py: --scene-dir DIR is required")
-    return args
+    return script_args.parse(
+        "defocus_node.py",
+        {"scene-dir": None, "size-tag": "", "fstop-scale": "1.0", "threshold": "1.0",
+         "blur-max": "512", "execution-mode": "TILED", "repeats": "5", "threads": "2",
+         "long": "20", "out-dir": None, "out-name": None},
+        {"write-image", "verbose"}, required=("scene-dir",))
 
 
 def exr_size(path):

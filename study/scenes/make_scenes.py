@@ -42,6 +42,9 @@ import time
 
 import bpy
 
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import script_args  # noqa: E402
+
 SCRIPT = os.path.abspath(__file__)
 SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp"]
 
@@ -63,27 +66,12 @@ LIGHT_DIR = (0.42, -0.55, 0.72)  # the fake-Lambert light, world space (normalis
 
 
 def parse_args():
-    argv = sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
-    args = {
-        "out": None, "scenes": ",".join(SCENE_NAMES), "size": "480x270",
-        "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
-        "seed": "1", "only": "pinhole,truth,fg,rest,1080", "threads": "2",
-        "no-1080": False, "smoke": False, "force": False, "verbose": False,
-    }
-    flags = {"no-1080", "smoke", "force", "verbose"}
-    i = 0
-    while i < len(argv):
-        key = argv[i][2:] if argv[i].startswith("--") else None
-        if key in flags:
-            args[key] = True
-            i += 1
-            continue
-        if key not in args or i + 1 >= len(argv):
-            raise SystemExit("make_scenes.py: unknown or incomplete argument %r" % argv[i])
-        args[key] = argv[i + 1]
-        i += 2
-    if not args["out"]:
-        raise SystemExit("make_scenes.py: --out DIR is required")
+    args = script_args.parse(
+        "make_scenes.py",
+        {"out": None, "scenes": ",".join(SCENE_NAMES), "size": "480x270",
+         "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
+         "seed": "1", "only": "pinhole,truth,fg,rest,1080", "threads": "2"},
+        {"no-1080", "smoke", "force", "verbose"}, required=("out",))
     if args["smoke"]:
         args.update({"scenes": "thin_bars", "size": "96x54", "samples-pinhole": "4",
                      "samples-truth": "16", "no-1080": True})

@@ -1,4 +1,6 @@
-"""check_smoke.py OUTDIR - checks what `bash study/run.sh --smoke OUTDIR` wrote."""
+"""check_smoke.py OUTDIR - checks what `bash study/run.sh --smoke OUTDIR` wrote, and that the
+library's committed presets (libddof/src/presets_measured.inc) are those docs/accuracy.md
+reports."""
 import json
 import os
 import re
@@ -63,6 +65,32 @@ if os.path.isfile(inc):
     lines = [line for line in open(inc).read().splitlines() if line.startswith("{")]
     check(len(lines) == 3 and all(entry.match(line) for line in lines),
           "three preset entries in the format of libddof/src/presets_measured.inc")
+
+# The library's committed presets are the full study's choice, as docs/accuracy.md states it
+# (not edited by hand, not a smoke run's).
+root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
+committed = open(os.path.join(root, "libddof", "src", "presets_measured.inc")).read()
+report = open(os.path.join(root, "docs", "accuracy.md")).read()
+check("Written by study/report.py" in committed and "SMOKE" not in committed,
+      "libddof/src/presets_measured.inc was written by a full study run")
+for line in committed.splitlines():
+    m = re.match(r"^\{(DDOF_METHOD_\w+), (DDOF_SOLVER_\w+), (\d+), ([0-9.e+-]+)f, .*/\* (\w+) \*/$",
+                 line)
+    if not m:
+        continue
+    method, solver, substeps, k, name = m.groups()
+    row = re.search(r"^\| \*\*%s\*\* \| ([^|]+) \|" % name, report, re.M)
+    if not row:
+        check(False, "docs/accuracy.md has a row for the %s preset" % name)
+        continue
+    settings = row.group(1).strip()
+    if method == "DDOF_METHOD_COD4_PREVIEW":
+        ok = settings == "CoD4 preview"
+    else:
+        s = re.match(r"cpu (\w+), n=(\d+), k=1/(\d+), ", settings)
+        ok = bool(s) and s.group(2) == substeps and abs(1.0 / int(s.group(3)) - float(k)) < 1e-6
+    check(ok, "the %s preset (%s, %s, n=%s, k=%s) is the one docs/accuracy.md reports (%s)"
+          % (name, method, solver, substeps, k, settings))
 
 if failures:
     print("%d check(s) failed" % len(failures))
