@@ -42,11 +42,11 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import script_args  # noqa: E402
+from script_util import parse, quiet, write_json  # noqa: E402
 
 
 def parse_args():
-    return script_args.parse(
+    return parse(
         "defocus_node.py",
         {"scene-dir": None, "size-tag": "", "fstop-scale": "1.0", "threshold": "1.0",
          "blur-max": "512", "execution-mode": "TILED", "repeats": "5", "threads": "2",
@@ -72,32 +72,6 @@ def exr_size(path):
             return x1 - x0 + 1, y1 - y0 + 1
         pos += size
     raise SystemExit("defocus_node.py: %s has no displayWindow" % path)
-
-
-def quiet(enabled):
-    class Quiet:
-        def __enter__(self):
-            if enabled:
-                sys.stdout.flush()
-                self.saved = os.dup(1)
-                self.null = os.open(os.devnull, os.O_WRONLY)
-                os.dup2(self.null, 1)
-
-        def __exit__(self, *exc):
-            if enabled:
-                sys.stdout.flush()
-                os.dup2(self.saved, 1)
-                os.close(self.saved)
-                os.close(self.null)
-    return Quiet()
-
-
-def write_json(path, data):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(data, f, indent=2)
-        f.write("\n")
-    os.replace(tmp, path)
 
 
 def main():

@@ -33,7 +33,6 @@ are kept (a cache) unless --force. Deterministic: fixed seed, no adaptive sampli
 denoiser; --threads (default 2) fixes the thread count.
 """
 
-import contextlib
 import json
 import math
 import os
@@ -43,7 +42,7 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import script_args  # noqa: E402
+from script_util import parse, quiet, write_json  # noqa: E402
 
 SCRIPT = os.path.abspath(__file__)
 SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp"]
@@ -66,7 +65,7 @@ LIGHT_DIR = (0.42, -0.55, 0.72)  # the fake-Lambert light, world space (normalis
 
 
 def parse_args():
-    args = script_args.parse(
+    args = parse(
         "make_scenes.py",
         {"out": None, "scenes": ",".join(SCENE_NAMES), "size": "480x270",
          "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
@@ -495,25 +494,6 @@ def configure(scene, args, width, height, samples, multilayer, transparent=False
     settings.exr_codec = "ZIP"
 
 
-@contextlib.contextmanager
-def quiet(enabled):
-    """Sends Blender's own stdout (render progress, 'Saved:' lines) to /dev/null."""
-    if not enabled:
-        yield
-        return
-    sys.stdout.flush()
-    saved = os.dup(1)
-    devnull = os.open(os.devnull, os.O_WRONLY)
-    try:
-        os.dup2(devnull, 1)
-        yield
-    finally:
-        sys.stdout.flush()
-        os.dup2(saved, 1)
-        os.close(saved)
-        os.close(devnull)
-
-
 def render_to(scene, path, verbose):
     tmp = os.path.join(os.path.dirname(path), "." + os.path.basename(path) + ".tmp.exr")
     scene.render.filepath = tmp
@@ -540,14 +520,6 @@ def camera_sidecar(cam, width, height):
         "depth": "planar",
         "unit_scale_m": 1.0,
     }
-
-
-def write_json(path, data):
-    tmp = path + ".tmp"
-    with open(tmp, "w") as f:
-        json.dump(data, f, indent=2)
-        f.write("\n")
-    os.replace(tmp, path)
 
 
 def coc_px(cam, z, width):
