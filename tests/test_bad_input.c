@@ -554,7 +554,7 @@ static void test_allocator(void)
     ddof_image_in ci = {color_buf, W, H, CH, 0}, zi = {coc_buf, W, H, 1, 0};
     ddof_image oi = {out_buf, W, H, CH, 0};
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
         /* A fresh context whose allocator dies right after creation: the first call needs
          * scratch memory and must fail cleanly before writing anything. */

@@ -350,7 +350,7 @@ static void test_clamp(void)
     /* A clamped CoC is a valid input to the diffusion. */
     float color[4] = {1, 0, 0, 1}, out[4];
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     CHECK_EQ_INT(diffuse(ctx, &p, color, coc, out, w, 1, 1, NULL), DDOF_OK);
 }
 
@@ -455,7 +455,7 @@ static void test_depth_of_field(void)
     cam.pixel_aspect = 1.5;
     cam.sensor_fit = DDOF_SENSOR_FIT_HORIZONTAL;
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.substeps = 2;
     ddof_image_in ci = {color, w, h, ch, 0}, di = {depth, w, h, 1, 0};
     ddof_image oa = {a, w, h, ch, 0}, cz = {coc, w, h, 1, 0};

@@ -183,7 +183,7 @@ static void test_huge_coc(ddof_context *ctx)
         for (uint32_t i = 0; i < n; i++)
             mean += row.color[i] / n;
         ddof_params p;
-        ddof_params_init(&p);
+        heat_params_init(&p);
         p.beta_scale = 1.0f; /* beta = 1e8, n^2 / beta = 1e-4 */
         for (int i = 0; i < 3; i++) {
             p.solver = exact_solvers[i];
@@ -219,7 +219,7 @@ static void test_insulators(ddof_context *ctx)
     check_case(ctx, "two CoC pixels", &im, 1.0f, 1, 10.0);
     {
         ddof_params p;
-        ddof_params_init(&p);
+        heat_params_init(&p);
         p.beta_scale = 1.0f;
         CHECK_EQ_INT(image_diffuse(ctx, &p, &im, NULL), DDOF_OK);
         size_t i0 = ((size_t)(h / 2) * w + w / 2) * ch, i1 = i0 + ch;

@@ -79,7 +79,7 @@ static inline void image_free(test_image *im)
 static inline ddof_params params_for(ddof_solver solver, uint32_t substeps)
 {
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.solver = solver;
     p.substeps = substeps;
     /* The k whose kernel variance the tests derive (2 beta = d^2 / 16), not the default

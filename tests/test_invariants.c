@@ -31,7 +31,7 @@ static void test_matches_independent_double(ddof_context *ctx)
                     substeps[si]);
 
             ddof_params p;
-            ddof_params_init(&p); /* default solver: Thomas, float */
+            heat_params_init(&p); /* default solver: Thomas, float */
             p.beta_scale = DDOF_MOMENT_BETA_SCALE; /* the k of ref_adi, not the preset's */
             p.substeps = substeps[si];
             p.pixel_aspect = aspects[ai];

@@ -206,7 +206,7 @@ static void test_bars_error(int horizontal)
     fill(flat, npx, 20.0f);
 
     ddof_params pref;
-    ddof_params_init(&pref);
+    heat_params_init(&pref);
     pref.solver = DDOF_SOLVER_REFERENCE_F64;
     CHECK_EQ_INT(single(&pref, bg, flat, ref, CH), DDOF_OK);
     paste_bars(ref);
@@ -222,7 +222,7 @@ static void test_bars_error(int horizontal)
         }
 
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     CHECK_EQ_INT(single(&p, img, coc, one, CH), DDOF_OK);
     p.background = DDOF_LAYER_ON;
     ddof_stats st;
@@ -380,7 +380,7 @@ static void test_near_error(void)
 
     /* Reference: F = the object layer diffused alone, over the sharp background. */
     ddof_params pref;
-    ddof_params_init(&pref);
+    heat_params_init(&pref);
     pref.solver = DDOF_SOLVER_REFERENCE_F64;
     CHECK_EQ_INT(single(&pref, obj, flat, tmp, 4), DDOF_OK);
     for (size_t i = 0; i < npx; i++) {
@@ -391,7 +391,7 @@ static void test_near_error(void)
 
     /* (a) single layer: |CoC| in ddof_diffuse. */
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     CHECK_EQ_INT(single(&p, img, objcoc, one, CH), DDOF_OK);
     /* (b) one image, signed CoC: the near spread (AUTO). */
     p.coc_signed = 1;
@@ -489,10 +489,10 @@ static void test_small_element(void)
     fill(flat, npx, 30.0f);
     fill(zero, npx, 0.0f);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.solver = DDOF_SOLVER_REFERENCE_F64;
     CHECK_EQ_INT(single(&p, obj, flat, F, 4), DDOF_OK);
-    ddof_params_init(&p);
+    heat_params_init(&p);
     ddof_foreground fg = make_fg(obj, objcoc, 1);
     CHECK_EQ_INT(layers(&p, bg, zero, &fg, out, CH, NULL), DDOF_OK);
     double worst = 0;
@@ -555,7 +555,7 @@ static void test_foreground_forms(void)
             fcoc[i] = a > 0 ? 16.0f : 0.0f;
         }
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     ddof_foreground fp = make_fg(pre, fcoc, 1), fs = make_fg(straight, fcoc, 0);
     CHECK_EQ_INT(layers(&p, main_c, coc, &fp, o1, CH, NULL), DDOF_OK);
     CHECK_EQ_INT(layers(&p, main_c, coc, &fs, o2, CH, NULL), DDOF_OK);
@@ -666,7 +666,7 @@ static void test_stability(void)
             for (int mode = 0; mode < 2; mode++) {
                 for (uint32_t levels = 1; levels <= 4; levels++) {
                     ddof_params p;
-                    ddof_params_init(&p);
+                    heat_params_init(&p);
                     p.solver = all_solvers[s];
                     p.background = mode ? DDOF_LAYER_ON : DDOF_LAYER_AUTO;
                     p.background_levels = levels;
@@ -702,7 +702,7 @@ static void test_stability(void)
                 scoc[i] = (i % W) < W / 2 ? -coc[i] : coc[i];
             for (int mode = 0; mode < 2; mode++) {
                 ddof_params p;
-                ddof_params_init(&p);
+                heat_params_init(&p);
                 p.solver = all_solvers[s];
                 p.coc_signed = 1;
                 p.near_spread = mode ? DDOF_LAYER_ON : DDOF_LAYER_AUTO;
@@ -736,7 +736,7 @@ static void test_stability(void)
         channel_range(g, 1, glo, ghi);
         make_field(F_CROSS, coc);
         ddof_params p;
-        ddof_params_init(&p);
+        heat_params_init(&p);
         p.background = DDOF_LAYER_ON;
         CHECK_EQ_INT(layers(&p, g, coc, NULL, go, 1, NULL), DDOF_OK);
         double worst;
@@ -798,7 +798,7 @@ static void test_foreground_stability(void)
             ddof_foreground fg = make_fg(fgc, fgz, 1);
             for (size_t s = 0; s < N_SOLVERS; s++) {
                 ddof_params p;
-                ddof_params_init(&p);
+                heat_params_init(&p);
                 p.solver = all_solvers[s];
                 fill(out, n, NAN);
                 ddof_stats st;
@@ -870,7 +870,7 @@ static void test_progress_threads(void)
         }
     ddof_foreground fg = make_fg(fgc, fgz, 1);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.coc_signed = 1;
     p.background_levels = 2;
     p.near_spread = DDOF_LAYER_ON; /* with no element: the near spread */
@@ -965,7 +965,7 @@ static bad_call good_bad_call(void)
 {
     bad_call c;
     memset(&c, 0, sizeof c);
-    ddof_params_init(&c.params);
+    heat_params_init(&c.params);
     c.params.coc_signed = 1;
     c.color = (ddof_image_in){b_color, BW, BH, 4, 0};
     c.coc = (ddof_image_in){b_coc, BW, BH, 1, 0};
@@ -1195,7 +1195,7 @@ static void test_depth_of_field_near(void)
     ddof_camera_init(&cam);
     cam.fstop = 1.4;
     ddof_params p;
-    ddof_params_init(&p); /* coc_signed 0: ddof_depth_of_field uses signed CoC anyway */
+    heat_params_init(&p); /* coc_signed 0: ddof_depth_of_field uses signed CoC anyway */
     ddof_image_in ci = {color, W, H, CH, 0}, di = {depth, W, H, 1, 0};
     ddof_image oi = {out, W, H, CH, 0};
     ddof_stats st;
@@ -1250,7 +1250,7 @@ static void test_small_near_light(void)
             total_in += img[i * CH];
         }
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.coc_signed = 1;
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, img, coc, NULL, out, CH, &st), DDOF_OK);
@@ -1300,7 +1300,7 @@ static void test_background_reach(void)
                     img[i * CH + c] = 30.0f;
         }
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.coc_signed = 1;
     p.near_spread = DDOF_LAYER_OFF;
     ddof_stats st;

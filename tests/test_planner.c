@@ -250,7 +250,7 @@ static void test_defaults(void)
 {
     ddof_params p;
     memset(&p, 0x5A, sizeof p);
-    ddof_params_init(&p);
+    heat_params_init(&p);
     CHECK_EQ_INT(p.struct_size, sizeof p);
     CHECK_EQ_INT(p.coc_signed, 0);
     CHECK_EQ_INT(p.background, DDOF_LAYER_AUTO);
@@ -284,7 +284,7 @@ static void test_all_sharp(void)
     fill(coc, npx, 0.0f);
     for (int variant = 0; variant < 2; variant++) {
         ddof_params p;
-        ddof_params_init(&p);
+        heat_params_init(&p);
         p.coc_signed = (uint32_t)variant;
         ddof_stats st;
         fill(out, n, -7.0f);
@@ -308,7 +308,7 @@ static void test_uniform_blur(void)
     texture(color, CH, 2);
     fill(coc, npx, 10.0f);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     ddof_stats st, st1;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("uniform", &st);
@@ -344,7 +344,7 @@ static void test_half_sharp(void)
         for (uint32_t x = 0; x < W; x++)
             coc[(size_t)y * W + x] = y < H / 2 ? 0.0f : 6.0f;
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("half sharp", &st);
@@ -361,7 +361,7 @@ static void test_bars(void)
     texture(color, CH, 4);
     bars_coc(coc);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     ddof_stats st_auto, st_off, st_on, st2;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st_auto), DDOF_OK);
     dump_plan("bars auto", &st_auto);
@@ -428,7 +428,7 @@ static void test_force_background_on(void)
     texture(color, CH, 5);
     fill(coc, npx, 10.0f);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.background = DDOF_LAYER_ON;
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
@@ -458,7 +458,7 @@ static void test_near(void)
     texture(color, CH, 6);
     disc_coc(coc, -20.0f, 0.0f);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.coc_signed = 1;
     ddof_stats st, st_off;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
@@ -485,7 +485,7 @@ static void test_near(void)
     for (size_t i = 0; i < npx; i++)
         abs_coc[i] = fabsf(coc[i]);
     ddof_params p1;
-    ddof_params_init(&p1);
+    heat_params_init(&p1);
     CHECK_EQ_INT(single(&p1, color, abs_coc, out2, CH, NULL), DDOF_OK);
     double d = max_abs_diff_ff(out, out2, n);
     CHECK_MSG(d <= 1e-6, "near spread off vs ddof_diffuse(|CoC|): %g", d);
@@ -501,7 +501,7 @@ static void test_near(void)
 
     /* The same object, unsigned (a far object over an in-focus background): the background
      * layer's case, not the near spread. */
-    ddof_params_init(&p);
+    heat_params_init(&p);
     CHECK_EQ_INT(layers(&p, color, abs_coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("far disc", &st);
     CHECK_MSG(st.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_BACKGROUND),
@@ -509,7 +509,7 @@ static void test_near(void)
 
     /* A small near CoC (3 < threshold 4): no spread. */
     disc_coc(coc, -3.0f, 0.0f);
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.coc_signed = 1;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("near small", &st);
@@ -532,7 +532,7 @@ static void test_foreground(void)
     disc_foreground(fg_color, fg_coc);
     ddof_foreground fg = make_fg(fg_color, fg_coc);
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     p.coc_signed = 1;
     ddof_stats st, st_none;
 
@@ -589,7 +589,7 @@ static void test_old_structs(void)
     texture(color, CH, 8);
     bars_coc(coc);
     ddof_params p;
-    ddof_params_init(&p);
+    ddof_params_init(&p); /* the whole default, disc kernel included */
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out2, CH, NULL), DDOF_OK);
 
     unsigned char pbuf[sizeof(ddof_params)];

@@ -5,6 +5,8 @@
 #ifndef DDOF_TEST_UTIL_H
 #define DDOF_TEST_UTIL_H
 
+#include "ddof.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -60,6 +62,15 @@ static inline double test_uniform(test_rng *rng)
 
 /* The solvers the CPU backend runs: every ddof_solver before the GL-only Gruen solver. */
 #define TEST_CPU_SOLVER_COUNT ((int)DDOF_SOLVER_GRUEN)
+
+/* The default preset with the heat kernel: for the tests of the real diffusion's properties
+ * (convex combinations, the solvers, the layers' heat behaviour), which the default disc kernel
+ * does not share. test_disc_kernel.c tests the disc. */
+static inline void heat_params_init(ddof_params *params)
+{
+    ddof_params_init(params);
+    params->kernel = DDOF_KERNEL_HEAT;
+}
 
 /* DDOF_TEST_QUICK=1 (set for the valgrind run) shrinks the largest cases. */
 static inline int test_quick(void)

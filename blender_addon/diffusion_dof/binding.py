@@ -16,7 +16,7 @@ import sys
 
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
 # version_compatible): in 0.x the same major.minor, from 1.0 the same major and a minor >= ours.
-BINDING_VERSION = (0, 3)
+BINDING_VERSION = (0, 4)
 
 # ---------------------------------------------------------------------------------------------
 # Constants (ddof.h enums and defines)
@@ -58,6 +58,9 @@ SOLVER_COUNT = 6
 METHODS = {"diffusion": 0, "cod4": 1}
 METHOD_DIFFUSION = 0
 METHOD_COD4_PREVIEW = 1
+
+# ddof_kernel: the point spread (heat: the soft real diffusion; disc-*: the lens's disc)
+KERNELS = {"heat": 0, "disc-2x2": 1, "disc-2x3": 2, "disc-3x3": 3}
 
 # ddof_precision of the GL solvers
 PRECISIONS = {"float": 0, "packed_half": 1}
@@ -157,7 +160,9 @@ class Params(ctypes.Structure):
                 ("near_spread_threshold_px", ctypes.c_float),
                 # version 0.3
                 ("method", _enum),
-                ("precision", _enum)]
+                ("precision", _enum),
+                # version 0.4
+                ("kernel", _enum)]
 
 
 class Stats(ctypes.Structure):
@@ -183,7 +188,9 @@ class Stats(ctypes.Structure):
                 ("backend", ctypes.c_uint32),
                 ("method", ctypes.c_uint32),
                 ("device_bytes", ctypes.c_uint64),
-                ("host_bytes", ctypes.c_uint64)]
+                ("host_bytes", ctypes.c_uint64),
+                # version 0.4
+                ("kernel", ctypes.c_uint32)]
 
 
 class Foreground(ctypes.Structure):
@@ -393,12 +400,14 @@ class Library:
         return params
 
     def preset_summary(self, preset):
-        """A preset's settings as names, for the UI: method, solver, substeps, beta_scale,
-        background, background_levels, near_spread."""
+        """A preset's settings as names, for the UI: method, kernel, solver, substeps,
+        beta_scale, background, background_levels, near_spread."""
         p = self.preset_params(preset)
         modes = {v: k for k, v in LAYER_MODES.items()}
         methods = {v: k for k, v in METHODS.items()}
-        return {"method": methods.get(p.method, "?"), "solver": self.solver_name(p.solver),
+        kernels = {v: k for k, v in KERNELS.items()}
+        return {"method": methods.get(p.method, "?"), "kernel": kernels.get(p.kernel, "?"),
+                "solver": self.solver_name(p.solver),
                 "substeps": p.substeps, "beta_scale": p.beta_scale,
                 "background": modes.get(p.background, "?"),
                 "background_levels": p.background_levels,
@@ -484,6 +493,8 @@ class Library:
                 value = METHODS[value]
             elif key == "precision" and isinstance(value, str):
                 value = PRECISIONS[value]
+            elif key == "kernel" and isinstance(value, str):
+                value = KERNELS[value]
             setattr(p, key, value)
         method_note = ""
         if foreground is not None and p.method == METHOD_COD4_PREVIEW:
@@ -558,6 +569,7 @@ class Library:
         result["solver_name"] = self.solver_name(stats.solver)
         result["effect_names"] = [name for bit, name in EFFECT_NAMES if stats.effects & bit]
         result["method_name"] = {v: k for k, v in METHODS.items()}.get(stats.method, "?")
+        result["kernel_name"] = {v: k for k, v in KERNELS.items()}.get(stats.kernel, "?")
         result["backend_name"] = self.backend_name(stats.backend)
         # The context's renderer, unless the call ran elsewhere (the CoD4 preview: the CPU).
         if stats.backend == info["kind"]:

@@ -23,16 +23,20 @@ def _settings(context):
 
 
 def _preset_line(s):
-    """'thomas, 4 sub-steps, 2 background levels' of the chosen preset: the library's values."""
+    """'thomas, disc-2x2 disc kernel, 1 background level' (or, for the heat kernel, 'thomas,
+    4 sub-steps, ...') of the chosen preset: the library's values."""
     try:
         p = binding.get_library().preset_summary(s.preset_name())
     except (binding.LibraryError, ValueError) as err:
         return "preset values unknown: %s" % str(err).split(". ")[0]
     if p["method"] == "cod4":
         return "CoD4 preview (fast, approximate)"
-    return "%s, %d sub-step%s, %d background level%s" % (
-        p["solver"], p["substeps"], "" if p["substeps"] == 1 else "s", p["background_levels"],
-        "" if p["background_levels"] == 1 else "s")
+    levels = "%d background level%s" % (p["background_levels"],
+                                        "" if p["background_levels"] == 1 else "s")
+    if p["kernel"] != "heat":
+        return "%s, %s disc kernel, %s" % (p["solver"], p["kernel"], levels)
+    return "%s, %d sub-step%s, %s" % (p["solver"], p["substeps"],
+                                      "" if p["substeps"] == 1 else "s", levels)
 
 
 def draw_main(layout, context):

@@ -41,7 +41,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 3
+#define DDOF_VERSION_MINOR 4
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -295,6 +295,31 @@ typedef enum ddof_method {
                                   /* the image's larger side saturates at that size.          */
 } ddof_method;
 
+/* The shape of the blur a diffusion draws around a point (its point spread).
+ * HEAT is the paper's real diffusion: `substeps` implicit steps of k d^2 per axis, a soft blob
+ * with long tails (a diamond at one step, a Gaussian at many); cheap, the reference.
+ * The DISC kernels draw the disc a real lens (and Cycles) draws: complex implicit steps whose
+ * real part sums to a uniform disc of diameter |CoC| (docs/design.md; the tables are fitted by
+ * study/lens/fit_disc_kernel.py). Still one tridiagonal solve per line and term, so the cost
+ * per pixel does not depend on the CoC, in-focus pixels stay bit for bit, nothing crosses
+ * them, and flat regions stay flat; the output is not a convex combination any more: a disc's
+ * edge rings slightly (measured in docs/accuracy.md), and values outside the input's range
+ * are possible next to strong highlights. C x M in the name: components x resolvents per axis;
+ * a disc costs 2 C M complex line solves per pixel. They ignore substeps and beta_scale (the
+ * disc's diameter is |CoC|). They run with DDOF_SOLVER_THOMAS or DDOF_SOLVER_REFERENCE_F64 on
+ * the CPU backend; with any other solver, or on a GL backend, a call runs the heat kernel
+ * instead, and ddof_stats.kernel reports the kernel that ran. */
+typedef enum ddof_kernel {
+    DDOF_KERNEL_HEAT = 0,     /* real diffusion                                               */
+    DDOF_KERNEL_DISC_2X2 = 1, /* 2 components x 2 terms: 8 complex solves per pixel           */
+    DDOF_KERNEL_DISC_2X3 = 2, /* 2 x 3: 12                                                   */
+    DDOF_KERNEL_DISC_3X3 = 3, /* 3 x 3: 18; the closest disc                                 */
+    DDOF_KERNEL_COUNT_        /* not a kernel                                                 */
+} ddof_kernel;
+
+/* "heat", "disc-2x2", "disc-2x3", "disc-3x3"; NULL if unknown. */
+DDOF_API const char *ddof_kernel_name(ddof_kernel kernel);
+
 /* Arithmetic of the GL solvers. The CPU solvers compute in float (Thomas carries its running
  * value in double); DDOF_SOLVER_REFERENCE_F64 is double throughout. */
 typedef enum ddof_precision {
@@ -366,6 +391,10 @@ typedef struct ddof_params {
     /* --- version 0.3 of this struct ------------------------------------------------------- */
     ddof_method method;        /* default DDOF_METHOD_DIFFUSION                               */
     ddof_precision precision;  /* default DDOF_PRECISION_FLOAT                                */
+
+    /* --- version 0.4 of this struct ------------------------------------------------------- */
+    ddof_kernel kernel;        /* the point spread of every colour diffusion (the layers'     */
+                               /* CoC fills stay heat). Default: the default preset's.        */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
@@ -409,6 +438,10 @@ typedef struct ddof_stats {
                                /* textures took (0 on the CPU)                                */
     uint64_t host_bytes;       /* working memory the context holds after the call (grown to   */
                                /* the largest call, reused by later ones), besides the images */
+
+    /* --- version 0.4 of this struct ------------------------------------------------------- */
+    uint32_t kernel;           /* the ddof_kernel that ran (lines_solved counts each of a     */
+                               /* disc's complex solves)                                      */
 } ddof_stats;
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels

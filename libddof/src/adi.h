@@ -24,6 +24,7 @@ typedef struct adi_request {
     uint32_t jacobi_iterations;
     float beta_scale;   /* k in beta = k d^2                          */
     float pixel_aspect; /* column links use (d * pixel_aspect)          */
+    const struct disc_kernel *disc; /* NULL: the heat kernel; else the disc kernel's table */
     ddof_progress_fn progress;
     void *progress_user;
 } adi_request;
@@ -50,5 +51,12 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *request, adi_
 /* The double-precision reference: whole image in double, textbook Thomas, one thread. */
 ddof_status ddof_adi_reference(ddof_context *context, const adi_request *request,
                                adi_report *report);
+
+/* The disc kernel (request->disc set): lens_adi.c in float on the context's threads, and its
+ * double-precision reference (lens_reference_f64.c). Same contract as ddof_adi_run, except
+ * that the output is no longer a convex combination of the input. */
+ddof_status ddof_lens_run(ddof_context *context, const adi_request *request, adi_report *report);
+ddof_status ddof_lens_reference(ddof_context *context, const adi_request *request,
+                                adi_report *report);
 
 #endif

@@ -24,6 +24,7 @@ typedef struct preset_settings {
     ddof_layer_mode background;
     uint32_t background_levels;
     ddof_layer_mode near_spread;
+    ddof_kernel kernel;
 } preset_settings;
 
 /* Written by the accuracy study from its measured front (docs/accuracy.md). */
@@ -64,6 +65,7 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
         .near_spread = s->near_spread,
         .near_spread_threshold_px = 4.0f,
         .precision = DDOF_PRECISION_FLOAT,
+        .kernel = s->kernel,
     };
     return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
 }
@@ -110,6 +112,18 @@ void ddof_foreground_init(ddof_foreground *foreground)
 {
     if (foreground)
         *foreground = (ddof_foreground){.struct_size = sizeof *foreground, .premultiplied = 1};
+}
+
+const char *ddof_kernel_name(ddof_kernel kernel)
+{
+    switch (kernel) {
+    case DDOF_KERNEL_HEAT: return "heat";
+    case DDOF_KERNEL_DISC_2X2: return "disc-2x2";
+    case DDOF_KERNEL_DISC_2X3: return "disc-2x3";
+    case DDOF_KERNEL_DISC_3X3: return "disc-3x3";
+    case DDOF_KERNEL_COUNT_: break;
+    }
+    return NULL;
 }
 
 const char *ddof_solver_name(ddof_solver solver)

@@ -177,6 +177,10 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
     ddof_backend_state *b = &context->backend;
+    if (request->disc) /* CPU only (ddof_check_backend_supports refused it elsewhere) */
+        return request->solver == DDOF_SOLVER_REFERENCE_F64
+                   ? ddof_lens_reference(context, request, report)
+                   : ddof_lens_run(context, request, report);
     if (request->solver == DDOF_SOLVER_REFERENCE_F64)
         return ddof_adi_reference(context, request, report);
     if (!b->device)

@@ -4,6 +4,7 @@
 #include "adi.h"
 #include "backend.h"
 #include "coc.h"
+#include "disc_kernel.h"
 #include "layers.h"
 #include "parallel_rows.h"
 #include "planner.h"
@@ -75,6 +76,15 @@ static ddof_status read_params(ddof_context *context, const ddof_params *caller,
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.method %u or params.precision %u is not a known value",
                          (unsigned)p->method, (unsigned)p->precision);
+    if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
+                         (unsigned)p->kernel);
+    /* The disc kernel has a complex form of the Thomas solver on the CPU only; anything else
+     * runs the heat kernel, and ddof_stats.kernel says which ran. */
+    if (p->kernel != DDOF_KERNEL_HEAT &&
+        ((p->solver != DDOF_SOLVER_THOMAS && p->solver != DDOF_SOLVER_REFERENCE_F64) ||
+         context->backend.kind != DDOF_BACKEND_CPU))
+        p->kernel = DDOF_KERNEL_HEAT;
     if (p->method == DDOF_METHOD_DIFFUSION) {
         ddof_status supported = ddof_check_backend_supports(context, p->solver, p->precision);
         if (supported != DDOF_OK)
@@ -175,6 +185,7 @@ static void fill_request_params(adi_request *r, const ddof_params *p)
     r->jacobi_iterations = p->jacobi_iterations;
     r->beta_scale = p->beta_scale;
     r->pixel_aspect = p->pixel_aspect;
+    r->disc = p->method == DDOF_METHOD_DIFFUSION ? ddof_disc_kernel(p->kernel) : NULL;
     r->progress = p->progress;
     r->progress_user = p->progress_user;
 }
@@ -200,8 +211,10 @@ static uint64_t host_bytes(const ddof_context *context)
 }
 
 static ddof_stats stats_from(const ddof_context *context, const adi_report *report,
-                             ddof_solver solver, double t_start, double seconds_coc)
+                             const adi_request *r, double t_start, double seconds_coc)
 {
+    const ddof_solver solver = r->solver;
+    const ddof_kernel kernel = r->disc ? r->disc->id : DDOF_KERNEL_HEAT;
     return (ddof_stats){
         .struct_size = sizeof(ddof_stats),
         .solver = (uint32_t)solver,
@@ -218,6 +231,7 @@ static ddof_stats stats_from(const ddof_context *context, const adi_report *repo
         .effects = report->substeps_run ? DDOF_EFFECT_MIDGROUND : 0u,
         .backend = (uint32_t)context->backend.kind,
         .method = (uint32_t)DDOF_METHOD_DIFFUSION,
+        .kernel = (uint32_t)kernel,
         .device_bytes = report->device_bytes,
         .host_bytes = host_bytes(context),
     };
@@ -347,7 +361,7 @@ static ddof_status run_preview(ddof_context *context, const adi_request *r, int 
     ddof_status status = ddof_cod4_preview(context, r, coc_signed, &report);
     if (status != DDOF_OK)
         return status;
-    ddof_stats full = stats_from(context, &report, r->solver, t_start, seconds_coc);
+    ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
     full.backend = (uint32_t)DDOF_BACKEND_CPU;
     full.method = (uint32_t)DDOF_METHOD_COD4_PREVIEW;
     full.substeps = 0;
@@ -365,7 +379,7 @@ static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_
     ddof_status status = ddof_run_adi(context, r, &report);
     if (status != DDOF_OK)
         return status;
-    ddof_stats full = stats_from(context, &report, r->solver, t_start, seconds_coc);
+    ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
     write_stats(stats, &full);
     return DDOF_OK;
 }
@@ -403,7 +417,7 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
         if (status != DDOF_OK)
             return status;
     }
-    ddof_stats full = stats_from(context, &report.adi, r->solver, t_start, seconds_coc);
+    ddof_stats full = stats_from(context, &report.adi, r, t_start, seconds_coc);
     full.max_coc_px = analysis.max_coc;
     full.copied_only = plan.copy_only;
     full.effects = report.effects;

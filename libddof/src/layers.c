@@ -26,8 +26,10 @@
  * change (their sources plus the reach of their largest CoC). Per-pixel steps run on the
  * context's threads in row chunks; the diffusions are adi.c's. */
 #include "layers.h"
+
 #include "backend.h"
 #include "cone_dilate.h"
+#include "disc_kernel.h"
 
 #include "parallel_rows.h"
 
@@ -296,14 +298,6 @@ static float map_max(const float *map, size_t count)
 
 /* ---- where an effect can matter ------------------------------------------------------------ */
 
-/* How far a diffusion of CoC d can carry anything: 12 decay lengths of its kernel, whose tail
- * falls like exp(-x / sqrt(beta)) with beta = k d^2 (one step; more substeps only make it
- * Gaussian and shorter). Beyond it an effect changes values by less than e^-12 (6e-6). */
-static uint32_t reach_px(float beta_scale, float coc)
-{
-    return (uint32_t)ceilf(12.0f * sqrtf(beta_scale) * coc) + 2;
-}
-
 /* The part of a request inside box, as a request of its own: pointers moved, sizes cut,
  * strides unchanged. */
 static layers_request crop(const layers_request *q, pixel_box b)
@@ -386,6 +380,7 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     adi_request fill = derived(r, coc_abs, r->width, 1, filled);
     fill.uniform_coc = threshold;
     fill.substeps = 1;
+    fill.disc = NULL; /* the CoC itself spreads by plain heat */
     fill.gamma = capacity;
     fill.gamma_stride = r->width;
     fill.gamma_channels = 1;
@@ -434,6 +429,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
     adi_request fill = derived(r, coc_abs, r->width, 1, filled);
     fill.uniform_coc = map_max(coc_abs, pixels);
     fill.substeps = 1;
+    fill.disc = NULL; /* the CoC itself spreads by plain heat */
     fill.gamma = premultiplied + 3;
     fill.gamma_stride = (size_t)r->width * 4;
     fill.gamma_channels = 4;
@@ -511,7 +507,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
          * pixel): it is computed on those plus twice its reach, and blended within its reach,
          * so the crop's insulated border never shows. Forced on without edges, it covers all. */
         const float top = p->background_threshold_px * (float)(1u << (p->background_levels - 1));
-        const uint32_t reach = reach_px(r->beta_scale, ddof_maxf(report->adi.max_coc, top));
+        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale,
+                                                    ddof_maxf(report->adi.max_coc, top));
         pixel_box edges = q->background_box;
         if (box_is_empty(edges))
             edges = (pixel_box){0, 0, r->width, r->height};
@@ -541,8 +538,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     if (plan->foreground) {
         const double t0 = ddof_seconds();
         /* The element's blur reaches no further than its largest CoC carries. */
-        const pixel_box area = box_grow(q->fg_box, reach_px(r->beta_scale, q->fg_max_coc),
-                                        r->width, r->height);
+        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
+        const pixel_box area = box_grow(q->fg_box, reach, r->width, r->height);
         const layers_request sub = crop(q, area);
         if ((status = foreground(context, &sub, &st, report)) != DDOF_OK)
             return status;

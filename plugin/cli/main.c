@@ -47,6 +47,8 @@ static void resolve_params(const cli_options *o, ddof_params *params)
     }
     if (o->precision >= 0)
         params->precision = (ddof_precision)o->precision;
+    if (o->kernel >= 0)
+        params->kernel = (ddof_kernel)o->kernel;
     if (o->solver >= 0)
         params->solver = (ddof_solver)o->solver;
     if (o->substeps > 0)

@@ -45,6 +45,9 @@ void cli_usage(FILE *to)
         "                          (default: default)\n"
         "  --method diffusion|cod4 diffusion: the heat-diffusion solve; cod4: the fast,\n"
         "                          approximate Call of Duty 4 post-process (CPU; no --foreground)\n"
+        "  --kernel heat|disc-2x2|disc-2x3|disc-3x3   the blur's shape: heat, the soft real\n"
+        "                          diffusion; disc-*, the lens's disc bokeh (thomas or reference\n"
+        "                          on the CPU; elsewhere heat runs)\n"
         "  --solver thomas|cr|pcr|jacobi|reference|gruen   (gruen: GL backends only)\n"
         "  --precision float|packed-half   arithmetic of the GL solvers (packed-half: gruen only)\n"
         "  --substeps N            ADI sub-steps (more: closer to a Gaussian, linear cost)\n"
@@ -111,7 +114,13 @@ void cli_usage(FILE *to)
             continue;
         fprintf(to, "  %-8s %s", ddof_preset_name((ddof_preset)p),
                 params.method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion");
-        if (params.method == DDOF_METHOD_DIFFUSION)
+        if (params.method == DDOF_METHOD_DIFFUSION && params.kernel != DDOF_KERNEL_HEAT)
+            fprintf(to, ", %s, %s kernel, background %s (%u level%s), near spread %s",
+                    ddof_solver_name(params.solver), ddof_kernel_name(params.kernel),
+                    modes[(unsigned)params.background % 3u], params.background_levels,
+                    params.background_levels == 1 ? "" : "s",
+                    modes[(unsigned)params.near_spread % 3u]);
+        else if (params.method == DDOF_METHOD_DIFFUSION)
             fprintf(to, ", %s, %u sub-step%s, k %g, background %s (%u level%s), near spread %s",
                     ddof_solver_name(params.solver), params.substeps,
                     params.substeps == 1 ? "" : "s", (double)params.beta_scale,
@@ -145,6 +154,7 @@ static const option_spec specs[] = {
     {"--jacobi-iterations", NULL, ARG_VALUE}, {"--threads", NULL, ARG_VALUE},
     {"--backend", NULL, ARG_VALUE},     {"--gl-plugin", NULL, ARG_VALUE},
     {"--method", NULL, ARG_VALUE},      {"--precision", NULL, ARG_VALUE},
+    {"--kernel", NULL, ARG_VALUE},
     {"--verbose", "-v", ARG_FLAG},      {"--foreground", NULL, ARG_VALUE},
     {"--foreground-layer", NULL, ARG_VALUE},
     {"--foreground-coc-channel", NULL, ARG_VALUE},
@@ -238,6 +248,7 @@ static void name_list(const char *(*name_of)(int), int count, char *out, size_t 
 }
 
 static const char *solver_name_of(int i) { return ddof_solver_name((ddof_solver)i); }
+static const char *kernel_name_of(int i) { return ddof_kernel_name((ddof_kernel)i); }
 static const char *preset_name_of(int i) { return ddof_preset_name((ddof_preset)i); }
 
 /* Backends the command can use: the host-GL one needs a host application's context. */
@@ -299,6 +310,7 @@ static void defaults(cli_options *o)
     o->preset = DDOF_PRESET_DEFAULT;
     o->method = -1;
     o->precision = -1;
+    o->kernel = -1;
     o->solver = -1;
     o->backend = DDOF_BACKEND_AUTO;
     o->pixel_type = -1;
@@ -389,6 +401,8 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
         o->precision = choice ? DDOF_PRECISION_PACKED_HALF : DDOF_PRECISION_FLOAT;
     } else if (!strcmp(name, "--solver")) {
         return parse_named(name, value, solver_name_of, DDOF_SOLVER_COUNT_, &o->solver);
+    } else if (!strcmp(name, "--kernel")) {
+        return parse_named(name, value, kernel_name_of, DDOF_KERNEL_COUNT_, &o->kernel);
     } else if (!strcmp(name, "--substeps")) {
         return parse_uint(name, value, &o->substeps, 1);
     } else if (!strcmp(name, "--beta-scale")) {

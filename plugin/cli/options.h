@@ -63,6 +63,7 @@ typedef struct cli_options {
     ddof_preset preset;           /* --preset; default DDOF_PRESET_DEFAULT */
     int method;                   /* ddof_method, or -1: the preset's */
     int precision;                /* ddof_precision, or -1: the preset's */
+    int kernel;                   /* ddof_kernel, or -1: the preset's */
     int solver;                   /* -1: preset's */
     uint32_t substeps;            /* 0: preset's */
     float beta_scale;             /* 0: preset's */

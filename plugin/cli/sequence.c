@@ -87,7 +87,15 @@ static void report(shared_queue *q, int index)
             snprintf(effects, sizeof effects, "CoD4 preview");
             snprintf(how, sizeof how, "%u thread%s", r->stats.threads,
                      r->stats.threads == 1 ? "" : "s");
-        } else
+        } else if (r->stats.kernel != DDOF_KERNEL_HEAT)
+            snprintf(how, sizeof how, "%s %s, %u thread%s: %llu lines solved, %llu skipped%s",
+                     ddof_solver_name((ddof_solver)r->stats.solver),
+                     ddof_kernel_name((ddof_kernel)r->stats.kernel), r->stats.threads,
+                     r->stats.threads == 1 ? "" : "s",
+                     (unsigned long long)r->stats.lines_solved,
+                     (unsigned long long)r->stats.lines_skipped,
+                     r->stats.copied_only ? " (nothing out of focus: copied)" : "");
+        else
             snprintf(how, sizeof how, "%s x%u, %u thread%s: %llu lines solved, %llu skipped%s",
                      ddof_solver_name((ddof_solver)r->stats.solver), r->stats.substeps,
                      r->stats.threads, r->stats.threads == 1 ? "" : "s",

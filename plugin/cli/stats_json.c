@@ -123,6 +123,7 @@ static cJSON *settings_json(const frame_setup *setup, uint32_t jobs, uint32_t th
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "preset", ddof_preset_name(opt->preset));
     cJSON_AddStringToObject(o, "method", stats_method_name((uint32_t)setup->params.method));
+    cJSON_AddStringToObject(o, "kernel", ddof_kernel_name(setup->params.kernel));
     cJSON_AddStringToObject(o, "solver", ddof_solver_name(setup->params.solver));
     cJSON_AddStringToObject(o, "precision", precision_name((uint32_t)setup->params.precision));
     cJSON_AddNumberToObject(o, "substeps", setup->params.substeps);
@@ -230,6 +231,7 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddStringToObject(s, "method", stats_method_name(r->stats.method));
         cJSON_AddNumberToObject(s, "device_bytes", (double)r->stats.device_bytes);
         cJSON_AddNumberToObject(s, "host_bytes", (double)r->stats.host_bytes);
+        cJSON_AddStringToObject(s, "kernel", ddof_kernel_name((ddof_kernel)r->stats.kernel));
         cJSON_AddStringToObject(s, "solver", ddof_solver_name((ddof_solver)r->stats.solver));
         cJSON_AddNumberToObject(s, "threads", r->stats.threads);
         cJSON_AddNumberToObject(s, "substeps", r->stats.substeps);

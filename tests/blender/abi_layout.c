@@ -47,7 +47,7 @@ int main(void)
     F(ddof_params, background); F(ddof_params, background_threshold_px);
     F(ddof_params, background_ramp_start_px); F(ddof_params, background_levels);
     F(ddof_params, near_spread); F(ddof_params, near_spread_threshold_px);
-    F(ddof_params, method); F(ddof_params, precision);
+    F(ddof_params, method); F(ddof_params, precision); F(ddof_params, kernel);
     END();
     BEGIN(ddof_stats);
     F(ddof_stats, struct_size); F(ddof_stats, solver); F(ddof_stats, threads);
@@ -57,6 +57,7 @@ int main(void)
     F(ddof_stats, effects); F(ddof_stats, seconds_plan); F(ddof_stats, seconds_background);
     F(ddof_stats, seconds_foreground); F(ddof_stats, plan); F(ddof_stats, backend);
     F(ddof_stats, method); F(ddof_stats, device_bytes); F(ddof_stats, host_bytes);
+    F(ddof_stats, kernel);
     END();
     BEGIN(ddof_foreground);
     F(ddof_foreground, struct_size); F(ddof_foreground, color); F(ddof_foreground, coc);
@@ -82,6 +83,7 @@ int main(void)
     E(DDOF_SOLVER_COUNT_);
     E(DDOF_METHOD_DIFFUSION); E(DDOF_METHOD_COD4_PREVIEW);
     E(DDOF_PRECISION_FLOAT); E(DDOF_PRECISION_PACKED_HALF);
+    E(DDOF_KERNEL_HEAT); E(DDOF_KERNEL_DISC_2X2); E(DDOF_KERNEL_DISC_2X3); E(DDOF_KERNEL_DISC_3X3);
     E(DDOF_PRESET_PREVIEW); E(DDOF_PRESET_DEFAULT); E(DDOF_PRESET_FINAL); E(DDOF_PRESET_COUNT_);
     E(DDOF_LAYER_AUTO); E(DDOF_LAYER_OFF); E(DDOF_LAYER_ON);
     E(DDOF_EFFECT_MIDGROUND); E(DDOF_EFFECT_BACKGROUND); E(DDOF_EFFECT_FOREGROUND);

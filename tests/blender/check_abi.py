@@ -81,6 +81,10 @@ def main():
         "DDOF_METHOD_COD4_PREVIEW": b.METHODS["cod4"],
         "DDOF_PRECISION_FLOAT": b.PRECISIONS["float"],
         "DDOF_PRECISION_PACKED_HALF": b.PRECISIONS["packed_half"],
+        "DDOF_KERNEL_HEAT": b.KERNELS["heat"],
+        "DDOF_KERNEL_DISC_2X2": b.KERNELS["disc-2x2"],
+        "DDOF_KERNEL_DISC_2X3": b.KERNELS["disc-2x3"],
+        "DDOF_KERNEL_DISC_3X3": b.KERNELS["disc-3x3"],
         "DDOF_PRESET_PREVIEW": b.PRESETS["preview"], "DDOF_PRESET_DEFAULT": b.PRESETS["default"],
         "DDOF_PRESET_FINAL": b.PRESETS["final"], "DDOF_PRESET_COUNT_": b.PRESET_COUNT,
         "DDOF_BACKEND_CPU": b.BACKENDS["cpu"], "DDOF_BACKEND_AUTO": b.BACKENDS["auto"],
@@ -113,7 +117,7 @@ def main():
         failures.append("bl_info version %s, binding %s" % (addon_version, b.BINDING_VERSION))
 
     # Version rule.
-    for number, ok in ((300, True), (305, True), (200, False), (400, False), (10300, False)):
+    for number, ok in ((400, True), (405, True), (300, False), (500, False), (10400, False)):
         if b.version_compatible(number) != ok:
             failures.append("version_compatible(%d) should be %s" % (number, ok))
 
@@ -152,7 +156,8 @@ def main():
     # 100 mm f/1 focused at 2 m: CoC about 8 px at 20 m on a 64-pixel-wide 36 mm sensor.
     camera = {"lens_model": "CYCLES", "focal_length_mm": 100.0, "sensor_width_mm": 36.0,
               "fstop": 1.0, "focus_distance_m": 2.0, "sensor_fit": "AUTO"}
-    out, stats = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"substeps": 2})
+    out, stats = lib.depth_of_field(w, h, color, 4, depth, 1, camera,
+                                    {"substeps": 2, "kernel": "heat"})
     left = [out[4 * (y * w + x)] for y in range(h) for x in range(w // 2 - 4)]
     right = [out[4 * (y * w + x)] for y in range(h) for x in range(w // 2 + 8, w)]
     if left != [color[4 * (y * w + x)] for y in range(h) for x in range(w // 2 - 4)]:
@@ -173,11 +178,11 @@ def main():
               if name not in ("struct_size", "progress", "progress_user")}
     out_final, stats_final = lib.depth_of_field(w, h, color, 4, depth, 1, camera, preset="final")
     out_fields, _ = lib.depth_of_field(w, h, color, 4, depth, 1, camera, fields)
-    if out_final != out_fields or stats_final["substeps"] != final.substeps:
+    if out_final != out_fields or stats_final["kernel"] != final.kernel:
         failures.append("preset='final' is not ddof_params_init_preset(FINAL)")
-    _, stats_over = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"substeps": 3},
-                                       preset="final")
-    if stats_over["substeps"] != 3:
+    _, stats_over = lib.depth_of_field(w, h, color, 4, depth, 1, camera,
+                                       {"kernel": "heat", "substeps": 3}, preset="final")
+    if stats_over["substeps"] != 3 or stats_over["kernel_name"] != "heat":
         failures.append("params do not override the preset: %r" % stats_over["substeps"])
     # Backends: cpu reports itself; auto runs somewhere and says where; an explicit GL backend
     # whose plugin is missing is an error with the library's reason, not a crash.
@@ -185,7 +190,7 @@ def main():
             stats["backend_note"] or stats["method_name"] != "diffusion":
         failures.append("cpu backend stats: %r" % stats)
     out_auto, stats_auto = lib.depth_of_field(w, h, color, 4, depth, 1, camera,
-                                              {"substeps": 2}, backend="auto")
+                                              {"substeps": 2, "kernel": "heat"}, backend="auto")
     if not stats_auto["backend_note"].startswith("auto: ") or not stats_auto["renderer"]:
         failures.append("auto backend stats: %r" % stats_auto)
     if stats_auto["backend_name"] == "cpu" and out_auto != out:

@@ -133,7 +133,9 @@ for round_ in (1, 2):
     final_line = diffusion_dof.ui._preset_line(s)
     lib = diffusion_dof.binding.get_library()
     final = lib.preset_summary("final")
-    checks.check(final_line.startswith("%s, %d sub-step" % (final["solver"], final["substeps"])),
+    want = ("%s, %s disc kernel" % (final["solver"], final["kernel"]) if final["kernel"] != "heat"
+            else "%s, %d sub-step" % (final["solver"], final["substeps"]))
+    checks.check(final_line.startswith(want),
                  "the panel's final preset %r is not the library's %r" % (final_line, final))
     # Expert overrides: none by default (the preset's values), each one when set.
     s.quality = "DEFAULT"

@@ -131,6 +131,7 @@ typedef struct reference {
     ddof_curve curve;
     const char *preset;  /* ddof_params_init_preset by name; NULL: ddof_params_init */
     uint32_t substeps;   /* 0: the preset's */
+    int heat_kernel;     /* 1: DDOF_KERNEL_HEAT (--kernel heat); 0: the preset's kernel */
 } reference;
 
 /* The library's preset of this name (ddof_preset_name); asserts it exists. */
@@ -175,6 +176,8 @@ static void library_result(const scene *s, const reference *ref, float *out, ddo
         ddof_params_init(&params);
     if (ref->substeps)
         params.substeps = ref->substeps;
+    if (ref->heat_kernel)
+        params.kernel = DDOF_KERNEL_HEAT;
     {
         const ddof_image_in color_in = {color, W, H, 4, 0};
         const ddof_image_in depth_in = {s->z, W, H, 1, 0};
@@ -254,11 +257,12 @@ static int case_values(void)
 
     /* Camera flags, float output: bit-exact with ddof_depth_of_field. */
     r.substeps = 3;
+    r.heat_kernel = 1;
     library_result(&s, &r, ref, &stats);
     CHECK(ddof(in, "-o", test_path(dir, "out.exr"), "--focal-length", "50", "--sensor-width",
                "36", "--fstop", "2", "--focus", "3", "--pixel-type", "float", "--substeps", "3",
-               "--solver", "thomas", "--threads", "1", "--stats", test_path(dir, "stats.json"),
-               NULL) == 0);
+               "--solver", "thomas", "--kernel", "heat", "--threads", "1", "--stats",
+               test_path(dir, "stats.json"), NULL) == 0);
     bad = compare_output(test_path(dir, "out.exr"), ref, 1, 0.0, 0);
     CHECK_MSG(bad == 0, "%d values differ from ddof_depth_of_field", bad);
     CHECK(out_contains("in.exr -> ") && out_contains("thomas x3"));
@@ -305,6 +309,7 @@ static int case_values(void)
         size_t k;
         CHECK(DDOF_PRESET_COUNT_ == 3);
         r.substeps = 0;
+        r.heat_kernel = 0;
         for (k = 0; k < 3; k++) {
             char out[64];
             r.preset = names[k];
@@ -938,7 +943,11 @@ static int case_options(void)
         snprintf(line, sizeof line, "final    %s",
                  final.method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion");
         CHECK(out_contains("--backend auto|cpu|egl|osmesa") && out_contains(line));
-        if (final.method == DDOF_METHOD_DIFFUSION) {
+        if (final.method == DDOF_METHOD_DIFFUSION && final.kernel != DDOF_KERNEL_HEAT) {
+            snprintf(line, sizeof line, "%s, %s kernel", ddof_solver_name(final.solver),
+                     ddof_kernel_name(final.kernel));
+            CHECK(out_contains(line));
+        } else if (final.method == DDOF_METHOD_DIFFUSION) {
             snprintf(line, sizeof line, "%s, %u sub-step", ddof_solver_name(final.solver),
                      final.substeps);
             CHECK(out_contains(line));
@@ -1253,6 +1262,10 @@ static int case_backend(void)
      * backend error, exit 3.) */
     if (gl_plugin_beside_library()) {
         int rc;
+        /* GL runs the heat kernel (the disc kernel is the CPU's): so does the reference. */
+        r.heat_kernel = 1;
+        library_result(&s, &r, ref, NULL);
+        r.heat_kernel = 0;
         setenv("MESA_SHADER_CACHE_DIR", test_path(dir, "mesa-cache"), 1);
         rc = ddof(in, "-o", test_path(dir, "osmesa_gl.exr"), CAMERA, "--backend", "osmesa",
                   "--substeps", "2", "--pixel-type", "float", "--stats",
@@ -1268,6 +1281,9 @@ static int case_backend(void)
             bad = compare_output(test_path(dir, "osmesa_gl.exr"), ref, 0, 1e-4, 0);
             CHECK_MSG(bad == 0, "--backend osmesa: %d values differ from the CPU's by > 1e-4",
                       bad);
+            free(ran);
+            ran = stats_string(test_path(dir, "osmesa.json"), "kernel");
+            CHECK_MSG(!strcmp(ran, "heat"), "osmesa: the %s kernel ran", ran);
             free(ran);
             free(renderer);
         }

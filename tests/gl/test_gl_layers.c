@@ -81,7 +81,7 @@ int main(int argc, char **argv)
     float *color = alloc_f((size_t)W * H * CH), *coc = alloc_f((size_t)W * H);
 
     ddof_params p;
-    ddof_params_init(&p);
+    heat_params_init(&p);
     scene(color, coc, 0);
     p.background = DDOF_LAYER_ON;
     p.near_spread = DDOF_LAYER_OFF;
@@ -90,7 +90,7 @@ int main(int argc, char **argv)
     p.substeps = 2;
     compare("background 2 levels x2", p, color, coc, NULL, DDOF_EFFECT_BACKGROUND);
 
-    ddof_params_init(&p);
+    heat_params_init(&p);
     scene(color, coc, 1);
     p.coc_signed = 1;
     p.near_spread = DDOF_LAYER_ON;
@@ -114,7 +114,7 @@ int main(int argc, char **argv)
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
-    ddof_params_init(&p);
+    heat_params_init(&p);
     scene(color, coc, 0);
     p.background = DDOF_LAYER_ON;
     compare("foreground element", p, color, coc, &fg, DDOF_EFFECT_FOREGROUND);

@@ -1,0 +1,318 @@
+/* lens_adi.c - the disc kernel's driver (disc_kernel.h) for the CPU.
+ *
+ * Per component c of the kernel: a row pass runs the component's chain of steps on each batch of
+ * DDOF_LANES rows and writes the result T_c into a complex image (real and imaginary planes,
+ * rows padded to whole batches of columns, so every column block is full); a column pass then
+ * runs the chain on each block of T_c and folds the result Z_c into the output as a change:
+ * out = x + sum_c Re(mix_c (Z_c - x)). A pixel without links is left exactly as it is by every
+ * step, so Z_c - x is exactly 0 there and it comes out bit for bit as it went in (a weighted sum
+ * of the Z_c themselves would round it). One complex image is alive at a time (2 x the colour).
+ * Heat capacities (the layers) work as in adi.c: the input is read as 0 where gamma is 0, and a
+ * run that holds no heat keeps the values it had.
+ */
+#include "adi.h"
+
+#include "disc_kernel.h"
+#include "lens_solver.h"
+#include "line_gather.h"
+
+#include <math.h>
+#include <string.h>
+
+#define L DDOF_LANES
+
+typedef struct lens_thread {
+    float *x;                /* [n][L][C] the gathered input of a row batch        */
+    float *acc_re, *acc_im;  /* [n][L][C] the chain's result                      */
+    float *b, *gamma;        /* [n][L] real link conductance, heat capacity       */
+    float *solver;           /* ddof_lens_solver_scratch_floats                   */
+    unsigned char *singular; /* [n][L]                                            */
+    uint64_t lines_solved;
+    float max_coc;
+} lens_thread;
+
+typedef struct lens_job {
+    const adi_request *r;
+    const disc_kernel *k;
+    uint32_t component;
+    const float *src;     /* the input colour (a copy when diffusing in place) */
+    size_t src_stride;
+    float *t_re, *t_im;   /* the component's complex image                      */
+    size_t t_stride;      /* floats per row of it: whole batches of columns      */
+    float aspect2;        /* column links are scaled by pixel_aspect^2           */
+    lens_thread *threads;
+} lens_job;
+
+static size_t align16(size_t floats)
+{
+    return (floats + 15) & ~(size_t)15;
+}
+
+/* The real conductance of a link: the smaller |CoC| squared, or 0 below the solver's floor. */
+static inline float lens_link(float coc_a, float coc_b, float scale)
+{
+    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
+    const float b = m * m * scale;
+    return b >= DDOF_LENS_MIN_LINK ? b : 0.0f;
+}
+
+static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
+{
+    return r->coc ? r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels]
+                  : r->uniform_coc;
+}
+
+/* Runs the job's component's chain of steps on the batch: y = steps(x) in acc; runs that hold
+ * no heat keep x. x_im NULL: a real input. */
+static void solve_chain(const lens_job *job, lens_thread *ts, uint32_t n, const float *x_re,
+                        const float *x_im, size_t x_stride)
+{
+    const disc_kernel *k = job->k;
+    const uint32_t c = job->component, C = job->r->channels;
+    complex_batch batch = {n, C, ts->b, ts->gamma, x_re, x_im, x_stride, ts->acc_re,
+                           ts->acc_im, ts->solver};
+    for (uint32_t m = 0; m < k->steps; m++) {
+        ddof_lens_solve(&batch, k->kappa[c][m][0], k->kappa[c][m][1]);
+        batch.x_re = ts->acc_re; /* the next step solves in place on this one's result */
+        batch.x_im = ts->acc_im;
+        batch.x_stride = (size_t)L * C;
+    }
+    if (job->r->gamma && mark_singular_runs(ts->b, ts->gamma, n, ts->singular))
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t l = 0; l < L; l++)
+                if (ts->singular[(size_t)i * L + l])
+                    for (uint32_t ch = 0; ch < C; ch++) {
+                        const size_t at = ((size_t)i * L + l) * C + ch;
+                        ts->acc_re[at] = x_re[(size_t)i * x_stride + l * C + ch];
+                        ts->acc_im[at] = x_im ? x_im[(size_t)i * x_stride + l * C + ch] : 0.0f;
+                    }
+}
+
+/* ---- rows: the input (real) into the component's complex image -------------------------- */
+
+static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+{
+    const lens_job *job = user;
+    const adi_request *r = job->r;
+    lens_thread *ts = &job->threads[thread_index];
+    const uint32_t n = r->width, C = r->channels, y0 = batch_index * L;
+    const uint32_t lanes = r->height - y0 < L ? r->height - y0 : L;
+    int active[L] = {0}, any_active = 0;
+    float max_coc = 0.0f;
+
+    for (uint32_t l = 0; l < L; l++) {
+        const uint32_t y = y0 + (l < lanes ? l : 0);
+        for (uint32_t i = 0; i < n; i++) {
+            const float here = coc_at(r, i, y);
+            const float b = l < lanes && i + 1 < n ? lens_link(here, coc_at(r, i + 1, y), 1.0f)
+                                                   : 0.0f;
+            ts->b[(size_t)i * L + l] = b;
+            active[l] |= b > 0.0f;
+            if (l < lanes)
+                max_coc = ddof_maxf(max_coc, fabsf(here));
+        }
+        any_active |= active[l];
+    }
+    ts->max_coc = ddof_maxf(ts->max_coc, max_coc);
+    if (r->gamma)
+        gather_row_gamma(ts->gamma, r, y0, lanes, n);
+
+    const float *src_rows[L];
+    for (uint32_t l = 0; l < L; l++)
+        src_rows[l] = l < lanes ? job->src + (size_t)(y0 + l) * job->src_stride : NULL;
+    rows_in(ts->x, src_rows, n, C);
+    if (r->gamma)
+        mask_batch(ts->x, ts->gamma, n, L * C, C);
+    if (any_active)
+        solve_chain(job, ts, n, ts->x, NULL, (size_t)L * C);
+
+    for (uint32_t l = 0; l < lanes; l++) {
+        float *tr = job->t_re + (size_t)(y0 + l) * job->t_stride;
+        float *ti = job->t_im + (size_t)(y0 + l) * job->t_stride;
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t c = 0; c < C; c++) {
+                const size_t k = ((size_t)i * L + l) * C + c;
+                tr[(size_t)i * C + c] = active[l] ? ts->acc_re[k] : ts->x[k];
+                ti[(size_t)i * C + c] = active[l] ? ts->acc_im[k] : 0.0f;
+            }
+        ts->lines_solved += (uint64_t)active[l] * job->k->steps;
+    }
+}
+
+/* ---- columns: in place on the complex image, then folded into the output ----------------- */
+
+static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+{
+    const lens_job *job = user;
+    const adi_request *r = job->r;
+    lens_thread *ts = &job->threads[thread_index];
+    const uint32_t n = r->height, C = r->channels, x0 = batch_index * L;
+    const uint32_t lanes = r->width - x0 < L ? r->width - x0 : L;
+    int active[L] = {0}, any_active = 0;
+
+    for (uint32_t i = 0; i < n; i++)
+        for (uint32_t l = 0; l < L; l++) {
+            const float b = l < lanes && i + 1 < n
+                                ? lens_link(coc_at(r, x0 + l, i), coc_at(r, x0 + l, i + 1),
+                                            job->aspect2)
+                                : 0.0f;
+            ts->b[(size_t)i * L + l] = b;
+            active[l] |= b > 0.0f;
+        }
+    for (uint32_t l = 0; l < lanes; l++)
+        any_active |= active[l];
+    if (r->gamma)
+        gather_column_gamma(ts->gamma, r, x0, lanes, n);
+
+    const float *t_re = job->t_re + (size_t)x0 * C, *t_im = job->t_im + (size_t)x0 * C;
+    if (any_active)
+        solve_chain(job, ts, n, t_re, t_im, job->t_stride);
+
+    const float mr = job->k->mix[job->component][0], mi = job->k->mix[job->component][1];
+    const int first = job->component == 0;
+    for (uint32_t i = 0; i < n; i++) {
+        const float *src = job->src + (size_t)i * job->src_stride + (size_t)x0 * C;
+        const float *g = r->gamma ? r->gamma + (size_t)i * r->gamma_stride +
+                                        (size_t)x0 * r->gamma_channels
+                                  : NULL;
+        float *out = r->out + (size_t)i * r->out_stride + (size_t)x0 * C;
+        const float *zr = t_re + (size_t)i * job->t_stride, *zi = t_im + (size_t)i * job->t_stride;
+        const float *ar = ts->acc_re + (size_t)i * L * C, *ai = ts->acc_im + (size_t)i * L * C;
+        for (uint32_t l = 0; l < lanes; l++) {
+            /* The input as the row pass read it: 0 where there is no heat capacity. */
+            const int masked = g && !(g[(size_t)l * r->gamma_channels] > 0.0f);
+            for (uint32_t c = 0; c < C; c++) {
+                const uint32_t k = l * C + c;
+                const float x = masked ? 0.0f : src[k];
+                const float dr = (active[l] ? ar[k] : zr[k]) - x;
+                const float di = active[l] ? ai[k] : zi[k];
+                const float change = mr * dr - mi * di;
+                out[k] = first ? x + change : out[k] + change;
+            }
+        }
+    }
+    for (uint32_t l = 0; l < lanes; l++)
+        ts->lines_solved += (uint64_t)active[l] * job->k->steps;
+}
+
+/* ---- the run ------------------------------------------------------------------------------ */
+
+typedef struct lens_progress {
+    const adi_request *request;
+    uint32_t pass, passes;
+} lens_progress;
+
+static int lens_pass_progress(void *user, uint32_t done, uint32_t total)
+{
+    const lens_progress *p = user;
+    const float fraction = ((float)p->pass + (float)done / (float)total) / (float)p->passes;
+    return p->request->progress(p->request->progress_user, fraction);
+}
+
+static uint64_t lens_solved(const lens_thread *threads, uint32_t count)
+{
+    uint64_t sum = 0;
+    for (uint32_t t = 0; t < count; t++)
+        sum += threads[t].lines_solved;
+    return sum;
+}
+
+ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_report *report)
+{
+    const disc_kernel *k = r->disc;
+    const uint32_t C = r->channels, W = r->width, H = r->height;
+    const uint32_t n_max = W > H ? W : H;
+    const uint32_t threads = thread_pool_threads(context->pool);
+    const uint32_t column_batches = (W + L - 1) / L;
+    const size_t t_stride = (size_t)column_batches * L * C;
+
+    const size_t lane_floats = align16((size_t)n_max * L * C);
+    const size_t coef_floats = align16((size_t)n_max * L);
+    const size_t solver_floats = align16(ddof_lens_solver_scratch_floats(n_max, C));
+    const size_t mark_floats = align16(((size_t)n_max * L + 3) / 4);
+    const size_t per_thread = 3 * lane_floats + 2 * coef_floats + solver_floats + mark_floats;
+    const size_t image_floats = align16(t_stride * H);
+    const size_t copy_floats = r->out == r->color ? align16((size_t)W * C * H) : 0;
+    const size_t state_floats = align16(threads * sizeof(lens_thread) / sizeof(float) + 1);
+    if (per_thread > (SIZE_MAX / sizeof(float) - 2 * image_floats - copy_floats) / threads / 2)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "scratch size overflows");
+    const size_t bytes =
+        (state_floats + per_thread * threads + 2 * image_floats + copy_floats) * sizeof(float);
+    float *memory = ddof_scratch_get(context, DDOF_SCRATCH_SOLVER, bytes);
+    if (!memory)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate %zu bytes of disc-kernel scratch", bytes);
+    lens_thread *state = (lens_thread *)(void *)memory;
+    memory += state_floats;
+    for (uint32_t t = 0; t < threads; t++) {
+        float *base = memory + per_thread * t;
+        float *after_coef = base + 3 * lane_floats + 2 * coef_floats;
+        state[t] = (lens_thread){.x = base, .acc_re = base + lane_floats,
+                                 .acc_im = base + 2 * lane_floats,
+                                 .b = base + 3 * lane_floats,
+                                 .gamma = base + 3 * lane_floats + coef_floats,
+                                 .solver = after_coef,
+                                 .singular = (unsigned char *)(after_coef + solver_floats)};
+        if (!r->gamma)
+            for (size_t i = 0; i < (size_t)n_max * L; i++)
+                state[t].gamma[i] = 1.0f;
+    }
+    memory += per_thread * threads;
+    float *t_re = memory, *t_im = memory + image_floats;
+    /* The padding columns of the complex image are solved with no links: keep them finite. */
+    for (uint32_t y = 0; y < H; y++) {
+        const size_t used = (size_t)W * C;
+        memset(t_re + y * t_stride + used, 0, (t_stride - used) * sizeof(float));
+        memset(t_im + y * t_stride + used, 0, (t_stride - used) * sizeof(float));
+    }
+    const float *src = r->color;
+    size_t src_stride = r->color_stride;
+    if (copy_floats) { /* every component reads the input; the first one writes over it */
+        float *copy = memory + 2 * image_floats;
+        for (uint32_t y = 0; y < H; y++)
+            memcpy(copy + (size_t)y * W * C, r->color + (size_t)y * r->color_stride,
+                   (size_t)W * C * sizeof(float));
+        src = copy;
+        src_stride = (size_t)W * C;
+    }
+
+    *report = (adi_report){.threads = threads};
+    lens_progress progress = {r, 0, 2 * k->components};
+    thread_progress_fn progress_fn = r->progress ? lens_pass_progress : NULL;
+    const uint32_t row_batches = (H + L - 1) / L;
+    ddof_status status = DDOF_OK;
+    for (uint32_t c = 0; c < k->components && status == DDOF_OK; c++) {
+        lens_job job = {r, k, c, src, src_stride, t_re, t_im, t_stride,
+                        r->pixel_aspect * r->pixel_aspect, state};
+        const double t0 = ddof_seconds();
+        progress.pass = 2 * c;
+        if (thread_pool_run(context->pool, row_batches, lens_row_batch, &job, progress_fn,
+                            &progress)) {
+            status = DDOF_ERROR_CANCELLED;
+            break;
+        }
+        const double t1 = ddof_seconds();
+        progress.pass = 2 * c + 1;
+        if (thread_pool_run(context->pool, column_batches, lens_column_batch, &job, progress_fn,
+                            &progress))
+            status = DDOF_ERROR_CANCELLED;
+        report->seconds_rows += t1 - t0;
+        report->seconds_columns += ddof_seconds() - t1;
+    }
+    report->lines_solved = lens_solved(state, threads);
+    report->lines_skipped =
+        (uint64_t)(W + H) * k->components - report->lines_solved / k->steps;
+    report->substeps_run = report->lines_solved ? 1 : 0;
+    for (uint32_t t = 0; t < threads; t++)
+        report->max_coc = ddof_maxf(report->max_coc, state[t].max_coc);
+    if (status == DDOF_ERROR_CANCELLED) {
+        /* A cancelled frame is still a valid image: the input. */
+        for (uint32_t y = 0; y < H; y++)
+            memmove(r->out + (size_t)y * r->out_stride, src + (size_t)y * src_stride,
+                    (size_t)W * C * sizeof(float));
+        return ddof_fail(context, status, "cancelled by the progress callback");
+    }
+    if (r->progress)
+        r->progress(r->progress_user, 1.0f);
+    return DDOF_OK;
+}

@@ -1,0 +1,91 @@
+/* point_spread.h - what a kernel draws around one bright pixel, measured against the disc a lens
+ * draws: shared by test_disc_kernel.c (which asserts it) and ddof-bench (which prints it).
+ *
+ * One pixel of value 1 in the middle of a black w x w image (w = 3 d + 9, odd, so the kernel's
+ * tails stay inside the insulated borders), uniform CoC d, one ddof_diffuse call. Kernel SNR is
+ * -20 log10(|K - D| / |D|) with D the anti-aliased uniform disc of diameter d (8 x 8 samples a
+ * pixel) and both normalised to unit sum. */
+#ifndef DDOF_POINT_SPREAD_H
+#define DDOF_POINT_SPREAD_H
+
+#include "ddof.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+typedef struct point_spread {
+    ddof_status status;
+    double snr_db;      /* kernel SNR against the disc                                 */
+    double energy;      /* sum of the output (1 = kept)                                */
+    double ring;        /* most negative output / the disc's height (0: none)          */
+    double max_abs_err; /* unused by callers that only print; largest |K - D| / height */
+} point_spread;
+
+static inline uint32_t point_spread_size(float d)
+{
+    return ((uint32_t)(3.0f * d) + 9u) | 1u;
+}
+
+/* The disc's coverage of pixel (x, y) around the centre c, 8 x 8 samples. */
+static inline double point_spread_disc(int x, int y, int c, double d)
+{
+    int inside = 0;
+    for (int sy = 0; sy < 8; sy++)
+        for (int sx = 0; sx < 8; sx++) {
+            const double px = x - c + (sx + 0.5) / 8.0 - 0.5, py = y - c + (sy + 0.5) / 8.0 - 0.5;
+            inside += px * px + py * py <= 0.25 * d * d;
+        }
+    return inside / 64.0;
+}
+
+static inline point_spread point_spread_measure(ddof_context *ctx, const ddof_params *params,
+                                                float d)
+{
+    point_spread r = {DDOF_ERROR_OUT_OF_MEMORY, 0, 0, 0, 0};
+    const uint32_t w = point_spread_size(d);
+    const int c = (int)w / 2;
+    const size_t n = (size_t)w * w;
+    float *color = calloc(n, sizeof *color), *coc = malloc(n * sizeof *coc);
+    float *out = malloc(n * sizeof *out);
+    double *disc = malloc(n * sizeof *disc);
+    if (!color || !coc || !out || !disc)
+        goto done;
+    for (size_t i = 0; i < n; i++)
+        coc[i] = d;
+    color[(size_t)c * w + (size_t)c] = 1.0f;
+    ddof_image_in ci = {color, w, w, 1, 0}, zi = {coc, w, w, 1, 0};
+    ddof_image oi = {out, w, w, 1, 0};
+    r.status = ddof_diffuse(ctx, params, &ci, &zi, &oi, NULL);
+    if (r.status != DDOF_OK)
+        goto done;
+    double disc_sum = 0, height = 0;
+    for (uint32_t y = 0; y < w; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            disc[(size_t)y * w + x] = point_spread_disc((int)x, (int)y, c, d);
+            disc_sum += disc[(size_t)y * w + x];
+        }
+    double err2 = 0, ref2 = 0, lowest = 0;
+    for (size_t i = 0; i < n; i++) {
+        const double k = out[i], dd = disc[i] / disc_sum;
+        r.energy += k;
+        height = dd > height ? dd : height;
+        lowest = k < lowest ? k : lowest;
+        err2 += (k - dd) * (k - dd);
+        ref2 += dd * dd;
+    }
+    for (size_t i = 0; i < n; i++) {
+        const double e = fabs(out[i] - disc[i] / disc_sum) / height;
+        r.max_abs_err = e > r.max_abs_err ? e : r.max_abs_err;
+    }
+    /* The kernel's own sum is ~1; normalising it too would hide an energy error in the SNR. */
+    r.snr_db = -10.0 * log10(err2 / ref2);
+    r.ring = lowest / height;
+done:
+    free(color);
+    free(coc);
+    free(out);
+    free(disc);
+    return r;
+}
+
+#endif
