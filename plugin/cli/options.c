@@ -87,6 +87,8 @@ void cli_usage(FILE *to)
         "Sequences and reporting:\n"
         "  --frames LIST           e.g. 1-240, 1-240x2, 1,4,10-12; # runs in paths are frame numbers\n"
         "  --jobs N                frames in parallel (default: automatic, when it pays)\n"
+        "  --skip-existing         resume a killed batch: skip frames whose outputs are complete\n"
+        "                          and no older than their inputs\n"
         "  --stats FILE.json       per-frame statistics and stage times\n"
         "  --compare TRUTH.exr     print RMSE/PSNR of the result and of the input against TRUTH\n"
         "  --progress auto|always|never   progress bar on stderr (auto: when it is a terminal)\n"
@@ -97,7 +99,8 @@ void cli_usage(FILE *to)
         "\n",
         "Exit status: 0 all frames written; 1 some frame failed (listed at the end); 2 usage error;\n"
         "3 the backend is unavailable or cannot run the solver or precision asked for;\n"
-        "130/143 interrupted (temporary files removed).\n"};
+        "129/130/141/143 interrupted by SIGHUP/SIGINT/SIGPIPE (or a closed stdout)/SIGTERM\n"
+        "(temporary files removed).\n"};
     static const char *const modes[] = {"auto", "off", "on"};
     size_t i;
     int p;
@@ -161,6 +164,7 @@ static const option_spec specs[] = {
     {"--preview-input", NULL, ARG_VALUE},
     {"--frames", NULL, ARG_VALUE},      {"--jobs", "-j", ARG_VALUE},
     {"--stats", NULL, ARG_VALUE},       {"--compare", NULL, ARG_VALUE},
+    {"--skip-existing", NULL, ARG_FLAG},
     {"--progress", NULL, ARG_VALUE},    {"--quiet", "-q", ARG_FLAG},
     {"--help", "-h", ARG_FLAG},         {"--version", NULL, ARG_FLAG},
 };
@@ -465,6 +469,7 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
         o->preview_exposure = (float)ev;
     } else if (!strcmp(name, "--frames")) o->frames = value;
     else if (!strcmp(name, "--stats")) o->stats_path = value;
+    else if (!strcmp(name, "--skip-existing")) o->skip_existing = 1;
     else if (!strcmp(name, "--compare")) o->compare = value;
     else if (!strcmp(name, "--progress")) {
         if (parse_choice(name, value, progress, 3, &choice) != 0) return -1;

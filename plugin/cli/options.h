@@ -84,6 +84,7 @@ typedef struct cli_options {
     const char *foreground_coc;   /* its CoC channel (with --coc-channel); NULL */
     int foreground_straight;      /* its colour is not premultiplied by alpha */
     uint32_t jobs;                /* frames in parallel; 0: automatic */
+    int skip_existing;            /* --skip-existing: resume a killed batch */
 
     /* output file */
     int pixel_type;               /* -1: as the input colour; else exrio_pixel_type */
