@@ -120,6 +120,9 @@ static int validate_with_library(const frame_setup *setup)
     ddof_status status = DDOF_OK;
     const char *what = "";
     int rc = 0;
+    /* Signed as every frame's call is (frame_job.c), so that a forced near spread passes. */
+    ddof_params params = setup->params;
+    params.coc_signed = o->source == COC_FROM_CHANNEL ? (uint32_t)o->coc_signed : 1u;
 
     ddof_context_options_init(&co);
     co.thread_count = 1;
@@ -142,6 +145,11 @@ static int validate_with_library(const frame_setup *setup)
         if (!(depth > 0.0f) || !isfinite(depth))
             depth = 1.0f;
         status = ddof_coc_from_camera(context, &setup->camera, &depth_in, &coc_out);
+        /* The whole call too: it judges the camera's pixel aspect as the diffusion's, on the
+         * double the sidecar or flag gave (not after each frame converted it). */
+        if (status == DDOF_OK)
+            status = ddof_depth_of_field(context, &params, &setup->camera, &color_in,
+                                         &depth_in, &out_img, NULL);
     } else if (setup->options->source == COC_FROM_CURVE) {
         what = "--curve";
         status = ddof_coc_from_curve(context, &setup->curve, &depth_in, &coc_out);
@@ -149,7 +157,7 @@ static int validate_with_library(const frame_setup *setup)
     if (status == DDOF_OK) {
         what = "solver parameters";
         coc = 0.0f;
-        status = ddof_diffuse(context, &setup->params, &color_in, &coc_in, &out_img, NULL);
+        status = ddof_diffuse(context, &params, &color_in, &coc_in, &out_img, NULL);
     }
     if (status == DDOF_ERROR_UNSUPPORTED) {
         ddof_backend_info info = {.struct_size = sizeof info};

@@ -50,7 +50,7 @@ void cli_usage(FILE *to)
         "  --substeps N            ADI sub-steps (more: closer to a Gaussian, linear cost)\n"
         "  --beta-scale K          k in beta = k * CoC^2\n"
         "  --jacobi-iterations N   sweeps for --solver jacobi\n"
-        "  --threads N             threads per frame (0 = all cores)\n"
+        "  --threads N             threads per frame (0 = all cores, at most 1024)\n"
         "  --backend auto|cpu|egl|osmesa   where the diffusion runs (default auto: a GPU through\n"
         "                          EGL when there is one, else the CPU); egl and osmesa are an\n"
         "                          error (exit 3) when they cannot be had\n"
@@ -187,20 +187,29 @@ static int parse_double(const char *name, const char *text, double *out, int pos
     return 0;
 }
 
-static int parse_uint(const char *name, const char *text, uint32_t *out, uint32_t min)
+static int parse_uint_max(const char *name, const char *text, uint32_t *out, uint32_t min,
+                          uint32_t max)
 {
     char *end;
     unsigned long v;
     errno = 0;
     v = strtoul(text, &end, 10);
     if (end == text || *end != '\0' || errno != 0 || text[0] == '-' || v > 0xffffffffUL ||
-        v < min) {
+        v < min || v > max) {
         char want[64];
-        snprintf(want, sizeof want, "a whole number >= %u", min);
+        if (max < 0xffffffffu)
+            snprintf(want, sizeof want, "a whole number within %u..%u", min, max);
+        else
+            snprintf(want, sizeof want, "a whole number >= %u", min);
         return bad(name, text, want);
     }
     *out = (uint32_t)v;
     return 0;
+}
+
+static int parse_uint(const char *name, const char *text, uint32_t *out, uint32_t min)
+{
+    return parse_uint_max(name, text, out, min, 0xffffffffu);
 }
 
 static int parse_choice(const char *name, const char *text, const char *const *choices,
@@ -402,7 +411,7 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
     } else if (!strcmp(name, "--jacobi-iterations")) {
         return parse_uint(name, value, &o->jacobi_iterations, 1);
     } else if (!strcmp(name, "--threads")) {
-        return parse_uint(name, value, &o->threads, 0);
+        return parse_uint_max(name, value, &o->threads, 0, CLI_MAX_THREADS);
     } else if (!strcmp(name, "--jobs")) {
         return parse_uint(name, value, &o->jobs, 1);
     } else if (!strcmp(name, "--backend")) {
@@ -579,6 +588,11 @@ int cli_parse_options(int argc, char **argv, cli_options *o)
     if (o->method == DDOF_METHOD_COD4_PREVIEW && (o->foreground || o->foreground_layer)) {
         fprintf(stderr, "ddof: --method cod4 takes no foreground element: the CoD4 preview "
                 "blurs one image (use --method diffusion with --foreground)\n");
+        return -1;
+    }
+    if (o->near_spread == DDOF_LAYER_ON && (o->foreground || o->foreground_layer)) {
+        fprintf(stderr, "ddof: --near-spread on works on one image: with a foreground element "
+                "the element is the near field (leave out --near-spread on)\n");
         return -1;
     }
     if (o->gl_plugin && o->backend == DDOF_BACKEND_CPU) {

@@ -101,6 +101,9 @@ typedef struct cli_options {
     int list_only;                /* --list: print the layout and channels, no processing */
 } cli_options;
 
+/* --threads: ddof_context_create's limit on thread_count (ddof.h). */
+#define CLI_MAX_THREADS 1024u
+
 /* Exit statuses of the command (docs/cli.md). */
 #define CLI_EXIT_OK 0
 #define CLI_EXIT_FAILED 1   /* some frame failed, or an output was refused              */

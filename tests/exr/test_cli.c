@@ -1275,6 +1275,51 @@ static int case_sidecar(void)
     CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", test_path(dir, "none.json"),
                NULL) == 2);
     CHECK(err_contains("cannot open camera file"));
+
+    /* Issue 14: a pixel aspect the diffusion cannot take is exit 2 before the first frame,
+     * with the sidecar's own value (not the float each frame would convert it to). */
+#define SIDECAR_ASPECT(value)                                                                    "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","      \
+    " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32], \"pixel_aspect\": " \
+    value "}"
+    BAD_JSON(SIDECAR_ASPECT("1e-300"), "pixel_aspect 1e-300 must be within 0.01..100");
+    BAD_JSON(SIDECAR_ASPECT("5e-324"), "pixel_aspect 4.94065646e-324 must be within 0.01..100");
+    BAD_JSON(SIDECAR_ASPECT("1e300"), "pixel_aspect 1e+300 must be within 0.01..100");
+    BAD_JSON(SIDECAR_ASPECT("1e20"), "pixel_aspect 1e+20 must be within 0.01..100");
+    {
+        const char *edge = SIDECAR_ASPECT("100");
+        test_write_file(json, edge, strlen(edge));
+        CHECK(ddof(in, "-o", test_path(dir, "edge.exr"), "--camera", json, NULL) == 0);
+    }
+    /* Issue 14: trailing data, a duplicate key, deep nesting: refused with the byte offset. */
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1} trailing", "data after the end of the JSON value at byte 147");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"fstop\": 8}", "duplicate key \"fstop\" at byte 147 (first at "
+             "byte 69)");
+    {
+        /* 1e5 brackets: said to be too deep where they become so, not "invalid at 1000". */
+        const size_t n = 100000;
+        char *deep = malloc(2 * n + 1);
+        memset(deep, '[', n);
+        memset(deep + n, ']', n);
+        deep[2 * n] = '\0';
+        test_write_file(json, deep, 2 * n);
+        CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json, NULL) == 2);
+        CHECK(err_contains("nested deeper than 32 levels at byte 32"));
+        free(deep);
+    }
+    /* Brackets and repeated names inside strings are text, not structure. */
+    {
+        const char *ok = "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"note\": "
+                         "\"[[{ \\\"fstop\\\": 1, \", \"sensor_fit\": \"AUTO\", \"fstop\": 2,"
+                         " \"focus_distance_m\": 3, \"resolution\": [48, 32], \"pixel_aspect\": 1,"
+                         " \"extra\": {\"fstop\": 4}}";
+        test_write_file(json, ok, strlen(ok));
+        CHECK(ddof(in, "-o", test_path(dir, "ok.exr"), "--camera", json, NULL) == 0);
+    }
+#undef SIDECAR_ASPECT
     return test_finish("test_cli sidecar");
 }
 
@@ -1348,6 +1393,40 @@ static int case_options(void)
                       "%s", solvers[k]);
     }
     CHECK(ddof("--list", in, NULL) == 0 && out_contains("ddof uses: colour R, G, B, A; depth Z"));
+    /* Issue 14: out-of-range values are usage errors that name the option and the limit. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--threads", "100000", NULL) == 2 &&
+          err_contains("--threads wants a whole number within 0..1024"));
+    CHECK(ddof(in, "-o", test_path(dir, "o_####.exr"), "--frames", "2147483647",
+               "--focal-length", "50", "--fstop", "2", "--focus", "3", NULL) == 2 &&
+          err_contains("at most 99999999"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "1e20", NULL) == 2 &&
+          err_contains("pixel_aspect 1e+20 must be within 0.01..100"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "100.001", NULL) == 2);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "0.01", NULL) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--beta-scale", "2", NULL) == 2 &&
+          err_contains("params.beta_scale 2 must be > 0 and at most 1"));
+    {
+        /* A CoC just above the limit is printed as itself, not rounded to the limit. */
+        static scene big;
+        make_scene(&big, 0);
+        big.coc[7] = 100000.01f;
+        write_scene(test_path(dir, "bigcoc.exr"), &big, 1);
+        CHECK(ddof(test_path(dir, "bigcoc.exr"), "-o", test_path(dir, "o.exr"), "--coc-channel",
+                   "C", NULL) == 1 && err_contains("is 100000.008; it must be finite, within "
+                                                   "0..100000 px"));
+    }
+    /* A forced near spread: fine with the camera's signed CoC; refused with a foreground
+     * element, which is the near field. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-spread", "on", NULL) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-spread", "on", "--foreground-layer", "F", NULL) == 2 &&
+          err_contains("--near-spread on works on one image"));
     CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
     return test_finish("test_cli options");
 }
