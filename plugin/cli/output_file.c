@@ -375,7 +375,7 @@ int output_check_target(const char *path, char *error, size_t error_size)
         return -1;
     }
     if (S_ISDIR(st.st_mode)) {
-        snprintf(error, error_size, "output path '%s' is a directory, not a file", path);
+        snprintf(error, error_size, "output path '%s' names a directory, not a file", path);
         return -1;
     }
     what = S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"

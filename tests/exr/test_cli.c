@@ -837,7 +837,7 @@ static int case_outputs(void)
     for (k = 0; k < 3; k++) {
         /* -o, then --stats, then --preview at each non-file. */
         const char *paths[4] = {fifo, link, folder, device};
-        const char *kinds[4] = {"it is a FIFO", "it is a symbolic link", "is a directory",
+        const char *kinds[4] = {"it is a FIFO", "it is a symbolic link", "names a directory",
                                 "it is a device"};
         int t;
         for (t = 0; t < 4; t++) {
@@ -909,7 +909,7 @@ static int case_outputs(void)
         CHECK(mkdir(late, 0777) == 0);
         waitpid(pid, &status, 0);
         CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 1, "status %d", status);
-        CHECK(err_contains("--stats: ") && err_contains("is a directory"));
+        CHECK(err_contains("--stats: ") && err_contains("names a directory"));
         {
             char *e = err_text();
             CHECK_MSG(strstr(e, "frames failed") == NULL && strstr(e, "failed frame") == NULL,
