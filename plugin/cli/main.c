@@ -631,7 +631,7 @@ int main(int argc, char **argv)
             printf("ddof: %d frames written in %.2f s\n", count, now() - t0);
     }
     if (fflush(stdout) != 0 && errno == EPIPE)
-        output_broken_pipe();
+        output_broken_pipe("standard output");
     free(paths);
     free(results);
     progress_free(bar);

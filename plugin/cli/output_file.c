@@ -4,6 +4,7 @@
 #include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <stdio.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
@@ -103,9 +104,11 @@ static void *signal_main(void *arg)
     return NULL;
 }
 
-void output_broken_pipe(void)
+void output_broken_pipe(const char *stream)
 {
-    clean_up_and_exit(SIGPIPE, "standard output is closed (broken pipe), stopping");
+    char why[96];
+    snprintf(why, sizeof why, "%s is closed (broken pipe), stopping", stream);
+    clean_up_and_exit(SIGPIPE, why);
 }
 
 int output_signals_install(void)

@@ -35,9 +35,10 @@ typedef struct output_file {
 int output_signals_install(void);
 /* Stops the clean-up thread (at normal exit). */
 void output_signals_shutdown(void);
-/* Standard output is a closed pipe: removes every temporary file, says so on stderr and exits
- * with 128 + SIGPIPE. The caller must not be inside output_file_begin or _commit. */
-void output_broken_pipe(void);
+/* `stream` ("standard output") is a closed pipe: removes every temporary file, says so on
+ * stderr and exits with 128 + SIGPIPE. The caller must not be inside output_file_begin or
+ * _commit. */
+void output_broken_pipe(const char *stream);
 
 /* 0 when `path` is absent or a regular file; -1 with a message when it is a device, FIFO,
  * socket, directory or symbolic link (output_file_begin checks it too). */

@@ -122,7 +122,7 @@ void progress_frame_done(progress *p, int slot)
 static void flush_or_stop(FILE *to)
 {
     if (fflush(to) != 0 && errno == EPIPE)
-        output_broken_pipe();
+        output_broken_pipe(to == stderr ? "standard error" : "standard output");
 }
 
 void progress_print(progress *p, FILE *to, const char *text)
