@@ -5,9 +5,8 @@
  * The buffers are always as large as the description handed over says (a caller that lies
  * about its buffers is outside any C API's contract). Checked: a call returns a known status;
  * on DDOF_OK every output value is finite; on an error the output is untouched and there is a
- * message. Colour is kept to [-1e3, 1e3] (HDR renders; values near FLT_MAX overflow any
- * weighted sum and are outside what the solvers promise); CoC, depth and every parameter take
- * raw float and double bit patterns as well as plausible values. */
+ * message. Colour, CoC, depth and every parameter take raw float and double bit patterns (NaN,
+ * infinities, denormals, values near FLT_MAX) as well as plausible values. */
 #include <ddof.h>
 
 #include <math.h>
@@ -148,7 +147,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     if (!color || !coc || !out || !before || !fg_color || !fg_coc || !coc_out || !coc_before)
         goto done;
     for (i = 0; i < cfloats; i++)
-        color[i] = 1e3f * ((float)byte(&r) - 100.0f) / 155.0f;
+        color[i] = any_float(&r, 1e3f);
     for (i = 0; i < zfloats; i++)
         coc[i] = any_float(&r, byte(&r) < 250 ? 40.0f : DDOF_MAX_COC_PX);
     for (i = 0; i < (size_t)w * h * 4; i++)
