@@ -68,10 +68,10 @@ static const char *signal_name(int sig)
     }
 }
 
-/* Removes every registered temporary file, says why on stderr and exits with 128 + sig. The
- * lock is kept until _exit: no worker can create or rename a temporary file now. The caller
- * must not hold registry_lock. */
-static void clean_up_and_exit(int sig, const char *why)
+/* Removes every registered temporary file, says why on stderr (the signal, or the closed
+ * `stream`) and exits with 128 + sig. The lock is kept until _exit: no worker can create or
+ * rename a temporary file now. The caller must not hold registry_lock. */
+static void clean_up_and_exit(int sig, const char *stream)
 {
     registry_entry *e;
     char message[256];
@@ -82,49 +82,57 @@ static void clean_up_and_exit(int sig, const char *why)
     for (e = registry; e; e = e->next)
         if (unlink(e->path) == 0)
             removed++;
-    n = snprintf(message, sizeof message,
-                 "\nddof: %s: removed %d temporary file%s; no output was half-written\n", why,
-                 removed, removed == 1 ? "" : "s");
+    if (stream)
+        n = snprintf(message, sizeof message, "\nddof: %s is closed (broken pipe), stopping: "
+                     "removed %d temporary file%s; no output was half-written\n", stream,
+                     removed, removed == 1 ? "" : "s");
+    else
+        n = snprintf(message, sizeof message, "\nddof: interrupted by %s: removed %d temporary "
+                     "file%s; no output was half-written\n", signal_name(sig), removed,
+                     removed == 1 ? "" : "s");
     if (n > 0 && write(STDERR_FILENO, message, (size_t)n) < 0) {
         /* nothing more to say */
     }
     _exit(128 + sig);
 }
 
+/* What the clean-up thread waits for, and where sigwait puts the signal. Not on that thread's
+ * stack: the thread is cancelled inside sigwait at a normal exit, and AddressSanitizer's
+ * thread teardown then trips over the poisoned redzones of an address-taken local. */
+typedef struct signal_wait {
+    sigset_t set;
+    int sig;
+} signal_wait;
+
 static void *signal_main(void *arg)
 {
-    sigset_t *set = arg;
-    int sig = 0;
-    char why[64];
-
-    while (sigwait(set, &sig) != 0)
+    signal_wait *w = arg;
+    while (sigwait(&w->set, &w->sig) != 0)
         ;
-    snprintf(why, sizeof why, "interrupted by %s", signal_name(sig));
-    clean_up_and_exit(sig, why);
+    clean_up_and_exit(w->sig, NULL);
     return NULL;
 }
 
 void output_broken_pipe(const char *stream)
 {
-    char why[96];
-    snprintf(why, sizeof why, "%s is closed (broken pipe), stopping", stream);
-    clean_up_and_exit(SIGPIPE, why);
+    clean_up_and_exit(SIGPIPE, stream);
 }
 
 int output_signals_install(void)
 {
-    static sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);
-    sigaddset(&set, SIGHUP);
+    static signal_wait waiting;
+    sigset_t *set = &waiting.set;
+    sigemptyset(set);
+    sigaddset(set, SIGINT);
+    sigaddset(set, SIGTERM);
+    sigaddset(set, SIGHUP);
     /* A write to a closed pipe raises SIGPIPE in the writing thread, which sigwait in another
      * thread never sees: blocked, it turns into EPIPE, and progress_print stops the run through
      * output_broken_pipe. A SIGPIPE sent to the process is taken like SIGTERM. */
-    sigaddset(&set, SIGPIPE);
-    if (pthread_sigmask(SIG_BLOCK, &set, NULL) != 0)
+    sigaddset(set, SIGPIPE);
+    if (pthread_sigmask(SIG_BLOCK, set, NULL) != 0)
         return -1;
-    if (pthread_create(&signal_thread, NULL, signal_main, &set) != 0)
+    if (pthread_create(&signal_thread, NULL, signal_main, &waiting) != 0)
         return -1;
     signal_thread_running = 1;
     return 0;
