@@ -84,6 +84,20 @@ static int out_contains(const char *what)
     return found;
 }
 
+/* Waits (up to 60 s, valgrind is slow) for a temporary file in `where` that stays: seen on
+ * two polls 50 ms apart, since the up-front probe of an output directory
+ * (output_check_directory) is a temporary file too, for microseconds. */
+static void wait_for_temp(const char *where)
+{
+    int waited = 0, seen = 0;
+    while (seen < 2 && waited < 60000) {
+        struct timespec ts = {0, 50 * 1000000L};
+        seen = test_count_suffix(where, ".tmp") > 0 ? seen + 1 : 0;
+        nanosleep(&ts, NULL);
+        waited += 50;
+    }
+}
+
 /* ---- inputs ------------------------------------------------------------------------------- */
 
 typedef struct scene {
@@ -887,7 +901,7 @@ static int case_outputs(void)
      * The directory appears while the frames run (DDOF_TEST_HOLD_TEMP_MS holds the commit). */
     {
         pid_t pid;
-        int status = 0, waited = 0;
+        int status = 0;
         const char *late = test_path(dir, "late.json");
         unlink(test_path(dir, "o.exr"));
         fflush(stdout);
@@ -901,11 +915,7 @@ static int case_outputs(void)
             execv(argv[0], argv);
             _exit(127);
         }
-        while (test_count_suffix(dir, ".tmp") == 0 && waited < 60000) {
-            struct timespec ts = {0, 10 * 1000000L};
-            nanosleep(&ts, NULL);
-            waited += 10;
-        }
+        wait_for_temp(dir);
         CHECK(mkdir(late, 0777) == 0);
         waitpid(pid, &status, 0);
         CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 1, "status %d", status);
@@ -974,7 +984,6 @@ static int case_pipe(void)
     /* A SIGPIPE sent to the process is SIGTERM's twin. */
     {
         pid_t pid;
-        int waited = 0;
         mkdir(test_path(dir, "out"), 0777);
         fflush(stdout);
         pid = fork();
@@ -988,11 +997,7 @@ static int case_pipe(void)
             execv(argv[0], argv);
             _exit(127);
         }
-        while (test_count_suffix(test_path(dir, "out"), ".tmp") == 0 && waited < 60000) {
-            struct timespec ts = {0, 10 * 1000000L};
-            nanosleep(&ts, NULL);
-            waited += 10;
-        }
+        wait_for_temp(test_path(dir, "out"));
         kill(pid, SIGPIPE);
         waitpid(pid, &status, 0);
         CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 141, "status %d", status);
@@ -1013,7 +1018,7 @@ static int case_resume(void)
     struct stat before, after;
     int f;
     pid_t pid;
-    int status = 0, waited = 0;
+    int status = 0;
 #define SEQ test_path(dir, "in_####.exr"), "-o", test_path(dir, "out/o_####.exr"), "--frames", \
             "1-4", "--focal-length", "50", "--fstop", "2", "--focus", "3", "--jobs", "1"
     for (f = 1; f <= 4; f++) {
@@ -1038,11 +1043,7 @@ static int case_resume(void)
         execv(argv[0], argv);
         _exit(127);
     }
-    while (test_count_suffix(out, ".tmp") == 0 && waited < 60000) {
-        struct timespec ts = {0, 10 * 1000000L};
-        nanosleep(&ts, NULL);
-        waited += 10;
-    }
+    wait_for_temp(out);
     kill(pid, SIGKILL);
     waitpid(pid, &status, 0);
     CHECK(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
@@ -1173,7 +1174,7 @@ static int case_interrupt(void)
     mkdir(test_path(dir, "out"), 0777);
     for (k = 0; k < 2; k++) {
         pid_t pid;
-        int status = 0, waited = 0;
+        int status = 0;
         fflush(stdout);
         pid = fork();
         if (pid == 0) {
@@ -1186,12 +1187,7 @@ static int case_interrupt(void)
             execv(argv[0], argv);
             _exit(127);
         }
-        /* Wait (up to 60 s, valgrind is slow) for the temporary file. */
-        while (test_count_suffix(test_path(dir, "out"), ".tmp") == 0 && waited < 60000) {
-            struct timespec ts = {0, 10 * 1000000L};
-            nanosleep(&ts, NULL);
-            waited += 10;
-        }
+        wait_for_temp(test_path(dir, "out"));
         CHECK_MSG(test_count_suffix(test_path(dir, "out"), ".tmp") == 1,
                   "no temporary file appeared");
         kill(pid, sigs[k]);
