@@ -137,7 +137,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     float *color = malloc(cfloats * sizeof *color), *coc = malloc(zfloats * sizeof *coc);
     float *out = malloc(ofloats * sizeof *out), *before = malloc(ofloats * sizeof *out);
     float *fg_color = malloc((size_t)w * h * 4 * sizeof *fg_color);
-    float *fg_coc = malloc((size_t)w * h * sizeof *fg_coc);
+    float *fg_coc = malloc((size_t)w * h * 2 * sizeof *fg_coc); /* 1 or 2 channels */
     float *coc_out = malloc((size_t)w * h * sizeof *coc_out);
     float *coc_before = malloc((size_t)w * h * sizeof *coc_before);
     const uint8_t which = byte(&r);
@@ -152,7 +152,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         coc[i] = any_float(&r, byte(&r) < 250 ? 40.0f : DDOF_MAX_COC_PX);
     for (i = 0; i < (size_t)w * h * 4; i++)
         fg_color[i] = (float)byte(&r) / 255.0f;
-    for (i = 0; i < (size_t)w * h; i++)
+    for (i = 0; i < (size_t)w * h * 2; i++)
         fg_coc[i] = any_float(&r, 30.0f);
     for (i = 0; i < ofloats; i++)
         out[i] = before[i] = -7.0f;
