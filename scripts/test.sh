@@ -5,6 +5,8 @@
 #                                     the Blender add-on's included (installs Blender if missing)
 #   bash scripts/test.sh --sanitize   the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   bash scripts/test.sh --valgrind   the unit and EXR tests under valgrind memcheck (reduced sizes)
+#   bash scripts/test.sh --fuzz [S]   the libFuzzer targets (clang, fuzz/): each runs S seconds
+#                                     (default 60) from its corpus; any finding fails
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh
@@ -61,11 +63,39 @@ case "$mode" in
     memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip"
     memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input"
     memcheck exr_blender_sample "$exr/test_exr_blender" sample samples "$scratch/sample"
+    # The fuzz targets' corpora (seeds and former crashes), replayed without libFuzzer.
+    for exe in build/valgrind/fuzz/fuzz_replay_*; do
+        [ -x "$exe" ] && memcheck "$exe" "$exe" "fuzz/corpus/${exe##*/fuzz_replay_}"
+    done
     echo "valgrind: $passed passed, $failed failed"
     [ "$failed" -eq 0 ]
     ;;
+--fuzz)
+    seconds=${2:-60}
+    ensure_packages "${BUILD_PACKAGES[@]}" clang libclang-rt-14-dev
+    CC=clang cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
+        -DDDOF_FUZZ=ON -DDDOF_BUILD_TESTS=OFF -DDDOF_BUILD_BENCH=OFF -DDDOF_BUILD_GL=OFF
+    cmake --build build/fuzz -j "$jobs" --target fuzz_exr_read fuzz_camera_json fuzz_options \
+        fuzz_library
+    found=0
+    for name in exr_read camera_json options library; do
+        # New inputs go to a scratch corpus in the build tree; the committed one is read only.
+        work=build/fuzz/work/$name
+        mkdir -p "$work" build/fuzz/findings
+        echo "fuzz_$name: $seconds s"
+        if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
+            "build/fuzz/fuzz/fuzz_$name" -max_total_time="$seconds" -close_fd_mask=3 \
+            -rss_limit_mb=2048 -timeout=25 -print_final_stats=1 \
+            -artifact_prefix="build/fuzz/findings/$name-" "$work" "fuzz/corpus/$name"; then
+            echo "fuzz_$name: finding in build/fuzz/findings (copy it into fuzz/corpus/$name" \
+                "once fixed: it then replays as a test)" >&2
+            found=1
+        fi
+    done
+    [ "$found" -eq 0 ]
+    ;;
 *)
-    echo "usage: bash scripts/test.sh [--sanitize|--valgrind]" >&2
+    echo "usage: bash scripts/test.sh [--sanitize|--valgrind|--fuzz [SECONDS]]" >&2
     exit 2
     ;;
 esac

@@ -403,6 +403,17 @@ static void test_params(void)
     BAD_PARAM("pixel_aspect -1", p.pixel_aspect = -1.0f);
     BAD_PARAM("pixel_aspect NaN", p.pixel_aspect = NAN);
     BAD_PARAM("pixel_aspect inf", p.pixel_aspect = INFINITY);
+    /* Finite, positive, but out of the documented ranges (issue 14: 1e20 gave NaN, DDOF_OK). */
+    BAD_PARAM("pixel_aspect 1e20", p.pixel_aspect = 1e20f);
+    BAD_PARAM("pixel_aspect 1e-20", p.pixel_aspect = 1e-20f);
+    BAD_PARAM("pixel_aspect just above 100", p.pixel_aspect = nextafterf(100.0f, 200.0f));
+    BAD_PARAM("pixel_aspect just below 0.01", p.pixel_aspect = nextafterf(0.01f, 0.0f));
+    BAD_PARAM("beta_scale just above 1", p.beta_scale = nextafterf(1.0f, 2.0f));
+    BAD_PARAM("beta_scale 1e30", p.beta_scale = 1e30f);
+    BAD_PARAM("background_threshold_px above the largest CoC",
+              p.background_threshold_px = 2.0f * DDOF_MAX_COC_PX);
+    BAD_PARAM("near_spread_threshold_px above the largest CoC",
+              p.near_spread_threshold_px = 2.0f * DDOF_MAX_COC_PX);
     BAD_PARAM("jacobi_iterations 0", (p.solver = DDOF_SOLVER_JACOBI, p.jacobi_iterations = 0));
     BAD_PARAM("method 2", p.method = (ddof_method)2);
     BAD_PARAM("precision 2", p.precision = (ddof_precision)2);
@@ -414,6 +425,96 @@ static void test_params(void)
     ddof_params_init(&p);
     p.precision = DDOF_PRECISION_PACKED_HALF;
     expect("packed half on the CPU", &c, DDOF_ERROR_UNSUPPORTED);
+}
+
+/* The messages name the parameter and its range. */
+static void expect_param_message(const char *what, ddof_params *p, const char *want)
+{
+    call c = good_call();
+    c.params = p;
+    fill_sentinel();
+    CHECK_MSG(run_call(&c) == DDOF_ERROR_BAD_PARAMETER, "%s", what);
+    CHECK_MSG(strstr(ddof_context_last_error(ctx), want) != NULL, "%s: \"%s\" lacks \"%s\"",
+              what, ddof_context_last_error(ctx), want);
+}
+
+/* Every CPU solver at the bounds of the ranges (largest beta_scale, smallest and largest pixel
+ * aspect, one sub-step, the largest CoC on every pixel or on alternate rows): DDOF_OK and a
+ * finite output, so that the ranges are ones where the solvers stay finite. */
+static void test_param_bounds(void)
+{
+    static const ddof_solver solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
+                                          DDOF_SOLVER_PCR,
+                                          DDOF_SOLVER_JACOBI, DDOF_SOLVER_REFERENCE_F64};
+    static const float aspects[] = {0.01f, 100.0f};
+    static float coc[W * H], out[W * H * CH];
+    ddof_params p;
+    for (int pattern = 0; pattern < 2; pattern++) {
+        for (size_t i = 0; i < W * H; i++)
+            coc[i] = pattern == 0 || (i / W) % 2 ? DDOF_MAX_COC_PX : 0.5f;
+        for (size_t s = 0; s < sizeof solvers / sizeof solvers[0]; s++) {
+            for (size_t a = 0; a < 2; a++) {
+                ddof_params_init(&p);
+                p.solver = solvers[s];
+                p.substeps = 1;
+                p.beta_scale = 1.0f;
+                p.pixel_aspect = aspects[a];
+                p.jacobi_iterations = 50;
+                const ddof_image_in ci = {color_buf, W, H, CH, 0}, zi = {coc, W, H, 1, 0};
+                const ddof_image oi = {out, W, H, CH, 0};
+                ddof_status st = ddof_diffuse(ctx, &p, &ci, &zi, &oi, NULL);
+                size_t bad = 0;
+                for (size_t i = 0; i < W * H * CH; i++)
+                    bad += !isfinite(out[i]);
+                CHECK_MSG(st == DDOF_OK && bad == 0,
+                          "%s, pixel aspect %g, CoC pattern %d: status %d, %zu non-finite",
+                          ddof_solver_name(solvers[s]), (double)aspects[a], pattern, (int)st, bad);
+            }
+        }
+    }
+    ddof_params_init(&p);
+    p.pixel_aspect = 1e20f;
+    expect_param_message("pixel_aspect 1e20", &p, "params.pixel_aspect 1.00000002e+20 must be "
+                         "within 0.01..100");
+    ddof_params_init(&p);
+    p.beta_scale = 2.0f;
+    expect_param_message("beta_scale 2", &p, "params.beta_scale 2 must be > 0 and at most 1");
+}
+
+/* Issue 14: a forced near spread with a foreground element was ignored with DDOF_OK (the same
+ * force with unsigned CoC is an error); a CoC just above the limit was printed as the limit. */
+static void test_forced_near_spread_and_messages(void)
+{
+    static float fg_color[W * H * 4], fg_coc[W * H];
+    ddof_foreground fg;
+    ddof_params p;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
+    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
+    ddof_params_init(&p);
+    p.coc_signed = 1;
+    const ddof_image_in ci = {color_buf, W, H, CH, 0}, zi = {coc_buf, W, H, 1, 0};
+    const ddof_image oi = {out_buf, W, H, CH, 0};
+    reset_inputs();
+    CHECK_EQ_INT(ddof_diffuse_layers(ctx, &p, &ci, &zi, &fg, &oi, NULL), DDOF_OK);
+    p.near_spread = DDOF_LAYER_ON;
+    CHECK_EQ_INT(ddof_diffuse_layers(ctx, &p, &ci, &zi, NULL, &oi, NULL), DDOF_OK);
+    fill_sentinel();
+    check_failure("near spread forced on with a foreground element",
+                  ddof_diffuse_layers(ctx, &p, &ci, &zi, &fg, &oi, NULL),
+                  DDOF_ERROR_BAD_PARAMETER, DDOF_ERROR_BAD_PARAMETER);
+    CHECK_MSG(strstr(ddof_context_last_error(ctx), "foreground element") != NULL, "%s",
+              ddof_context_last_error(ctx));
+
+    coc_buf[5] = 100000.01f;
+    {
+        call c = good_call();
+        fill_sentinel();
+        CHECK_EQ_INT(run_call(&c), DDOF_ERROR_BAD_COC);
+        CHECK_MSG(strstr(ddof_context_last_error(ctx), "is 100000.008;") != NULL, "%s",
+                  ddof_context_last_error(ctx));
+    }
+    reset_inputs();
 }
 
 static int same_settings(const ddof_params *a, const ddof_params *b)
@@ -791,6 +892,19 @@ static void test_depth_of_field(void)
     BAD_DOF("dof: fstop 0", DDOF_ERROR_BAD_CAMERA, cam.fstop = 0, cam.fstop = 2.8);
     BAD_DOF("dof: depth size", DDOF_ERROR_SIZE_MISMATCH, di.width = W - 1, di.width = W);
     BAD_DOF("dof: substeps 0", DDOF_ERROR_BAD_PARAMETER, p.substeps = 0, p.substeps = 1);
+    /* The camera's pixel aspect becomes params.pixel_aspect: the same range, checked on the
+     * double before it is converted (1e-300 would become 0, 1e300 infinity). */
+    BAD_DOF("dof: camera pixel_aspect 1e20", DDOF_ERROR_BAD_PARAMETER, cam.pixel_aspect = 1e20,
+            cam.pixel_aspect = 1.0);
+    BAD_DOF("dof: camera pixel_aspect 1e-300", DDOF_ERROR_BAD_PARAMETER,
+            cam.pixel_aspect = 1e-300, cam.pixel_aspect = 1.0);
+    cam.pixel_aspect = 1e-300;
+    CHECK(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL) == DDOF_ERROR_BAD_PARAMETER);
+    CHECK_MSG(strstr(ddof_context_last_error(ctx), "pixel_aspect 1e-300 must be within 0.01..100"),
+              "%s", ddof_context_last_error(ctx));
+    cam.pixel_aspect = 100.0;
+    CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL), DDOF_OK);
+    cam.pixel_aspect = 1.0;
     BAD_DOF("dof: depth NULL pixels", DDOF_ERROR_NULL_POINTER, di.pixels = NULL,
             di.pixels = depth_buf);
 #undef BAD_DOF
@@ -818,6 +932,8 @@ int main(void)
     test_strides();
     test_bad_values();
     test_params();
+    test_param_bounds();
+    test_forced_near_spread_and_messages();
     test_allocator();
     test_camera();
     test_curve();

@@ -873,12 +873,13 @@ static void test_progress_threads(void)
     heat_params_init(&p);
     p.coc_signed = 1;
     p.background_levels = 2;
-    p.near_spread = DDOF_LAYER_ON; /* with no element: the near spread */
-
     /* Progress: monotonic within [0, 1], on calls with and without the element. The number of
      * reports varies a little with thread timing. */
     for (int with_fg = 0; with_fg < 2; with_fg++) {
         progress_log log = {0, 0, 0, 0.0f, -1.0f};
+        /* The near spread forced on without the element; with it, the element is the near
+         * field (forcing the spread then is DDOF_ERROR_BAD_PARAMETER). */
+        p.near_spread = with_fg ? DDOF_LAYER_AUTO : DDOF_LAYER_ON;
         p.progress = on_progress;
         p.progress_user = &log;
         ddof_stats st;
@@ -932,6 +933,7 @@ static void test_progress_threads(void)
     /* Several substeps: every layer still finite and within range. */
     p.substeps = 4;
     for (int with_fg = 0; with_fg < 2; with_fg++) {
+        p.near_spread = with_fg ? DDOF_LAYER_AUTO : DDOF_LAYER_ON;
         CHECK_EQ_INT(layers(&p, color, coc, with_fg ? &fg : NULL, out, CH, NULL), DDOF_OK);
         double worst;
         CHECK_MSG(out_of_range(out, CH, lo, with_fg ? hi_fg : hi, 1e-5, &worst) == 0,

@@ -132,7 +132,8 @@ typedef struct ddof_context ddof_context;
 
 typedef struct ddof_context_options {
     uint32_t struct_size;            /* sizeof(ddof_context_options)                        */
-    uint32_t thread_count;           /* 0 = number of online cores; 1 = no worker threads    */
+    uint32_t thread_count;           /* 0 = number of online cores; 1 = no worker threads;   */
+                                     /* at most 1024 (more is DDOF_ERROR_BAD_PARAMETER)      */
     const ddof_allocator *allocator; /* NULL = malloc/free; copied, need not outlive call    */
 } ddof_context_options;
 
@@ -223,7 +224,8 @@ typedef struct ddof_camera {
     double sensor_width_mm;       /* default 36; > 0                                         */
     double fstop;                 /* default 2.8; > 0 (N)                                     */
     double focus_distance_m;      /* default 10; must exceed the focal length                */
-    double pixel_aspect;          /* pixel width / pixel height, default 1; > 0              */
+    double pixel_aspect;          /* pixel width / pixel height, default 1; > 0 (0.01..100   */
+                                  /* for ddof_depth_of_field, as params.pixel_aspect)       */
     double depth_unit_m;          /* metres per depth unit, default 1; > 0                   */
     uint32_t signed_coc;          /* 1: write the CoC of points nearer than the focus plane  */
                                   /* negative (see ddof_params.coc_signed). Default 0.       */
@@ -358,9 +360,11 @@ typedef struct ddof_params {
                                /* kernel at linear cost. Default: the default preset's.       */
     float beta_scale;          /* k in beta = k * d^2 (d: CoC diameter in pixels). 1/32 makes  */
                                /* the kernel's per-axis variance (2 beta) equal a uniform     */
-                               /* disk's (d^2 / 16). Default: the default preset's; > 0.      */
+                               /* disk's (d^2 / 16). Default: the default preset's; > 0 and   */
+                               /* at most 1 (where every solver stays finite at the largest  */
+                               /* CoC, DDOF_MAX_COC_PX, and the largest pixel_aspect).        */
     float pixel_aspect;        /* pixel width / height: column links use d * pixel_aspect.    */
-                               /* Default 1; > 0.                                             */
+                               /* Default 1; 0.01..100 (anamorphic pixels are 0.5..2).        */
     uint32_t jacobi_iterations;/* sweeps for DDOF_SOLVER_JACOBI, >= 1; default 50             */
     ddof_progress_fn progress; /* optional; NULL for none                                     */
     void *progress_user;       /* passed to progress                                          */
@@ -373,7 +377,8 @@ typedef struct ddof_params {
                                     /* holes the background is diffused across. Default AUTO: */
                                     /* on when a CoC >= threshold borders an in-focus pixel.   */
     float background_threshold_px;  /* CoC at which a pixel is wholly background (matte 1).    */
-                                    /* Default 8; > background_ramp_start_px.                   */
+                                    /* Default 8; > background_ramp_start_px, at most         */
+                                    /* DDOF_MAX_COC_PX.                                        */
     float background_ramp_start_px; /* CoC below which a pixel is wholly midground (matte 0);  */
                                     /* the matte is linear in between. Default 2; >= 0.        */
     uint32_t background_levels;     /* background layers at thresholds t, 2t, 4t, ... (a log  */
@@ -383,10 +388,12 @@ typedef struct ddof_params {
                                     /* (falls to 0 a quarter of the CoC away; GPU Gems 3 ch.  */
                                     /* 28's dilation, made to hold for small objects too), so */
                                     /* blurred near objects get soft silhouettes. Needs signed */
-                                    /* CoC.                                                    */
+                                    /* CoC, and no foreground element (forced ON with one is  */
+                                    /* DDOF_ERROR_BAD_PARAMETER: the element is the near       */
+                                    /* field).                                                 */
                                     /* Default AUTO: on when a near CoC >= the threshold       */
                                     /* borders a pixel with less than half its CoC.            */
-    float near_spread_threshold_px; /* default 4; > 0                                          */
+    float near_spread_threshold_px; /* default 4; > 0, at most DDOF_MAX_COC_PX                 */
 
     /* --- version 0.3 of this struct ------------------------------------------------------- */
     ddof_method method;        /* default DDOF_METHOD_DIFFUSION                               */

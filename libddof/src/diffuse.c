@@ -19,9 +19,25 @@
 #define DDOF_MAX_JACOBI_ITERATIONS 1000000u
 #define DDOF_MAX_BACKGROUND_LEVELS 8u
 
-static int positive_finite(float v)
+/* The float parameters' ranges (ddof.h). At the largest CoC (DDOF_MAX_COC_PX) and one
+ * sub-step, beta_scale 1 and pixel aspect 100 make the column links' beta 1e14; the reference
+ * solver's overflows near 1e16, the others' later (tests/test_bad_input.c runs every CPU
+ * solver at the bounds and checks the output is finite). */
+#define DDOF_MAX_BETA_SCALE 1.0f
+#define DDOF_MIN_PIXEL_ASPECT 0.01
+#define DDOF_MAX_PIXEL_ASPECT 100.0
+
+/* Compared as float for params (0.01f is below the double 0.01) and as double for a camera. */
+static int pixel_aspect_ok(double v, int is_float)
 {
-    return isfinite(v) && v > 0.0f;
+    return is_float ? v >= (float)DDOF_MIN_PIXEL_ASPECT && v <= (float)DDOF_MAX_PIXEL_ASPECT
+                    : v >= DDOF_MIN_PIXEL_ASPECT && v <= DDOF_MAX_PIXEL_ASPECT;
+}
+
+/* A CoC-sized threshold: > 0 (or >= 0) and at most DDOF_MAX_COC_PX. */
+static int coc_size_ok(float v, int zero_ok)
+{
+    return (zero_ok ? v >= 0.0f : v > 0.0f) && v <= DDOF_MAX_COC_PX;
 }
 
 /* The caller's params over the defaults (an older caller's struct lacks the layer fields),
@@ -40,12 +56,14 @@ static ddof_status read_params(ddof_context *context, const ddof_params *caller,
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.substeps %u must be within 1..%u", p->substeps,
                          DDOF_MAX_SUBSTEPS);
-    if (!positive_finite(p->beta_scale))
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.beta_scale %g must be > 0",
-                         (double)p->beta_scale);
-    if (!positive_finite(p->pixel_aspect))
+    if (!(p->beta_scale > 0.0f && p->beta_scale <= DDOF_MAX_BETA_SCALE))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.pixel_aspect %g must be > 0", (double)p->pixel_aspect);
+                         "params.beta_scale %.9g must be > 0 and at most %g",
+                         (double)p->beta_scale, (double)DDOF_MAX_BETA_SCALE);
+    if (!pixel_aspect_ok(p->pixel_aspect, 1))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.pixel_aspect %.9g must be within %g..%g", (double)p->pixel_aspect,
+                         DDOF_MIN_PIXEL_ASPECT, DDOF_MAX_PIXEL_ASPECT);
     if (p->solver == DDOF_SOLVER_JACOBI &&
         (p->jacobi_iterations < 1 || p->jacobi_iterations > DDOF_MAX_JACOBI_ITERATIONS))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
@@ -55,22 +73,22 @@ static ddof_status read_params(ddof_context *context, const ddof_params *caller,
         (unsigned)p->near_spread > DDOF_LAYER_ON)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.coc_signed, background or near_spread is not a known value");
-    if (!(isfinite(p->background_ramp_start_px) && p->background_ramp_start_px >= 0.0f &&
-          isfinite(p->background_threshold_px) &&
+    if (!(coc_size_ok(p->background_ramp_start_px, 1) &&
+          coc_size_ok(p->background_threshold_px, 0) &&
           p->background_threshold_px > p->background_ramp_start_px))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.background_threshold_px (%g) must exceed "
-                         "background_ramp_start_px (%g) >= 0",
+                         "params.background_threshold_px (%.9g) must exceed "
+                         "background_ramp_start_px (%.9g) >= 0, both at most %g px",
                          (double)p->background_threshold_px,
-                         (double)p->background_ramp_start_px);
+                         (double)p->background_ramp_start_px, (double)DDOF_MAX_COC_PX);
     if (p->background_levels < 1 || p->background_levels > DDOF_MAX_BACKGROUND_LEVELS)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.background_levels %u must be within 1..%u",
                          p->background_levels, DDOF_MAX_BACKGROUND_LEVELS);
-    if (!positive_finite(p->near_spread_threshold_px))
+    if (!coc_size_ok(p->near_spread_threshold_px, 0))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.near_spread_threshold_px %g must be > 0",
-                         (double)p->near_spread_threshold_px);
+                         "params.near_spread_threshold_px %.9g must be > 0 and at most %g px",
+                         (double)p->near_spread_threshold_px, (double)DDOF_MAX_COC_PX);
     if ((unsigned)p->method > DDOF_METHOD_COD4_PREVIEW ||
         (unsigned)p->precision > DDOF_PRECISION_PACKED_HALF)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
@@ -171,7 +189,7 @@ static ddof_status check_coc_values(ddof_context *context, const ddof_image_in *
     if (ddof_find_bad_value(context, coc->pixels, coc->width, coc->height, coc->channels, 1,
                             stride, coc_signed ? VALUE_COC_SIGNED : VALUE_COC, &bad))
         return ddof_fail(context, DDOF_ERROR_BAD_COC,
-                         "CoC at pixel (%u, %u) is %g; it must be finite, within %s0..%g px",
+                         "CoC at pixel (%u, %u) is %.9g; it must be finite, within %s0..%g px",
                          bad.x, bad.y, (double)bad.value, coc_signed ? "+-" : "",
                          (double)DDOF_MAX_COC_PX);
     return DDOF_OK;
@@ -484,6 +502,11 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
     if (status == DDOF_OK && foreground && p.method == DDOF_METHOD_COD4_PREVIEW)
         status = ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
                            "the CoD4 preview takes no foreground element");
+    if (status == DDOF_OK && foreground && p.near_spread == DDOF_LAYER_ON)
+        status = ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                           "params.near_spread is forced on, but a foreground element is given: "
+                           "the element is the near field, and the near spread works on one "
+                           "image only");
     if (status == DDOF_OK && foreground)
         status = read_foreground(context, foreground, &q, &fg_visible);
     if (status != DDOF_OK)
@@ -509,6 +532,10 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
     ddof_status status = read_params(context, params, &p);
     if (status == DDOF_OK)
         status = ddof_read_camera(context, camera, &cam);
+    if (status == DDOF_OK && !pixel_aspect_ok(cam.pixel_aspect, 0))
+        status = ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                           "camera pixel_aspect %.9g must be within %g..%g for the diffusion",
+                           cam.pixel_aspect, DDOF_MIN_PIXEL_ASPECT, DDOF_MAX_PIXEL_ASPECT);
     if (status == DDOF_OK)
         status = check_images(context, color, depth, "depth", out, r, &depth_stride);
     if (status != DDOF_OK)

@@ -13,7 +13,11 @@
 /* A sidecar is a few hundred bytes; anything past this is not one. */
 #define MAX_SIDECAR_BYTES (1u << 20)
 
-static char *read_text(const char *path, char *error, size_t error_size)
+/* A sidecar is two levels deep; cJSON's own limit (1000) would report a deep file as invalid
+ * JSON at byte 1000, not as what it is. */
+#define MAX_SIDECAR_DEPTH 32
+
+static char *read_text(const char *path, size_t *size, char *error, size_t error_size)
 {
     FILE *f = fopen(path, "rb");
     char *text;
@@ -38,7 +42,113 @@ static char *read_text(const char *path, char *error, size_t error_size)
     }
     fclose(f);
     text[n] = '\0';
+    *size = n;
     return text;
+}
+
+/* The byte after the string that starts (with its quote) at text[i]. */
+static size_t skip_string(const char *text, size_t size, size_t i)
+{
+    for (i++; i < size && text[i] != '"'; i++)
+        if (text[i] == '\\')
+            i++;
+    return i + 1;
+}
+
+/* Nesting deeper than MAX_SIDECAR_DEPTH: its byte offset, else -1. Strings are skipped, so a
+ * bracket inside one does not count; anything else malformed is left to cJSON. */
+static long too_deep(const char *text, size_t size)
+{
+    size_t i;
+    int depth = 0;
+    for (i = 0; i < size; i++) {
+        if (text[i] == '"') {
+            i = skip_string(text, size, i) - 1;
+        } else if (text[i] == '{' || text[i] == '[') {
+            if (++depth > MAX_SIDECAR_DEPTH)
+                return (long)i;
+        } else if (text[i] == '}' || text[i] == ']') {
+            depth--;
+        }
+    }
+    return -1;
+}
+
+typedef struct json_key {
+    const char *at; /* the key's text between its quotes */
+    size_t length;
+} json_key;
+
+static int compare_keys(const void *pa, const void *pb)
+{
+    const json_key *a = pa, *b = pb;
+    const size_t n = a->length < b->length ? a->length : b->length;
+    const int c = memcmp(a->at, b->at, n);
+    if (c != 0)
+        return c;
+    if (a->length != b->length)
+        return a->length < b->length ? -1 : 1;
+    return a->at < b->at ? -1 : a->at > b->at; /* the first one written first */
+}
+
+/* A key written twice in one object of valid JSON (compared as written, escapes included):
+ * 1 with the byte offsets of the second and the first, else 0; -1 when out of memory. */
+static int duplicate_key(const char *text, size_t size, size_t *second, size_t *first,
+                         size_t *length)
+{
+    json_key *keys = NULL;
+    size_t count = 0, capacity = 0, i;
+    size_t begin[MAX_SIDECAR_DEPTH + 1]; /* per open container: its first key, or SIZE_MAX */
+    int depth = 0, expect_key = 0, found = 0;
+    for (i = 0; i < size && !found; i++) {
+        const char ch = text[i];
+        if (ch == '"') {
+            const size_t end = skip_string(text, size, i);
+            if (expect_key) {
+                if (count == capacity) {
+                    size_t grow = capacity ? capacity * 2 : 32;
+                    json_key *bigger = realloc(keys, grow * sizeof *keys);
+                    if (!bigger) {
+                        free(keys);
+                        return -1;
+                    }
+                    keys = bigger;
+                    capacity = grow;
+                }
+                keys[count].at = text + i + 1;
+                keys[count].length = end - i - 2;
+                count++;
+                expect_key = 0;
+            }
+            i = end - 1;
+        } else if (ch == '{' || ch == '[') {
+            if (depth >= MAX_SIDECAR_DEPTH)
+                break; /* too_deep said no first */
+            begin[depth++] = ch == '{' ? count : (size_t)-1;
+            expect_key = ch == '{';
+        } else if (ch == ',') {
+            expect_key = depth > 0 && begin[depth - 1] != (size_t)-1;
+        } else if ((ch == '}' || ch == ']') && depth > 0) {
+            const size_t from = begin[--depth];
+            if (ch == '}' && from != (size_t)-1 && count - from > 1) {
+                size_t k;
+                qsort(keys + from, count - from, sizeof *keys, compare_keys);
+                for (k = from + 1; k < count && !found; k++)
+                    if (keys[k].length == keys[k - 1].length &&
+                        memcmp(keys[k].at, keys[k - 1].at, keys[k].length) == 0) {
+                        *first = (size_t)(keys[k - 1].at - text) - 1;
+                        *second = (size_t)(keys[k].at - text) - 1;
+                        *length = keys[k].length;
+                        found = 1;
+                    }
+            }
+            if (from != (size_t)-1)
+                count = from; /* the closed object's keys are done with */
+            expect_key = 0;
+        }
+    }
+    free(keys);
+    return found;
 }
 
 static int number(const cJSON *root, const char *key, int required, double *out,
@@ -109,26 +219,55 @@ bad:
     return -1;
 }
 
-int camera_sidecar_read(const char *path, camera_sidecar *out, char *error, size_t error_size)
+int camera_sidecar_parse(const char *text, size_t size, const char *path, camera_sidecar *out,
+                         char *error, size_t error_size)
 {
     static const char *const fits[] = {"AUTO", "HORIZONTAL", "VERTICAL"};
     static const char *const depths[] = {"planar", "radial"};
-    char *text;
+    const char *end = NULL;
     cJSON *root;
-    int fit = 0, depth = 0, rc = -1;
+    size_t second = 0, first = 0, length = 0;
+    long deep;
+    int fit = 0, depth = 0, rc = -1, duplicate;
 
     memset(out, 0, sizeof *out);
     ddof_camera_init(&out->camera);
-    text = read_text(path, error, error_size);
-    if (!text)
+    if (strlen(text) != size) {
+        snprintf(error, error_size, "%s: not valid JSON (a NUL byte at byte %lu)", path,
+                 (unsigned long)strlen(text));
         return -1;
-    root = cJSON_Parse(text);
+    }
+    deep = too_deep(text, size);
+    if (deep >= 0) {
+        snprintf(error, error_size, "%s: nested deeper than %d levels at byte %ld; a camera "
+                 "sidecar is one object of numbers, strings and [width, height]", path,
+                 MAX_SIDECAR_DEPTH, deep);
+        return -1;
+    }
+    root = cJSON_ParseWithOpts(text, &end, 0);
     if (!root) {
         const char *at = cJSON_GetErrorPtr();
         long offset = at && at >= text ? (long)(at - text) : -1;
         snprintf(error, error_size, "%s: not valid JSON (near byte %ld)", path, offset);
-        free(text);
         return -1;
+    }
+    while (end && (*end == ' ' || *end == '\t' || *end == '\n' || *end == '\r'))
+        end++;
+    if (end && *end) {
+        snprintf(error, error_size, "%s: not valid JSON: data after the end of the JSON value "
+                 "at byte %ld", path, (long)(end - text));
+        goto done;
+    }
+    duplicate = duplicate_key(text, size, &second, &first, &length);
+    if (duplicate != 0) {
+        if (duplicate < 0)
+            snprintf(error, error_size, "%s: out of memory", path);
+        else
+            snprintf(error, error_size, "%s: duplicate key \"%.*s\" at byte %lu (first at "
+                     "byte %lu): which one is meant is unclear", path,
+                     length > 64 ? 64 : (int)length, text + first + 1, (unsigned long)second,
+                     (unsigned long)first);
+        goto done;
     }
     if (!cJSON_IsObject(root)) {
         snprintf(error, error_size, "%s: the camera sidecar must be a JSON object", path);
@@ -152,6 +291,19 @@ int camera_sidecar_read(const char *path, camera_sidecar *out, char *error, size
     rc = 0;
 done:
     cJSON_Delete(root);
+    return rc;
+}
+
+int camera_sidecar_read(const char *path, camera_sidecar *out, char *error, size_t error_size)
+{
+    size_t size = 0;
+    char *text = read_text(path, &size, error, error_size);
+    int rc;
+    memset(out, 0, sizeof *out);
+    ddof_camera_init(&out->camera);
+    if (!text)
+        return -1;
+    rc = camera_sidecar_parse(text, size, path, out, error, error_size);
     free(text);
     return rc;
 }

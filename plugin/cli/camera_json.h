@@ -3,7 +3,9 @@
  * Schema: focal_length_mm, sensor_width_mm, sensor_fit ("AUTO" | "HORIZONTAL" | "VERTICAL"),
  * fstop, focus_distance_m, resolution [w, h], pixel_aspect, optional depth ("planar" |
  * "radial", default planar) and unit_scale_m (metres per scene unit, default 1). Unknown keys
- * are ignored, so the add-on may add its own. Parsed with cJSON, not by hand. */
+ * are ignored, so the add-on may add its own. Parsed with cJSON, not by hand; refused with the
+ * byte offset: data after the JSON value, a key written twice in one object (compared as
+ * written), nesting deeper than 32 levels, a NUL byte. */
 #ifndef DDOF_CLI_CAMERA_JSON_H
 #define DDOF_CLI_CAMERA_JSON_H
 
@@ -22,5 +24,9 @@ typedef struct camera_sidecar {
  * that a sidecar from another shot is caught). Returns 0, or -1 with a message naming the file
  * and the key. */
 int camera_sidecar_read(const char *path, camera_sidecar *out, char *error, size_t error_size);
+
+/* The same on text[0..size) (NUL-terminated at text[size]); `path` names it in messages. */
+int camera_sidecar_parse(const char *text, size_t size, const char *path, camera_sidecar *out,
+                         char *error, size_t error_size);
 
 #endif

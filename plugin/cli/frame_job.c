@@ -10,6 +10,7 @@
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
+#include <sys/stat.h>
 #include <time.h>
 
 static double now(void)
@@ -89,6 +90,58 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
         }
     }
     return 0;
+}
+
+int frame_check_input_parts(const cli_options *options, const exrio_image *image,
+                            const char *path, char *error, size_t error_size)
+{
+    if (!options->keep_channels || image->part_count <= 1)
+        return 0;
+    /* The path is cut to half the buffer so that the reason always fits. */
+    snprintf(error, error_size, "%.*s has %d parts, and ddof writes a single-part EXR: "
+             "--keep-channels (or --keep) would keep the channels of the part it diffuses only "
+             "and silently drop the other parts; split the parts first, or leave out "
+             "--keep-channels", (int)(error_size / 2), path, image->part_count);
+    return -1;
+}
+
+/* 1 when `output` was modified no earlier than `input` (both exist). */
+static int newer_than(const struct stat *output, const char *input)
+{
+    struct stat in;
+    if (!input || !input[0])
+        return 1;
+    if (stat(input, &in) != 0)
+        return 0; /* a missing input: let the frame run and say so */
+    if (output->st_mtim.tv_sec != in.st_mtim.tv_sec)
+        return output->st_mtim.tv_sec > in.st_mtim.tv_sec;
+    return output->st_mtim.tv_nsec >= in.st_mtim.tv_nsec;
+}
+
+int frame_outputs_complete(const cli_options *options, const frame_paths *paths)
+{
+    const char *outputs[3] = {paths->output, paths->preview, paths->preview_input};
+    const char *inputs[5] = {paths->input, paths->depth_file, paths->foreground,
+                             options->camera_json, options->compare ? paths->compare : NULL};
+    exrio_image image;
+    char error[1024];
+    int o, i;
+    for (o = 0; o < 3; o++) {
+        struct stat st;
+        if (!outputs[o][0])
+            continue;
+        if (lstat(outputs[o], &st) != 0 || !S_ISREG(st.st_mode))
+            return 0;
+        for (i = 0; i < 5; i++)
+            if (!newer_than(&st, inputs[i]))
+                return 0;
+    }
+    /* Outputs appear only by renaming a complete temporary file, so an output that opens as
+     * an EXR is one ddof finished (or one a user put there deliberately). */
+    if (exrio_open(paths->output, &image, error, sizeof error) != EXRIO_OK)
+        return 0;
+    exrio_close(&image);
+    return 1;
 }
 
 /* A float plane for channel `index`: its own pixels, or a converted copy for UINT channels
@@ -497,6 +550,12 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
         fail(result, "%s", error);
         goto done;
     }
+    if (opt->skip_existing && frame_outputs_complete(opt, paths)) {
+        result->ok = 1;
+        result->skipped = 1;
+        rc = 0;
+        goto done;
+    }
 
     /* Read: header, channel layout, then only the channels needed. */
     if (exrio_open(paths->input, &image, error, sizeof error) != EXRIO_OK) {
@@ -511,7 +570,8 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
     request.need_depth = opt->source != COC_FROM_CHANNEL && !paths->depth_file[0];
     /* A foreground layer in the same file is never the main colour. */
     request.exclude_layer = !paths->foreground[0] ? opt->foreground_layer : NULL;
-    if (exrio_find_layout(&image, &request, &layout, error, sizeof error) != EXRIO_LAYOUT_OK) {
+    if (exrio_find_layout(&image, &request, &layout, error, sizeof error) != EXRIO_LAYOUT_OK ||
+        frame_check_input_parts(opt, &image, paths->input, error, sizeof error) != 0) {
         fail(result, "%s", error);
         goto done;
     }

@@ -14,6 +14,16 @@
 
 #ifndef PATH_MAX
 #define PATH_MAX 4096
+/* --keep-channels on a multipart input: refused (-1, error says why), since the other parts
+ * would be dropped. Returns 0 otherwise. */
+int frame_check_input_parts(const cli_options *options, const exrio_image *image,
+                            const char *path, char *error, size_t error_size);
+
+/* --skip-existing: 1 when every output of the frame (EXR and previews) is a regular file no
+ * older than any of its inputs (colour, depth file, foreground, camera sidecar) and the EXR
+ * opens; 0 when the frame must run. */
+int frame_outputs_complete(const cli_options *options, const frame_paths *paths);
+
 #endif
 
 /* What every frame shares, resolved once in main: the options, and the camera, curve and
@@ -40,6 +50,7 @@ typedef struct frame_paths {
 
 typedef struct frame_result {
     int ok;
+    int skipped;                  /* --skip-existing found the outputs complete: not run */
     char error[2048];
     char warning[PATH_MAX + 512]; /* worth saying once, e.g. a resolution mismatch */
     uint32_t width, height;       /* data window */
@@ -74,5 +85,15 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
 /* Checks the paths of one frame before any work: output and preview are not an input file and
  * not each other. Returns 0 or -1 (error). */
 int frame_check_paths(const frame_paths *paths, char *error, size_t error_size);
+
+/* --keep-channels on a multipart input: refused (-1, error says why), since the other parts
+ * would be dropped. Returns 0 otherwise. */
+int frame_check_input_parts(const cli_options *options, const exrio_image *image,
+                            const char *path, char *error, size_t error_size);
+
+/* --skip-existing: 1 when every output of the frame (EXR and previews) is a regular file no
+ * older than any of its inputs (colour, depth file, foreground, camera sidecar) and the EXR
+ * opens; 0 when the frame must run. */
+int frame_outputs_complete(const cli_options *options, const frame_paths *paths);
 
 #endif

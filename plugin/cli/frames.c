@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* 0, -1 (not a number) or -2 (above FRAMES_LARGEST). */
 static int read_number(const char **p, long *out)
 {
     char *end;
@@ -15,8 +16,8 @@ static int read_number(const char **p, long *out)
         return -1;
     errno = 0;
     v = strtol(*p, &end, 10);
-    if (errno != 0 || v > 99999999)
-        return -1;
+    if (errno != 0 || v > FRAMES_LARGEST)
+        return -2;
     *out = v;
     *p = end;
     return 0;
@@ -33,20 +34,25 @@ int frames_parse(const char *text, int **frames, char *error, size_t error_size)
     const char *p = text;
     int *list = NULL;
     size_t count = 0, capacity = 0, i, kept;
+    int r = 0;
 
     *frames = NULL;
     for (;;) {
         long first, last, step = 1, f;
-        if (read_number(&p, &first) != 0)
-            goto bad;
+        if ((r = read_number(&p, &first)) != 0)
+            goto bad_number;
         last = first;
         if (*p == '-') {
             p++;
-            if (read_number(&p, &last) != 0 || last < first)
+            if ((r = read_number(&p, &last)) != 0)
+                goto bad_number;
+            if (last < first)
                 goto bad;
             if (*p == 'x' || *p == ':') {
                 p++;
-                if (read_number(&p, &step) != 0 || step < 1)
+                if ((r = read_number(&p, &step)) != 0)
+                    goto bad_number;
+                if (step < 1)
                     goto bad;
             }
         }
@@ -82,6 +88,13 @@ int frames_parse(const char *text, int **frames, char *error, size_t error_size)
             list[kept++] = list[i];
     *frames = list;
     return (int)kept;
+bad_number:
+    if (r == -2) {
+        snprintf(error, error_size, "--frames %s: frame numbers (and steps) are at most %d",
+                 text, FRAMES_LARGEST);
+        free(list);
+        return -1;
+    }
 bad:
     snprintf(error, error_size, "--frames wants e.g. 1-240, 1-240x2 or 1,4,10-12 (frame numbers "
              ">= 0), not '%s'", text);

@@ -8,6 +8,8 @@
 
 /* A generous bound; a longer list is surely a typo (1-1000000000). */
 #define FRAMES_MAX 1000000
+/* The largest frame number: eight digits, as Blender's frame range allows. */
+#define FRAMES_LARGEST 99999999
 
 /* Parses `text` into a new array of frame numbers (ascending as written, duplicates removed).
  * Returns the count (>= 1), or -1 with a message in `error`. Free *frames with free(). */

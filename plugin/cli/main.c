@@ -17,6 +17,7 @@
 
 #include <ddof.h>
 
+#include <errno.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -121,6 +122,9 @@ static int validate_with_library(const frame_setup *setup)
     ddof_status status = DDOF_OK;
     const char *what = "";
     int rc = 0;
+    /* Signed as every frame's call is (frame_job.c), so that a forced near spread passes. */
+    ddof_params params = setup->params;
+    params.coc_signed = o->source == COC_FROM_CHANNEL ? (uint32_t)o->coc_signed : 1u;
 
     ddof_context_options_init(&co);
     co.thread_count = 1;
@@ -143,6 +147,11 @@ static int validate_with_library(const frame_setup *setup)
         if (!(depth > 0.0f) || !isfinite(depth))
             depth = 1.0f;
         status = ddof_coc_from_camera(context, &setup->camera, &depth_in, &coc_out);
+        /* The whole call too: it judges the camera's pixel aspect as the diffusion's, on the
+         * double the sidecar or flag gave (not after each frame converted it). */
+        if (status == DDOF_OK)
+            status = ddof_depth_of_field(context, &params, &setup->camera, &color_in,
+                                         &depth_in, &out_img, NULL);
     } else if (setup->options->source == COC_FROM_CURVE) {
         what = "--curve";
         status = ddof_coc_from_curve(context, &setup->curve, &depth_in, &coc_out);
@@ -150,7 +159,7 @@ static int validate_with_library(const frame_setup *setup)
     if (status == DDOF_OK) {
         what = "solver parameters";
         coc = 0.0f;
-        status = ddof_diffuse(context, &setup->params, &color_in, &coc_in, &out_img, NULL);
+        status = ddof_diffuse(context, &params, &color_in, &coc_in, &out_img, NULL);
     }
     if (status == DDOF_ERROR_UNSUPPORTED) {
         ddof_backend_info info = {.struct_size = sizeof info};
@@ -323,6 +332,20 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
             return -1;
         }
     }
+    /* A device, FIFO, socket, directory or link at any frame's output path: one lstat each,
+     * before the first frame, not a failure after frame 239. */
+    for (i = 0; i <= count; i++) {
+        const char *outputs[3] = {i < count ? paths[i].output : o->stats_path,
+                                  i < count ? paths[i].preview : NULL,
+                                  i < count ? paths[i].preview_input : NULL};
+        int k;
+        for (k = 0; k < 3; k++)
+            if (outputs[k] && outputs[k][0] &&
+                output_check_target(outputs[k], error, sizeof error) != 0) {
+                fprintf(stderr, "ddof: %s%s\n", k == 0 && i == count ? "--stats: " : "", error);
+                return -1;
+            }
+    }
     if (check_no_input_overwritten(o, paths, count) != 0)
         return -1;
     for (i = 0; o->stats_path && i < count; i++) { /* nor may --stats be one of the outputs */
@@ -350,6 +373,26 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
         return -1;
     }
     return 0;
+}
+
+/* What a killed run (SIGKILL, a power cut) left in the output directories. Patterns keep the
+ * directory the same for every frame, so the first frame's paths name them all. */
+static void remove_stale_temps(const cli_options *o, const frame_paths *first)
+{
+    const char *outputs[4] = {first->output, first->preview, first->preview_input,
+                              o->stats_path};
+    int k;
+    for (k = 0; k < 4; k++) {
+        char note[PATH_MAX + 64];
+        int removed;
+        if (!outputs[k] || !outputs[k][0])
+            continue;
+        removed = output_remove_stale_temps(outputs[k], note, sizeof note);
+        if (removed > 0)
+            fprintf(stderr, "ddof: note: removed %d temporary file%s left by an earlier run "
+                    "that was killed (%s%s)\n", removed, removed == 1 ? "" : "s", note,
+                    removed > 1 ? ", ..." : "");
+    }
 }
 
 /* --list: parts, channels, and what ddof would use. */
@@ -457,7 +500,7 @@ int main(int argc, char **argv)
     char error[2048];
     uint64_t pixels = 0;
     double t0;
-    int count = 0, failed, i, rc;
+    int count = 0, failed, i, rc, stats_failed = 0, skipped = 0;
     char last_warning[PATH_MAX + 512] = "";
 
     if (output_signals_install() != 0) {
@@ -512,6 +555,7 @@ int main(int argc, char **argv)
         output_signals_shutdown();
         return 1;
     }
+    remove_stale_temps(&options, &paths[0]);
 
     {
         /* The first readable header sizes the plan; a missing first frame just means "unknown"
@@ -519,7 +563,14 @@ int main(int argc, char **argv)
         exrio_image probe;
         if (exrio_open(paths[0].input, &probe, error, sizeof error) == EXRIO_OK) {
             pixels = (uint64_t)probe.parts[0].width * probe.parts[0].height;
+            rc = frame_check_input_parts(&options, &probe, paths[0].input, error, sizeof error);
             exrio_close(&probe);
+            if (rc != 0) {
+                fprintf(stderr, "ddof: %s\n", error);
+                free(paths);
+                output_signals_shutdown();
+                return CLI_EXIT_USAGE;
+            }
         }
     }
     plan = sequence_plan_for(&options, count, pixels);
@@ -564,19 +615,28 @@ int main(int argc, char **argv)
     if (options.stats_path &&
         stats_json_write(options.stats_path, &setup, paths, results, count, plan.jobs,
                          plan.threads_per_frame, now() - t0, error, sizeof error) != 0) {
+        /* The frames are not to blame: said apart from them. */
         fprintf(stderr, "ddof: --stats: %s\n", error);
-        failed = failed ? failed : 1;
+        stats_failed = 1;
     }
+    for (i = 0; i < count; i++)
+        skipped += results[i].skipped;
     if (failed > 0) {
         if (count > 1)
             fprintf(stderr, "ddof: %d of %d frames failed\n", failed, count);
         print_failed_frames(paths, results, count);
     } else if (count > 1 && !options.quiet) {
-        printf("ddof: %d frames written in %.2f s\n", count, now() - t0);
+        if (skipped > 0)
+            printf("ddof: %d frame%s written, %d skipped (already complete) in %.2f s\n",
+                   count - skipped, count - skipped == 1 ? "" : "s", skipped, now() - t0);
+        else
+            printf("ddof: %d frames written in %.2f s\n", count, now() - t0);
     }
+    if (fflush(stdout) != 0 && errno == EPIPE)
+        output_broken_pipe("standard output");
     free(paths);
     free(results);
     progress_free(bar);
     output_signals_shutdown();
-    return failed > 0 ? 1 : 0;
+    return failed > 0 || stats_failed ? 1 : 0;
 }

@@ -53,7 +53,7 @@ void cli_usage(FILE *to)
         "  --substeps N            ADI sub-steps (more: closer to a Gaussian, linear cost)\n"
         "  --beta-scale K          k in beta = k * CoC^2\n"
         "  --jacobi-iterations N   sweeps for --solver jacobi\n"
-        "  --threads N             threads per frame (0 = all cores)\n"
+        "  --threads N             threads per frame (0 = all cores, at most 1024)\n"
         "  --backend auto|cpu|egl|osmesa   where the diffusion runs (default auto: a GPU through\n"
         "                          EGL when there is one, else the CPU); egl and osmesa are an\n"
         "                          error (exit 3) when they cannot be had\n"
@@ -90,6 +90,8 @@ void cli_usage(FILE *to)
         "Sequences and reporting:\n"
         "  --frames LIST           e.g. 1-240, 1-240x2, 1,4,10-12; # runs in paths are frame numbers\n"
         "  --jobs N                frames in parallel (default: automatic, when it pays)\n"
+        "  --skip-existing         resume a killed batch: skip frames whose outputs are complete\n"
+        "                          and no older than their inputs\n"
         "  --stats FILE.json       per-frame statistics and stage times\n"
         "  --compare TRUTH.exr     print RMSE/PSNR of the result and of the input against TRUTH\n"
         "  --progress auto|always|never   progress bar on stderr (auto: when it is a terminal)\n"
@@ -100,7 +102,8 @@ void cli_usage(FILE *to)
         "\n",
         "Exit status: 0 all frames written; 1 some frame failed (listed at the end); 2 usage error;\n"
         "3 the backend is unavailable or cannot run the solver or precision asked for;\n"
-        "130/143 interrupted (temporary files removed).\n"};
+        "129/130/141/143 interrupted by SIGHUP/SIGINT/SIGPIPE (or a closed stdout)/SIGTERM\n"
+        "(temporary files removed).\n"};
     static const char *const modes[] = {"auto", "off", "on"};
     size_t i;
     int p;
@@ -171,6 +174,7 @@ static const option_spec specs[] = {
     {"--preview-input", NULL, ARG_VALUE},
     {"--frames", NULL, ARG_VALUE},      {"--jobs", "-j", ARG_VALUE},
     {"--stats", NULL, ARG_VALUE},       {"--compare", NULL, ARG_VALUE},
+    {"--skip-existing", NULL, ARG_FLAG},
     {"--progress", NULL, ARG_VALUE},    {"--quiet", "-q", ARG_FLAG},
     {"--help", "-h", ARG_FLAG},         {"--version", NULL, ARG_FLAG},
 };
@@ -193,20 +197,29 @@ static int parse_double(const char *name, const char *text, double *out, int pos
     return 0;
 }
 
-static int parse_uint(const char *name, const char *text, uint32_t *out, uint32_t min)
+static int parse_uint_max(const char *name, const char *text, uint32_t *out, uint32_t min,
+                          uint32_t max)
 {
     char *end;
     unsigned long v;
     errno = 0;
     v = strtoul(text, &end, 10);
     if (end == text || *end != '\0' || errno != 0 || text[0] == '-' || v > 0xffffffffUL ||
-        v < min) {
+        v < min || v > max) {
         char want[64];
-        snprintf(want, sizeof want, "a whole number >= %u", min);
+        if (max < 0xffffffffu)
+            snprintf(want, sizeof want, "a whole number within %u..%u", min, max);
+        else
+            snprintf(want, sizeof want, "a whole number >= %u", min);
         return bad(name, text, want);
     }
     *out = (uint32_t)v;
     return 0;
+}
+
+static int parse_uint(const char *name, const char *text, uint32_t *out, uint32_t min)
+{
+    return parse_uint_max(name, text, out, min, 0xffffffffu);
 }
 
 static int parse_choice(const char *name, const char *text, const char *const *choices,
@@ -412,7 +425,7 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
     } else if (!strcmp(name, "--jacobi-iterations")) {
         return parse_uint(name, value, &o->jacobi_iterations, 1);
     } else if (!strcmp(name, "--threads")) {
-        return parse_uint(name, value, &o->threads, 0);
+        return parse_uint_max(name, value, &o->threads, 0, CLI_MAX_THREADS);
     } else if (!strcmp(name, "--jobs")) {
         return parse_uint(name, value, &o->jobs, 1);
     } else if (!strcmp(name, "--backend")) {
@@ -479,6 +492,7 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
         o->preview_exposure = (float)ev;
     } else if (!strcmp(name, "--frames")) o->frames = value;
     else if (!strcmp(name, "--stats")) o->stats_path = value;
+    else if (!strcmp(name, "--skip-existing")) o->skip_existing = 1;
     else if (!strcmp(name, "--compare")) o->compare = value;
     else if (!strcmp(name, "--progress")) {
         if (parse_choice(name, value, progress, 3, &choice) != 0) return -1;
@@ -588,6 +602,11 @@ int cli_parse_options(int argc, char **argv, cli_options *o)
     if (o->method == DDOF_METHOD_COD4_PREVIEW && (o->foreground || o->foreground_layer)) {
         fprintf(stderr, "ddof: --method cod4 takes no foreground element: the CoD4 preview "
                 "blurs one image (use --method diffusion with --foreground)\n");
+        return -1;
+    }
+    if (o->near_spread == DDOF_LAYER_ON && (o->foreground || o->foreground_layer)) {
+        fprintf(stderr, "ddof: --near-spread on works on one image: with a foreground element "
+                "the element is the near field (leave out --near-spread on)\n");
         return -1;
     }
     if (o->gl_plugin && o->backend == DDOF_BACKEND_CPU) {

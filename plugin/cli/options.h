@@ -85,6 +85,7 @@ typedef struct cli_options {
     const char *foreground_coc;   /* its CoC channel (with --coc-channel); NULL */
     int foreground_straight;      /* its colour is not premultiplied by alpha */
     uint32_t jobs;                /* frames in parallel; 0: automatic */
+    int skip_existing;            /* --skip-existing: resume a killed batch */
 
     /* output file */
     int pixel_type;               /* -1: as the input colour; else exrio_pixel_type */
@@ -100,6 +101,9 @@ typedef struct cli_options {
     int verbose;                  /* -v: the backend, renderer and plan of every frame */
     int list_only;                /* --list: print the layout and channels, no processing */
 } cli_options;
+
+/* --threads: ddof_context_create's limit on thread_count (ddof.h). */
+#define CLI_MAX_THREADS 1024u
 
 /* Exit statuses of the command (docs/cli.md). */
 #define CLI_EXIT_OK 0

@@ -1,8 +1,10 @@
 /* output_file.c - temporary file + rename, the clean-up thread for signals, path checks. */
 #include "output_file.h"
 
+#include <dirent.h>
 #include <errno.h>
 #include <fcntl.h>
+#include <stdio.h>
 #include <pthread.h>
 #include <signal.h>
 #include <stdint.h>
@@ -56,43 +58,81 @@ static void registry_remove(const char *path)
     }
 }
 
-static void *signal_main(void *arg)
+static const char *signal_name(int sig)
 {
-    sigset_t *set = arg;
-    int sig = 0;
-    int removed = 0;
+    switch (sig) {
+    case SIGINT: return "SIGINT";
+    case SIGTERM: return "SIGTERM";
+    case SIGHUP: return "SIGHUP";
+    default: return "SIGPIPE";
+    }
+}
+
+/* Removes every registered temporary file, says why on stderr (the signal, or the closed
+ * `stream`) and exits with 128 + sig. The lock is kept until _exit: no worker can create or
+ * rename a temporary file now. The caller must not hold registry_lock. */
+static void clean_up_and_exit(int sig, const char *stream)
+{
     registry_entry *e;
-    char message[128];
+    char message[256];
+    int removed = 0;
     int n;
 
-    while (sigwait(set, &sig) != 0)
-        ;
-    /* Keep the lock until _exit: no worker can create or rename a temporary file now. */
     pthread_mutex_lock(&registry_lock);
     for (e = registry; e; e = e->next)
         if (unlink(e->path) == 0)
             removed++;
-    n = snprintf(message, sizeof message,
-                 "\nddof: interrupted by %s: removed %d temporary file%s; no output was "
-                 "half-written\n",
-                 sig == SIGINT ? "SIGINT" : sig == SIGTERM ? "SIGTERM" : "SIGHUP", removed,
-                 removed == 1 ? "" : "s");
+    if (stream)
+        n = snprintf(message, sizeof message, "\nddof: %s is closed (broken pipe), stopping: "
+                     "removed %d temporary file%s; no output was half-written\n", stream,
+                     removed, removed == 1 ? "" : "s");
+    else
+        n = snprintf(message, sizeof message, "\nddof: interrupted by %s: removed %d temporary "
+                     "file%s; no output was half-written\n", signal_name(sig), removed,
+                     removed == 1 ? "" : "s");
     if (n > 0 && write(STDERR_FILENO, message, (size_t)n) < 0) {
         /* nothing more to say */
     }
     _exit(128 + sig);
 }
 
+/* What the clean-up thread waits for, and where sigwait puts the signal. Not on that thread's
+ * stack: the thread is cancelled inside sigwait at a normal exit, and AddressSanitizer's
+ * thread teardown then trips over the poisoned redzones of an address-taken local. */
+typedef struct signal_wait {
+    sigset_t set;
+    int sig;
+} signal_wait;
+
+static void *signal_main(void *arg)
+{
+    signal_wait *w = arg;
+    while (sigwait(&w->set, &w->sig) != 0)
+        ;
+    clean_up_and_exit(w->sig, NULL);
+    return NULL;
+}
+
+void output_broken_pipe(const char *stream)
+{
+    clean_up_and_exit(SIGPIPE, stream);
+}
+
 int output_signals_install(void)
 {
-    static sigset_t set;
-    sigemptyset(&set);
-    sigaddset(&set, SIGINT);
-    sigaddset(&set, SIGTERM);
-    sigaddset(&set, SIGHUP);
-    if (pthread_sigmask(SIG_BLOCK, &set, NULL) != 0)
+    static signal_wait waiting;
+    sigset_t *set = &waiting.set;
+    sigemptyset(set);
+    sigaddset(set, SIGINT);
+    sigaddset(set, SIGTERM);
+    sigaddset(set, SIGHUP);
+    /* A write to a closed pipe raises SIGPIPE in the writing thread, which sigwait in another
+     * thread never sees: blocked, it turns into EPIPE, and progress_print stops the run through
+     * output_broken_pipe. A SIGPIPE sent to the process is taken like SIGTERM. */
+    sigaddset(set, SIGPIPE);
+    if (pthread_sigmask(SIG_BLOCK, set, NULL) != 0)
         return -1;
-    if (pthread_create(&signal_thread, NULL, signal_main, &set) != 0)
+    if (pthread_create(&signal_thread, NULL, signal_main, &waiting) != 0)
         return -1;
     signal_thread_running = 1;
     return 0;
@@ -176,6 +216,8 @@ int output_file_begin(output_file *file, const char *path, char *error, size_t e
         snprintf(error, error_size, "output path '%s' names a directory, not a file", path);
         return -1;
     }
+    if (output_check_target(path, error, error_size) != 0)
+        return -1;
     dir = directory_of(path);
     if (!dir) {
         snprintf(error, error_size, "out of memory");
@@ -327,4 +369,95 @@ int output_same_file(const char *a, const char *b)
     if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
         return 0;
     return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
+int output_check_target(const char *path, char *error, size_t error_size)
+{
+    struct stat st;
+    const char *what;
+    if (lstat(path, &st) != 0)
+        return 0; /* a new path (or one begin reports a clearer error for) */
+    if (S_ISREG(st.st_mode))
+        return 0;
+    if (S_ISLNK(st.st_mode)) {
+        snprintf(error, error_size, "refusing to write %s: it is a symbolic link, and ddof does "
+                 "not follow links (the rename would replace the link, not write its target); "
+                 "give the target's path", path);
+        return -1;
+    }
+    if (S_ISDIR(st.st_mode)) {
+        snprintf(error, error_size, "output path '%s' names a directory, not a file", path);
+        return -1;
+    }
+    what = S_ISCHR(st.st_mode) || S_ISBLK(st.st_mode) ? "a device"
+           : S_ISFIFO(st.st_mode)                      ? "a FIFO"
+           : S_ISSOCK(st.st_mode)                      ? "a socket"
+                                                       : "not a regular file";
+    snprintf(error, error_size, "refusing to write %s: it is %s; ddof writes only regular files "
+             "(the rename would replace it)", path, what);
+    return -1;
+}
+
+/* The PID of a temporary file name ".NAME.ddof-PID-N.tmp", or 0 when it is not one. */
+static long temp_file_pid(const char *name)
+{
+    const char *tag = NULL, *p;
+    char *end;
+    long pid;
+    size_t n = strlen(name);
+    if (name[0] != '.' || n < 12 || strcmp(name + n - 4, ".tmp") != 0)
+        return 0;
+    for (p = strstr(name, ".ddof-"); p; p = strstr(p + 1, ".ddof-"))
+        tag = p;
+    if (!tag || tag == name)
+        return 0;
+    p = tag + 6;
+    if (*p < '0' || *p > '9')
+        return 0;
+    pid = strtol(p, &end, 10);
+    if (*end != '-' || end[1] < '0' || end[1] > '9')
+        return 0;
+    (void)strtoul(end + 1, &end, 10);
+    return strcmp(end, ".tmp") == 0 && pid > 0 ? pid : 0;
+}
+
+int output_remove_stale_temps(const char *path, char *note, size_t note_size)
+{
+    char *dir = directory_of(path);
+    DIR *d;
+    struct dirent *entry;
+    const long self = (long)getpid();
+    int removed = 0;
+    note[0] = '\0';
+    if (!dir)
+        return 0;
+    d = opendir(dir);
+    if (!d) {
+        free(dir);
+        return 0; /* a directory still to be made holds nothing stale */
+    }
+    while ((entry = readdir(d)) != NULL) {
+        const long pid = temp_file_pid(entry->d_name);
+        size_t size;
+        char *full;
+        /* Only a process that no longer exists: a live one (another ddof writing into the same
+         * directory) still owns its file. */
+        if (pid == 0 || pid == self || (pid_t)pid != pid || kill((pid_t)pid, 0) == 0 ||
+            errno != ESRCH)
+            continue;
+        size = strlen(dir) + strlen(entry->d_name) + 2;
+        full = malloc(size);
+        if (!full)
+            break;
+        snprintf(full, size, "%s/%s", dir, entry->d_name);
+        if (unlink(full) == 0) {
+            if (removed == 0)
+                snprintf(note, note_size, "%s", full);
+            removed++;
+        }
+        free(full);
+    }
+    closedir(d);
+    free(dir);
+    return removed;
 }

@@ -5,10 +5,17 @@
  * atomic) and renamed over the final path only once complete and flushed. A failure removes
  * the temporary file and leaves any previous output as it was.
  *
- * SIGINT, SIGTERM and SIGHUP are handled by a dedicated thread (sigwait) rather than an
- * asynchronous handler: it takes the registry lock, removes every registered temporary file
- * and exits with 128 + signal. Creating a temporary file and renaming it happen under the same
- * lock, so no temporary file can appear after the clean-up or survive it. */
+ * SIGINT, SIGTERM, SIGHUP and SIGPIPE are handled by a dedicated thread (sigwait) rather than
+ * an asynchronous handler: it takes the registry lock, removes every registered temporary file
+ * and exits with 128 + signal. A write to a closed standard output (EPIPE) ends the run the
+ * same way (output_broken_pipe). Creating a temporary file and renaming it happen under the same
+ * lock, so no temporary file can appear after the clean-up or survive it. A temporary file
+ * that does survive (SIGKILL, a power cut) is removed by the next run that writes into its
+ * directory, once the process that made it is gone (output_remove_stale_temps).
+ *
+ * Outputs are regular files only: an existing device, FIFO, socket, directory or symbolic
+ * link at an output path is refused (output_check_target), never replaced. Symbolic links are
+ * refused rather than followed so that a rename never lands somewhere the path does not say. */
 #ifndef DDOF_CLI_OUTPUT_FILE_H
 #define DDOF_CLI_OUTPUT_FILE_H
 
@@ -22,12 +29,24 @@ typedef struct output_file {
     FILE *stream; /* optional: set by output_file_stream() */
 } output_file;
 
-/* Blocks the three signals in the calling thread (threads created later inherit this) and
+/* Blocks the four signals in the calling thread (threads created later inherit this) and
  * starts the clean-up thread. Call at the start of main, before any other thread exists.
  * Returns 0 or -1. */
 int output_signals_install(void);
 /* Stops the clean-up thread (at normal exit). */
 void output_signals_shutdown(void);
+/* `stream` ("standard output") is a closed pipe: removes every temporary file, says so on
+ * stderr and exits with 128 + SIGPIPE. The caller must not be inside output_file_begin or
+ * _commit. */
+void output_broken_pipe(const char *stream);
+
+/* 0 when `path` is absent or a regular file; -1 with a message when it is a device, FIFO,
+ * socket, directory or symbolic link (output_file_begin checks it too). */
+int output_check_target(const char *path, char *error, size_t error_size);
+
+/* Removes the temporary files (".NAME.ddof-PID-N.tmp") of processes that no longer exist from
+ * the directory of `path`. Returns how many; note gets the first one's path. */
+int output_remove_stale_temps(const char *path, char *note, size_t note_size);
 
 /* Creates the registered temporary file for `path` (creating missing directories). Returns 0,
  * or -1 with a message that names the directory when it is not writable. */

@@ -1,6 +1,9 @@
 /* progress.c - the terminal progress bar. */
 #include "progress.h"
 
+#include "output_file.h"
+
+#include <errno.h>
 #include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
@@ -114,18 +117,26 @@ void progress_frame_done(progress *p, int slot)
     pthread_mutex_unlock(&p->lock);
 }
 
+/* A summary nobody reads any more (`ddof ... | head -1`) ends the run like SIGTERM: the rest
+ * of the batch would run unwatched and its report would be lost. */
+static void flush_or_stop(FILE *to)
+{
+    if (fflush(to) != 0 && errno == EPIPE)
+        output_broken_pipe(to == stderr ? "standard error" : "standard output");
+}
+
 void progress_print(progress *p, FILE *to, const char *text)
 {
     if (!p) {
         fputs(text, to);
-        fflush(to);
+        flush_or_stop(to);
         return;
     }
     pthread_mutex_lock(&p->lock);
     if (p->enabled)
         clear(p);
     fputs(text, to);
-    fflush(to);
+    flush_or_stop(to);
     if (p->enabled && p->done < p->total)
         draw(p);
     pthread_mutex_unlock(&p->lock);

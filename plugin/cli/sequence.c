@@ -77,6 +77,14 @@ static void report(shared_queue *q, int index)
         progress_print(q->bar, stderr, line);
         return;
     }
+    if (r->skipped) {
+        if (!q->setup->options->quiet) {
+            snprintf(line, sizeof line, "%s%s -> %s  skipped: complete and newer than its "
+                     "inputs (--skip-existing)\n", prefix, p->input, p->output);
+            progress_print(q->bar, stdout, line);
+        }
+        return;
+    }
     if (!q->setup->options->quiet) {
         stats_effects(&r->stats, effects, sizeof effects);
         ms(read, sizeof read, "read", r->seconds_read);

@@ -208,7 +208,9 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddNumberToObject(o, "frame", p->frame);
     cJSON_AddStringToObject(o, "input", p->input);
     cJSON_AddStringToObject(o, "output", p->output);
-    cJSON_AddStringToObject(o, "status", r->ok ? "ok" : "failed");
+    cJSON_AddStringToObject(o, "status", r->skipped ? "skipped" : r->ok ? "ok" : "failed");
+    if (r->skipped)
+        return o;
     if (!r->ok) {
         cJSON_AddStringToObject(o, "error", r->error);
         return o;

@@ -4,13 +4,14 @@
  *
  *   test_cli DDOF_BINARY CASE SCRATCH_DIR
  * CASE: values window refuse_same unwritable bad_inputs sequence interrupt sidecar options
- *       foreground backend */
+ *       foreground backend outputs pipe resume keep_parts */
 #include "exr_test_util.h"
 
 #include <ddof.h>
 
 #include <cJSON.h>
 #include <dlfcn.h>
+#include <openexr.h>
 #include <png.h>
 
 #include <errno.h>
@@ -21,6 +22,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <sys/sysmacros.h>
 #include <sys/wait.h>
 #include <time.h>
 #include <unistd.h>
@@ -80,6 +82,20 @@ static int out_contains(const char *what)
         fprintf(stderr, "  (stdout was: %s)\n", t);
     free(t);
     return found;
+}
+
+/* Waits (up to 60 s, valgrind is slow) for a temporary file in `where` that stays: seen on
+ * two polls 50 ms apart, since the up-front probe of an output directory
+ * (output_check_directory) is a temporary file too, for microseconds. */
+static void wait_for_temp(const char *where)
+{
+    int waited = 0, seen = 0;
+    while (seen < 2 && waited < 60000) {
+        struct timespec ts = {0, 50 * 1000000L};
+        seen = test_count_suffix(where, ".tmp") > 0 ? seen + 1 : 0;
+        nanosleep(&ts, NULL);
+        waited += 50;
+    }
 }
 
 /* ---- inputs ------------------------------------------------------------------------------- */
@@ -810,6 +826,347 @@ static int case_sequence(void)
     return test_finish("test_cli sequence");
 }
 
+/* Issue 14: an output path that is not a regular file is refused before the first frame, and
+ * never replaced: a FIFO, a symbolic link (not followed), a directory, a device (when the test
+ * may make one); for -o, --stats and --preview alike. A failed --stats write is not blamed on
+ * the frames. */
+static int case_outputs(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr");
+    const char *fifo = test_path(dir, "fifo");
+    const char *link = test_path(dir, "link.exr");
+    const char *target = test_path(dir, "target.exr");
+    const char *folder = test_path(dir, "folder.exr");
+    const char *device = test_path(dir, "null");
+    struct stat st;
+    int k, have_device;
+#define CAMERA "--focal-length", "50", "--fstop", "2", "--focus", "3"
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+    CHECK(mkfifo(fifo, 0666) == 0);
+    CHECK(symlink("target.exr", link) == 0);
+    CHECK(mkdir(folder, 0777) == 0);
+    /* A character device like /dev/null (1, 3) in the scratch folder, never the real one. */
+    have_device = mknod(device, S_IFCHR | 0666, makedev(1, 3)) == 0;
+    if (!have_device)
+        printf("test_cli outputs: cannot make a device node here (%s); that part skipped\n",
+               strerror(errno));
+
+    for (k = 0; k < 3; k++) {
+        /* -o, then --stats, then --preview at each non-file. */
+        const char *paths[4] = {fifo, link, folder, device};
+        const char *kinds[4] = {"it is a FIFO", "it is a symbolic link", "names a directory",
+                                "it is a device"};
+        int t;
+        for (t = 0; t < 4; t++) {
+            const char *o = k == 0 ? paths[t] : test_path(dir, "o.exr");
+            int rc;
+            if (t == 3 && !have_device)
+                continue;
+            unlink(test_path(dir, "o.exr"));
+            if (k == 0)
+                rc = ddof(in, "-o", o, CAMERA, NULL);
+            else if (k == 1)
+                rc = ddof(in, "-o", o, "--stats", paths[t], CAMERA, NULL);
+            else
+                rc = ddof(in, "-o", o, "--preview", paths[t], CAMERA, NULL);
+            CHECK_MSG(rc == 1, "option %d, path %s: exit %d", k, paths[t], rc);
+            CHECK_MSG(err_contains(kinds[t]), "option %d, path %s", k, paths[t]);
+            /* Before the first frame: nothing was computed or written. */
+            CHECK_MSG(!test_file_exists(test_path(dir, "o.exr")), "option %d, path %s", k,
+                      paths[t]);
+        }
+    }
+    CHECK(lstat(fifo, &st) == 0 && S_ISFIFO(st.st_mode));
+    CHECK(lstat(link, &st) == 0 && S_ISLNK(st.st_mode));
+    CHECK(!test_file_exists(target));
+    CHECK(lstat(folder, &st) == 0 && S_ISDIR(st.st_mode));
+    if (have_device)
+        CHECK(lstat(device, &st) == 0 && S_ISCHR(st.st_mode));
+    CHECK(test_count_suffix(dir, ".tmp") == 0);
+
+    /* Every frame's outputs are checked up front, not only the first one's. */
+    {
+        char name[64];
+        int f;
+        for (f = 1; f <= 3; f++) {
+            snprintf(name, sizeof name, "seq_%04d.exr", f);
+            write_scene(test_path(dir, name), &s, 0);
+        }
+        mkdir(test_path(dir, "seqout"), 0777);
+        CHECK(mkfifo(test_path(dir, "seqout/o_0003.exr"), 0666) == 0);
+        CHECK(ddof(test_path(dir, "seq_####.exr"), "-o", test_path(dir, "seqout/o_####.exr"),
+                   "--frames", "1-3", CAMERA, NULL) == 1);
+        CHECK(err_contains("o_0003.exr: it is a FIFO"));
+        CHECK(!test_file_exists(test_path(dir, "seqout/o_0001.exr")));
+    }
+
+    /* A --stats write that fails after the frames: its own message, exit 1, no frame blamed.
+     * The directory appears while the frames run (DDOF_TEST_HOLD_TEMP_MS holds the commit). */
+    {
+        pid_t pid;
+        int status = 0;
+        const char *late = test_path(dir, "late.json");
+        unlink(test_path(dir, "o.exr"));
+        fflush(stdout);
+        pid = fork();
+        if (pid == 0) {
+            char *argv[] = {(char *)ddof_bin, (char *)in, "-o", (char *)test_path(dir, "o.exr"),
+                            "--stats", (char *)late, CAMERA, NULL};
+            FILE *err = freopen(test_path(dir, "run.err"), "w", stderr);
+            (void)err;
+            setenv("DDOF_TEST_HOLD_TEMP_MS", "1500", 1);
+            execv(argv[0], argv);
+            _exit(127);
+        }
+        wait_for_temp(dir);
+        CHECK(mkdir(late, 0777) == 0);
+        waitpid(pid, &status, 0);
+        CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 1, "status %d", status);
+        CHECK(err_contains("--stats: ") && err_contains("names a directory"));
+        {
+            char *e = err_text();
+            CHECK_MSG(strstr(e, "frames failed") == NULL && strstr(e, "failed frame") == NULL,
+                      "the frames were blamed: %s", e);
+            free(e);
+        }
+        CHECK(test_file_exists(test_path(dir, "o.exr")));
+    }
+#undef CAMERA
+    return test_finish("test_cli outputs");
+}
+
+/* Runs ddof with stdout a pipe whose reading end is already closed (`ddof ... | true`);
+ * stderr goes to run.err. Returns the raw wait status. */
+static int run_into_closed_pipe(char *const *argv)
+{
+    int fds[2], status = 0;
+    pid_t pid;
+    if (pipe(fds) != 0)
+        return -1;
+    close(fds[0]);
+    fflush(stdout);
+    pid = fork();
+    if (pid == 0) {
+        FILE *err = freopen(test_path(dir, "run.err"), "w", stderr);
+        (void)err;
+        dup2(fds[1], STDOUT_FILENO);
+        close(fds[1]);
+        execv(argv[0], argv);
+        _exit(127);
+    }
+    close(fds[1]);
+    while (waitpid(pid, &status, 0) < 0 && errno == EINTR)
+        ;
+    return status;
+}
+
+/* Issue 14: a closed stdout ends the batch like SIGTERM: a message, the temporary files
+ * removed, exit 141, not a silent death by SIGPIPE. */
+static int case_pipe(void)
+{
+    static scene s;
+    char name[64];
+    int f, status, jobs;
+    for (f = 1; f <= 6; f++) {
+        snprintf(name, sizeof name, "r_%04d.exr", f);
+        make_scene(&s, f);
+        write_scene(test_path(dir, name), &s, 0);
+    }
+    for (jobs = 1; jobs <= 2; jobs++) {
+        char *argv[] = {(char *)ddof_bin, (char *)test_path(dir, "r_####.exr"), "-o",
+                        (char *)test_path(dir, "o/o_####.exr"), "--frames", "1-6",
+                        "--focal-length", "50", "--fstop", "2", "--focus", "3", "--jobs",
+                        jobs == 1 ? "1" : "2", NULL};
+        status = run_into_closed_pipe(argv);
+        CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 141,
+                  "--jobs %d: %s %d", jobs, WIFSIGNALED(status) ? "killed by signal" : "exit",
+                  WIFSIGNALED(status) ? WTERMSIG(status) : WEXITSTATUS(status));
+        CHECK(err_contains("standard output is closed"));
+        CHECK(test_count_suffix(test_path(dir, "o"), ".tmp") == 0);
+    }
+    /* A SIGPIPE sent to the process is SIGTERM's twin. */
+    {
+        pid_t pid;
+        mkdir(test_path(dir, "out"), 0777);
+        fflush(stdout);
+        pid = fork();
+        if (pid == 0) {
+            char *argv[] = {(char *)ddof_bin, (char *)test_path(dir, "r_0001.exr"), "-o",
+                            (char *)test_path(dir, "out/out.exr"), "--focal-length", "50",
+                            "--fstop", "2", "--focus", "3", NULL};
+            FILE *err = freopen(test_path(dir, "run.err"), "w", stderr);
+            (void)err;
+            setenv("DDOF_TEST_HOLD_TEMP_MS", "30000", 1);
+            execv(argv[0], argv);
+            _exit(127);
+        }
+        wait_for_temp(test_path(dir, "out"));
+        kill(pid, SIGPIPE);
+        waitpid(pid, &status, 0);
+        CHECK_MSG(WIFEXITED(status) && WEXITSTATUS(status) == 141, "status %d", status);
+        CHECK(err_contains("interrupted by SIGPIPE") && err_contains("removed 1 temporary file"));
+        CHECK(test_count_suffix(test_path(dir, "out"), ".tmp") == 0);
+    }
+    return test_finish("test_cli pipe");
+}
+
+/* Issue 14: a batch killed with SIGKILL leaves a temporary file; the next run removes it (its
+ * process is gone) and, with --skip-existing, redoes only the frames that are missing or
+ * older than their inputs. */
+static int case_resume(void)
+{
+    static scene s;
+    char name[64];
+    const char *out = test_path(dir, "out");
+    struct stat before, after;
+    int f;
+    pid_t pid;
+    int status = 0;
+#define SEQ test_path(dir, "in_####.exr"), "-o", test_path(dir, "out/o_####.exr"), "--frames", \
+            "1-4", "--focal-length", "50", "--fstop", "2", "--focus", "3", "--jobs", "1"
+    for (f = 1; f <= 4; f++) {
+        snprintf(name, sizeof name, "in_%04d.exr", f);
+        make_scene(&s, f);
+        write_scene(test_path(dir, name), &s, 0);
+    }
+    mkdir(out, 0777);
+    /* Frames 1 and 2 done, then SIGKILL while frame 3's file waits for its rename. */
+    CHECK(ddof(test_path(dir, "in_####.exr"), "-o", test_path(dir, "out/o_####.exr"),
+               "--frames", "1-2", "--focal-length", "50", "--fstop", "2", "--focus", "3",
+               NULL) == 0);
+    fflush(stdout);
+    pid = fork();
+    if (pid == 0) {
+        char *argv[] = {(char *)ddof_bin, (char *)test_path(dir, "in_0003.exr"), "-o",
+                        (char *)test_path(dir, "out/o_0003.exr"), "--focal-length", "50",
+                        "--fstop", "2", "--focus", "3", NULL};
+        FILE *err = freopen(test_path(dir, "run.err"), "w", stderr);
+        (void)err;
+        setenv("DDOF_TEST_HOLD_TEMP_MS", "30000", 1);
+        execv(argv[0], argv);
+        _exit(127);
+    }
+    wait_for_temp(out);
+    kill(pid, SIGKILL);
+    waitpid(pid, &status, 0);
+    CHECK(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+    CHECK_MSG(test_count_suffix(out, ".tmp") == 1, "SIGKILL should leave the temporary file");
+    CHECK(!test_file_exists(test_path(dir, "out/o_0003.exr")));
+
+    /* Frame 2's input changes after its output was written: redone; frame 1: skipped. */
+    CHECK(stat(test_path(dir, "out/o_0001.exr"), &before) == 0);
+    {
+        struct timespec ts = {0, 20 * 1000000L};
+        nanosleep(&ts, NULL);
+        make_scene(&s, 7);
+        write_scene(test_path(dir, "in_0002.exr"), &s, 0);
+    }
+    CHECK(ddof(SEQ, "--skip-existing", "--stats", test_path(dir, "stats.json"), NULL) == 0);
+    CHECK(err_contains("removed 1 temporary file left by an earlier run"));
+    CHECK(test_count_suffix(out, ".tmp") == 0);
+    CHECK(out_contains("frame 1: ") && out_contains("skipped: complete and newer"));
+    CHECK(out_contains("3 frames written, 1 skipped"));
+    CHECK(stat(test_path(dir, "out/o_0001.exr"), &after) == 0);
+    CHECK_MSG(before.st_mtim.tv_sec == after.st_mtim.tv_sec &&
+                  before.st_mtim.tv_nsec == after.st_mtim.tv_nsec && before.st_ino == after.st_ino,
+              "frame 1 was rewritten");
+    for (f = 2; f <= 4; f++) {
+        snprintf(name, sizeof name, "out/o_%04d.exr", f);
+        CHECK_MSG(test_file_exists(test_path(dir, name)), "%s", name);
+    }
+    {
+        char *status_text = NULL;
+        char *text = test_read_file(test_path(dir, "stats.json"), NULL);
+        cJSON *root = text ? cJSON_Parse(text) : NULL;
+        const cJSON *frames = cJSON_GetObjectItem(root, "frames");
+        status_text = cJSON_GetStringValue(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, 0),
+                                                               "status"));
+        CHECK(status_text && !strcmp(status_text, "skipped"));
+        status_text = cJSON_GetStringValue(cJSON_GetObjectItem(cJSON_GetArrayItem(frames, 1),
+                                                               "status"));
+        CHECK(status_text && !strcmp(status_text, "ok"));
+        cJSON_Delete(root);
+        free(text);
+    }
+    /* A not-EXR at an output path is not "complete": redone. */
+    test_write_file(test_path(dir, "out/o_0004.exr"), "junk", 4);
+    CHECK(ddof(SEQ, "--skip-existing", NULL) == 0);
+    CHECK(out_contains("1 frame written, 3 skipped"));
+    /* A live process's temporary file is left alone (PID 1 always exists). */
+    test_write_file(test_path(dir, "out/.o_0001.exr.ddof-1-1.tmp"), "", 0);
+    CHECK(ddof(SEQ, "--skip-existing", NULL) == 0);
+    CHECK(test_file_exists(test_path(dir, "out/.o_0001.exr.ddof-1-1.tmp")));
+    unlink(test_path(dir, "out/.o_0001.exr.ddof-1-1.tmp"));
+#undef SEQ
+    return test_finish("test_cli resume");
+}
+
+/* Two parts of W x H: "beauty" (R, G, B, A, Z of the scene) and "extra" (one channel Y). */
+static void write_two_parts(const char *path, const scene *sc)
+{
+    static const char *const beauty[5] = {"A", "B", "G", "R", "Z"}; /* sorted, as EXR stores */
+    const float *planes[5] = {sc->rgba[3], sc->rgba[2], sc->rgba[1], sc->rgba[0], sc->z};
+    exr_context_t ctxt = NULL;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    int a = 0, b = 0, c, p;
+    CHECK(exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init) == 0);
+    exr_add_part(ctxt, "beauty", EXR_STORAGE_SCANLINE, &a);
+    exr_initialize_required_attr_simple(ctxt, a, W, H, EXR_COMPRESSION_NONE);
+    for (c = 0; c < 5; c++)
+        exr_add_channel(ctxt, a, beauty[c], EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+    exr_add_part(ctxt, "extra", EXR_STORAGE_SCANLINE, &b);
+    exr_initialize_required_attr_simple(ctxt, b, W, H, EXR_COMPRESSION_NONE);
+    exr_add_channel(ctxt, b, "Y", EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+    CHECK(exr_write_header(ctxt) == 0);
+    for (p = 0; p < 2; p++) {
+        exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+        exr_chunk_info_t cinfo;
+        int y;
+        for (y = 0; y < H; y++) {
+            exr_write_scanline_chunk_info(ctxt, p, y, &cinfo);
+            if (y == 0)
+                exr_encoding_initialize(ctxt, p, &cinfo, &enc);
+            else
+                exr_encoding_update(ctxt, p, &cinfo, &enc);
+            for (c = 0; c < enc.channel_count; c++) {
+                const float *plane = p ? sc->coc : planes[c];
+                enc.channels[c].encode_from_ptr = (const uint8_t *)(plane + (size_t)y * W);
+                enc.channels[c].user_pixel_stride = 4;
+                enc.channels[c].user_line_stride = W * 4;
+                enc.channels[c].user_bytes_per_element = 4;
+                enc.channels[c].user_data_type = EXR_PIXEL_FLOAT;
+            }
+            if (y == 0)
+                exr_encoding_choose_default_routines(ctxt, p, &enc);
+            CHECK(exr_encoding_run(ctxt, p, &enc) == 0);
+        }
+        exr_encoding_destroy(ctxt, &enc);
+    }
+    CHECK(exr_finish(&ctxt) == 0);
+}
+
+/* Issue 14: --keep on a multipart input would drop the other parts: refused up front, with the
+ * reason; without --keep-channels the part is diffused as before. */
+static int case_keep_parts(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "two.exr");
+    make_scene(&s, 0);
+    write_two_parts(in, &s);
+#define CAMERA "--focal-length", "50", "--fstop", "2", "--focus", "3"
+    CHECK(ddof(in, "-o", test_path(dir, "k.exr"), "--keep", CAMERA, NULL) == 2);
+    CHECK(err_contains("has 2 parts") && err_contains("drop the other parts"));
+    CHECK(!test_file_exists(test_path(dir, "k.exr")));
+    CHECK(ddof(in, "-o", test_path(dir, "k.exr"), "--keep-channels", CAMERA, NULL) == 2);
+    CHECK(ddof(in, "-o", test_path(dir, "m.exr"), "--keep-metadata", CAMERA, NULL) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "p.exr"), CAMERA, NULL) == 0);
+    CHECK(test_file_exists(test_path(dir, "p.exr")));
+#undef CAMERA
+    return test_finish("test_cli keep_parts");
+}
+
 /* SIGINT and SIGTERM while a finished temporary file waits for its rename (held there by the
  * DDOF_TEST_HOLD_TEMP_MS hook): the file is removed and the exit status says so. */
 static int case_interrupt(void)
@@ -822,7 +1179,7 @@ static int case_interrupt(void)
     mkdir(test_path(dir, "out"), 0777);
     for (k = 0; k < 2; k++) {
         pid_t pid;
-        int status = 0, waited = 0;
+        int status = 0;
         fflush(stdout);
         pid = fork();
         if (pid == 0) {
@@ -835,12 +1192,7 @@ static int case_interrupt(void)
             execv(argv[0], argv);
             _exit(127);
         }
-        /* Wait (up to 60 s, valgrind is slow) for the temporary file. */
-        while (test_count_suffix(test_path(dir, "out"), ".tmp") == 0 && waited < 60000) {
-            struct timespec ts = {0, 10 * 1000000L};
-            nanosleep(&ts, NULL);
-            waited += 10;
-        }
+        wait_for_temp(test_path(dir, "out"));
         CHECK_MSG(test_count_suffix(test_path(dir, "out"), ".tmp") == 1,
                   "no temporary file appeared");
         kill(pid, sigs[k]);
@@ -924,6 +1276,51 @@ static int case_sidecar(void)
     CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", test_path(dir, "none.json"),
                NULL) == 2);
     CHECK(err_contains("cannot open camera file"));
+
+    /* Issue 14: a pixel aspect the diffusion cannot take is exit 2 before the first frame,
+     * with the sidecar's own value (not the float each frame would convert it to). */
+#define SIDECAR_ASPECT(value)                                                                    "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","      \
+    " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32], \"pixel_aspect\": " \
+    value "}"
+    BAD_JSON(SIDECAR_ASPECT("1e-300"), "pixel_aspect 1e-300 must be within 0.01..100");
+    BAD_JSON(SIDECAR_ASPECT("5e-324"), "pixel_aspect 4.94065646e-324 must be within 0.01..100");
+    BAD_JSON(SIDECAR_ASPECT("1e300"), "pixel_aspect 1e+300 must be within 0.01..100");
+    BAD_JSON(SIDECAR_ASPECT("1e20"), "pixel_aspect 1e+20 must be within 0.01..100");
+    {
+        const char *edge = SIDECAR_ASPECT("100");
+        test_write_file(json, edge, strlen(edge));
+        CHECK(ddof(in, "-o", test_path(dir, "edge.exr"), "--camera", json, NULL) == 0);
+    }
+    /* Issue 14: trailing data, a duplicate key, deep nesting: refused with the byte offset. */
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1} trailing", "data after the end of the JSON value at byte 147");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"fstop\": 8}", "duplicate key \"fstop\" at byte 147 (first at "
+             "byte 69)");
+    {
+        /* 1e5 brackets: said to be too deep where they become so, not "invalid at 1000". */
+        const size_t n = 100000;
+        char *deep = malloc(2 * n + 1);
+        memset(deep, '[', n);
+        memset(deep + n, ']', n);
+        deep[2 * n] = '\0';
+        test_write_file(json, deep, 2 * n);
+        CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json, NULL) == 2);
+        CHECK(err_contains("nested deeper than 32 levels at byte 32"));
+        free(deep);
+    }
+    /* Brackets and repeated names inside strings are text, not structure. */
+    {
+        const char *ok = "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"note\": "
+                         "\"[[{ \\\"fstop\\\": 1, \", \"sensor_fit\": \"AUTO\", \"fstop\": 2,"
+                         " \"focus_distance_m\": 3, \"resolution\": [48, 32], \"pixel_aspect\": 1,"
+                         " \"extra\": {\"fstop\": 4}}";
+        test_write_file(json, ok, strlen(ok));
+        CHECK(ddof(in, "-o", test_path(dir, "ok.exr"), "--camera", json, NULL) == 0);
+    }
+#undef SIDECAR_ASPECT
     return test_finish("test_cli sidecar");
 }
 
@@ -1001,6 +1398,40 @@ static int case_options(void)
                       "%s", solvers[k]);
     }
     CHECK(ddof("--list", in, NULL) == 0 && out_contains("ddof uses: colour R, G, B, A; depth Z"));
+    /* Issue 14: out-of-range values are usage errors that name the option and the limit. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--threads", "100000", NULL) == 2 &&
+          err_contains("--threads wants a whole number within 0..1024"));
+    CHECK(ddof(in, "-o", test_path(dir, "o_####.exr"), "--frames", "2147483647",
+               "--focal-length", "50", "--fstop", "2", "--focus", "3", NULL) == 2 &&
+          err_contains("at most 99999999"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "1e20", NULL) == 2 &&
+          err_contains("pixel_aspect 1e+20 must be within 0.01..100"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "100.001", NULL) == 2);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "0.01", NULL) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--beta-scale", "2", NULL) == 2 &&
+          err_contains("params.beta_scale 2 must be > 0 and at most 1"));
+    {
+        /* A CoC just above the limit is printed as itself, not rounded to the limit. */
+        static scene big;
+        make_scene(&big, 0);
+        big.coc[7] = 100000.01f;
+        write_scene(test_path(dir, "bigcoc.exr"), &big, 1);
+        CHECK(ddof(test_path(dir, "bigcoc.exr"), "-o", test_path(dir, "o.exr"), "--coc-channel",
+                   "C", NULL) == 1 && err_contains("is 100000.008; it must be finite, within "
+                                                   "0..100000 px"));
+    }
+    /* A forced near spread: fine with the camera's signed CoC; refused with a foreground
+     * element, which is the near field. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-spread", "on", NULL) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-spread", "on", "--foreground-layer", "F", NULL) == 2 &&
+          err_contains("--near-spread on works on one image"));
     CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
     return test_finish("test_cli options");
 }
@@ -1330,6 +1761,10 @@ int main(int argc, char **argv)
     if (!strcmp(which, "options")) return case_options();
     if (!strcmp(which, "foreground")) return case_foreground();
     if (!strcmp(which, "backend")) return case_backend();
+    if (!strcmp(which, "outputs")) return case_outputs();
+    if (!strcmp(which, "pipe")) return case_pipe();
+    if (!strcmp(which, "resume")) return case_resume();
+    if (!strcmp(which, "keep_parts")) return case_keep_parts();
     fprintf(stderr, "test_cli: unknown case %s\n", which);
     return 2;
 }
