@@ -15,7 +15,7 @@
 #include "adi.h"
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 1
+#define DDOF_BACKEND_ABI 2
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */
