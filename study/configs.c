@@ -4,7 +4,8 @@
  * one-factor-at-a-time sweeps of each knob around it, and the cross product of the knobs that
  * interact most (sub-steps x beta calibration k x layers) on the CPU Thomas solver. Every
  * configuration has an id that names all its settings and parses back ("cpu/thomas/f32/n4/
- * k0.03125/auto"), so report.py can ask ddof-study for the image of any configuration. */
+ * k0.03125/auto"; a disc kernel, which has no sub-steps or k, "cpu/thomas/f32/disc-2x2/auto"),
+ * so report.py can ask ddof-study for the image of any configuration. */
 #include "study.h"
 
 #include <math.h>
@@ -47,6 +48,12 @@ void study_config_make_id(study_config *cfg)
         snprintf(solver, sizeof solver, "jacobi%u", cfg->jacobi_iterations);
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
+    if (cfg->kernel != DDOF_KERNEL_HEAT) { /* a disc has no sub-steps or k */
+        snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/%s/%s", ddof_backend_name(cfg->backend),
+                 solver, precision_token(cfg), ddof_kernel_name(cfg->kernel),
+                 study_layers_name(cfg->layers));
+        return;
+    }
     snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/n%u/k%.6g/%s", ddof_backend_name(cfg->backend),
              solver, precision_token(cfg), cfg->substeps, (double)cfg->beta_scale,
              study_layers_name(cfg->layers));
@@ -81,6 +88,17 @@ int study_config_parse(const char *id, study_config *out)
         if (!slash)
             break;
         *slash = '\0';
+    }
+    if (n == 5) { /* a disc kernel in place of "n../k..": parts 0-2, kernel, layers */
+        for (int k = 1; k < DDOF_KERNEL_COUNT_; k++)
+            if (!strcmp(parts[3], ddof_kernel_name((ddof_kernel)k)))
+                out->kernel = (ddof_kernel)k;
+        if (out->kernel == DDOF_KERNEL_HEAT)
+            return -1;
+        parts[5] = parts[4];
+        parts[4] = "k0.03125";
+        parts[3] = "n1";
+        n = 6;
     }
     if (n != 6)
         return -1;
@@ -170,6 +188,11 @@ void study_config_label(const study_config *cfg, char *out, size_t size)
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
     k_text(cfg->beta_scale, k, sizeof k);
+    if (cfg->kernel != DDOF_KERNEL_HEAT) {
+        snprintf(out, size, "%s %s %s %s", ddof_backend_name(cfg->backend), solver,
+                 ddof_kernel_name(cfg->kernel), study_layers_name(cfg->layers));
+        return;
+    }
     snprintf(out, size, "%s %s%s n=%u k=%s %s", ddof_backend_name(cfg->backend), solver,
              cfg->precision == DDOF_PRECISION_PACKED_HALF ? " half" : "", cfg->substeps, k,
              study_layers_name(cfg->layers));
@@ -310,6 +333,18 @@ static int add_full(study_config_list *list)
                 rc |= study_config_add(list, &c, "cross");
             }
 
+    /* The disc kernels (CPU Thomas), with each layer setting. */
+    static const study_layers l_disc[] = {LAYERS_SINGLE, LAYERS_BG, LAYERS_BGNEAR, LAYERS_AUTO,
+                                          LAYERS_FG};
+    for (int k = 1; k < DDOF_KERNEL_COUNT_; k++)
+        for (size_t l = 0; l < sizeof l_disc / sizeof *l_disc; l++) {
+            c = base;
+            c.kernel = (ddof_kernel)k;
+            c.substeps = 1;
+            c.layers = l_disc[l];
+            rc |= study_config_add(list, &c, "kernel");
+        }
+
     rc |= add_baseline(list, "pinhole");
     rc |= add_baseline(list, "cod4");
     rc |= add_baseline(list, "gather");
@@ -323,7 +358,11 @@ int study_config_named(study_config_list *list, const char *name)
         return add_full(list);
     if (!strcmp(name, "smoke")) {
         const study_config base = base_config();
-        return study_config_add(list, &base, "base") | add_baseline(list, "pinhole");
+        study_config disc = base;
+        disc.kernel = DDOF_KERNEL_DISC_2X2;
+        disc.substeps = 1;
+        return study_config_add(list, &base, "base") | study_config_add(list, &disc, "kernel") |
+               add_baseline(list, "pinhole");
     }
     if (!strcmp(name, "baselines"))
         return add_baseline(list, "pinhole") | add_baseline(list, "cod4") |
@@ -365,6 +404,7 @@ void study_config_params(const study_config *cfg, int fg_element, ddof_params *p
     p->beta_scale = cfg->beta_scale;
     p->jacobi_iterations = cfg->jacobi_iterations;
     p->precision = cfg->precision;
+    p->kernel = cfg->kernel;
     p->coc_signed = 1;
     p->pixel_aspect = 1.0f;
     p->background_levels = 1;

@@ -476,6 +476,7 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         cJSON_AddNumberToObject(r, "substeps", cfg->substeps);
         cJSON_AddNumberToObject(r, "beta_scale", (double)cfg->beta_scale);
         cJSON_AddStringToObject(r, "layers", study_layers_name(cfg->layers));
+        cJSON_AddStringToObject(r, "kernel", ddof_kernel_name(cfg->kernel));
         cJSON_AddStringToObject(r, "background", layer_mode_name(p.background));
         cJSON_AddNumberToObject(r, "background_levels", p.background_levels);
         cJSON_AddStringToObject(r, "near_spread", layer_mode_name(p.near_spread));

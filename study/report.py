@@ -60,6 +60,11 @@ SOLVER_C = {"thomas": "DDOF_SOLVER_THOMAS", "cr": "DDOF_SOLVER_CYCLIC_REDUCTION"
             "pcr": "DDOF_SOLVER_PCR", "jacobi": "DDOF_SOLVER_JACOBI",
             "reference": "DDOF_SOLVER_REFERENCE_F64", "gruen": "DDOF_SOLVER_GRUEN"}
 LAYER_C = {"on": "DDOF_LAYER_ON", "off": "DDOF_LAYER_OFF", "auto": "DDOF_LAYER_AUTO"}
+# Sub-steps and k a disc preset carries for the heat kernel (which the disc ignores): the heat
+# default the study chose before the disc kernel existed (n = 2, k = 1/24).
+HEAT_FALLBACK = (2, 1.0 / 24)
+KERNEL_C = {"heat": "DDOF_KERNEL_HEAT", "disc-2x2": "DDOF_KERNEL_DISC_2X2",
+            "disc-2x3": "DDOF_KERNEL_DISC_2X3", "disc-3x3": "DDOF_KERNEL_DISC_3X3"}
 
 LAYERS_TEXT = {
     "single": "single layer (background off, near spread off)",
@@ -153,6 +158,7 @@ class Config:
         self.substeps = first.get("substeps")
         self.k = first.get("beta_scale")
         self.layers = first.get("layers", "")
+        self.kernel = first.get("kernel", "heat")
         blurred = study.blurred
         self.available = all(per_scene.get(s, {}).get("available") for s in study.scene_order
                              if s in per_scene) and all(s in per_scene for s in blurred)
@@ -216,10 +222,10 @@ class Config:
         f = self.first
         if self.kind == "cod4":
             return ("DDOF_METHOD_COD4_PREVIEW", "DDOF_SOLVER_THOMAS", 1, 1.0 / 32,
-                    "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO")
+                    "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO", "DDOF_KERNEL_HEAT")
         return ("DDOF_METHOD_DIFFUSION", SOLVER_C[self.solver], int(self.substeps),
                 float(self.k), LAYER_C[f["background"]], int(f["background_levels"]),
-                LAYER_C[f["near_spread"]])
+                LAYER_C[f["near_spread"]], KERNEL_C[self.kernel])
 
 
 def k_text(k):
@@ -283,7 +289,8 @@ def write_presets(path, chosen, study, smoke):
         % (m.get("date_utc", "?")[:10], m.get("cpu", "?"), m.get("cores", "?")),
         " * Regenerate with: bash study/run.sh%s" % ("  (THIS IS A SMOKE RUN)" if smoke else ""),
         " * Fields: method, solver, substeps, beta_scale, background, background_levels, "
-        "near_spread */",
+        "near_spread,",
+        " * kernel */",
     ]
     for name in PRESET_ORDER:
         s = chosen[name].settings_c()
@@ -291,8 +298,12 @@ def write_presets(path, chosen, study, smoke):
             # The fields the CoD4 preview ignores keep the default preset's values, so that
             # `--preset preview --method diffusion` is the default diffusion.
             s = (s[0],) + chosen["default"].settings_c()[1:]
-        lines.append("{%s, %s, %d, %sf, %s, %d, %s}, /* %s */"
-                     % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], name))
+        if s[7] != "DDOF_KERNEL_HEAT":
+            # A disc ignores sub-steps and k: keep HEAT_FALLBACK's, so that `--kernel heat` on
+            # top of the preset is a sensible heat diffusion.
+            s = s[:2] + HEAT_FALLBACK + s[4:]
+        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s}, /* %s */"
+                     % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], s[7], name))
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write("\n".join(lines) + "\n")
@@ -315,6 +326,7 @@ FAMILY_STYLE = [  # (test, label, colour, marker)
     (lambda c: c.solver == "jacobi", "Jacobi (approximate)", "tab:red", "v"),
     (lambda c: c.solver in ("cr", "pcr", "reference"), "CR / PCR / double reference",
      "tab:brown", "s"),
+    (lambda c: c.kernel != "heat", "CPU Thomas, disc kernel", "tab:cyan", "h"),
     (lambda c: c.layers in ("fg", "fgpin"), "+ foreground element (separate render)",
      "tab:olive", "P"),
     (lambda c: c.kind == "diffusion", "CPU Thomas: sub-steps x k x layers", "tab:blue", "o"),
@@ -400,7 +412,7 @@ def solver_plot(study, path):
     for c in study.configs:
         if c.kind != "diffusion" or not c.available or math.isnan(c.cost):
             continue
-        if (c.substeps, k_text(c.k), c.layers) != (4, "1/32", "auto"):
+        if (c.substeps, k_text(c.k), c.layers, c.kernel) != (4, "1/32", "auto", "heat"):
             continue
         if c.solver == "reference" or math.isnan(c.ref_max):
             continue
@@ -435,7 +447,8 @@ def k_plot(study, path):
     for n, colour in zip((1, 2, 4, 8), ("tab:red", "tab:orange", "tab:blue", "tab:green")):
         pts = sorted((c.k, c.accuracy) for c in study.configs
                      if c.kind == "diffusion" and c.backend == "cpu" and c.solver == "thomas"
-                     and c.layers == "auto" and c.substeps == n and not math.isnan(c.accuracy))
+                     and c.layers == "auto" and c.substeps == n and c.kernel == "heat"
+                     and not math.isnan(c.accuracy))
         if len(pts) < 2:
             continue
         any_line = True
@@ -594,6 +607,8 @@ def config_name(c):
         return BASELINE_NAMES.get(c.id, c.id)
     solver = c.solver + ("%d" % c.jacobi if c.solver == "jacobi" else "")
     prec = {"packed half": " half", "double": " (double)"}.get(c.precision, "")
+    if c.kernel != "heat":
+        return "%s %s%s, %s, %s" % (c.backend, solver, prec, c.kernel, c.layers)
     return "%s %s%s, n=%s, k=%s, %s" % (c.backend, solver, prec, c.substeps, k_text(c.k),
                                          c.layers)
 
@@ -730,7 +745,7 @@ def findings(study):
     for n in (1, 2, 4, 8):
         cs = [c for c in study.configs if c.kind == "diffusion" and c.backend == "cpu" and
               c.solver == "thomas" and c.layers == "auto" and c.substeps == n and
-              c.available and not math.isnan(c.accuracy)]
+              c.kernel == "heat" and c.available and not math.isnan(c.accuracy)]
         if len(cs) > 2:
             b = max(cs, key=lambda c: c.accuracy)
             m = next((c for c in cs if k_text(c.k) == "1/32"), None)
@@ -949,7 +964,11 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
                      % (fmt(pin.image_mean), fmt(pin.band_mean), fmt(pin.accuracy)))
         L.append("")
         d = chosen["default"]
-        if d.kind == "diffusion":
+        if d.kind == "diffusion" and d.kernel != "heat":
+            L.append("The default preset draws discs (kernel %s), which have no sub-steps or k; "
+                     "it carries n = %d, k = %s for the heat kernel (`--kernel heat`)."
+                     % (d.kernel, HEAT_FALLBACK[0], k_text(HEAT_FALLBACK[1])))
+        elif d.kind == "diffusion":
             L.append("Default k: **%s** (%.6g), the default preset's." % (k_text(d.k), d.k))
         L.append("")
         L.append("Written to `libddof/src/presets_measured.inc`, which `ddof_params_init_preset` "

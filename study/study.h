@@ -49,6 +49,7 @@ typedef struct study_config {
     uint32_t substeps;
     float beta_scale;
     study_layers layers;
+    ddof_kernel kernel;       /* heat (the ids above) or a disc: "cpu/thomas/f32/disc-2x2/auto" */
 } study_config;
 
 typedef struct study_config_list {

@@ -60,8 +60,8 @@ inc = os.path.join(out, "presets_measured.inc")
 check(os.path.isfile(inc), "presets file %s" % inc)
 if os.path.isfile(inc):
     entry = re.compile(r"^\{DDOF_METHOD_[A-Z0-9_]+, DDOF_SOLVER_[A-Z0-9_]+, \d+, [0-9.e+-]+f, "
-                       r"DDOF_LAYER_(AUTO|ON|OFF), \d+, DDOF_LAYER_(AUTO|ON|OFF)\}, "
-                       r"/\* (preview|default|final) \*/$")
+                       r"DDOF_LAYER_(AUTO|ON|OFF), \d+, DDOF_LAYER_(AUTO|ON|OFF), "
+                       r"DDOF_KERNEL_(HEAT|DISC_\dX\d)\}, /\* (preview|default|final) \*/$")
     lines = [line for line in open(inc).read().splitlines() if line.startswith("{")]
     check(len(lines) == 3 and all(entry.match(line) for line in lines),
           "three preset entries in the format of libddof/src/presets_measured.inc")
@@ -74,11 +74,11 @@ report = open(os.path.join(root, "docs", "accuracy.md")).read()
 check("Written by study/report.py" in committed and "SMOKE" not in committed,
       "libddof/src/presets_measured.inc was written by a full study run")
 for line in committed.splitlines():
-    m = re.match(r"^\{(DDOF_METHOD_\w+), (DDOF_SOLVER_\w+), (\d+), ([0-9.e+-]+)f, .*/\* (\w+) \*/$",
-                 line)
+    m = re.match(r"^\{(DDOF_METHOD_\w+), (DDOF_SOLVER_\w+), (\d+), ([0-9.e+-]+)f, .*"
+                 r"(DDOF_KERNEL_\w+)\}, /\* (\w+) \*/$", line)
     if not m:
         continue
-    method, solver, substeps, k, name = m.groups()
+    method, solver, substeps, k, kernel, name = m.groups()
     row = re.search(r"^\| \*\*%s\*\* \| ([^|]+) \|" % name, report, re.M)
     if not row:
         check(False, "docs/accuracy.md has a row for the %s preset" % name)
@@ -86,11 +86,15 @@ for line in committed.splitlines():
     settings = row.group(1).strip()
     if method == "DDOF_METHOD_COD4_PREVIEW":
         ok = settings == "CoD4 preview"
+    elif kernel != "DDOF_KERNEL_HEAT":
+        want = kernel[len("DDOF_KERNEL_"):].lower().replace("_", "-")
+        s = re.match(r"cpu (\w+), ([\w-]+), ", settings)
+        ok = bool(s) and s.group(2) == want
     else:
         s = re.match(r"cpu (\w+), n=(\d+), k=1/(\d+), ", settings)
         ok = bool(s) and s.group(2) == substeps and abs(1.0 / int(s.group(3)) - float(k)) < 1e-6
-    check(ok, "the %s preset (%s, %s, n=%s, k=%s) is the one docs/accuracy.md reports (%s)"
-          % (name, method, solver, substeps, k, settings))
+    check(ok, "the %s preset (%s, %s, n=%s, k=%s, %s) is the one docs/accuracy.md reports (%s)"
+          % (name, method, solver, substeps, k, kernel, settings))
 
 if failures:
     print("%d check(s) failed" % len(failures))
