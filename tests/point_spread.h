@@ -1,8 +1,11 @@
 /* point_spread.h - what a kernel draws around one bright pixel, measured against the disc a lens
  * draws: shared by test_disc_kernel.c (which asserts it) and ddof-bench (which prints it).
  *
- * One pixel of value 1 in the middle of a black w x w image (w = 3 d + 9, odd, so the kernel's
- * tails stay inside the insulated borders), uniform CoC d, one ddof_diffuse call. Kernel SNR is
+ * One pixel of value 1 in the middle of a w x w image (w = 3 d + 9, odd, so the kernel's tails
+ * stay inside the insulated borders) on a pedestal of 0.001, uniform CoC d, one ddof_diffuse call;
+ * the output minus the pedestal is the kernel. (The disc kernels clamp their output to the
+ * input's range, which on black would cut the kernel's negative ring: so the top-left pixel is
+ * an in-focus 0, which widens the range, is left as it is and takes no part.) Kernel SNR is
  * -20 log10(|K - D| / |D|) with D the anti-aliased uniform disc of diameter d (8 x 8 samples a
  * pixel) and both normalised to unit sum. */
 #ifndef DDOF_POINT_SPREAD_H
@@ -12,6 +15,8 @@
 
 #include <math.h>
 #include <stdlib.h>
+
+#define POINT_SPREAD_PEDESTAL 0.001 /* small: float keeps the kernel's digits on it */
 
 typedef struct point_spread {
     ddof_status status;
@@ -45,14 +50,18 @@ static inline point_spread point_spread_measure(ddof_context *ctx, const ddof_pa
     const uint32_t w = point_spread_size(d);
     const int c = (int)w / 2;
     const size_t n = (size_t)w * w;
-    float *color = calloc(n, sizeof *color), *coc = malloc(n * sizeof *coc);
+    float *color = malloc(n * sizeof *color), *coc = malloc(n * sizeof *coc);
     float *out = malloc(n * sizeof *out);
     double *disc = malloc(n * sizeof *disc);
     if (!color || !coc || !out || !disc)
         goto done;
-    for (size_t i = 0; i < n; i++)
+    for (size_t i = 0; i < n; i++) {
         coc[i] = d;
-    color[(size_t)c * w + (size_t)c] = 1.0f;
+        color[i] = POINT_SPREAD_PEDESTAL;
+    }
+    color[(size_t)c * w + (size_t)c] += 1.0f;
+    color[0] = 0.0f;
+    coc[0] = 0.0f;
     ddof_image_in ci = {color, w, w, 1, 0}, zi = {coc, w, w, 1, 0};
     ddof_image oi = {out, w, w, 1, 0};
     r.status = ddof_diffuse(ctx, params, &ci, &zi, &oi, NULL);
@@ -65,8 +74,9 @@ static inline point_spread point_spread_measure(ddof_context *ctx, const ddof_pa
             disc_sum += disc[(size_t)y * w + x];
         }
     double err2 = 0, ref2 = 0, lowest = 0;
+    out[0] = (float)POINT_SPREAD_PEDESTAL; /* the range-widening pixel: no part of the kernel */
     for (size_t i = 0; i < n; i++) {
-        const double k = out[i], dd = disc[i] / disc_sum;
+        const double k = (double)out[i] - POINT_SPREAD_PEDESTAL, dd = disc[i] / disc_sum;
         r.energy += k;
         height = dd > height ? dd : height;
         lowest = k < lowest ? k : lowest;
@@ -74,7 +84,7 @@ static inline point_spread point_spread_measure(ddof_context *ctx, const ddof_pa
         ref2 += dd * dd;
     }
     for (size_t i = 0; i < n; i++) {
-        const double e = fabs(out[i] - disc[i] / disc_sum) / height;
+        const double e = fabs((double)out[i] - POINT_SPREAD_PEDESTAL - disc[i] / disc_sum) / height;
         r.max_abs_err = e > r.max_abs_err ? e : r.max_abs_err;
     }
     /* The kernel's own sum is ~1; normalising it too would hide an energy error in the SNR. */

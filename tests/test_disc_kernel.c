@@ -62,6 +62,28 @@ static void test_point_spread(ddof_context *ctx)
                       ddof_kernel_name(p.kernel), (double)sizes[i], ps.snr_db);
         }
     }
+    /* On black the ring would be negative light: the output stays within the input's range
+     * (>= 0), which adds the clipped ring's share of energy (printed). */
+    {
+        const uint32_t w = point_spread_size(32.0f);
+        test_image im = image_alloc(w, w, 1);
+        fill_const(im.color, im.n, 0.0f);
+        fill_const(im.coc, im.px, 32.0f);
+        im.color[(size_t)(w / 2) * w + w / 2] = 1000.0f;
+        CHECK_EQ_INT(image_diffuse(ctx, &def, &im, NULL), DDOF_OK);
+        double lowest = 0, energy = 0;
+        for (size_t i = 0; i < im.n; i++) {
+            lowest = fmin(lowest, im.out[i]);
+            energy += im.out[i];
+        }
+        if (verbose)
+            printf("HDR point of 1000 on black: energy %.4f x, lowest %g\n", energy / 1000.0,
+                   lowest);
+        CHECK_MSG(lowest == 0.0, "negative output %g next to an HDR highlight", lowest);
+        CHECK_MSG(energy / 1000.0 >= 1.0 && energy / 1000.0 <= 1.1, "energy %g x", energy / 1e3);
+        image_free(&im);
+    }
+
     /* The heat kernel, for the record: far from a disc. */
     ddof_params heat;
     heat_params_init(&heat);

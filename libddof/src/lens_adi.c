@@ -9,6 +9,11 @@
  * of the Z_c themselves would round it). One complex image is alive at a time (2 x the colour).
  * Heat capacities (the layers) work as in adi.c: the input is read as 0 where gamma is 0, and a
  * run that holds no heat keeps the values it had.
+ * The disc's edge rings (its real part dips below 0 just outside the rim, by up to ~10% of its
+ * height, and overshoots a little inside): the result is clamped to the range of the input it
+ * read, per channel, as the heat kernel's convex combinations are by construction. Next to an
+ * HDR highlight the ring would otherwise be negative light; against any truth within that
+ * range the clamp only ever reduces the error, and it keeps alpha within [0, 1].
  */
 #include "adi.h"
 
@@ -29,6 +34,7 @@ typedef struct lens_thread {
     unsigned char *singular; /* [n][L]                                            */
     uint64_t lines_solved;
     float max_coc;
+    float lo[4], hi[4];      /* the range of the input it read, per channel       */
 } lens_thread;
 
 typedef struct lens_job {
@@ -41,6 +47,7 @@ typedef struct lens_job {
     size_t t_stride;      /* floats per row of it: whole batches of columns      */
     float aspect2;        /* column links are scaled by pixel_aspect^2           */
     lens_thread *threads;
+    float lo[4], hi[4];   /* the input's range per channel: the output is kept in it */
 } lens_job;
 
 static size_t align16(size_t floats)
@@ -123,6 +130,14 @@ static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_ind
     rows_in(ts->x, src_rows, n, C);
     if (r->gamma)
         mask_batch(ts->x, ts->gamma, n, L * C, C);
+    if (job->component == 0)
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t l = 0; l < lanes; l++)
+                for (uint32_t c = 0; c < C; c++) {
+                    const float v = ts->x[((size_t)i * L + l) * C + c];
+                    ts->lo[c] = ddof_minf(ts->lo[c], v);
+                    ts->hi[c] = ddof_maxf(ts->hi[c], v);
+                }
     if (any_active)
         solve_chain(job, ts, n, ts->x, NULL, (size_t)L * C);
 
@@ -169,7 +184,7 @@ static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_
         solve_chain(job, ts, n, t_re, t_im, job->t_stride);
 
     const float mr = job->k->mix[job->component][0], mi = job->k->mix[job->component][1];
-    const int first = job->component == 0;
+    const int first = job->component == 0, last = job->component + 1 == job->k->components;
     for (uint32_t i = 0; i < n; i++) {
         const float *src = job->src + (size_t)i * job->src_stride + (size_t)x0 * C;
         const float *g = r->gamma ? r->gamma + (size_t)i * r->gamma_stride +
@@ -187,7 +202,8 @@ static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_
                 const float dr = (active[l] ? ar[k] : zr[k]) - x;
                 const float di = active[l] ? ai[k] : zi[k];
                 const float change = mr * dr - mi * di;
-                out[k] = first ? x + change : out[k] + change;
+                const float v = first ? x + change : out[k] + change;
+                out[k] = last ? ddof_minf(ddof_maxf(v, job->lo[c]), job->hi[c]) : v;
             }
         }
     }
@@ -253,6 +269,10 @@ ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_repor
                                  .gamma = base + 3 * lane_floats + coef_floats,
                                  .solver = after_coef,
                                  .singular = (unsigned char *)(after_coef + solver_floats)};
+        for (uint32_t c = 0; c < 4; c++) {
+            state[t].lo[c] = INFINITY;
+            state[t].hi[c] = -INFINITY;
+        }
         if (!r->gamma)
             for (size_t i = 0; i < (size_t)n_max * L; i++)
                 state[t].gamma[i] = 1.0f;
@@ -280,10 +300,11 @@ ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_repor
     lens_progress progress = {r, 0, 2 * k->components};
     thread_progress_fn progress_fn = r->progress ? lens_pass_progress : NULL;
     const uint32_t row_batches = (H + L - 1) / L;
+    float range_lo[4] = {0}, range_hi[4] = {0};
     ddof_status status = DDOF_OK;
     for (uint32_t c = 0; c < k->components && status == DDOF_OK; c++) {
         lens_job job = {r, k, c, src, src_stride, t_re, t_im, t_stride,
-                        r->pixel_aspect * r->pixel_aspect, state};
+                        r->pixel_aspect * r->pixel_aspect, state, {0}, {0}};
         const double t0 = ddof_seconds();
         progress.pass = 2 * c;
         if (thread_pool_run(context->pool, row_batches, lens_row_batch, &job, progress_fn,
@@ -291,6 +312,17 @@ ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_repor
             status = DDOF_ERROR_CANCELLED;
             break;
         }
+        if (c == 0) /* the input's range, which the output is clamped to */
+            for (uint32_t ch = 0; ch < C; ch++) {
+                range_lo[ch] = INFINITY;
+                range_hi[ch] = -INFINITY;
+                for (uint32_t t = 0; t < threads; t++) {
+                    range_lo[ch] = ddof_minf(range_lo[ch], state[t].lo[ch]);
+                    range_hi[ch] = ddof_maxf(range_hi[ch], state[t].hi[ch]);
+                }
+            }
+        memcpy(job.lo, range_lo, sizeof range_lo);
+        memcpy(job.hi, range_hi, sizeof range_hi);
         const double t1 = ddof_seconds();
         progress.pass = 2 * c + 1;
         if (thread_pool_run(context->pool, column_batches, lens_column_batch, &job, progress_fn,

@@ -1,8 +1,8 @@
 /* lens_reference_f64.c - the disc kernel in double precision: what lens_adi.c is measured
  * against. Deliberately independent of it: complex doubles, the whole image per component, the
  * textbook Thomas algorithm on the unnormalised system of each step, the components summed as
- * sum_c Re(mix_c Z_c) (not as changes), no batching, skipping or threading. Links, singular runs and
- * masked input mean what they mean in lens_adi.c. */
+ * sum_c Re(mix_c Z_c) (not as changes), no batching, skipping or threading. Links, singular runs,
+ * masked input and the clamp to the input's range mean what they mean in lens_adi.c. */
 #include "adi.h"
 
 #include "disc_kernel.h"
@@ -156,9 +156,22 @@ ddof_status ddof_lens_reference(ddof_context *context, const adi_request *r, adi
         for (uint32_t x = 0; x < w; x++)
             report->max_coc = fmaxf(report->max_coc, (float)coc_abs(r, x, y));
     if (status == DDOF_OK) {
+        /* Clamped to the range of the input as read (masked), per channel, as lens_adi.c does. */
+        double lo[4] = {INFINITY, INFINITY, INFINITY, INFINITY};
+        double hi[4] = {-INFINITY, -INFINITY, -INFINITY, -INFINITY};
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                for (uint32_t ch = 0; ch < C; ch++) {
+                    const double v = gamma_at(r, x, y) > 0.0
+                                         ? r->color[(size_t)y * r->color_stride + (size_t)x * C + ch]
+                                         : 0.0;
+                    lo[ch] = fmin(lo[ch], v);
+                    hi[ch] = fmax(hi[ch], v);
+                }
         for (uint32_t y = 0; y < h; y++)
             for (size_t i = 0; i < (size_t)w * C; i++)
-                r->out[(size_t)y * r->out_stride + i] = (float)sum[(size_t)y * w * C + i];
+                r->out[(size_t)y * r->out_stride + i] =
+                    (float)fmin(fmax(sum[(size_t)y * w * C + i], lo[i % C]), hi[i % C]);
         if (r->progress)
             r->progress(r->progress_user, 1.0f);
     } else if (r->out != r->color) {

@@ -5,16 +5,20 @@
  * time at 2 px, one thread's time over two threads'. Each time is the median of --reps runs
  * after one warm-up. Absolute milliseconds are printed too (as *_ms) for the notes.
  *
- *   ddof-bench [--size WxH] [--reps N] [--solver NAME|layers|all]
+ *   ddof-bench [--size WxH] [--reps N] [--solver NAME|layers|disc|all]
  *              [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]
  *
  * With a GL backend (docs/gl-backend.md) it prints the renderer, and per solver the time at the
  * scene's CoC, the CoC 200 / 2 px ratio and device_bytes_per_mp (the GPU memory a call's buffers
  * took, per megapixel); thread ratios are skipped (the GPU does not use the context's threads).
+ * --solver disc: the disc kernels (CPU): time vs memcpy and vs one heat step, CoC 200 / 2,
+ * threads, the layered frame, and the point spread at CoC 12, 32 and 80 px (kernel SNR
+ * against a uniform disc, energy, the most negative value over the disc's height).
  * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is found as
  * ddof_context_set_backend says (DDOF_GL_PLUGIN, beside libddof.so, ...) unless --plugin names it.
  */
 #include "ddof.h"
+#include "point_spread.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -70,9 +74,10 @@ typedef struct run_config {
     int layered;
     ddof_layer_mode background;
     int foreground;
+    ddof_kernel kernel;
 } run_config;
 
-static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0};
+static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT};
 
 /* Median seconds of one call; exits on error (a benchmark has nothing to hide). */
 static double time_config(const bench *b, ddof_context *context, ddof_solver solver,
@@ -80,9 +85,11 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
 {
     ddof_params params;
     ddof_params_init(&params);
-    /* One ADI step, the unit every figure here is about (a preset's sub-steps multiply it),
-     * so the figures stay comparable when the study changes the presets. */
+    /* One ADI step of the heat kernel, the unit every figure here is about (a preset's
+     * sub-steps multiply it), so the figures stay comparable when the study changes the
+     * presets; the disc figures name their kernel. */
     params.substeps = 1;
+    params.kernel = config.kernel;
     params.solver = solver;
     params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
     params.background = config.background;
@@ -179,6 +186,52 @@ static void make_scene(bench *b)
         }
 }
 
+/* The disc kernels (CPU Thomas): their cost against memcpy and the heat step, CoC 200 / 2,
+ * threads, the layered default frame, and the point spread against the disc a lens draws. */
+static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddof_context *all,
+                       double memcpy_s)
+{
+    const double heat = time_diffuse(b, all, DDOF_SOLVER_THOMAS, b->coc_scene);
+    for (int k = 1; k < DDOF_KERNEL_COUNT_; k++) {
+        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k};
+        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k};
+        char name[32];
+        snprintf(name, sizeof name, "%s", ddof_kernel_name((ddof_kernel)k));
+        name[4] = '_'; /* disc_2x2: one token */
+        const double scene = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
+        const double coc2 = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_2, disc);
+        const double coc200 = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, disc);
+        const double t1 = time_config(b, one, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
+        const double t2 = time_config(b, two, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
+        const double frame = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, layered);
+        printf("%s_single_layer_ms %.3f\n", name, 1e3 * scene);
+        printf("%s_vs_memcpy %.3f\n", name, scene / memcpy_s);
+        printf("%s_vs_heat_step %.3f\n", name, scene / heat);
+        printf("%s_coc200_vs_coc2 %.3f\n", name, coc200 / coc2);
+        printf("%s_threads2_vs_threads1 %.3f\n", name, t1 / t2);
+        printf("%s_layers_auto_ms %.3f\n", name, 1e3 * frame);
+        ddof_params params;
+        ddof_params_init(&params);
+        params.kernel = (ddof_kernel)k;
+        const float sizes[] = {12.0f, 32.0f, 80.0f};
+        for (int i = 0; i < 3; i++) {
+            const point_spread ps = point_spread_measure(all, &params, sizes[i]);
+            printf("%s_psf_coc%.0f_snr_db %.2f\n", name, (double)sizes[i], ps.snr_db);
+            printf("%s_psf_coc%.0f_energy %.6f\n", name, (double)sizes[i], ps.energy);
+            printf("%s_psf_coc%.0f_most_negative %.4f\n", name, (double)sizes[i], ps.ring);
+        }
+        fflush(stdout);
+    }
+    ddof_params heat_params;
+    ddof_params_init(&heat_params);
+    heat_params.kernel = DDOF_KERNEL_HEAT;
+    for (int n = 1; n <= 8; n *= 2) {
+        heat_params.substeps = (uint32_t)n;
+        const point_spread ps = point_spread_measure(all, &heat_params, 32.0f);
+        printf("heat_n%d_psf_coc32_snr_db %.2f\n", n, ps.snr_db);
+    }
+}
+
 static int parse_size(const char *s, uint32_t *w, uint32_t *h)
 {
     unsigned a, c;
@@ -221,7 +274,7 @@ int main(int argc, char **argv)
             }
         } else {
             fprintf(stderr,
-                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|layers|all]\n"
+                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|layers|disc|all]\n"
                     "                  [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]\n"
                     "Prints `name value` lines: times as ratios measured in this run.\n");
             return 2;
@@ -284,9 +337,9 @@ int main(int argc, char **argv)
     }
     if (!strcmp(only, "all") || !strcmp(only, "layers")) {
         /* Layers and the planner, Thomas, all threads. */
-        const run_config background = {1, DDOF_LAYER_ON, 0};
-        const run_config three = {1, DDOF_LAYER_ON, 1};
-        const run_config planned = {1, DDOF_LAYER_AUTO, 0};
+        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT};
+        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT};
+        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT};
         const double single = time_diffuse(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene);
         const double bg = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, background);
         const double layers3 = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, three);
@@ -309,6 +362,8 @@ int main(int argc, char **argv)
         printf("half_sharp_vs_all_blurred %.3f\n", half / blurred);
         printf("half_sharp_background_forced_vs_planned %.3f\n", half_forced / half);
     }
+    if (!on_gl && (!strcmp(only, "all") || !strcmp(only, "disc")))
+        bench_disc(&b, one, two, all, memcpy_s);
     ddof_context_free(one);
     ddof_context_free(two);
     ddof_context_free(all);
