@@ -300,14 +300,16 @@ typedef enum ddof_method {
 /* The shape of the blur a diffusion draws around a point (its point spread).
  * HEAT is the paper's real diffusion: `substeps` implicit steps of k d^2 per axis, a soft blob
  * with long tails (a diamond at one step, a Gaussian at many); cheap, the reference.
- * The DISC kernels draw the disc a real lens (and Cycles) draws: complex implicit steps whose
- * real part sums to a uniform disc of diameter |CoC| (docs/design.md; the tables are fitted by
- * study/lens/fit_disc_kernel.py). Still one tridiagonal solve per line and term, so the cost
- * per pixel does not depend on the CoC, in-focus pixels stay bit for bit, nothing crosses
- * them, and flat regions stay flat; the output is not a convex combination any more: a disc's
- * edge rings slightly (measured in docs/accuracy.md), and values outside the input's range
- * are possible next to strong highlights. C x M in the name: components x resolvents per axis;
- * a disc costs 2 C M complex line solves per pixel. They ignore substeps and beta_scale (the
+ * The DISC kernels draw the disc a real lens (and Cycles) draws: chains of complex implicit
+ * steps whose real parts sum to an approximately uniform disc of diameter |CoC|
+ * (docs/disc-kernel.md; the tables are fitted by study/lens/fit_disc_kernel.py). Still one
+ * tridiagonal solve per line and step, so the cost per pixel does not depend on the CoC,
+ * in-focus pixels stay bit for bit, nothing crosses them, flat regions stay flat and the
+ * energy is kept. The output is not a convex combination any more: the disc's rim rings
+ * (about -7% of its height for disc-2x2, measured in tests/test_disc_kernel.c), so the result
+ * is clamped to the input's range per channel (no negative light next to a highlight; that
+ * clamp adds up to ~6% to an isolated highlight's energy on black). C x M in the name:
+ * components x chained steps per axis; a disc costs 2 C M complex line solves per pixel. They ignore substeps and beta_scale (the
  * disc's diameter is |CoC|). They run with DDOF_SOLVER_THOMAS or DDOF_SOLVER_REFERENCE_F64 on
  * the CPU backend; with any other solver, or on a GL backend, a call runs the heat kernel
  * instead, and ddof_stats.kernel reports the kernel that ran. */
@@ -464,9 +466,10 @@ typedef struct ddof_stats {
  *    negative CoC without coc_signed: DDOF_ERROR_BAD_COC. Sizes, strides, channels: as their status codes say.
  *    In each case out is untouched and ddof_context_last_error() names the first bad pixel.
  *  - A pixel with CoC 0 is left exactly unchanged and nothing diffuses across it.
- *  - Output is a convex combination of the input along each row then each column: it never
- *    leaves the input's range, and each row sum is conserved by the row pass (and each column
- *    sum by the column pass). */
+ *  - With the heat kernel the output is a convex combination of the input along each row then
+ *    each column: it never leaves the input's range, and each row sum is conserved by the row
+ *    pass (and each column sum by the column pass). A disc kernel keeps the sums and is clamped
+ *    to the input's range (see ddof_kernel). */
 DDOF_API ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
                                   const ddof_image_in *color, const ddof_image_in *coc,
                                   const ddof_image *out, ddof_stats *stats);
