@@ -8,8 +8,8 @@ from . import binding
 
 # Quality presets are the library's (ddof_params_init_preset): their values are chosen by the
 # accuracy study from measured data, so the add-on holds none of its own. Quality -> the name of
-# the library preset; CUSTOM starts from the default preset with the sub-steps and background
-# levels below.
+# the library preset; CUSTOM starts from the default preset with the heat kernel (the one the
+# sub-steps are for) and the sub-steps and background levels below.
 QUALITY_PRESETS = {"PREVIEW": "preview", "DEFAULT": "default", "FINAL": "final"}
 
 # Expert overrides: "PRESET" keeps the preset's value. Enum items carry explicit numbers (Blender
@@ -46,8 +46,8 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
         items=[("PREVIEW", "Preview", "The library's preview preset: fastest"),
                ("DEFAULT", "Default", "The library's default preset"),
                ("FINAL", "Final", "The library's final preset: closest to a lens"),
-               ("CUSTOM", "Custom", "The default preset with the sub-steps and background "
-                                    "levels set below")],
+               ("CUSTOM", "Custom", "The default preset with the heat kernel (soft blur) and "
+                                    "the sub-steps and background levels set below")],
         default="DEFAULT",
         description="The library's presets (ddof_params_init_preset), measured by its accuracy "
                     "study; the Expert settings override them")
@@ -177,6 +177,7 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
         """The ddof_params fields these settings override on top of preset_name()'s."""
         params = {}
         if self.quality == "CUSTOM":
+            params["kernel"] = "heat"  # a disc kernel has no sub-steps
             params["substeps"] = self.substeps
             params["background_levels"] = self.background_levels
         for key in ("method", "solver", "background", "near_spread"):

@@ -143,7 +143,8 @@ for round_ in (1, 2):
                  s.library_backend() == "cpu", "default overrides: %r" % s.library_params())
     s.solver, s.background, s.method, s.quality = "pcr", "OFF", "diffusion", "CUSTOM"
     checks.check(s.library_params() == {"solver": "pcr", "background": "OFF",
-                                        "method": "diffusion", "substeps": s.substeps,
+                                        "method": "diffusion", "kernel": "heat",
+                                        "substeps": s.substeps,
                                         "background_levels": s.background_levels},
                  "overrides: %r" % s.library_params())
     s.solver = s.background = s.method = "PRESET"
