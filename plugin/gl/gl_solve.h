@@ -32,6 +32,22 @@ typedef struct gl_pass {
 ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
                        char *message, size_t message_size);
 
+/* What analyse.comp finds over both directions: the conductive lines and the largest CoC; with
+ * heat capacities it also marks the singular runs in FLAGS. */
+typedef struct gl_analysis {
+    uint32_t rows, columns;
+    float max_coc;
+} gl_analysis;
+
+/* Runs program `id` (analyse.comp, heat or disc links) on rows and columns; 0 with a sentence
+ * in message on failure. */
+int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
+               const gl_pass *rows, const gl_pass *columns, gl_analysis *result, char *message,
+               size_t message_size);
+
+/* A monotonic clock in seconds (the report's pass times). */
+double gl_seconds(void);
+
 /* Solves every line of a pass with d->solver; 0 with a sentence in message on failure. */
 int gl_solve_pass(ddof_device *device, const gl_diffusion *d, const gl_pass *pass,
                   char *message, size_t message_size);
