@@ -19,6 +19,7 @@ typedef struct gl_diffusion {
     int has_gamma;
     ddof_progress_fn progress;
     void *progress_user;
+    const struct disc_kernel *disc; /* NULL: the heat kernel (gl_diffuse); else gl_lens_diffuse */
 } gl_diffusion;
 
 /* One pass direction over the working image. */
@@ -31,6 +32,11 @@ typedef struct gl_pass {
 
 ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
                        char *message, size_t message_size);
+
+/* The disc kernel (d->disc, Thomas only) on the same packed images, the result again in
+ * IMAGE_A (gl_lens.c). */
+ddof_status gl_lens_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
+                            char *message, size_t message_size);
 
 /* What analyse.comp finds over both directions: the conductive lines and the largest CoC; with
  * heat capacities it also marks the singular runs in FLAGS. */
