@@ -68,6 +68,11 @@ typedef const ddof_backend_table *(*ddof_backend_entry_fn)(void);
  * everything else on the loaded device. */
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
 
+/* Whether the disc kernel runs with this solver on the context's backend: on the CPU with
+ * Thomas (lens_adi.c), on a device whose table says so with Thomas, and with REFERENCE_F64
+ * everywhere (the core runs the reference itself). */
+int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver);
+
 /* DDOF_OK when the context's backend can run this solver/precision, else a failure recorded
  * in the context (before any output is written). */
 ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
