@@ -32,15 +32,28 @@ uint pixel(uint line, uint i)
     return line * u_across + i * u_along;
 }
 
-// Link i -> i+1: k * min(|d_i|, |d_i+1|)^2, flushed to 0 below FLT_MIN (ddof_link_beta);
-// 0 past either end (insulated borders). `precise` keeps (k m) m from being reassociated.
+// The link between two pixels: k * min(|d_a|, |d_b|)^2, flushed to 0 below FLT_MIN
+// (ddof_link_beta). The disc kernel's programs define LENS_MIN_LINK and get its real link
+// instead: min^2 times the axis' scale, 0 below that floor (lens_adi.c, lens_link), with the
+// CPU's order of operations. `precise` keeps the products from being reassociated.
+float conductance(float coc_a, float coc_b)
+{
+    float m = min(coc_a, coc_b);
+#ifdef LENS_MIN_LINK
+    precise float b = (m * m) * u_scale;
+    return b >= LENS_MIN_LINK ? b : 0.0;
+#else
+    precise float b = (u_scale * m) * m;
+    return b >= FLT_MIN ? b : 0.0;
+#endif
+}
+
+// Link i -> i+1; 0 past either end (insulated borders).
 float link_beta(uint line, int i)
 {
     if (i < 0 || uint(i) + 1u >= u_n)
         return 0.0;
-    float m = min(coc[pixel(line, uint(i))], coc[pixel(line, uint(i) + 1u)]);
-    precise float b = (u_scale * m) * m;
-    return b >= FLT_MIN ? b : 0.0;
+    return conductance(coc[pixel(line, uint(i))], coc[pixel(line, uint(i) + 1u)]);
 }
 
 float heat_at(uint p)

@@ -309,13 +309,14 @@ typedef enum ddof_method {
  * (about -7% of its height for disc-2x2, measured in tests/test_disc_kernel.c), so the result
  * is clamped to the input's range per channel (no negative light next to a highlight; that
  * clamp adds up to ~6% to an isolated highlight's energy on black). C x M in the name:
- * components x chained steps per axis; a disc costs 2 C M complex line solves per pixel. They ignore substeps and beta_scale (the
- * disc's diameter is |CoC|). They run with DDOF_SOLVER_THOMAS or DDOF_SOLVER_REFERENCE_F64 on
- * the CPU backend; with any other solver, or on a GL backend, a call runs the heat kernel
- * instead, and ddof_stats.kernel reports the kernel that ran. */
+ * components x chained steps per axis; a disc costs 2 C M complex line solves per pixel.
+ * They ignore substeps and beta_scale (the disc's diameter is |CoC|). They run with
+ * DDOF_SOLVER_THOMAS on the CPU and on the GL backends (docs/gl-backend.md), and with
+ * DDOF_SOLVER_REFERENCE_F64 (on the CPU, whatever the backend); with any other solver a call
+ * runs the heat kernel instead, and ddof_stats.kernel reports the kernel that ran. */
 typedef enum ddof_kernel {
     DDOF_KERNEL_HEAT = 0,     /* real diffusion                                               */
-    DDOF_KERNEL_DISC_2X2 = 1, /* 2 components x 2 terms: 8 complex solves per pixel           */
+    DDOF_KERNEL_DISC_2X2 = 1, /* 2 components x 2 steps: 8 complex solves per pixel           */
     DDOF_KERNEL_DISC_2X3 = 2, /* 2 x 3: 12                                                   */
     DDOF_KERNEL_DISC_3X3 = 3, /* 3 x 3: 18; the closest disc                                 */
     DDOF_KERNEL_COUNT_        /* not a kernel                                                 */
@@ -449,8 +450,9 @@ typedef struct ddof_stats {
                                /* the largest call, reused by later ones), besides the images */
 
     /* --- version 0.4 of this struct ------------------------------------------------------- */
-    uint32_t kernel;           /* the ddof_kernel that ran (lines_solved counts each of a     */
-                               /* disc's complex solves)                                      */
+    uint32_t kernel;           /* the ddof_kernel that ran: the heat kernel where the         */
+                               /* solver has no disc form (ddof_kernel); lines_solved         */
+                               /* counts each of a disc's complex solves, on any backend      */
 } ddof_stats;
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels

@@ -72,7 +72,7 @@ static void *load_plugin(const char *plugin_path, const ddof_backend_table **tab
     void *symbol = dlsym(handle, DDOF_BACKEND_ENTRY_SYMBOL);
     memcpy(&entry, &symbol, sizeof entry); /* ISO C has no object-to-function cast */
     const ddof_backend_table *t = symbol ? entry() : NULL;
-    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size < sizeof *t) {
+    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size < DDOF_BACKEND_TABLE_MIN_SIZE) {
         snprintf(message, size,
                  "the GL plugin found is not built for this libddof (backend ABI %u, wanted %u)",
                  t ? t->abi : 0u, DDOF_BACKEND_ABI);
@@ -155,6 +155,22 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
     return DDOF_OK;
 }
 
+/* The device's supports_disc, or 0 where its table ends before it. */
+static int device_runs_disc(const ddof_backend_state *b)
+{
+    const ddof_backend_table *t = b->table;
+    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
+           t->supports_disc && t->supports_disc(b->device);
+}
+
+int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver)
+{
+    const ddof_backend_state *b = &context->backend;
+    if (solver == DDOF_SOLVER_REFERENCE_F64)
+        return 1;
+    return solver == DDOF_SOLVER_THOMAS && (!b->device || device_runs_disc(b));
+}
+
 ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
                                         ddof_precision precision)
 {
@@ -177,14 +193,14 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
     ddof_backend_state *b = &context->backend;
-    if (request->disc) /* CPU only (ddof_check_backend_supports refused it elsewhere) */
-        return request->solver == DDOF_SOLVER_REFERENCE_F64
-                   ? ddof_lens_reference(context, request, report)
-                   : ddof_lens_run(context, request, report);
     if (request->solver == DDOF_SOLVER_REFERENCE_F64)
-        return ddof_adi_reference(context, request, report);
-    if (!b->device)
-        return ddof_adi_run(context, request, report);
+        return request->disc ? ddof_lens_reference(context, request, report)
+                             : ddof_adi_reference(context, request, report);
+    /* A disc request reaches a device only if it said it runs them (read_params keeps the
+     * disc kernel only then); the CPU stays the answer for any other. */
+    if (!b->device || (request->disc && !device_runs_disc(b)))
+        return request->disc ? ddof_lens_run(context, request, report)
+                             : ddof_adi_run(context, request, report);
     char why[512] = "";
     *report = (adi_report){0};
     ddof_status status = b->table->run(b->device, request, report, why, sizeof why);

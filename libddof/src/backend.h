@@ -50,7 +50,14 @@ typedef struct ddof_backend_table {
      * report->device_bytes: peak GPU memory of the call. */
     ddof_status (*run)(ddof_device *device, const adi_request *request, adi_report *report,
                        char *message, size_t message_size);
+
+    /* Appended within ABI 2; a table whose table_size ends before a field lacks it.
+     * Whether run() takes requests with `disc` set (DDOF_SOLVER_THOMAS, float). */
+    int (*supports_disc)(const ddof_device *device);
 } ddof_backend_table;
+
+/* The smallest table of ABI 2: the fields up to run(). */
+#define DDOF_BACKEND_TABLE_MIN_SIZE offsetof(ddof_backend_table, supports_disc)
 
 /* The plugin's one exported function. */
 typedef const ddof_backend_table *(*ddof_backend_entry_fn)(void);
@@ -60,6 +67,11 @@ typedef const ddof_backend_table *(*ddof_backend_entry_fn)(void);
 /* Runs one diffusion on the context's backend: the double reference and the CPU solvers here,
  * everything else on the loaded device. */
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
+
+/* Whether the disc kernel runs with this solver on the context's backend: on the CPU with
+ * Thomas (lens_adi.c), on a device whose table says so with Thomas, and with REFERENCE_F64
+ * everywhere (the core runs the reference itself). */
+int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver);
 
 /* DDOF_OK when the context's backend can run this solver/precision, else a failure recorded
  * in the context (before any output is written). */

@@ -97,11 +97,10 @@ static ddof_status read_params(ddof_context *context, const ddof_params *caller,
     if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
                          (unsigned)p->kernel);
-    /* The disc kernel has a complex form of the Thomas solver on the CPU only; anything else
-     * runs the heat kernel, and ddof_stats.kernel says which ran. */
-    if (p->kernel != DDOF_KERNEL_HEAT &&
-        ((p->solver != DDOF_SOLVER_THOMAS && p->solver != DDOF_SOLVER_REFERENCE_F64) ||
-         context->backend.kind != DDOF_BACKEND_CPU))
+    /* The disc kernel has a complex form of the Thomas solver only (on the CPU and on a
+     * device that runs it) and the double reference; anything else runs the heat kernel, and
+     * ddof_stats.kernel says which ran. */
+    if (p->kernel != DDOF_KERNEL_HEAT && !ddof_backend_runs_disc(context, p->solver))
         p->kernel = DDOF_KERNEL_HEAT;
     if (p->method == DDOF_METHOD_DIFFUSION) {
         ddof_status supported = ddof_check_backend_supports(context, p->solver, p->precision);

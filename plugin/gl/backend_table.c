@@ -1,6 +1,6 @@
 /* backend_table.c - the plugin's one exported symbol: the table libddof/src/backend.c loads
- * (open, close, describe, supports, run), and run() itself: upload, ADI, read back, with the
- * device's context current only for the call. */
+ * (open, close, describe, supports, run, supports_disc), and run() itself: upload, ADI (heat or
+ * disc kernel), read back, with the device's context current only for the call. */
 #include "gl_io.h"
 
 #include <stdio.h>
@@ -26,11 +26,22 @@ static int table_supports(const ddof_device *device, ddof_solver solver,
     return gl_solver_supported(solver, precision);
 }
 
+/* The disc kernel needs nothing beyond what every device has (float storage buffers). */
+static int table_supports_disc(const ddof_device *device)
+{
+    (void)device;
+    return 1;
+}
+
 static ddof_status table_run(ddof_device *device, const adi_request *r, adi_report *report,
                              char *message, size_t size)
 {
     if (!gl_solver_supported(r->solver, r->precision)) {
         snprintf(message, size, "solver %d is not available on the GPU", (int)r->solver);
+        return DDOF_ERROR_UNSUPPORTED;
+    }
+    if (r->disc && (r->solver != DDOF_SOLVER_THOMAS || r->precision != DDOF_PRECISION_FLOAT)) {
+        snprintf(message, size, "the disc kernel runs with the Thomas solver only");
         return DDOF_ERROR_UNSUPPORTED;
     }
     if (!gl_device_begin(device, message, size))
@@ -39,12 +50,15 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
     while (gl->GetError() != GL_NO_ERROR) { /* the host's errors are not ours */
     }
     gl_buffers_begin(&device->buffers);
-    const gl_diffusion d = {r->width, r->height, r->channels, r->solver, r->precision,
-                            r->substeps, r->jacobi_iterations, r->beta_scale, r->pixel_aspect,
-                            r->gamma != NULL, r->progress, r->progress_user};
+    gl_diffusion d = {r->width, r->height, r->channels, r->solver, r->precision,
+                      r->substeps, r->jacobi_iterations, r->beta_scale, r->pixel_aspect,
+                      r->gamma != NULL, r->progress, r->progress_user, r->disc, {0}, {0}};
+    if (d.disc)
+        gl_lens_input_range(r, d.lo, d.hi);
     ddof_status status = DDOF_ERROR_BACKEND_FAILED;
     if (gl_io_upload(device, r, message, size))
-        status = gl_diffuse(device, &d, report, message, size);
+        status = d.disc ? gl_lens_diffuse(device, &d, report, message, size)
+                        : gl_diffuse(device, &d, report, message, size);
     /* Cancelled: IMAGE_A holds the masked input or the last finished substep, both finite. */
     if ((status == DDOF_OK || status == DDOF_ERROR_CANCELLED) &&
         !gl_io_download(device, r, message, size))
@@ -64,7 +78,7 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
 
 static const ddof_backend_table table = {
     DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
-    table_supports, table_run,
+    table_supports, table_run, table_supports_disc,
 };
 
 DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);

@@ -15,9 +15,10 @@ typedef enum gl_buffer_slot {
     GL_BUF_GAMMA,     /* gamma per pixel                       */
     GL_BUF_FLAGS,     /* singular-run marks per pixel          */
     GL_BUF_IMAGE_A,   /* vec4 working images: passes ping-pong */
-    GL_BUF_IMAGE_B,
+    GL_BUF_IMAGE_B,   /* (the disc kernel's T_c: B + i C)    */
     GL_BUF_IMAGE_C,   /* Jacobi's second sweep buffer          */
     GL_BUF_WEIGHTS,   /* Thomas' back-substitution weights     */
+    GL_BUF_RUNNING,   /* the disc kernel's output so far       */
     GL_BUF_PYRAMID,   /* reduced levels (CR, hybrid, Gruen)    */
     GL_BUF_COUNTERS,  /* active rows, columns, max CoC         */
     GL_BUF_DUMMY,     /* bound where a kernel reads nothing    */

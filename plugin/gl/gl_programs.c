@@ -5,11 +5,17 @@
 #include "gl_programs.h"
 
 #include "gl_shader_sources.h"
+#include "lens_solver.h"
 
 #include <stdio.h>
 #include <string.h>
 
 enum { PART_LINE = 1, PART_PYRAMID = 2 };
+
+/* The disc kernel's link floor, spelled as the CPU's (GLSL takes the f suffix). */
+#define GL_STRING_(x) #x
+#define GL_STRING(x) GL_STRING_(x)
+#define LENS_DEFINES "#define LENS_MIN_LINK " GL_STRING(DDOF_LENS_MIN_LINK) "\n"
 
 typedef struct program_recipe {
     const char *kernel;
@@ -44,6 +50,8 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_HOST_PACK] = {"host_pack.comp", 0, ""},
     [GL_PROG_HOST_UNPACK_RGBA32F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba32f\n"},
     [GL_PROG_HOST_UNPACK_RGBA16F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba16f\n"},
+    [GL_PROG_LENS_ANALYSE] = {"analyse.comp", PART_LINE, LENS_DEFINES},
+    [GL_PROG_LENS_THOMAS] = {"lens_thomas.comp", PART_LINE, LENS_DEFINES},
 };
 
 static const char *source_of(const char *name)

@@ -27,6 +27,8 @@ typedef enum gl_program_id {
     GL_PROG_HOST_PACK,
     GL_PROG_HOST_UNPACK_RGBA32F,
     GL_PROG_HOST_UNPACK_RGBA16F,
+    GL_PROG_LENS_ANALYSE,       /* analyse.comp with the disc kernel's links */
+    GL_PROG_LENS_THOMAS,
     GL_PROG_COUNT
 } gl_program_id;
 

@@ -10,7 +10,7 @@
 #include <string.h>
 #include <time.h>
 
-static double now_seconds(void)
+double gl_seconds(void)
 {
     struct timespec t;
     clock_gettime(CLOCK_MONOTONIC, &t);
@@ -50,8 +50,8 @@ GLuint gl_need(ddof_device *device, gl_buffer_slot slot, uint64_t bytes, char *m
 }
 
 /* Runs analyse.comp over one direction. */
-static int analyse(ddof_device *device, GLuint program, const gl_diffusion *d,
-                   const gl_pass *pass, GLuint counter)
+static void analyse(ddof_device *device, GLuint program, const gl_diffusion *d,
+                    const gl_pass *pass, GLuint counter)
 {
     const gl_functions *gl = &device->gl;
     gl_uniform_u(gl, program, "u_n", pass->n);
@@ -64,6 +64,38 @@ static int analyse(ddof_device *device, GLuint program, const gl_diffusion *d,
     gl_uniform_u(gl, program, "u_counter", counter);
     gl->UseProgram(program);
     gl_dispatch(gl, pass->lines, 64);
+}
+
+int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
+               const gl_pass *rows, const gl_pass *columns, gl_analysis *result, char *message,
+               size_t message_size)
+{
+    const gl_functions *gl = &device->gl;
+    const uint64_t pixels = (uint64_t)d->width * d->height;
+    GLuint dummy = gl_need(device, GL_BUF_DUMMY, 16, message, message_size);
+    GLuint counters = gl_need(device, GL_BUF_COUNTERS, 16, message, message_size);
+    GLuint flags = d->has_gamma ? gl_need(device, GL_BUF_FLAGS, pixels * 4, message,
+                                          message_size)
+                                : dummy;
+    GLuint program = gl_programs_get(gl, &device->programs, id, message, message_size);
+    if (!dummy || !counters || !flags || !program)
+        return 0;
+    const GLuint zero[4] = {0, 0, 0, 0};
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+    gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zero, zero);
+    gl_bind(gl, 0, device->buffers.name[GL_BUF_COC]);
+    gl_bind(gl, 1, d->has_gamma ? device->buffers.name[GL_BUF_GAMMA] : dummy);
+    gl_bind(gl, 2, flags);
+    gl_bind(gl, 6, counters);
+    analyse(device, program, d, rows, 0);
+    analyse(device, program, d, columns, 1);
+    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    GLuint counted[4];
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+    gl->GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counted, counted);
+    result->rows = counted[0];
+    result->columns = counted[1];
+    memcpy(&result->max_coc, &counted[2], sizeof result->max_coc);
     return 1;
 }
 
@@ -75,14 +107,7 @@ ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *r
     const uint64_t pixels = (uint64_t)w * h;
     GLuint image_a = device->buffers.name[GL_BUF_IMAGE_A];
     GLuint image_b = gl_need(device, GL_BUF_IMAGE_B, pixels * 16, message, message_size);
-    GLuint dummy = gl_need(device, GL_BUF_DUMMY, 16, message, message_size);
-    GLuint counters = gl_need(device, GL_BUF_COUNTERS, 16, message, message_size);
-    GLuint flags = d->has_gamma ? gl_need(device, GL_BUF_FLAGS, pixels * 4, message,
-                                          message_size)
-                                : dummy;
-    GLuint analyse_program = gl_programs_get(gl, &device->programs, GL_PROG_ANALYSE, message,
-                                             message_size);
-    if (!image_b || !dummy || !counters || !flags || !analyse_program)
+    if (!image_b)
         return DDOF_ERROR_BACKEND_FAILED;
 
     const float row_scale = d->beta_scale / (float)d->substeps;
@@ -91,23 +116,12 @@ ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *r
     const gl_pass rows = {w, h, 1, w, row_scale, flag_rows, image_a, image_b};
     const gl_pass columns = {h, w, w, 1, column_scale, flag_columns, image_b, image_a};
 
-    const GLuint zero[4] = {0, 0, 0, 0};
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
-    gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zero, zero);
-    gl_bind(gl, 0, device->buffers.name[GL_BUF_COC]);
-    gl_bind(gl, 1, d->has_gamma ? device->buffers.name[GL_BUF_GAMMA] : dummy);
-    gl_bind(gl, 2, flags);
-    gl_bind(gl, 6, counters);
-    analyse(device, analyse_program, d, &rows, 0);
-    analyse(device, analyse_program, d, &columns, 1);
-    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    GLuint counted[4];
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
-    gl->GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counted, counted);
-    const uint64_t active = (uint64_t)counted[0] + counted[1];
-    float max_coc;
-    memcpy(&max_coc, &counted[2], sizeof max_coc);
-    *report = (adi_report){.threads = 1, .max_coc = max_coc};
+    gl_analysis found;
+    if (!gl_analyse(device, GL_PROG_ANALYSE, d, &rows, &columns, &found, message,
+                    message_size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    const uint64_t active = (uint64_t)found.rows + found.columns;
+    *report = (adi_report){.threads = 1, .max_coc = found.max_coc};
     if (active == 0) { /* nothing conducts: the (masked) input is the answer */
         report->lines_skipped = (uint64_t)w + h;
         return DDOF_OK;
@@ -121,12 +135,12 @@ ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *r
                 snprintf(message, message_size, "cancelled by the progress callback");
                 return DDOF_ERROR_CANCELLED;
             }
-            const double t0 = now_seconds();
+            const double t0 = gl_seconds();
             if (!gl_solve_pass(device, d, axis == 0 ? &rows : &columns, message,
                                message_size))
                 return DDOF_ERROR_BACKEND_FAILED;
             gl->Finish(); /* so that the pass's time is its own */
-            const double t = now_seconds() - t0;
+            const double t = gl_seconds() - t0;
             if (axis == 0)
                 report->seconds_rows += t;
             else

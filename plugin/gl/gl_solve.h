@@ -19,6 +19,8 @@ typedef struct gl_diffusion {
     int has_gamma;
     ddof_progress_fn progress;
     void *progress_user;
+    const struct disc_kernel *disc; /* NULL: the heat kernel (gl_diffuse); else gl_lens_diffuse */
+    float lo[4], hi[4]; /* disc: the masked input's range per channel, the output's clamp     */
 } gl_diffusion;
 
 /* One pass direction over the working image. */
@@ -31,6 +33,31 @@ typedef struct gl_pass {
 
 ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
                        char *message, size_t message_size);
+
+/* The disc kernel (d->disc, Thomas only) on the same packed images, the result again in
+ * IMAGE_A (gl_lens.c). */
+/* The range per channel of the request's input as the disc reads it (0 where gamma is 0),
+ * which the disc kernel clamps its result to (libddof/src/lens_adi.c); unused channels get
+ * the whole float range. */
+void gl_lens_input_range(const adi_request *r, float lo[4], float hi[4]);
+ddof_status gl_lens_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
+                            char *message, size_t message_size);
+
+/* What analyse.comp finds over both directions: the conductive lines and the largest CoC; with
+ * heat capacities it also marks the singular runs in FLAGS. */
+typedef struct gl_analysis {
+    uint32_t rows, columns;
+    float max_coc;
+} gl_analysis;
+
+/* Runs program `id` (analyse.comp, heat or disc links) on rows and columns; 0 with a sentence
+ * in message on failure. */
+int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
+               const gl_pass *rows, const gl_pass *columns, gl_analysis *result, char *message,
+               size_t message_size);
+
+/* A monotonic clock in seconds (the report's pass times). */
+double gl_seconds(void);
 
 /* Solves every line of a pass with d->solver; 0 with a sentence in message on failure. */
 int gl_solve_pass(ddof_device *device, const gl_diffusion *d, const gl_pass *pass,
