@@ -187,7 +187,7 @@ ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
         const gl_diffusion d = {width, height, 4, params->solver, precision, params->substeps,
                                 params->jacobi_iterations, params->beta_scale,
                                 params->pixel_aspect, 0, params->progress,
-                                params->progress_user, NULL /* the heat kernel */};
+                                params->progress_user, NULL /* the heat kernel */, {0}, {0}};
         status = host_stages(device, &d, color_texture, coc_texture, out_texture, format[2],
                              &report, message, size);
         const GLenum error = gl->GetError();
