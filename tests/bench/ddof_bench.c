@@ -11,7 +11,7 @@
  * With a GL backend (docs/gl-backend.md) it prints the renderer, and per solver the time at the
  * scene's CoC, the CoC 200 / 2 px ratio and device_bytes_per_mp (the GPU memory a call's buffers
  * took, per megapixel); thread ratios are skipped (the GPU does not use the context's threads).
- * --solver disc: the disc kernels (CPU): time vs memcpy and vs one heat step, CoC 200 / 2,
+ * --solver disc: the disc kernels (on the backend): time vs memcpy and vs one heat step, CoC 200 / 2,
  * threads, the layered frame, and the point spread at CoC 12, 32 and 80 px (kernel SNR
  * against a uniform disc, energy, the most negative value over the disc's height).
  * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is found as
@@ -189,7 +189,7 @@ static void make_scene(bench *b)
 /* The disc kernels (CPU Thomas): their cost against memcpy and the heat step, CoC 200 / 2,
  * threads, the layered default frame, and the point spread against the disc a lens draws. */
 static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddof_context *all,
-                       double memcpy_s)
+                       double memcpy_s, int on_gl)
 {
     const double heat = time_diffuse(b, all, DDOF_SOLVER_THOMAS, b->coc_scene);
     for (int k = 1; k < DDOF_KERNEL_COUNT_; k++) {
@@ -201,14 +201,18 @@ static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddo
         const double scene = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
         const double coc2 = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_2, disc);
         const double coc200 = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, disc);
-        const double t1 = time_config(b, one, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
-        const double t2 = time_config(b, two, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
+        const double t1 = on_gl ? 0 : time_config(b, one, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
+        const double t2 = on_gl ? 0 : time_config(b, two, DDOF_SOLVER_THOMAS, b->coc_scene, disc);
         const double frame = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, layered);
         printf("%s_single_layer_ms %.3f\n", name, 1e3 * scene);
         printf("%s_vs_memcpy %.3f\n", name, scene / memcpy_s);
         printf("%s_vs_heat_step %.3f\n", name, scene / heat);
         printf("%s_coc200_vs_coc2 %.3f\n", name, coc200 / coc2);
-        printf("%s_threads2_vs_threads1 %.3f\n", name, t1 / t2);
+        if (!on_gl)
+            printf("%s_threads2_vs_threads1 %.3f\n", name, t1 / t2);
+        else
+            printf("%s_device_bytes_per_mp %.0f\n", name,
+                   (double)last_device_bytes / ((double)b->width * b->height / 1e6));
         printf("%s_layers_auto_ms %.3f\n", name, 1e3 * frame);
         ddof_params params;
         ddof_params_init(&params);
@@ -362,8 +366,8 @@ int main(int argc, char **argv)
         printf("half_sharp_vs_all_blurred %.3f\n", half / blurred);
         printf("half_sharp_background_forced_vs_planned %.3f\n", half_forced / half);
     }
-    if (!on_gl && (!strcmp(only, "all") || !strcmp(only, "disc")))
-        bench_disc(&b, one, two, all, memcpy_s);
+    if (!strcmp(only, "all") || !strcmp(only, "disc"))
+        bench_disc(&b, one, two, all, memcpy_s, on_gl);
     ddof_context_free(one);
     ddof_context_free(two);
     ddof_context_free(all);
