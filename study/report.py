@@ -507,7 +507,8 @@ def crop_grid(study, chosen, exe, work, path):
     fg_id = None
     if d.kind == "diffusion" and any(study.scenes[s].get("fg_element") for s in study.blurred):
         # the default preset's settings with the scene's foreground element (over rest.exr)
-        fg_id = "/".join(d.id.split("/")[:5] + ["fg"])
+        parts = d.id.split("/")
+        fg_id = "/".join(parts[:-1] + ["fg"])  # the layers are the id's last part
     ids = ["pinhole", "defocus", "cod4", "gather"] + [chosen[n].id for n in PRESET_ORDER]
     ids = list(dict.fromkeys(ids + ([fg_id] if fg_id else [])))
     dirs = [study.scenes[s]["dir"] for s in study.blurred]
@@ -982,7 +983,8 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
         cols = [("pinhole", "pinhole")]
         cols += [(chosen[n].id, n) for n in PRESET_ORDER]
         d = chosen["default"]
-        fg_id = "/".join(d.id.split("/")[:5] + ["fg"]) if d.kind == "diffusion" else None
+        parts = d.id.split("/")
+        fg_id = "/".join(parts[:-1] + ["fg"])  # the layers are the id's last part if d.kind == "diffusion" else None
         if fg_id in study.by_id and any(study.scenes[x].get("fg_element")
                                         for x in study.scene_order):
             cols.append((fg_id, "default + fg element"))
