@@ -10,7 +10,7 @@ Writes into DIR (default: this script's directory):
                 ddof gets;
   truth.exr     the same camera with Cycles lens depth of field on (circular aperture): single-
                 layer R/G/B/A half - the ground truth;
-  camera.json   the camera sidecar of DESIGN.md section 1.
+  camera.json   the camera sidecar of docs/design.md section 1.
 
 Scene "sample" (the bundled one): a textured Suzanne in focus at 4 m, a striped post 1.6 m from
 the lens, a chequered ground running from the camera to a brick wall at 25 m, a strip of sky

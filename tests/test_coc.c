@@ -1,6 +1,6 @@
 /* test_coc.c - circle of confusion from a camera (Cycles and thin-lens models, sensor fits,
  * pixel aspect, radial depth, depth units, sky, clamping) and from the artist curve, against
- * formulas evaluated here in double (DESIGN.md section 1, ddof.h).
+ * formulas evaluated here in double (docs/design.md section 1, ddof.h).
  *
  * Conventions used for the expected values (readings of the header):
  *  - pixel size: HORIZONTAL fit  pw = sensor / width,  ph = pw / pixel_aspect;

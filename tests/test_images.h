@@ -246,7 +246,7 @@ static inline size_t padding_changed(const float *padded, size_t stride, size_t 
 }
 
 /* ---------------------------------------------------------------------------------------- */
-/* An independent double-precision ADI step (DESIGN.md section 1), written from the formulas:
+/* An independent double-precision ADI step (docs/design.md section 1), written from the formulas:
  * per line a_i = -beta_{i-1}, b_i = 1 + beta_{i-1} + beta_i, c_i = -beta_i, rhs_i = x_i, with
  * beta_i = k * min(d_i, d_{i+1})^2 / n (columns: d * pixel_aspect) and 0 at the borders.
  * Thomas elimination keeps each row's excess (b + a + c) so nothing is formed by subtraction.

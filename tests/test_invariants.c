@@ -1,5 +1,5 @@
 /* test_invariants.c - image-level properties of ddof_diffuse (the contract in ddof.h and
- * DESIGN.md section 1): agreement with an independent double-precision ADI step, no overshoot,
+ * docs/design.md section 1): agreement with an independent double-precision ADI step, no overshoot,
  * conservation, CoC-0 insulation, symmetry, the second moment of the kernel, in-place operation,
  * solver and thread-count agreement, stats, strides and channel counts, progress and cancel. */
 #include "ddof.h"

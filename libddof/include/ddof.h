@@ -213,7 +213,7 @@ typedef enum ddof_sensor_fit {
     DDOF_SENSOR_FIT_VERTICAL = 2    /* sensor width spans the image height                   */
 } ddof_sensor_fit;
 
-/* The camera sidecar of DESIGN.md in C. Lengths: focal length and sensor in millimetres, focus
+/* The camera sidecar of docs/design.md in C. Lengths: focal length and sensor in millimetres, focus
  * distance in metres, depth values in scene units of `depth_unit_m` metres each. */
 typedef struct ddof_camera {
     uint32_t struct_size;         /* sizeof(ddof_camera)                                     */

@@ -60,11 +60,6 @@ typedef struct pass_job {
     thread_state *threads;
 } pass_job;
 
-static size_t align16(size_t floats)
-{
-    return (floats + 15) & ~(size_t)15; /* keep every array 64-byte aligned */
-}
-
 /* A run of pixels joined by links whose heat capacities are all 0 is singular: nothing in it
  * holds heat, and any constant solves it. Such a run keeps the values it had before the pass
  * (0 from the input, which is masked; what an earlier pass gave it otherwise). The solvers only
@@ -236,18 +231,6 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
 
 /* ---- the run ------------------------------------------------------------------------------ */
 
-typedef struct progress_state {
-    const adi_request *request;
-    uint32_t pass, passes;
-} progress_state;
-
-static int pass_progress(void *user, uint32_t done, uint32_t total)
-{
-    const progress_state *p = user;
-    float fraction = ((float)p->pass + (float)done / (float)total) / (float)p->passes;
-    return p->request->progress(p->request->progress_user, fraction);
-}
-
 static uint64_t total_solved(const thread_state *threads, uint32_t count)
 {
     uint64_t sum = 0;
@@ -299,7 +282,7 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
     const float column_scale = row_scale * r->pixel_aspect * r->pixel_aspect;
     const uint32_t row_batches = (r->height + L - 1) / L;
     const uint32_t column_batches = (r->width + L - 1) / L;
-    progress_state progress = {r, 0, 2 * r->substeps};
+    pass_progress_state progress = {r, 0, 2 * r->substeps};
     thread_progress_fn progress_fn = r->progress ? pass_progress : NULL;
     ddof_status status = DDOF_OK;
 

@@ -1,4 +1,4 @@
-/* layers.c - the layered diffusion of DESIGN.md section 1, each effect one or two ADI runs.
+/* layers.c - the layered diffusion of docs/design.md section 1, each effect one or two ADI runs.
  *
  *  midground    the single-layer diffusion (with the near-spread CoC when that runs)
  *  near spread  one image: every near-field pixel q (CoC < 0, D0 = |CoC|) claims the pixels p

@@ -50,11 +50,6 @@ typedef struct lens_job {
     float lo[4], hi[4];   /* the input's range per channel: the output is kept in it */
 } lens_job;
 
-static size_t align16(size_t floats)
-{
-    return (floats + 15) & ~(size_t)15;
-}
-
 /* The real conductance of a link: the smaller |CoC| squared, or 0 below the solver's floor. */
 static inline float lens_link(float coc_a, float coc_b, float scale)
 {
@@ -213,18 +208,6 @@ static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_
 
 /* ---- the run ------------------------------------------------------------------------------ */
 
-typedef struct lens_progress {
-    const adi_request *request;
-    uint32_t pass, passes;
-} lens_progress;
-
-static int lens_pass_progress(void *user, uint32_t done, uint32_t total)
-{
-    const lens_progress *p = user;
-    const float fraction = ((float)p->pass + (float)done / (float)total) / (float)p->passes;
-    return p->request->progress(p->request->progress_user, fraction);
-}
-
 static uint64_t lens_solved(const lens_thread *threads, uint32_t count)
 {
     uint64_t sum = 0;
@@ -297,8 +280,8 @@ ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_repor
     }
 
     *report = (adi_report){.threads = threads};
-    lens_progress progress = {r, 0, 2 * k->components};
-    thread_progress_fn progress_fn = r->progress ? lens_pass_progress : NULL;
+    pass_progress_state progress = {r, 0, 2 * k->components};
+    thread_progress_fn progress_fn = r->progress ? pass_progress : NULL;
     const uint32_t row_batches = (H + L - 1) / L;
     float range_lo[4] = {0}, range_hi[4] = {0};
     ddof_status status = DDOF_OK;

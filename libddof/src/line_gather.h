@@ -10,6 +10,25 @@
 
 #define L DDOF_LANES
 
+/* Rounds a count of floats up so that every scratch array stays 64-byte aligned. */
+static inline size_t align16(size_t floats)
+{
+    return (floats + 15) & ~(size_t)15;
+}
+
+/* One pass's progress (thread_pool's done / total) as the request's fraction of all passes. */
+typedef struct pass_progress_state {
+    const adi_request *request;
+    uint32_t pass, passes;
+} pass_progress_state;
+
+static inline int pass_progress(void *user, uint32_t done, uint32_t total)
+{
+    const pass_progress_state *p = user;
+    const float fraction = ((float)p->pass + (float)done / (float)total) / (float)p->passes;
+    return p->request->progress(p->request->progress_user, fraction);
+}
+
 /* ---- moving pixels between an image line and a batch lane -------------------------------- */
 
 /* Row lines into the batch and back, a chunk of ROW_CHUNK pixels at a time: within a chunk

@@ -25,7 +25,7 @@
  *       large   the quarter-resolution image blurred by three box passes per axis (Gaussian),
  *               sampled bilinearly.
  *     Each level's size is the diameter of the uniform disk with the same per-axis variance
- *     (d^2 / 16, as DESIGN.md matches the diffusion to a disk): small 4 sqrt(24/17) = 4.75 px;
+ *     (d^2 / 16, as docs/design.md matches the diffusion to a disk): small 4 sqrt(24/17) = 4.75 px;
  *     medium 4 sqrt(15/12 + 16 * 2/3 + 16/6) = 15.3 px (the block average, the 3x3 box at
  *     quarter resolution and the bilinear upsampling's tent); large D_L, chosen per frame:
  *     D_L = min(largest |CoC|, cap), cap = max(W, H) / 4 (a quarter of the image), and never

@@ -1,4 +1,4 @@
-/* camera_json.h - the camera sidecar (DESIGN.md section 1) read into a ddof_camera.
+/* camera_json.h - the camera sidecar (docs/design.md section 1) read into a ddof_camera.
  *
  * Schema: focal_length_mm, sensor_width_mm, sensor_fit ("AUTO" | "HORIZONTAL" | "VERTICAL"),
  * fstop, focus_distance_m, resolution [w, h], pixel_aspect, optional depth ("planar" |

@@ -1,4 +1,4 @@
-/* compare.h - the error of an image against a ground truth (DESIGN.md section 6), over RGB:
+/* compare.h - the error of an image against a ground truth (docs/design.md section 6), over RGB:
  *  - display-referred: each value clamped to [0, 1] and sRGB-encoded, as a person sees it in
  *    the PNG preview; RMSE and PSNR (peak 1) on that scale are the headline figures;
  *  - scene-referred: RMSE of the linear values, unclamped (bright highlights weigh in fully). */

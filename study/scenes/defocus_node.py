@@ -13,7 +13,7 @@ nothing when no Render Layers node is in the tree). The Defocus node gets the ca
 sidecar (focal length, sensor, AUTO fit, focus distance) as its scene camera, use_zbuffer on,
 circular bokeh, no gamma correction, use_preview off (full quality), blur_max 512 px radius
 (so that nothing is clipped), threshold 1 (Blender's default), and the f-stop
-N * 1000 / sensor_mm * fstop-scale: DESIGN.md section 1 says the node blurs 1000/sensor_mm
+N * 1000 / sensor_mm * fstop-scale: docs/design.md section 1 says the node blurs 1000/sensor_mm
 times more than the physical lens at the same f-number (README.md, "Defocus node f-stop",
 checks it).
 

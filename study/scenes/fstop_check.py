@@ -1,4 +1,4 @@
-"""Checks the Defocus node's f-stop mapping (f-stop = N * 1000 / sensor_mm, DESIGN.md section 1)
+"""Checks the Defocus node's f-stop mapping (f-stop = N * 1000 / sensor_mm, docs/design.md section 1)
 on a scene's isolated highlights and against its truth. System python3 + numpy.
 
     for s in 0.5 0.707 1 1.414 2; do

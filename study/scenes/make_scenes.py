@@ -11,7 +11,7 @@ For each scene, into DIR/<scene>/:
                      samples/make_sample.py writes it;
   truth.exr          the same camera with Cycles lens depth of field (circular aperture):
                      single-layer R/G/B/A half, as samples/truth.exr;
-  camera.json        the camera sidecar (DESIGN.md section 1, as samples/camera.json);
+  camera.json        the camera sidecar (docs/design.md section 1, as samples/camera.json);
   fg.exr             scenes with near objects only: the near objects alone (film transparent,
                      every other object invisible to the camera), premultiplied RGBA + Depth.Z,
                      in the layout of pinhole.exr: `ddof pinhole.exr --foreground fg.exr`;
@@ -523,7 +523,7 @@ def camera_sidecar(cam, width, height):
 
 
 def coc_px(cam, z, width):
-    """Blender's Cycles CoC (DESIGN.md section 1) in pixels, AUTO fit on a landscape frame."""
+    """Blender's Cycles CoC (docs/design.md section 1) in pixels, AUTO fit on a landscape frame."""
     f = cam["focal_mm"] / 1000.0
     s1 = cam["focus_m"]
     return f * f / (cam["fstop"] * s1) * abs(z - s1) / z * width / (SENSOR_MM / 1000.0)

@@ -173,7 +173,7 @@ checks.check(not any(x.name.startswith("DDOF Foreground") for x in bpy.data.scen
 
 
 # 5. The baseline users already have: the compositor's Defocus node on the same pinhole render
-# (f-stop scaled by 1000 / sensor mm to match the physical lens, DESIGN.md section 1).
+# (f-stop scaled by 1000 / sensor mm to match the physical lens, docs/design.md section 1).
 if os.environ.get("DDOF_TEST_DEFOCUS", "1") == "1":
     s.enabled = False
     cam.data.dof.use_dof = False
