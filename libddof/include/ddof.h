@@ -16,8 +16,9 @@
  *    first, then change what you need. Fields are only ever appended.
  *  - One context per thread. The library has no global mutable state.
  *
- * Stable API: everything in this header outside the DDOF_EXPERIMENTAL section. Symbols in that
- * section may change between minor versions.
+ * Stable API: everything in this header outside the DDOF_EXPERIMENTAL section at its end
+ * (the backend selection, the disc kernels' tables), which a program sees only with
+ * `#define DDOF_EXPERIMENTAL` before the #include, and which may change between minor versions.
  */
 #ifndef DDOF_H
 #define DDOF_H
@@ -148,47 +149,6 @@ DDOF_API void ddof_context_free(ddof_context *context);
 DDOF_API uint32_t ddof_context_thread_count(const ddof_context *context);
 /* A sentence about the last error in this context ("" after a success); never NULL. */
 DDOF_API const char *ddof_context_last_error(const ddof_context *context);
-
-/* ------------------------------------------------------------------------------------------ */
-/* Backends: where the diffusion runs                                                           */
-
-/* The CPU path is in libddof itself. The GL backends live in the plugin library libddof_gl
- * (built when GL support is on), which the context loads at run time with dlopen(RTLD_LOCAL):
- * from `plugin_path`, else from the file the DDOF_GL_PLUGIN environment variable names (either
- * one named is the only file tried), else next to libddof, else from the loader's search path. GL itself is loaded the same way (libEGL / libOSMesa), so linking
- * other GL libraries into the process does not interfere. Missing GL is a status, never a
- * crash; the context then keeps running on the CPU. */
-typedef enum ddof_backend_kind {
-    DDOF_BACKEND_CPU = 0,     /* the default: libddof's threads                                 */
-    DDOF_BACKEND_AUTO = 1,    /* a hardware GPU through EGL when one is found, else the CPU     */
-    DDOF_BACKEND_EGL = 2,     /* EGL without a display: a GPU device when there is one, else    */
-                              /* Mesa's surfaceless platform (software, llvmpipe)               */
-    DDOF_BACKEND_OSMESA = 3,  /* Mesa's off-screen software renderer                           */
-    DDOF_BACKEND_HOST_GL = 4, /* the GL 4.5 context current on the calling thread (a host     */
-                              /* application's); it must stay current during every call       */
-    DDOF_BACKEND_COUNT_       /* not a backend                                                  */
-} ddof_backend_kind;
-
-/* "cpu", "auto", "egl", "osmesa", "host"; NULL if unknown. */
-DDOF_API const char *ddof_backend_name(ddof_backend_kind kind);
-
-/* Switches the context to a backend. On failure the context keeps its backend, the status is
- * DDOF_ERROR_BACKEND_UNAVAILABLE and ddof_context_last_error() says what was missing. AUTO
- * never fails for want of a GPU: it falls back to the CPU and says why in the backend info.
- * plugin_path: the libddof_gl file to load, or NULL for the search described above. */
-DDOF_API ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
-                                              const char *plugin_path);
-
-typedef struct ddof_backend_info {
-    uint32_t struct_size;   /* sizeof(ddof_backend_info), set by the caller                     */
-    uint32_t kind;          /* the ddof_backend_kind that runs (AUTO resolves to EGL or CPU)    */
-    uint32_t hardware;      /* 1 when the GL renderer is a GPU, 0 for software or the CPU       */
-    char renderer[128];     /* GL_RENDERER and GL_VERSION, or "CPU, N threads"                 */
-    char note[256];         /* why AUTO chose what it chose; "" otherwise                       */
-} ddof_backend_info;
-
-DDOF_API ddof_status ddof_context_backend_info(const ddof_context *context,
-                                               ddof_backend_info *info);
 
 /* ------------------------------------------------------------------------------------------ */
 /* Circle of confusion                                                                          */
@@ -514,9 +474,59 @@ DDOF_API ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_param
                                          const ddof_foreground *foreground,
                                          const ddof_image *out, ddof_stats *stats);
 
-/* The main job in one call: signed CoC from the camera and depth, then ddof_diffuse_layers
- * (without a foreground element) with params->pixel_aspect taken from the camera.
- * stats->seconds_coc includes the CoC stage. */
+/* ------------------------------------------------------------------------------------------ */
+/* The one call a host needs                                                                    */
+
+/* A frame as a renderer hands it over. The CoC comes from exactly one source:
+ *  - depth + camera: the lens model (ddof_coc_from_camera), signed; params.pixel_aspect is
+ *    taken from camera->pixel_aspect;
+ *  - depth + curve: the artist curve (ddof_coc_from_curve), signed;
+ *  - coc: CoC diameters in pixels that the caller computed (signed if params.coc_signed).
+ * Images left with pixels NULL (ddof_frame_init's state) are absent. */
+typedef struct ddof_frame {
+    uint32_t struct_size;           /* sizeof(ddof_frame)                                    */
+    ddof_image_in color;            /* 1..4 channels; required                               */
+    ddof_image_in depth;            /* first channel read; with camera or curve              */
+    const ddof_camera *camera;      /* NULL, or the camera the CoC comes from                */
+    const ddof_curve *curve;        /* NULL, or the curve the CoC comes from                 */
+    ddof_image_in coc;              /* the caller's CoC (first channel); instead of depth    */
+    /* An optional, separately rendered foreground element (ddof_diffuse_layers): RGBA of the */
+    /* colour's size, with its own depth (camera or curve) or its own CoC (a given coc).     */
+    ddof_image_in foreground_color;
+    ddof_image_in foreground_depth;
+    ddof_image_in foreground_coc;
+    uint32_t foreground_premultiplied; /* 1: its RGB is multiplied by alpha. Default 1.      */
+    /* Optional: receives the CoC the call used (1 channel, the colour's size, signed as the  */
+    /* call used it). Written once every input is valid, before the diffusion runs (so also  */
+    /* when that then fails for memory, the backend or a cancel). Must not overlap an input. */
+    ddof_image coc_out;
+} ddof_frame;
+
+DDOF_API void ddof_frame_init(ddof_frame *frame);
+
+/* Depth of field of one frame: the CoC from the frame's source, then the layers as the planner
+ * and params decide (ddof_diffuse_layers), with the foreground element when there is one.
+ * The rules for every combination live here:
+ *  - exactly one CoC source (else DDOF_ERROR_BAD_PARAMETER, naming what was given);
+ *  - the foreground element needs its depth with a camera or curve, its CoC with a given CoC;
+ *  - params.method DDOF_METHOD_COD4_PREVIEW blurs one image: with a foreground element it is
+ *    DDOF_ERROR_UNSUPPORTED (ddof_params_check cannot know the frame; check it there);
+ *  - params.near_spread forced ON with an element is DDOF_ERROR_BAD_PARAMETER.
+ * Every failure before the diffusion leaves out (and coc_out) untouched.
+ * stats->seconds_coc includes computing both CoCs. */
+DDOF_API ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
+                                       const ddof_frame *frame, const ddof_image *out,
+                                       ddof_stats *stats);
+
+/* Validates params (and on this context's backend: the solver and precision it can run)
+ * without running anything; DDOF_OK or the status and last error a call would give. */
+DDOF_API ddof_status ddof_params_check(ddof_context *context, const ddof_params *params);
+
+/* Validates a camera as ddof_render_frame would (focus beyond the focal length, f-number > 0,
+ * pixel aspect within 0.01..100, ...), without images. */
+DDOF_API ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera);
+
+/* ddof_render_frame with depth + camera and nothing else; kept for 0.2-0.4 callers. */
 DDOF_API ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
                                          const ddof_camera *camera, const ddof_image_in *color,
                                          const ddof_image_in *depth, const ddof_image *out,
@@ -527,3 +537,85 @@ DDOF_API ddof_status ddof_depth_of_field(ddof_context *context, const ddof_param
 #endif
 
 #endif /* DDOF_H */
+
+/* ========================================================================================== */
+/* DDOF_EXPERIMENTAL: what is not promised yet. Define DDOF_EXPERIMENTAL before including     */
+/* this header to see it. These declarations may change or go in any minor version; a       */
+/* program that uses them should check ddof_version_number() at run time equals the version */
+/* it was built against. Outside the include guard, so that a second inclusion with the     */
+/* macro defined adds this part.                                                             */
+/* ========================================================================================== */
+#if defined(DDOF_EXPERIMENTAL) && !defined(DDOF_H_EXPERIMENTAL)
+#define DDOF_H_EXPERIMENTAL
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------------------------------ */
+/* Backends: where the diffusion runs                                                           */
+
+/* The CPU path is in libddof itself. The GL backends live in the plugin library libddof_gl
+ * (built when GL support is on), which the context loads at run time with dlopen(RTLD_LOCAL):
+ * from `plugin_path`, else from the file the DDOF_GL_PLUGIN environment variable names (either
+ * one named is the only file tried), else next to libddof, else from the loader's search path. GL itself is loaded the same way (libEGL / libOSMesa), so linking
+ * other GL libraries into the process does not interfere. Missing GL is a status, never a
+ * crash; the context then keeps running on the CPU. */
+typedef enum ddof_backend_kind {
+    DDOF_BACKEND_CPU = 0,     /* the default: libddof's threads                                 */
+    DDOF_BACKEND_AUTO = 1,    /* a hardware GPU through EGL when one is found, else the CPU     */
+    DDOF_BACKEND_EGL = 2,     /* EGL without a display: a GPU device when there is one, else    */
+                              /* Mesa's surfaceless platform (software, llvmpipe)               */
+    DDOF_BACKEND_OSMESA = 3,  /* Mesa's off-screen software renderer                           */
+    DDOF_BACKEND_HOST_GL = 4, /* the GL 4.5 context current on the calling thread (a host     */
+                              /* application's); it must stay current during every call       */
+    DDOF_BACKEND_COUNT_       /* not a backend                                                  */
+} ddof_backend_kind;
+
+/* "cpu", "auto", "egl", "osmesa", "host"; NULL if unknown. */
+DDOF_API const char *ddof_backend_name(ddof_backend_kind kind);
+
+/* Switches the context to a backend. On failure the context keeps its backend, the status is
+ * DDOF_ERROR_BACKEND_UNAVAILABLE and ddof_context_last_error() says what was missing. AUTO
+ * never fails for want of a GPU: it falls back to the CPU and says why in the backend info.
+ * plugin_path: the libddof_gl file to load, or NULL for the search described above. */
+DDOF_API ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
+                                              const char *plugin_path);
+
+typedef struct ddof_backend_info {
+    uint32_t struct_size;   /* sizeof(ddof_backend_info), set by the caller                     */
+    uint32_t kind;          /* the ddof_backend_kind that runs (AUTO resolves to EGL or CPU)    */
+    uint32_t hardware;      /* 1 when the GL renderer is a GPU, 0 for software or the CPU       */
+    char renderer[128];     /* GL_RENDERER and GL_VERSION, or "CPU, N threads"                 */
+    char note[256];         /* why AUTO chose what it chose; "" otherwise                       */
+} ddof_backend_info;
+
+DDOF_API ddof_status ddof_context_backend_info(const ddof_context *context,
+                                               ddof_backend_info *info);
+
+/* ------------------------------------------------------------------------------------------ */
+/* The disc kernels' fitted tables (docs/disc-kernel.md)                                      */
+
+/* The shape of a disc kernel: per component c and axis, a chain of `steps` implicit steps of
+ * complex conductance kappa_cm * d^2 (d: the link's CoC diameter), output x + Re sum_c
+ * mix_c (Z_c - x). */
+typedef struct ddof_kernel_info {
+    uint32_t struct_size;  /* sizeof(ddof_kernel_info), set by the caller                       */
+    uint32_t components;   /* C (0 for DDOF_KERNEL_HEAT)                                        */
+    uint32_t steps;        /* M per axis                                                        */
+    float reach_coc;       /* how far it carries anything, in CoC diameters                     */
+    float fit_snr_db;      /* the fit's kernel SNR against a uniform disc of diameter 32 px    */
+} ddof_kernel_info;
+
+DDOF_API ddof_status ddof_kernel_get_info(ddof_kernel kernel, ddof_kernel_info *info);
+
+/* kappa (re, im) of step `step` of component `component`, and that component's mix (re, im).
+ * DDOF_ERROR_BAD_PARAMETER for the heat kernel or an index out of range. */
+DDOF_API ddof_status ddof_kernel_get_step(ddof_kernel kernel, uint32_t component, uint32_t step,
+                                          float kappa[2], float mix[2]);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* DDOF_EXPERIMENTAL */

@@ -2,43 +2,8 @@
 #ifndef DDOF_ADI_H
 #define DDOF_ADI_H
 
+#include "ddof_backend_seam.h"
 #include "internal.h"
-
-/* A validated request: images are checked, strides are in floats. */
-typedef struct adi_request {
-    const float *color;
-    size_t color_stride;
-    const float *coc; /* diameters in pixels (sign ignored), first of coc_channels floats per */
-    size_t coc_stride;/* pixel; NULL: every pixel has uniform_coc                          */
-    uint32_t coc_channels;
-    float uniform_coc;
-    const float *gamma; /* heat capacity per pixel (first of gamma_channels floats), >= 0; */
-    size_t gamma_stride;/* NULL: 1 everywhere. Where it is 0 the colour is not read (as 0) */
-    uint32_t gamma_channels;
-    float *out; /* may equal color (then out_stride == color_stride) */
-    size_t out_stride;
-    uint32_t width, height, channels;
-    ddof_solver solver;
-    ddof_precision precision; /* packed half: GL Gruen only */
-    uint32_t substeps;
-    uint32_t jacobi_iterations;
-    float beta_scale;   /* k in beta = k d^2                          */
-    float pixel_aspect; /* column links use (d * pixel_aspect)          */
-    const struct disc_kernel *disc; /* NULL: the heat kernel; else the disc kernel's table */
-    ddof_progress_fn progress;
-    void *progress_user;
-} adi_request;
-
-typedef struct adi_report {
-    uint64_t lines_solved;
-    uint64_t lines_skipped;
-    uint32_t substeps_run; /* 0 when nothing conducted (output is a copy) */
-    uint32_t threads;
-    float max_coc;
-    double seconds_rows;
-    double seconds_columns;
-    uint64_t device_bytes; /* GL: peak GPU memory of the call; 0 on the CPU */
-} adi_report;
 
 /* Conductance of the link between two pixels: k * min(|d_a|, |d_b|)^2 (a negative, near-field
  * CoC conducts by its size), flushed to 0 below FLT_MIN so that "no conductive link" has one

@@ -21,3 +21,37 @@ uint32_t ddof_kernel_reach_px(const disc_kernel *disc, float beta_scale, float c
     const float per_px = disc ? disc->reach : 12.0f * sqrtf(beta_scale);
     return (uint32_t)ceilf(per_px * coc) + 2;
 }
+
+ddof_status ddof_kernel_get_info(ddof_kernel kernel, ddof_kernel_info *info)
+{
+    if (!info)
+        return DDOF_ERROR_NULL_POINTER;
+    if (info->struct_size < sizeof *info)
+        return DDOF_ERROR_BAD_PARAMETER;
+    if ((unsigned)kernel >= DDOF_KERNEL_COUNT_)
+        return DDOF_ERROR_BAD_PARAMETER;
+    const disc_kernel *disc = ddof_disc_kernel(kernel);
+    *info = (ddof_kernel_info){
+        .struct_size = sizeof *info,
+        .components = disc ? disc->components : 0u,
+        .steps = disc ? disc->steps : 0u,
+        .reach_coc = disc ? disc->reach : 0.0f,
+        .fit_snr_db = disc ? disc->snr_db : 0.0f,
+    };
+    return DDOF_OK;
+}
+
+ddof_status ddof_kernel_get_step(ddof_kernel kernel, uint32_t component, uint32_t step,
+                                 float kappa[2], float mix[2])
+{
+    if (!kappa || !mix)
+        return DDOF_ERROR_NULL_POINTER;
+    const disc_kernel *disc = ddof_disc_kernel(kernel);
+    if (!disc || component >= disc->components || step >= disc->steps)
+        return DDOF_ERROR_BAD_PARAMETER;
+    kappa[0] = disc->kappa[component][step][0];
+    kappa[1] = disc->kappa[component][step][1];
+    mix[0] = disc->mix[component][0];
+    mix[1] = disc->mix[component][1];
+    return DDOF_OK;
+}

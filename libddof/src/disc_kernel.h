@@ -16,22 +16,7 @@
 #ifndef DDOF_DISC_KERNEL_H
 #define DDOF_DISC_KERNEL_H
 
-#include "ddof.h"
-
-#include <stdint.h>
-
-#define DDOF_DISC_MAX_COMPONENTS 3
-#define DDOF_DISC_MAX_STEPS 3
-
-typedef struct disc_kernel {
-    ddof_kernel id;
-    uint32_t components;                                   /* C                            */
-    uint32_t steps;                                        /* M chained steps per axis     */
-    float kappa[DDOF_DISC_MAX_COMPONENTS][DDOF_DISC_MAX_STEPS][2]; /* re, im; per d^2      */
-    float mix[DDOF_DISC_MAX_COMPONENTS][2];                /* w_c, re, im                  */
-    float reach;     /* 12 decay lengths of the slowest step (times its order), in CoC      */
-    float snr_db;    /* the fit's kernel SNR against the disc at d = 32 (documentation)      */
-} disc_kernel;
+#include "ddof_backend_seam.h"
 
 /* The table of a disc kernel; NULL for DDOF_KERNEL_HEAT or an unknown value. */
 const disc_kernel *ddof_disc_kernel(ddof_kernel kernel);

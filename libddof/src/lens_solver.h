@@ -19,11 +19,8 @@
 #ifndef DDOF_LENS_SOLVER_H
 #define DDOF_LENS_SOLVER_H
 
+#include "ddof_backend_seam.h"
 #include "solver.h"
-
-/* Links whose |beta| would fall below this are no links: keeps |beta|^2 and the eliminated
- * excesses far from float underflow (a CoC this small, ~0.001 px, blurs nothing visible). */
-#define DDOF_LENS_MIN_LINK 1e-6f
 
 typedef struct complex_batch {
     uint32_t n;            /* unknowns per line, >= 1                                        */

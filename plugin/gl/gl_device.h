@@ -3,7 +3,7 @@
 #ifndef DDOF_GL_DEVICE_H
 #define DDOF_GL_DEVICE_H
 
-#include "backend.h"
+#include "ddof_backend_seam.h"
 #include "gl_buffers.h"
 #include "gl_functions.h"
 #include "gl_programs.h"

@@ -10,7 +10,6 @@
  * report's and its singular runs are the ones the chain keeps. */
 #include "gl_solve.h"
 
-#include "disc_kernel.h"
 
 #include <float.h>
 #include <stdio.h>

@@ -4,8 +4,9 @@
  * kernels) line.glsl and (reduction kernels) pyramid.glsl, then the kernel itself. */
 #include "gl_programs.h"
 
+#include "ddof_backend_seam.h"
+
 #include "gl_shader_sources.h"
-#include "lens_solver.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -1,0 +1,135 @@
+/* ddof_backend_seam.h - what crosses the seam between libddof and a diffusion backend.
+ *
+ * The core (libddof/src) decides *what* to simulate: it validates the caller's images, plans
+ * the frame, builds the layers and issues one diffusion request at a time. A backend decides
+ * *how* to run one request. The CPU runs them in the core itself; the GL backends live in the
+ * plugin library libddof_gl, which the core loads with dlopen(RTLD_LOCAL) and asks for one
+ * table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be mixed up on
+ * disk, so the table carries an ABI number and its size, both checked before use.
+ *
+ * Everything a backend may rely on is in this header and ddof.h; a backend includes nothing
+ * else of the core (plugin/gl builds with libddof/src off its include path). Not installed:
+ * the seam is between two libraries built from one tree.
+ */
+#ifndef DDOF_BACKEND_SEAM_H
+#define DDOF_BACKEND_SEAM_H
+
+#ifndef DDOF_EXPERIMENTAL
+#define DDOF_EXPERIMENTAL 1 /* the backend kinds */
+#endif
+#include "ddof.h"
+
+#include <stddef.h>
+#include <stdint.h>
+
+/* ---- the disc kernel's table (fitted in the core, run by either side) --------------------- */
+
+/* One disc kernel (docs/disc-kernel.md): per component c and axis, a chain of `steps` implicit
+ * steps with complex conductances beta = kappa_cm * d^2; the output is
+ * x + Re sum_c mix_c (Z_c - x). */
+#define DDOF_DISC_MAX_COMPONENTS 3
+#define DDOF_DISC_MAX_STEPS 3
+
+typedef struct disc_kernel {
+    ddof_kernel id;
+    uint32_t components;                                   /* C                            */
+    uint32_t steps;                                        /* M chained steps per axis     */
+    float kappa[DDOF_DISC_MAX_COMPONENTS][DDOF_DISC_MAX_STEPS][2]; /* re, im; per d^2      */
+    float mix[DDOF_DISC_MAX_COMPONENTS][2];                /* w_c, re, im                  */
+    float reach;     /* 12 decay lengths of the slowest step (times its order), in CoC      */
+    float snr_db;    /* the fit's kernel SNR against the disc at d = 32 (documentation)      */
+} disc_kernel;
+
+/* Links whose |beta| would fall below this are no links: keeps |beta|^2 and the eliminated
+ * excesses far from float underflow (a CoC this small, ~0.001 px, blurs nothing visible). */
+#define DDOF_LENS_MIN_LINK 1e-6f
+
+/* ---- one diffusion request ---------------------------------------------------------------- */
+
+/* A validated request: images are checked, strides are in floats. */
+typedef struct adi_request {
+    const float *color;
+    size_t color_stride;
+    const float *coc; /* diameters in pixels (sign ignored), first of coc_channels floats per */
+    size_t coc_stride;/* pixel; NULL: every pixel has uniform_coc                          */
+    uint32_t coc_channels;
+    float uniform_coc;
+    const float *gamma; /* heat capacity per pixel (first of gamma_channels floats), >= 0; */
+    size_t gamma_stride;/* NULL: 1 everywhere. Where it is 0 the colour is not read (as 0) */
+    uint32_t gamma_channels;
+    float *out; /* may equal color (then out_stride == color_stride) */
+    size_t out_stride;
+    uint32_t width, height, channels;
+    ddof_solver solver;
+    ddof_precision precision; /* packed half: GL Gruen only */
+    uint32_t substeps;
+    uint32_t jacobi_iterations;
+    float beta_scale;   /* k in beta = k d^2                          */
+    float pixel_aspect; /* column links use (d * pixel_aspect)          */
+    const struct disc_kernel *disc; /* NULL: the heat kernel; else the disc kernel's table */
+    ddof_progress_fn progress;
+    void *progress_user;
+} adi_request;
+
+typedef struct adi_report {
+    uint64_t lines_solved;
+    uint64_t lines_skipped;
+    uint32_t substeps_run; /* 0 when nothing conducted (output is a copy) */
+    uint32_t threads;
+    float max_coc;
+    double seconds_rows;
+    double seconds_columns;
+    uint64_t device_bytes; /* GL: peak GPU memory of the call; 0 on the CPU */
+} adi_report;
+
+/* ---- the backend's table ------------------------------------------------------------------ */
+
+/* Bump when adi_request, adi_report or this table change layout or meaning. */
+#define DDOF_BACKEND_ABI 2
+#define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
+
+typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */
+
+/* Where the device stands: what it is and what the last run took. */
+typedef struct ddof_device_info {
+    uint32_t hardware;      /* 1: a GPU; 0: a software renderer              */
+    char renderer[128];     /* GL_RENDERER + GL_VERSION                      */
+} ddof_device_info;
+
+typedef struct ddof_backend_table {
+    uint32_t abi;           /* DDOF_BACKEND_ABI                               */
+    uint32_t table_size;    /* sizeof(ddof_backend_table)                     */
+
+    /* Opens a device of `kind` (EGL, OSMESA or HOST_GL; never CPU or AUTO). `require_hardware`
+     * (EGL only): fail unless a GPU is found, so AUTO does not pick software GL. On failure
+     * returns NULL and writes a sentence into message. Must not leave any GL context current
+     * (except HOST_GL, which never changes what is current). */
+    ddof_device *(*open)(ddof_backend_kind kind, int require_hardware, char *message,
+                         size_t message_size);
+    void (*close)(ddof_device *device);
+    void (*describe)(const ddof_device *device, ddof_device_info *info);
+
+    /* Whether run() supports this solver/precision pair (REFERENCE_F64 never: the core runs
+     * it itself). */
+    int (*supports)(const ddof_device *device, ddof_solver solver, ddof_precision precision);
+
+    /* One diffusion with the same contract as ddof_adi_run (the request is validated; out may
+     * equal color; progress may cancel). Makes its context current for the call and releases
+     * it afterwards. On failure: a status (DDOF_ERROR_BACKEND_FAILED, _OUT_OF_MEMORY,
+     * _CANCELLED), a sentence in message, and out untouched unless cancelled.
+     * report->device_bytes: peak GPU memory of the call. */
+    ddof_status (*run)(ddof_device *device, const adi_request *request, adi_report *report,
+                       char *message, size_t message_size);
+
+    /* Appended within ABI 2; a table whose table_size ends before a field lacks it.
+     * Whether run() takes requests with `disc` set (DDOF_SOLVER_THOMAS, float). */
+    int (*supports_disc)(const ddof_device *device);
+} ddof_backend_table;
+
+/* The smallest table of ABI 2: the fields up to run(). */
+#define DDOF_BACKEND_TABLE_MIN_SIZE offsetof(ddof_backend_table, supports_disc)
+
+/* The plugin's one exported function. */
+typedef const ddof_backend_table *(*ddof_backend_entry_fn)(void);
+
+#endif

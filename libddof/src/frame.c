@@ -1,0 +1,274 @@
+/* frame.c - the one call a host needs (ddof_render_frame): the CoC from the frame's source,
+ * the foreground element's CoC from its own depth, then the planned layers. Also the checks a
+ * host runs before it has pixels (ddof_params_check, ddof_camera_check). */
+#include "call_checks.h"
+#include "coc.h"
+
+#include <string.h>
+
+void ddof_frame_init(ddof_frame *frame)
+{
+    if (!frame)
+        return;
+    memset(frame, 0, sizeof *frame);
+    frame->struct_size = sizeof *frame;
+    frame->foreground_premultiplied = 1;
+}
+
+typedef enum coc_source { SOURCE_CAMERA, SOURCE_CURVE, SOURCE_GIVEN } coc_source;
+
+/* Everything the frame call reads, validated. */
+typedef struct frame_setup {
+    ddof_frame frame;
+    coc_source source;
+    ddof_camera camera;
+    ddof_curve curve;
+    int has_foreground;
+    size_t map_stride, fg_map_stride, coc_out_stride; /* in floats */
+} frame_setup;
+
+static int given(const ddof_image_in *image)
+{
+    return image->pixels != NULL;
+}
+
+static ddof_status read_source(ddof_context *context, frame_setup *s, ddof_params *p)
+{
+    /* Depth missing beside a camera or curve is the image check's NULL pointer. */
+    const ddof_frame *f = &s->frame;
+    const int sources = (f->camera != NULL) + (f->curve != NULL) + given(&f->coc);
+    if (sources != 1 || (given(&f->coc) && given(&f->depth)))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "a frame needs exactly one CoC source: depth with a camera, depth with "
+                         "a curve, or a CoC image (given: %s%s%s%s)",
+                         f->camera ? "camera " : "", f->curve ? "curve " : "",
+                         given(&f->depth) ? "depth " : "", given(&f->coc) ? "coc" : "");
+    ddof_status status = DDOF_OK;
+    if (f->camera) {
+        s->source = SOURCE_CAMERA;
+        status = ddof_read_camera(context, f->camera, &s->camera);
+        if (status == DDOF_OK)
+            status = ddof_check_camera_aspect(context, &s->camera);
+        /* Signed, so the planner knows the near field from the far. */
+        s->camera.signed_coc = 1;
+        p->coc_signed = 1;
+        p->pixel_aspect = (float)s->camera.pixel_aspect;
+    } else if (f->curve) {
+        s->source = SOURCE_CURVE;
+        status = ddof_read_curve(context, f->curve, &s->curve);
+        s->curve.signed_coc = 1;
+        p->coc_signed = 1;
+    } else {
+        s->source = SOURCE_GIVEN;
+    }
+    return status;
+}
+
+static ddof_status check_foreground(ddof_context *context, frame_setup *s, const ddof_params *p,
+                                    const adi_request *r)
+{
+    const ddof_frame *f = &s->frame;
+    s->has_foreground = given(&f->foreground_color);
+    const int depth_given = given(&f->foreground_depth), coc_given = given(&f->foreground_coc);
+    if (!s->has_foreground) {
+        if (depth_given || coc_given)
+            return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                             "the frame has a foreground %s but no foreground colour",
+                             depth_given ? "depth" : "coc");
+        return DDOF_OK;
+    }
+    if (p->method == DDOF_METHOD_COD4_PREVIEW)
+        return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                         "the CoD4 preview blurs one image and takes no foreground element");
+    if (p->near_spread == DDOF_LAYER_ON)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.near_spread is forced on, but a foreground element is given: "
+                         "the element is the near field, and the near spread works on one "
+                         "image only");
+    const int wants_coc = s->source == SOURCE_GIVEN;
+    if (wants_coc ? !coc_given || depth_given : !depth_given || coc_given)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "the foreground element needs its own %s (as the frame's CoC comes "
+                         "from %s), and only that",
+                         wants_coc ? "coc" : "depth", wants_coc ? "a CoC image" : "depth");
+    return ddof_check_map(context, wants_coc ? "foreground coc" : "foreground depth",
+                          wants_coc ? &f->foreground_coc : &f->foreground_depth, r,
+                          &s->fg_map_stride);
+}
+
+static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const adi_request *r)
+{
+    const ddof_image *c = &s->frame.coc_out;
+    if (!c->pixels)
+        return DDOF_OK;
+    ddof_status status = ddof_check_image(context, "coc_out", c->pixels, c->width, c->height,
+                                          c->channels, c->row_stride, &s->coc_out_stride);
+    if (status != DDOF_OK)
+        return status;
+    if (c->width != r->width || c->height != r->height || c->channels != 1)
+        return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
+                         "coc_out is %ux%u with %u channels; it must be %ux%u with 1 channel",
+                         c->width, c->height, c->channels, r->width, r->height);
+    if (c->pixels == r->out || (const float *)c->pixels == r->color)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "coc_out must not be the colour or the output image");
+    return DDOF_OK;
+}
+
+/* The CoC of `depth` (validated, stride in floats) from the setup's camera or curve. */
+static ddof_status compute_coc(ddof_context *context, const frame_setup *s,
+                               const ddof_image_in *depth, size_t depth_stride, float *coc,
+                               size_t coc_stride)
+{
+    return s->source == SOURCE_CAMERA
+               ? ddof_compute_coc_camera(context, &s->camera, depth, depth_stride, coc,
+                                         coc_stride)
+               : ddof_compute_coc_curve(context, &s->curve, depth, depth_stride, coc,
+                                        coc_stride);
+}
+
+/* The element's CoC (computed into scratch when it comes from its depth), then its checks. */
+static ddof_status prepare_foreground(ddof_context *context, const frame_setup *s,
+                                      layers_request *q, int *visible)
+{
+    const ddof_frame *f = &s->frame;
+    const adi_request *r = &q->base;
+    ddof_foreground element;
+    ddof_foreground_init(&element);
+    element.color = f->foreground_color;
+    element.premultiplied = f->foreground_premultiplied;
+    if (s->source == SOURCE_GIVEN) {
+        element.coc = f->foreground_coc;
+    } else {
+        float *coc = ddof_scratch_get(context, DDOF_SCRATCH_FOREGROUND_COC,
+                                      (size_t)r->width * r->height * sizeof(float));
+        if (!coc)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the %ux%u foreground CoC buffer", r->width,
+                             r->height);
+        ddof_status status = compute_coc(context, s, &f->foreground_depth, s->fg_map_stride,
+                                         coc, r->width);
+        if (status != DDOF_OK)
+            return status;
+        element.coc = (ddof_image_in){coc, r->width, r->height, 1, 0};
+    }
+    return ddof_read_foreground(context, &element, q, visible);
+}
+
+/* The frame's CoC: into coc_out when the caller wants it, else into scratch; a given CoC is
+ * checked and, for coc_out, copied. */
+static ddof_status prepare_coc(ddof_context *context, const frame_setup *s, const ddof_params *p,
+                               adi_request *r)
+{
+    const ddof_frame *f = &s->frame;
+    if (s->source == SOURCE_GIVEN) {
+        ddof_status status = ddof_check_coc_values(context, &f->coc, s->map_stride,
+                                                   (int)p->coc_signed);
+        if (status != DDOF_OK)
+            return status;
+        r->coc = f->coc.pixels;
+        r->coc_stride = s->map_stride;
+        r->coc_channels = f->coc.channels;
+        if (f->coc_out.pixels)
+            for (uint32_t y = 0; y < r->height; y++) {
+                const float *from = f->coc.pixels + (size_t)y * s->map_stride;
+                float *to = f->coc_out.pixels + (size_t)y * s->coc_out_stride;
+                for (uint32_t x = 0; x < r->width; x++)
+                    to[x] = from[(size_t)x * f->coc.channels];
+            }
+        return DDOF_OK;
+    }
+    float *coc = f->coc_out.pixels;
+    size_t stride = s->coc_out_stride;
+    if (!coc) {
+        coc = ddof_scratch_get(context, DDOF_SCRATCH_COC,
+                               (size_t)r->width * r->height * sizeof(float));
+        stride = r->width;
+        if (!coc)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the %ux%u CoC buffer", r->width, r->height);
+    }
+    ddof_status status = compute_coc(context, s, &f->depth, s->map_stride, coc, stride);
+    r->coc = coc;
+    r->coc_stride = stride;
+    r->coc_channels = 1;
+    return status;
+}
+
+ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
+                              const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
+{
+    const double t_start = ddof_seconds();
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    frame_setup s = {0};
+    ddof_frame_init(&s.frame);
+    ddof_params p;
+    layers_request q = {.params = &p};
+    adi_request *r = &q.base;
+    int fg_visible = 0;
+    ddof_status status = ddof_read_struct(context, frame, sizeof s.frame, &s.frame,
+                                          sizeof s.frame, "frame");
+    if (status == DDOF_OK)
+        status = ddof_read_params(context, params, &p);
+    if (status == DDOF_OK)
+        status = read_source(context, &s, &p);
+    if (status == DDOF_OK)
+        status = ddof_check_call_images(context, &s.frame.color,
+                                        s.source == SOURCE_GIVEN ? &s.frame.coc : &s.frame.depth,
+                                        s.source == SOURCE_GIVEN ? "coc" : "depth", out, r,
+                                        &s.map_stride);
+    if (status == DDOF_OK)
+        status = check_foreground(context, &s, &p, r);
+    if (status == DDOF_OK)
+        status = check_coc_out(context, &s, r);
+    if (status == DDOF_OK && s.has_foreground)
+        status = prepare_foreground(context, &s, &q, &fg_visible);
+    if (status == DDOF_OK)
+        status = prepare_coc(context, &s, &p, r);
+    if (status != DDOF_OK)
+        return status;
+    ddof_fill_request_params(r, &p);
+    return ddof_run_layered(context, &q, s.has_foreground, fg_visible, stats, t_start,
+                            ddof_seconds() - t_start);
+}
+
+ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
+                                const ddof_camera *camera, const ddof_image_in *color,
+                                const ddof_image_in *depth, const ddof_image *out,
+                                ddof_stats *stats)
+{
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    if (!camera || !color || !depth) {
+        ddof_clear_error(context);
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL",
+                         !camera ? "camera" : !color ? "colour image" : "depth image");
+    }
+    ddof_frame frame;
+    ddof_frame_init(&frame);
+    frame.color = *color;
+    frame.depth = *depth;
+    frame.camera = camera;
+    return ddof_render_frame(context, params, &frame, out, stats);
+}
+
+ddof_status ddof_params_check(ddof_context *context, const ddof_params *params)
+{
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    ddof_params p;
+    return ddof_read_params(context, params, &p);
+}
+
+ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
+{
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    ddof_camera full;
+    ddof_status status = ddof_read_camera(context, camera, &full);
+    return status == DDOF_OK ? ddof_check_camera_aspect(context, &full) : status;
+}
