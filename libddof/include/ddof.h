@@ -42,7 +42,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 4
+#define DDOF_VERSION_MINOR 5
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -519,12 +519,17 @@ DDOF_API ddof_status ddof_render_frame(ddof_context *context, const ddof_params 
                                        ddof_stats *stats);
 
 /* Validates params (and on this context's backend: the solver and precision it can run)
- * without running anything; DDOF_OK or the status and last error a call would give. */
+ * without running anything; DDOF_OK or the status and last error a call would give. What
+ * depends on the frame is judged by the call: a forced near spread needs signed CoC (always so
+ * with a camera or curve), and the CoD4 preview takes no foreground element. */
 DDOF_API ddof_status ddof_params_check(ddof_context *context, const ddof_params *params);
 
 /* Validates a camera as ddof_render_frame would (focus beyond the focal length, f-number > 0,
  * pixel aspect within 0.01..100, ...), without images. */
 DDOF_API ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera);
+
+/* Validates a curve as ddof_coc_from_curve would, without images. */
+DDOF_API ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve);
 
 /* ddof_render_frame with depth + camera and nothing else; kept for 0.2-0.4 callers. */
 DDOF_API ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,

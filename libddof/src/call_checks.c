@@ -112,6 +112,11 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
         if (supported != DDOF_OK)
             return supported;
     }
+    return DDOF_OK;
+}
+
+ddof_status ddof_check_near_spread(ddof_context *context, const ddof_params *p)
+{
     if (p->near_spread == DDOF_LAYER_ON && !p->coc_signed)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_spread is forced on, but the CoC is unsigned: without "

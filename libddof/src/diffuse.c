@@ -144,6 +144,8 @@ static ddof_status prepare(ddof_context *context, const ddof_params *caller_para
     size_t coc_stride = 0;
     ddof_status status = ddof_read_params(context, caller_params, params);
     if (status == DDOF_OK)
+        status = ddof_check_near_spread(context, params);
+    if (status == DDOF_OK)
         status = ddof_check_call_images(context, color, coc, "coc", out, r, &coc_stride);
     if (status == DDOF_OK)
         status = ddof_check_coc_values(context, coc, coc_stride, (int)params->coc_signed);

@@ -215,6 +215,8 @@ ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
     if (status == DDOF_OK)
         status = read_source(context, &s, &p);
     if (status == DDOF_OK)
+        status = ddof_check_near_spread(context, &p);
+    if (status == DDOF_OK)
         status = ddof_check_call_images(context, &s.frame.color,
                                         s.source == SOURCE_GIVEN ? &s.frame.coc : &s.frame.depth,
                                         s.source == SOURCE_GIVEN ? "coc" : "depth", out, r,
@@ -271,4 +273,13 @@ ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
     ddof_camera full;
     ddof_status status = ddof_read_camera(context, camera, &full);
     return status == DDOF_OK ? ddof_check_camera_aspect(context, &full) : status;
+}
+
+ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve)
+{
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    ddof_curve full;
+    return ddof_read_curve(context, curve, &full);
 }

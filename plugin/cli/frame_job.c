@@ -510,58 +510,46 @@ static int write_output(const frame_setup *setup, const frame_paths *paths,
     return 0;
 }
 
-int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths *paths,
-              frame_result *result, progress *bar, int slot)
+/* One frame's images between reading, computing and writing. */
+typedef struct frame_data {
+    exrio_image image, depth_image, fg_image;
+    exrio_layout layout;
+    const exrio_part *part;       /* the colour's part of image                             */
+    size_t pixels;
+    float *color;                 /* interleaved colour channels, owned                     */
+    const float *depth, *coc_in;  /* the depth plane (camera, curve) or the CoC channel       */
+    float *depth_owned, *coc_owned; /* converted planes, when the channel was not float     */
+    foreground_data fg;
+    float *out;                   /* the result, owned                                      */
+    float *coc;                   /* the CoC the library used (--write-coc), owned          */
+} frame_data;
+
+static void frame_data_free(frame_data *d)
+{
+    exrio_close(&d->image);
+    exrio_close(&d->depth_image);
+    exrio_close(&d->fg_image);
+    free(d->fg.color);
+    free(d->fg.owned);
+    free(d->color);
+    free(d->out);
+    free(d->coc);
+    free(d->depth_owned);
+    free(d->coc_owned);
+}
+
+/* Opens the input and finds its channels (colour, depth or CoC); names them in result. */
+static int open_input(const frame_setup *setup, const frame_paths *paths, frame_data *d,
+                      frame_result *result)
 {
     const cli_options *opt = setup->options;
-    const double t0 = now();
-    double t;
-    exrio_image image, depth_image;
-    exrio_layout layout;
     exrio_layout_request request;
-    const exrio_part *part;
-    unsigned char *wanted = NULL;
-    float *color = NULL, *out = NULL, *coc = NULL, *depth_owned = NULL, *coc_owned = NULL;
-    float *fg_coc = NULL;
-    exrio_image fg_image;
-    foreground_data fg;
-    ddof_camera camera;
-    const float *depth = NULL, *coc_in = NULL;
-    progress_link link;
-    ddof_params params;
-    ddof_status status;
     char error[2048];
-    size_t pixels;
-    int depth_index = -1, i, rc = -1;
+    exrio_image *image = &d->image;
+    const exrio_layout *layout = &d->layout;
 
-    memset(result, 0, sizeof *result);
-    memset(&image, 0, sizeof image);
-    memset(&depth_image, 0, sizeof depth_image);
-    memset(&fg_image, 0, sizeof fg_image);
-    memset(&fg, 0, sizeof fg);
-    ddof_camera_init(&camera);
-    result->stats.struct_size = sizeof result->stats;
-    result->backend.struct_size = sizeof result->backend;
-    (void)ddof_context_backend_info(context, &result->backend);
-    link.bar = bar;
-    link.slot = slot;
-
-    if (frame_check_paths(paths, error, sizeof error) != 0) {
-        fail(result, "%s", error);
-        goto done;
-    }
-    if (opt->skip_existing && frame_outputs_complete(opt, paths)) {
-        result->ok = 1;
-        result->skipped = 1;
-        rc = 0;
-        goto done;
-    }
-
-    /* Read: header, channel layout, then only the channels needed. */
-    if (exrio_open(paths->input, &image, error, sizeof error) != EXRIO_OK) {
-        fail(result, "%s", error);
-        goto done;
-    }
+    if (exrio_open(paths->input, image, error, sizeof error) != EXRIO_OK)
+        return fail(result, "%s", error);
     memset(&request, 0, sizeof request);
     request.layer = opt->layer;
     request.color = opt->color;
@@ -570,246 +558,228 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
     request.need_depth = opt->source != COC_FROM_CHANNEL && !paths->depth_file[0];
     /* A foreground layer in the same file is never the main colour. */
     request.exclude_layer = !paths->foreground[0] ? opt->foreground_layer : NULL;
-    if (exrio_find_layout(&image, &request, &layout, error, sizeof error) != EXRIO_LAYOUT_OK ||
-        frame_check_input_parts(opt, &image, paths->input, error, sizeof error) != 0) {
-        fail(result, "%s", error);
-        goto done;
-    }
-    part = &image.parts[layout.part];
-    pixels = (size_t)part->width * part->height;
-    result->width = part->width;
-    result->height = part->height;
-    result->channels = layout.color_count;
-    if (layout.color_prefix[0])
-        snprintf(result->color_name, sizeof result->color_name, "%s.%s", layout.color_prefix,
-                 layout.color_count == 4 ? "RGBA" : "RGB");
+    if (exrio_find_layout(image, &request, &d->layout, error, sizeof error) != EXRIO_LAYOUT_OK ||
+        frame_check_input_parts(opt, image, paths->input, error, sizeof error) != 0)
+        return fail(result, "%s", error);
+    d->part = &image->parts[layout->part];
+    d->pixels = (size_t)d->part->width * d->part->height;
+    result->width = d->part->width;
+    result->height = d->part->height;
+    result->channels = layout->color_count;
+    if (layout->color_prefix[0])
+        snprintf(result->color_name, sizeof result->color_name, "%s.%s", layout->color_prefix,
+                 layout->color_count == 4 ? "RGBA" : "RGB");
     else
         snprintf(result->color_name, sizeof result->color_name, "%s,%s,%s%s%s",
-                 image.channels[layout.color[0]].name, image.channels[layout.color[1]].name,
-                 image.channels[layout.color[2]].name, layout.color_count == 4 ? "," : "",
-                 layout.color_count == 4 ? image.channels[layout.color[3]].name : "");
+                 image->channels[layout->color[0]].name, image->channels[layout->color[1]].name,
+                 image->channels[layout->color[2]].name, layout->color_count == 4 ? "," : "",
+                 layout->color_count == 4 ? image->channels[layout->color[3]].name : "");
+    return 0;
+}
 
-    wanted = calloc((size_t)image.channel_count, 1);
-    if (!wanted) {
-        fail(result, "out of memory");
-        goto done;
-    }
-    for (i = 0; i < layout.color_count; i++)
-        wanted[layout.color[i]] = 1;
-    if (layout.depth >= 0)
-        wanted[layout.depth] = 1;
-    if (layout.coc >= 0)
-        wanted[layout.coc] = 1;
+/* Loads the channels the frame needs (and those --keep-channels carries over), the depth file
+ * and the foreground element, as float planes and interleaved colour. */
+static int load_input(const frame_setup *setup, const frame_paths *paths, frame_data *d,
+                      frame_result *result)
+{
+    const cli_options *opt = setup->options;
+    const exrio_layout *layout = &d->layout;
+    unsigned char *wanted = calloc((size_t)d->image.channel_count, 1);
+    char error[2048];
+    int i;
+
+    if (!wanted)
+        return fail(result, "out of memory");
+    for (i = 0; i < layout->color_count; i++)
+        wanted[layout->color[i]] = 1;
+    if (layout->depth >= 0)
+        wanted[layout->depth] = 1;
+    if (layout->coc >= 0)
+        wanted[layout->coc] = 1;
     if (opt->keep_channels)
-        for (i = 0; i < image.channel_count; i++)
-            if (image.channels[i].part == layout.part)
+        for (i = 0; i < d->image.channel_count; i++)
+            if (d->image.channels[i].part == layout->part)
                 wanted[i] = 1;
-    if (exrio_load(&image, wanted, error, sizeof error) != EXRIO_OK) {
-        fail(result, "%s", error);
-        goto done;
-    }
+    i = exrio_load(&d->image, wanted, error, sizeof error);
+    free(wanted);
+    if (i != EXRIO_OK)
+        return fail(result, "%s", error);
 
     if (opt->source != COC_FROM_CHANNEL) {
-        const exrio_image *from = &image;
-        depth_index = layout.depth;
+        const exrio_image *from = &d->image;
+        int depth_index = layout->depth;
         if (paths->depth_file[0]) {
-            if (read_depth_file(setup, paths, &layout, part, &depth_image, &depth_index,
+            if (read_depth_file(setup, paths, layout, d->part, &d->depth_image, &depth_index,
                                 result) != 0)
-                goto done;
-            from = &depth_image;
+                return -1;
+            from = &d->depth_image;
         }
         snprintf(result->depth_name, sizeof result->depth_name, "%s",
                  from->channels[depth_index].name);
-        depth = float_plane(from, depth_index, pixels, &depth_owned);
+        d->depth = float_plane(from, depth_index, d->pixels, &d->depth_owned);
     } else {
         snprintf(result->depth_name, sizeof result->depth_name, "%s",
-                 image.channels[layout.coc].name);
-        coc_in = float_plane(&image, layout.coc, pixels, &coc_owned);
+                 d->image.channels[layout->coc].name);
+        d->coc_in = float_plane(&d->image, layout->coc, d->pixels, &d->coc_owned);
     }
-    color = interleave(&image, layout.color, layout.color_count, pixels);
-    out = malloc(pixels * (size_t)layout.color_count * sizeof *out);
-    if (!color || !out || (!depth && !coc_in)) {
-        fail(result, "out of memory for a %ux%u frame", part->width, part->height);
-        goto done;
-    }
-    result->seconds_read = now() - t0;
-    progress_update(bar, slot, 0.1f);
-
+    d->color = interleave(&d->image, layout->color, layout->color_count, d->pixels);
+    d->out = malloc(d->pixels * (size_t)layout->color_count * sizeof *d->out);
+    if (opt->write_coc)
+        d->coc = malloc(d->pixels * sizeof *d->coc);
+    if (!d->color || !d->out || (!d->depth && !d->coc_in) || (opt->write_coc && !d->coc))
+        return fail(result, "out of memory for a %ux%u frame", d->part->width, d->part->height);
     /* The foreground element, when there is one: same size, RGBA, its own depth or CoC. */
-    if (opt->foreground || opt->foreground_layer) {
-        if (read_foreground(setup, paths, &image, &layout, part, &fg_image, &fg, result) != 0)
-            goto done;
+    if (opt->foreground || opt->foreground_layer)
+        return read_foreground(setup, paths, &d->image, layout, d->part, &d->fg_image, &d->fg,
+                               result);
+    return 0;
+}
+
+/* The camera of this frame: the setup's, with the EXR's pixel aspect unless one was given, for
+ * the data window. Warns when the sidecar was written for another resolution. */
+static int frame_camera(const frame_setup *setup, const frame_paths *paths, const frame_data *d,
+                        ddof_camera *camera, frame_result *result)
+{
+    const exrio_box *w = &d->part->display_window;
+    const uint32_t dw = (uint32_t)(w->max_x - w->min_x + 1);
+    const uint32_t dh = (uint32_t)(w->max_y - w->min_y + 1);
+    *camera = setup->camera;
+    if (!setup->camera_aspect_given)
+        camera->pixel_aspect = d->part->pixel_aspect;
+    if (setup->sidecar_resolution[0] &&
+        (setup->sidecar_resolution[0] != dw || setup->sidecar_resolution[1] != dh))
+        snprintf(result->warning, sizeof result->warning,
+                 "the camera sidecar says %ux%u but %s is a %ux%u frame: the CoC follows the "
+                 "file's pixels (a render at another resolution scale)",
+                 setup->sidecar_resolution[0], setup->sidecar_resolution[1], paths->input, dw,
+                 dh);
+    return camera_for_window(camera, d->part, result);
+}
+
+/* Depth of field of the frame in one library call, whatever the CoC's source and with the
+ * foreground element when there is one. */
+static int compute(ddof_context *context, const frame_setup *setup, const frame_paths *paths,
+                   frame_data *d, frame_result *result, progress_link *link)
+{
+    const cli_options *opt = setup->options;
+    const uint32_t w = d->part->width, h = d->part->height;
+    const uint32_t channels = (uint32_t)d->layout.color_count;
+    ddof_params params = setup->params;
+    ddof_camera camera;
+    ddof_frame frame;
+    ddof_status status;
+    double t;
+
+    params.progress = link->bar ? on_progress : NULL;
+    params.progress_user = link;
+    /* The image's own pixel aspect; a camera brings its own (frame_camera). */
+    params.pixel_aspect = d->part->pixel_aspect;
+    params.coc_signed = (uint32_t)opt->coc_signed;
+    ddof_frame_init(&frame);
+    frame.color = (ddof_image_in){d->color, w, h, channels, 0};
+    if (opt->source == COC_FROM_CAMERA) {
+        if (frame_camera(setup, paths, d, &camera, result) != 0)
+            return -1;
+        frame.camera = &camera;
+    } else if (opt->source == COC_FROM_CURVE) {
+        frame.curve = &setup->curve;
     }
-
-    /* Depth of field. */
-    params = setup->params;
-    params.progress = bar ? on_progress : NULL;
-    params.progress_user = &link;
-    {
-        const ddof_image_in color_in = {color, part->width, part->height,
-                                        (uint32_t)layout.color_count, 0};
-        const ddof_image out_image = {out, part->width, part->height,
-                                      (uint32_t)layout.color_count, 0};
-        const ddof_image_in depth_in = {depth, part->width, part->height, 1, 0};
-        const ddof_image_in fg_depth_in = {fg.depth, part->width, part->height, 1, 0};
-        const int need_coc = opt->write_coc || fg.color != NULL;
-        ddof_image coc_image = {NULL, part->width, part->height, 1, 0};
-        ddof_image fg_coc_image = {NULL, part->width, part->height, 1, 0};
-        ddof_foreground element;
-
-        /* A buffer for the CoC the camera or the curve computes; a CoC channel is its own. */
-        if ((need_coc && opt->source != COC_FROM_CHANNEL) || opt->source == COC_FROM_CURVE) {
-            coc = malloc(pixels * sizeof *coc);
-            if (!coc) {
-                fail(result, "out of memory");
-                goto done;
-            }
-            coc_image.pixels = coc;
-        }
-        if (fg.color && !fg.coc) {
-            fg_coc = malloc(pixels * sizeof *fg_coc);
-            if (!fg_coc) {
-                fail(result, "out of memory");
-                goto done;
-            }
-            fg_coc_image.pixels = fg_coc;
-        }
-        t = now();
-        if (opt->source == COC_FROM_CAMERA) {
-            const exrio_box *d = &part->display_window;
-            const uint32_t dw = (uint32_t)(d->max_x - d->min_x + 1);
-            const uint32_t dh = (uint32_t)(d->max_y - d->min_y + 1);
-            camera = setup->camera;
-            if (!setup->camera_aspect_given)
-                camera.pixel_aspect = part->pixel_aspect;
-            if (setup->sidecar_resolution[0] &&
-                (setup->sidecar_resolution[0] != dw || setup->sidecar_resolution[1] != dh))
-                snprintf(result->warning, sizeof result->warning,
-                         "the camera sidecar says %ux%u but %s is a %ux%u frame: the CoC "
-                         "follows the file's pixels (a render at another resolution scale)",
-                         setup->sidecar_resolution[0], setup->sidecar_resolution[1],
-                         paths->input, dw, dh);
-            if (camera_for_window(&camera, part, result) != 0)
-                goto done;
-            /* Signed, as ddof_depth_of_field computes it: negative in front of the focus. */
-            camera.signed_coc = 1;
-            if (need_coc &&
-                (status = ddof_coc_from_camera(context, &camera, &depth_in, &coc_image)) !=
-                    DDOF_OK) {
-                library_failed(result, context, "CoC", status);
-                goto done;
-            }
-            if (fg_coc_image.pixels &&
-                (status = ddof_coc_from_camera(context, &camera, &fg_depth_in, &fg_coc_image)) !=
-                    DDOF_OK) {
-                library_failed(result, context, "CoC of the foreground element", status);
-                goto done;
-            }
-            params.coc_signed = 1;
-            params.pixel_aspect = (float)camera.pixel_aspect;
-        } else if (opt->source == COC_FROM_CURVE) {
-            ddof_curve curve = setup->curve;
-            curve.signed_coc = 1; /* so that the near field is known to the layers */
-            if ((status = ddof_coc_from_curve(context, &curve, &depth_in, &coc_image)) !=
-                DDOF_OK) {
-                library_failed(result, context, "CoC from the curve", status);
-                goto done;
-            }
-            if (fg_coc_image.pixels &&
-                (status = ddof_coc_from_curve(context, &curve, &fg_depth_in, &fg_coc_image)) !=
-                    DDOF_OK) {
-                library_failed(result, context, "CoC of the foreground element", status);
-                goto done;
-            }
-            coc_in = coc;
-            params.coc_signed = 1;
-            params.pixel_aspect = part->pixel_aspect;
-        } else {
-            params.coc_signed = (uint32_t)opt->coc_signed;
-            params.pixel_aspect = part->pixel_aspect;
-        }
-        result->seconds_coc = need_coc || opt->source == COC_FROM_CURVE ? now() - t : 0.0;
-
-        t = now();
-        if (opt->source == COC_FROM_CAMERA && !fg.color) {
-            /* The main job in one call, exactly as a program using the library would. */
-            status = ddof_depth_of_field(context, &params, &camera, &color_in, &depth_in,
-                                         &out_image, &result->stats);
-        } else {
-            const ddof_image_in coc_read = {opt->source == COC_FROM_CAMERA ? coc : coc_in,
-                                            part->width, part->height, 1, 0};
-            if (fg.color) {
-                ddof_foreground_init(&element);
-                element.color.pixels = fg.color;
-                element.color.width = part->width;
-                element.color.height = part->height;
-                element.color.channels = 4;
-                element.color.row_stride = 0;
-                element.coc.pixels = fg.coc ? fg.coc : fg_coc;
-                element.coc.width = part->width;
-                element.coc.height = part->height;
-                element.coc.channels = 1;
-                element.coc.row_stride = 0;
-                element.premultiplied = opt->foreground_straight ? 0u : 1u;
-            }
-            status = ddof_diffuse_layers(context, &params, &color_in, &coc_read,
-                                         fg.color ? &element : NULL, &out_image, &result->stats);
-        }
-        result->seconds_dof = now() - t;
-        if (status != DDOF_OK) {
-            library_failed(result, context, "depth of field", status);
-            goto done;
-        }
+    if (opt->source == COC_FROM_CHANNEL)
+        frame.coc = (ddof_image_in){d->coc_in, w, h, 1, 0};
+    else
+        frame.depth = (ddof_image_in){d->depth, w, h, 1, 0};
+    if (d->fg.color) {
+        frame.foreground_color = (ddof_image_in){d->fg.color, w, h, 4, 0};
+        if (d->fg.coc)
+            frame.foreground_coc = (ddof_image_in){d->fg.coc, w, h, 1, 0};
+        else
+            frame.foreground_depth = (ddof_image_in){d->fg.depth, w, h, 1, 0};
+        frame.foreground_premultiplied = opt->foreground_straight ? 0u : 1u;
     }
-    progress_update(bar, slot, 0.8f);
-
-    /* Output. */
+    if (d->coc)
+        frame.coc_out = (ddof_image){d->coc, w, h, 1, 0};
     t = now();
-    if (write_output(setup, paths, &image, &layout, out, layout.color_count,
-                     opt->write_coc ? (coc ? coc : coc_in) : NULL, result) != 0)
-        goto done;
+    status = ddof_render_frame(context, &params, &frame,
+                               &(ddof_image){d->out, w, h, channels, 0}, &result->stats);
+    result->seconds_dof = now() - t;
+    result->seconds_coc = result->stats.seconds_coc;
+    if (status != DDOF_OK)
+        return library_failed(result, context, "depth of field", status);
+    return 0;
+}
+
+/* The EXR, the previews and the comparison with the truth. */
+static int write_results(const frame_setup *setup, const frame_paths *paths,
+                         const frame_data *d, frame_result *result, progress *bar, int slot)
+{
+    const cli_options *opt = setup->options;
+    const uint32_t channels = (uint32_t)d->layout.color_count;
+    const float *coc = opt->write_coc ? d->coc : NULL;
+    char error[2048];
+    double t = now();
+
+    if (write_output(setup, paths, &d->image, &d->layout, d->out, (int)channels, coc, result) !=
+        0)
+        return -1;
     result->seconds_write = now() - t;
     if (paths->preview[0]) {
         t = now();
-        if (preview_write(paths->preview, out, (uint32_t)layout.color_count, part->width,
-                          part->height, opt->preview_exposure, error, sizeof error) != 0) {
-            fail(result, "preview: %s", error);
-            goto done;
-        }
+        if (preview_write(paths->preview, d->out, channels, d->part->width, d->part->height,
+                          opt->preview_exposure, error, sizeof error) != 0)
+            return fail(result, "preview: %s", error);
         result->seconds_preview = now() - t;
     }
     if (paths->preview_input[0]) {
         t = now();
-        if (preview_write(paths->preview_input, color, (uint32_t)layout.color_count, part->width,
-                          part->height, opt->preview_exposure, error, sizeof error) != 0) {
-            fail(result, "input preview: %s", error);
-            goto done;
-        }
+        if (preview_write(paths->preview_input, d->color, channels, d->part->width,
+                          d->part->height, opt->preview_exposure, error, sizeof error) != 0)
+            return fail(result, "input preview: %s", error);
         result->seconds_preview += now() - t;
     }
     progress_update(bar, slot, 0.95f);
     if (paths->compare[0]) {
         t = now();
-        if (compare_with_truth(paths, color, out, layout.color_count, part, result) != 0)
-            goto done;
+        if (compare_with_truth(paths, d->color, d->out, (int)channels, d->part, result) != 0)
+            return -1;
         result->seconds_compare = now() - t;
     }
-    result->ok = 1;
-    rc = 0;
+    return 0;
+}
 
-done:
+int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths *paths,
+              frame_result *result, progress *bar, int slot)
+{
+    const double t0 = now();
+    progress_link link = {bar, slot};
+    frame_data d;
+    char error[2048];
+    int rc = -1;
+
+    memset(result, 0, sizeof *result);
+    memset(&d, 0, sizeof d);
+    result->stats.struct_size = sizeof result->stats;
+    result->backend.struct_size = sizeof result->backend;
+    (void)ddof_context_backend_info(context, &result->backend);
+
+    if (frame_check_paths(paths, error, sizeof error) != 0) {
+        fail(result, "%s", error);
+    } else if (setup->options->skip_existing && frame_outputs_complete(setup->options, paths)) {
+        result->ok = 1;
+        result->skipped = 1;
+        rc = 0;
+    } else if (open_input(setup, paths, &d, result) == 0 &&
+               load_input(setup, paths, &d, result) == 0) {
+        result->seconds_read = now() - t0;
+        progress_update(bar, slot, 0.1f);
+        if (compute(context, setup, paths, &d, result, &link) == 0) {
+            progress_update(bar, slot, 0.8f);
+            if (write_results(setup, paths, &d, result, bar, slot) == 0) {
+                result->ok = 1;
+                rc = 0;
+            }
+        }
+    }
     result->seconds_total = now() - t0;
-    exrio_close(&image);
-    exrio_close(&depth_image);
-    exrio_close(&fg_image);
-    free(fg.color);
-    free(fg.owned);
-    free(fg_coc);
-    free(wanted);
-    free(color);
-    free(out);
-    free(coc);
-    free(depth_owned);
-    free(coc_owned);
+    frame_data_free(&d);
     return rc;
 }

@@ -105,26 +105,17 @@ static int resolve_camera(const cli_options *o, frame_setup *setup)
     return 0;
 }
 
-/* Lets the library judge the backend, camera, curve and parameters once, on a 1x1 image, so
- * that a bad value is one clear error before any frame is read (the library's messages name the
- * value). Returns 0, or the exit status. */
+/* Lets the library judge the backend, camera, curve and parameters once, so that a bad value
+ * is one clear error before any frame is read (the library's messages name the value).
+ * Returns 0, or the exit status. */
 static int validate_with_library(const frame_setup *setup)
 {
     const cli_options *o = setup->options;
     ddof_context_options co;
     ddof_context *context = NULL;
-    float depth = 1.0f, coc = 0.0f, color[4] = {0, 0, 0, 0}, out[4];
-    ddof_image_in depth_in = {&depth, 1, 1, 1, 0};
-    ddof_image coc_out = {&coc, 1, 1, 1, 0};
-    ddof_image_in color_in = {color, 1, 1, 4, 0};
-    ddof_image_in coc_in = {&coc, 1, 1, 1, 0};
-    ddof_image out_img = {out, 1, 1, 4, 0};
     ddof_status status = DDOF_OK;
     const char *what = "";
     int rc = 0;
-    /* Signed as every frame's call is (frame_job.c), so that a forced near spread passes. */
-    ddof_params params = setup->params;
-    params.coc_signed = o->source == COC_FROM_CHANNEL ? (uint32_t)o->coc_signed : 1u;
 
     ddof_context_options_init(&co);
     co.thread_count = 1;
@@ -141,25 +132,16 @@ static int validate_with_library(const frame_setup *setup)
         ddof_context_free(context);
         return status == DDOF_ERROR_BACKEND_UNAVAILABLE ? CLI_EXIT_BACKEND : CLI_EXIT_USAGE;
     }
-    if (setup->options->source == COC_FROM_CAMERA) {
+    if (o->source == COC_FROM_CAMERA) {
         what = "camera";
-        depth = (float)(setup->camera.focus_distance_m * 2.0 / setup->camera.depth_unit_m);
-        if (!(depth > 0.0f) || !isfinite(depth))
-            depth = 1.0f;
-        status = ddof_coc_from_camera(context, &setup->camera, &depth_in, &coc_out);
-        /* The whole call too: it judges the camera's pixel aspect as the diffusion's, on the
-         * double the sidecar or flag gave (not after each frame converted it). */
-        if (status == DDOF_OK)
-            status = ddof_depth_of_field(context, &params, &setup->camera, &color_in,
-                                         &depth_in, &out_img, NULL);
-    } else if (setup->options->source == COC_FROM_CURVE) {
+        status = ddof_camera_check(context, &setup->camera);
+    } else if (o->source == COC_FROM_CURVE) {
         what = "--curve";
-        status = ddof_coc_from_curve(context, &setup->curve, &depth_in, &coc_out);
+        status = ddof_curve_check(context, &setup->curve);
     }
     if (status == DDOF_OK) {
         what = "solver parameters";
-        coc = 0.0f;
-        status = ddof_diffuse(context, &params, &color_in, &coc_in, &out_img, NULL);
+        status = ddof_params_check(context, &setup->params);
     }
     if (status == DDOF_ERROR_UNSUPPORTED) {
         ddof_backend_info info = {.struct_size = sizeof info};
