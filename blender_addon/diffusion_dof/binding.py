@@ -16,7 +16,7 @@ import sys
 
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
 # version_compatible): in 0.x the same major.minor, from 1.0 the same major and a minor >= ours.
-BINDING_VERSION = (0, 4)
+BINDING_VERSION = (0, 5)
 
 # ---------------------------------------------------------------------------------------------
 # Constants (ddof.h enums and defines)
@@ -32,6 +32,7 @@ STATUS_NAMES = (
 )
 DDOF_ERROR_BACKEND_UNAVAILABLE = STATUS_NAMES.index("DDOF_ERROR_BACKEND_UNAVAILABLE")
 DDOF_ERROR_UNSUPPORTED = STATUS_NAMES.index("DDOF_ERROR_UNSUPPORTED")
+DDOF_ERROR_CANCELLED = STATUS_NAMES.index("DDOF_ERROR_CANCELLED")
 DDOF_ERROR_BACKEND_FAILED = STATUS_NAMES.index("DDOF_ERROR_BACKEND_FAILED")
 
 # ddof_backend_kind, by ddof_backend_name()
@@ -200,6 +201,21 @@ class Foreground(ctypes.Structure):
                 ("premultiplied", ctypes.c_uint32)]
 
 
+class Frame(ctypes.Structure):
+    """ddof_frame: what ddof_render_frame takes; images with pixels NULL are absent."""
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("color", ImageIn),
+                ("depth", ImageIn),
+                ("camera", ctypes.POINTER(Camera)),
+                ("curve", ctypes.POINTER(Curve)),
+                ("coc", ImageIn),
+                ("foreground_color", ImageIn),
+                ("foreground_depth", ImageIn),
+                ("foreground_coc", ImageIn),
+                ("foreground_premultiplied", ctypes.c_uint32),
+                ("coc_out", Image)]
+
+
 class BackendInfo(ctypes.Structure):
     """ddof_backend_info: the backend a context runs on, its renderer, why AUTO chose it."""
     _fields_ = [("struct_size", ctypes.c_uint32),
@@ -213,7 +229,7 @@ class BackendInfo(ctypes.Structure):
 STRUCTS = {"ddof_image": Image, "ddof_image_in": ImageIn, "ddof_allocator": Allocator,
            "ddof_context_options": ContextOptions, "ddof_camera": Camera, "ddof_curve": Curve,
            "ddof_params": Params, "ddof_stats": Stats, "ddof_foreground": Foreground,
-           "ddof_backend_info": BackendInfo}
+           "ddof_frame": Frame, "ddof_backend_info": BackendInfo}
 
 _c_ctx = ctypes.c_void_p  # ddof_context *
 
@@ -237,13 +253,11 @@ _PROTOTYPES = {
     "ddof_params_init": (None, [ctypes.POINTER(Params)]),
     "ddof_params_init_preset": (_enum, [ctypes.POINTER(Params), _enum]),
     "ddof_preset_name": (ctypes.c_char_p, [_enum]),
-    "ddof_foreground_init": (None, [ctypes.POINTER(Foreground)]),
-    "ddof_diffuse_layers": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(ImageIn),
-                                    ctypes.POINTER(ImageIn), ctypes.POINTER(Foreground),
-                                    ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
-    "ddof_depth_of_field": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Camera),
-                                    ctypes.POINTER(ImageIn), ctypes.POINTER(ImageIn),
-                                    ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
+    "ddof_params_check": (_enum, [_c_ctx, ctypes.POINTER(Params)]),
+    "ddof_camera_check": (_enum, [_c_ctx, ctypes.POINTER(Camera)]),
+    "ddof_frame_init": (None, [ctypes.POINTER(Frame)]),
+    "ddof_render_frame": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Frame),
+                                  ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
 }
 
 # ---------------------------------------------------------------------------------------------
@@ -453,29 +467,21 @@ class Library:
 
     # -- the job -------------------------------------------------------------------------------
 
+    def session(self, threads=0, backend="cpu", plugin_path=None):
+        """A Session: one context kept for many frames (its threads, working memory and, on a
+        GL backend, the loaded plugin and GL context). Close it, or use it in a with block."""
+        return Session(self, threads, backend, plugin_path)
+
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
                        camera, params=None, threads=0, foreground=None, preset=None,
                        backend="cpu", plugin_path=None):
-        """Diffusion depth of field of one frame.
+        """One frame with a context of its own: Session.depth_of_field (see there)."""
+        with self.session(threads, backend, plugin_path) as session:
+            return session.depth_of_field(width, height, color, color_channels, depth,
+                                          depth_channels, camera, params, foreground, preset)
 
-        color, depth: array.array('f') of width * height * channels floats (the depth's first
-        channel is read). camera: a dict of ddof_camera fields (lens_model, sensor_fit as the
-        names in LENS_MODELS / SENSOR_FITS). preset: None (ddof_params_init, the default
-        preset) or a name in PRESETS: the parameters start from ddof_params_init_preset.
-        params: a dict of ddof_params fields that override the preset's (solver as a name in
-        SOLVERS, background / near_spread as names in LAYER_MODES, method in METHODS, precision
-        in PRECISIONS). backend: a name in BACKENDS ('cpu', 'auto', ...); plugin_path the GL
-        plugin file (None: the library's search). foreground: None, or a dict with 'color' (4
-        channels, RGB premultiplied by alpha) and 'depth' (+ 'depth_channels'), of the same
-        size: the separately rendered foreground element.
-        Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
-        plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name' (and
-        'method_note' when the method was changed). Raises DdofError with the library's message
-        on bad input or an unavailable backend.
-        """
-        count = width * height
-        if len(color) != count * color_channels or len(depth) != count * depth_channels:
-            raise ValueError("buffer sizes do not match %dx%d" % (width, height))
+    def make_camera(self, camera):
+        """A ddof_camera from a dict of its fields (lens_model, sensor_fit as names)."""
         cam = self.default_camera()
         for key, value in camera.items():
             if key == "lens_model":
@@ -483,94 +489,116 @@ class Library:
             elif key == "sensor_fit":
                 value = SENSOR_FITS[value] if isinstance(value, str) else value
             setattr(cam, key, value)
-        p = self.default_params() if preset is None else self.preset_params(preset)
-        for key, value in (params or {}).items():
-            if key == "solver" and isinstance(value, str):
-                value = SOLVERS[value]
-            elif key in ("background", "near_spread") and isinstance(value, str):
-                value = LAYER_MODES[value]
-            elif key == "method" and isinstance(value, str):
-                value = METHODS[value]
-            elif key == "precision" and isinstance(value, str):
-                value = PRECISIONS[value]
-            elif key == "kernel" and isinstance(value, str):
-                value = KERNELS[value]
-            setattr(p, key, value)
-        method_note = ""
-        if foreground is not None and p.method == METHOD_COD4_PREVIEW:
-            # The CoD4 preview blurs one image; a foreground element asks for the layers.
-            p.method = METHOD_DIFFUSION
-            method_note = ("the CoD4 preview takes no foreground element: the diffusion ran")
+        return cam
 
+    def make_params(self, params=None, preset=None):
+        """ddof_params: the preset's (None: ddof_params_init), then the dict's fields over them
+        (solver, background, near_spread, method, precision, kernel may be names)."""
+        p = self.default_params() if preset is None else self.preset_params(preset)
+        names = {"solver": SOLVERS, "background": LAYER_MODES, "near_spread": LAYER_MODES,
+                 "method": METHODS, "precision": PRECISIONS, "kernel": KERNELS}
+        for key, value in (params or {}).items():
+            if key in names and isinstance(value, str):
+                value = names[key][value]
+            setattr(p, key, value)
+        return p
+
+
+class Session:
+    """One ddof context for the frames of a render: created once, freed by close()."""
+
+    def __init__(self, library, threads=0, backend="cpu", plugin_path=None):
+        self.library = library
+        self.key = (max(0, int(threads)), backend, plugin_path)
+        self._dll = library._dll
+        self._ctx = library._context(threads, backend, plugin_path)
+        self._info = library._backend_info(self._ctx)
+
+    def close(self):
+        if self._ctx:
+            self._dll.ddof_context_free(self._ctx)
+            self._ctx = None
+
+    def __enter__(self):
+        return self
+
+    def __exit__(self, *_exc):
+        self.close()
+
+    def _last_error(self):
+        return self._dll.ddof_context_last_error(self._ctx).decode("utf-8", "replace")
+
+    def check_camera(self, camera):
+        """None when the library accepts the camera (a dict), else its sentence."""
+        status = self._dll.ddof_camera_check(self._ctx, ctypes.byref(self.library.make_camera(
+            camera)))
+        return None if status == DDOF_OK else self._last_error()
+
+    def check_params(self, params=None, preset=None):
+        """None when the library accepts the params on this context's backend, else why."""
+        p = self.library.make_params(params, preset)
+        status = self._dll.ddof_params_check(self._ctx, ctypes.byref(p))
+        return None if status == DDOF_OK else self._last_error()
+
+    def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
+                       camera, params=None, foreground=None, preset=None, progress=None):
+        """Diffusion depth of field of one frame, in one ddof_render_frame call.
+
+        color, depth: array.array('f') of width * height * channels floats (the depth's first
+        channel is read). camera: a dict of ddof_camera fields (Library.make_camera). preset:
+        None (ddof_params_init, the default preset) or a name in PRESETS; params: a dict of
+        ddof_params fields over the preset's (Library.make_params). foreground: None, or a dict
+        with 'color' (4 channels, RGB premultiplied by alpha) and 'depth' (+ 'depth_channels')
+        of the same size: the separately rendered foreground element. progress: None, or a
+        function of the fraction done in [0, 1] returning True to cancel (the call then raises
+        DdofError with DDOF_ERROR_CANCELLED).
+        Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
+        plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name'. Raises
+        DdofError with the library's message on bad input or combinations it refuses.
+        """
+        count = width * height
+        if len(color) != count * color_channels or len(depth) != count * depth_channels:
+            raise ValueError("buffer sizes do not match %dx%d" % (width, height))
+        cam = self.library.make_camera(camera)
+        p = self.library.make_params(params, preset)
+        frame = Frame()
+        self._dll.ddof_frame_init(ctypes.byref(frame))
+        frame.color = ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
+        frame.depth = ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
+        frame.camera = ctypes.pointer(cam)
+        if foreground is not None:
+            fg_color, fg_depth = foreground["color"], foreground["depth"]
+            fg_depth_channels = foreground.get("depth_channels", depth_channels)
+            if len(fg_color) != count * 4 or len(fg_depth) != count * fg_depth_channels:
+                raise ValueError("foreground buffers do not match %dx%d" % (width, height))
+            frame.foreground_color = ImageIn(_buffer_pointer(fg_color), width, height, 4, 0)
+            frame.foreground_depth = ImageIn(_buffer_pointer(fg_depth), width, height,
+                                             fg_depth_channels, 0)
+        callback = None
+        if progress is not None:
+            # Kept referenced until the call returns: ctypes frees an unreferenced callback.
+            callback = PROGRESS_FN(lambda _user, fraction: 1 if progress(fraction) else 0)
+            p.progress = callback
         out = new_buffer(count * color_channels)
-        color_in = ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
-        depth_in = ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
         out_img = Image(_buffer_pointer(out), width, height, color_channels, 0)
         stats = Stats()
         stats.struct_size = ctypes.sizeof(Stats)
+        status = self._dll.ddof_render_frame(self._ctx, ctypes.byref(p), ctypes.byref(frame),
+                                             ctypes.byref(out_img), ctypes.byref(stats))
+        del callback
+        self.library._check(self._ctx, status, "depth of field")
+        return out, self._stats_dict(stats)
 
-        ctx = self._context(threads, backend, plugin_path)
-        try:
-            info = self._backend_info(ctx)
-            if foreground is None:
-                status = self._dll.ddof_depth_of_field(ctx, ctypes.byref(p), ctypes.byref(cam),
-                                                       ctypes.byref(color_in),
-                                                       ctypes.byref(depth_in),
-                                                       ctypes.byref(out_img),
-                                                       ctypes.byref(stats))
-                self._check(ctx, status, "depth of field")
-            else:
-                # ddof_depth_of_field takes no foreground element, so this does what it does
-                # (signed CoC from the camera, pixel aspect from the camera) and calls
-                # ddof_diffuse_layers with the element.
-                fg_color, fg_depth = foreground["color"], foreground["depth"]
-                fg_depth_channels = foreground.get("depth_channels", depth_channels)
-                if len(fg_color) != count * 4 or len(fg_depth) != count * fg_depth_channels:
-                    raise ValueError("foreground buffers do not match %dx%d" % (width, height))
-                coc = new_buffer(count)
-                fg_coc = new_buffer(count)
-                cam.signed_coc = 1
-                self._check(ctx, self._dll.ddof_coc_from_camera(
-                    ctx, ctypes.byref(cam), ctypes.byref(depth_in),
-                    ctypes.byref(Image(_buffer_pointer(coc), width, height, 1, 0))),
-                    "circle of confusion")
-                fg_depth_in = ImageIn(_buffer_pointer(fg_depth), width, height,
-                                      fg_depth_channels, 0)
-                self._check(ctx, self._dll.ddof_coc_from_camera(
-                    ctx, ctypes.byref(cam), ctypes.byref(fg_depth_in),
-                    ctypes.byref(Image(_buffer_pointer(fg_coc), width, height, 1, 0))),
-                    "foreground circle of confusion")
-                element = Foreground()
-                self._dll.ddof_foreground_init(ctypes.byref(element))
-                element.color = ImageIn(_buffer_pointer(fg_color), width, height, 4, 0)
-                element.coc = ImageIn(_buffer_pointer(fg_coc), width, height, 1, 0)
-                element.premultiplied = 1
-                p.coc_signed = 1
-                p.pixel_aspect = cam.pixel_aspect
-                coc_in = ImageIn(_buffer_pointer(coc), width, height, 1, 0)
-                status = self._dll.ddof_diffuse_layers(ctx, ctypes.byref(p),
-                                                       ctypes.byref(color_in),
-                                                       ctypes.byref(coc_in),
-                                                       ctypes.byref(element),
-                                                       ctypes.byref(out_img),
-                                                       ctypes.byref(stats))
-                self._check(ctx, status, "depth of field with a foreground element")
-        finally:
-            self._dll.ddof_context_free(ctx)
-        result = self._stats_dict(stats, info)
-        if method_note:
-            result["method_note"] = method_note
-        return out, result
-
-    def _stats_dict(self, stats, info):
+    def _stats_dict(self, stats):
+        info = self._info
         result = {name: getattr(stats, name) for name, _ in Stats._fields_
                   if name not in ("struct_size", "plan")}
         result["plan"] = stats.plan.decode("utf-8", "replace")
-        result["solver_name"] = self.solver_name(stats.solver)
+        result["solver_name"] = self.library.solver_name(stats.solver)
         result["effect_names"] = [name for bit, name in EFFECT_NAMES if stats.effects & bit]
         result["method_name"] = {v: k for k, v in METHODS.items()}.get(stats.method, "?")
         result["kernel_name"] = {v: k for k, v in KERNELS.items()}.get(stats.kernel, "?")
-        result["backend_name"] = self.backend_name(stats.backend)
+        result["backend_name"] = self.library.backend_name(stats.backend)
         # The context's renderer, unless the call ran elsewhere (the CoD4 preview: the CPU).
         if stats.backend == info["kind"]:
             result["renderer"] = info["renderer"]

@@ -42,6 +42,7 @@ _jobs = []          # Job, in the order frames were rendered
 _snapshots = {}     # (scene name, frame) -> (camera dict, info) or SetupError
 _render_state = {}  # scene name -> dict for the render in progress
 reports = {}        # scene name -> the last result, for the panel
+_session = None     # binding.Session: one ddof context for the frames of a render
 
 
 class Job:
@@ -183,15 +184,34 @@ def write_frame(scene, image, frame, since):
 # One frame
 
 
+def session_for(settings):
+    """The ddof context of the render (threads, working memory, a GL backend's plugin and
+    context): kept across its frames, made anew when the threads or backend change, freed
+    by close_session once no frame is left to process."""
+    global _session
+    lib = binding.get_library()
+    key = (max(0, int(settings.threads)), settings.library_backend(), None)
+    if _session is not None and (_session.key != key or _session.library is not lib):
+        close_session()
+    if _session is None:
+        _session = lib.session(settings.threads, settings.library_backend())
+    return _session
+
+
+def close_session():
+    global _session
+    if _session is not None:
+        _session.close()
+        _session = None
+
+
 def run(scene, settings, width, height, color, color_channels, depth, depth_channels,
         camera, foreground=None):
-    """Calls the library with the settings' preset (the library's values), their overrides and
-    their backend; returns (out, stats). Raises LibraryError, DdofError."""
-    lib = binding.get_library()
-    return lib.depth_of_field(width, height, color, color_channels, depth, depth_channels,
-                              camera, settings.library_params(), threads=settings.threads,
-                              foreground=foreground, preset=settings.preset_name(),
-                              backend=settings.library_backend())
+    """One frame in the render's session with the settings' preset (the library's values),
+    their overrides and their backend; returns (out, stats). Raises LibraryError, DdofError."""
+    return session_for(settings).depth_of_field(
+        width, height, color, color_channels, depth, depth_channels, camera,
+        settings.library_params(), foreground=foreground, preset=settings.preset_name())
 
 
 def backend_line(stats):
@@ -313,14 +333,18 @@ def _show_in_render_window(image):
 
 
 def process_ready():
-    """Processes every queued frame that is ready (main thread only)."""
+    """Processes every queued frame that is ready (main thread only); frees the session once
+    no render is running and no frame is queued."""
     while True:
         with _lock:
             job = next((j for j in _jobs if j.ready), None)
+            idle = not _jobs and not _render_state
             if job is None:
-                return
+                break
             _jobs.remove(job)
         process_job(job)
+    if idle:
+        close_session()
 
 
 def _timer():
@@ -506,3 +530,4 @@ def unregister():
         _snapshots.clear()
     _render_state.clear()
     reports.clear()
+    close_session()

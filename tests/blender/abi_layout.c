@@ -49,6 +49,13 @@ int main(void)
     F(ddof_params, near_spread); F(ddof_params, near_spread_threshold_px);
     F(ddof_params, method); F(ddof_params, precision); F(ddof_params, kernel);
     END();
+    BEGIN(ddof_frame);
+    F(ddof_frame, struct_size); F(ddof_frame, color); F(ddof_frame, depth);
+    F(ddof_frame, camera); F(ddof_frame, curve); F(ddof_frame, coc);
+    F(ddof_frame, foreground_color); F(ddof_frame, foreground_depth);
+    F(ddof_frame, foreground_coc); F(ddof_frame, foreground_premultiplied);
+    F(ddof_frame, coc_out);
+    END();
     BEGIN(ddof_stats);
     F(ddof_stats, struct_size); F(ddof_stats, solver); F(ddof_stats, threads);
     F(ddof_stats, substeps); F(ddof_stats, lines_solved); F(ddof_stats, lines_skipped);

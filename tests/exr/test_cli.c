@@ -1436,6 +1436,16 @@ static int case_options(void)
     return test_finish("test_cli options");
 }
 
+/* Raw floats into the scratch folder, for a test in another language to read. */
+static int dump_floats(const char *name, const float *values, size_t count)
+{
+    FILE *f = fopen(test_path(dir, name), "wb");
+    int ok = f && fwrite(values, sizeof *values, count, f) == count;
+    if (f && fclose(f) != 0)
+        ok = 0;
+    return ok ? 0 : -1;
+}
+
 /* A foreground element: as a second layer of the input (Blender view layer "Foreground") and
  * as a separate file; the result equals ddof_diffuse_layers with the element, both CoCs from
  * the camera, signed. Without alpha, or of another size, it is refused. */
@@ -1526,6 +1536,31 @@ static int case_foreground(void)
         element.coc.channels = 1;
         CHECK(ddof_diffuse_layers(ctx, &params, &color_in, &coc_in, &element, &out_img, NULL) ==
               DDOF_OK);
+    }
+    /* The one call gives the same, bit for bit; its inputs and result are left for the
+     * add-on's test (tests/blender/check_one_pipeline.py), which runs the same frame through
+     * the binding. */
+    {
+        static float one[N * 4];
+        ddof_frame frame;
+        ddof_params p = params;
+        p.coc_signed = 0; /* the camera's CoC is signed by the call itself */
+        camera.signed_coc = 0;
+        ddof_frame_init(&frame);
+        frame.color = (ddof_image_in){color, W, H, 4, 0};
+        frame.depth = (ddof_image_in){s.z, W, H, 1, 0};
+        frame.camera = &camera;
+        frame.foreground_color = (ddof_image_in){fgc, W, H, 4, 0};
+        frame.foreground_depth = (ddof_image_in){fg[4], W, H, 1, 0};
+        CHECK(ddof_render_frame(ctx, &p, &frame, &(ddof_image){one, W, H, 4, 0}, NULL) ==
+              DDOF_OK);
+        CHECK_MSG(memcmp(one, ref, sizeof one) == 0,
+                  "ddof_render_frame differs from the composed calls");
+        CHECK(dump_floats("one_pipeline_color.f32", color, N * 4) == 0 &&
+              dump_floats("one_pipeline_depth.f32", s.z, N) == 0 &&
+              dump_floats("one_pipeline_fg_color.f32", fgc, N * 4) == 0 &&
+              dump_floats("one_pipeline_fg_depth.f32", fg[4], N) == 0 &&
+              dump_floats("one_pipeline_out.f32", ref, N * 4) == 0);
     }
     ddof_context_free(ctx);
 
