@@ -888,6 +888,62 @@ static ddof_status cancelled(ddof_context *context, const adi_request *r, adi_re
     return ddof_fail(context, DDOF_ERROR_CANCELLED, "cancelled by the progress callback");
 }
 
+/* The preview's working memory from the context's scratch; 0 when some could not be had. */
+static int allocate(ddof_context *context, preview *p, uint32_t chunks, uint32_t bands)
+{
+    const uint32_t C = p->channels;
+    const uint64_t quarter = (uint64_t)p->qw * p->qh;
+    const uint64_t quarter_floats = (uint64_t)round_bytes(quarter * C) / sizeof(float);
+    const uint64_t near_floats = (uint64_t)round_bytes(quarter) / sizeof(float);
+    const uint64_t stats_floats =
+        round_bytes(((uint64_t)chunks * sizeof(chunk_stats) + 3) / sizeof(float)) / sizeof(float);
+    p->band_floats = band_floats(p->width, C, p->in_place);
+    const size_t quarter_bytes = round_bytes(5 * quarter_floats);
+    const size_t near_bytes = round_bytes(3 * near_floats);
+    const size_t stats_bytes = round_bytes(stats_floats);
+    const size_t band_bytes = round_bytes((uint64_t)p->band_floats * bands);
+    const size_t halo_bytes = round_bytes((uint64_t)bands * 4 * p->width * C);
+    float *quarter_mem = quarter_bytes ? ddof_scratch_get(context, SLOT_QUARTER, quarter_bytes) : NULL;
+    float *near_mem = p->has_near && near_bytes ? ddof_scratch_get(context, SLOT_NEAR, near_bytes) : NULL;
+    p->stats = stats_bytes ? ddof_scratch_get(context, SLOT_STATS, stats_bytes) : NULL;
+    p->band_memory = band_bytes ? ddof_scratch_get(context, SLOT_BANDS, band_bytes) : NULL;
+    p->halo = p->in_place && halo_bytes ? ddof_scratch_get(context, SLOT_HALO, halo_bytes) : NULL;
+    if (!quarter_mem || (p->has_near && !near_mem) || !p->stats || !p->band_memory ||
+        (p->in_place && !p->halo))
+        return 0;
+    p->down = quarter_mem;
+    p->medium_h = quarter_mem + quarter_floats;
+    p->medium = quarter_mem + 2 * quarter_floats;
+    p->large_a = quarter_mem + 3 * quarter_floats;
+    p->large_b = quarter_mem + 4 * quarter_floats;
+    if (p->has_near) {
+        p->near0 = near_mem;
+        p->near_a = near_mem + near_floats;
+        p->near_b = near_mem + 2 * near_floats;
+    }
+    return 1;
+}
+
+/* The blur levels' sizes and box windows, from the largest CoC. */
+static void choose_levels(preview *p, float max_abs)
+{
+    const double cap = (double)(p->width > p->height ? p->width : p->height) / 4.0;
+    p->has_large = max_abs > p->d_medium && cap > (double)p->d_medium;
+    p->d_large =
+        p->has_large ? (float)((double)max_abs < cap ? (double)max_abs : cap) : p->d_medium;
+    if (p->has_large) {
+        const double d = p->d_large;
+        const double v = (d * d / 16.0 - DOWN_VARIANCE - UP_VARIANCE) / 16.0; /* quarter px^2 */
+        p->large_box = box_for_variance(v / 3.0);
+    }
+    p->has_near = p->has_near && p->max_near > 0.0f;
+    if (p->has_near) {
+        const double d = (double)p->max_near < cap ? (double)p->max_near : cap;
+        p->near_box = box_for_variance(d * d / 256.0 / 3.0);
+    }
+    p->medium_box = (box){1, 0.0};
+}
+
 ddof_status ddof_cod4_preview(ddof_context *context, const adi_request *r, int coc_signed,
                               adi_report *report)
 {
@@ -917,39 +973,12 @@ ddof_status ddof_cod4_preview(ddof_context *context, const adi_request *r, int c
     p.d_medium = (float)DIAMETER_OF(DOWN_VARIANCE + 16.0 * MEDIUM_BOX_VARIANCE + UP_VARIANCE);
 
     /* All working memory first, so that a failure leaves out untouched. */
-    const uint64_t quarter = (uint64_t)p.qw * p.qh;
-    const uint64_t quarter_floats = (uint64_t)round_bytes(quarter * C) / sizeof(float);
-    const uint64_t near_floats = (uint64_t)round_bytes(quarter) / sizeof(float);
     const uint32_t chunks = ddof_row_chunks(p.qh);
     const uint32_t bands = (H + BAND_ROWS - 1) / BAND_ROWS;
-    const uint64_t stats_floats =
-        round_bytes(((uint64_t)chunks * sizeof(chunk_stats) + 3) / sizeof(float)) / sizeof(float);
-    p.band_floats = band_floats(W, C, p.in_place);
-    const size_t quarter_bytes = round_bytes(5 * quarter_floats);
-    const size_t near_bytes = round_bytes(3 * near_floats);
-    const size_t stats_bytes = round_bytes(stats_floats);
-    const size_t band_bytes = round_bytes((uint64_t)p.band_floats * bands);
-    const size_t halo_bytes = round_bytes((uint64_t)bands * 4 * W * C);
-    float *quarter_mem = quarter_bytes ? ddof_scratch_get(context, SLOT_QUARTER, quarter_bytes) : NULL;
-    float *near_mem = p.has_near && near_bytes ? ddof_scratch_get(context, SLOT_NEAR, near_bytes) : NULL;
-    p.stats = stats_bytes ? ddof_scratch_get(context, SLOT_STATS, stats_bytes) : NULL;
-    p.band_memory = band_bytes ? ddof_scratch_get(context, SLOT_BANDS, band_bytes) : NULL;
-    p.halo = p.in_place && halo_bytes ? ddof_scratch_get(context, SLOT_HALO, halo_bytes) : NULL;
-    if (!quarter_mem || (p.has_near && !near_mem) || !p.stats || !p.band_memory ||
-        (p.in_place && !p.halo))
+    if (!allocate(context, &p, chunks, bands))
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the CoD4 preview's working memory for %ux%u, "
                          "%u channels", W, H, C);
-    p.down = quarter_mem;
-    p.medium_h = quarter_mem + quarter_floats;
-    p.medium = quarter_mem + 2 * quarter_floats;
-    p.large_a = quarter_mem + 3 * quarter_floats;
-    p.large_b = quarter_mem + 4 * quarter_floats;
-    if (p.has_near) {
-        p.near0 = near_mem;
-        p.near_a = near_mem + near_floats;
-        p.near_b = near_mem + 2 * near_floats;
-    }
 
     /* Pass 1: quarter resolution, near CoC, ranges. */
     ddof_parallel_rows(context, p.qh, down_rows, &p);
@@ -978,21 +1007,7 @@ ddof_status ddof_cod4_preview(ddof_context *context, const adi_request *r, int c
     if (r->progress && r->progress(r->progress_user, 0.3f))
         return cancelled(context, r, report, t0);
 
-    /* Level sizes and box windows. */
-    const double cap = (double)(W > H ? W : H) / 4.0;
-    p.has_large = max_abs > p.d_medium && cap > (double)p.d_medium;
-    p.d_large = p.has_large ? (float)((double)max_abs < cap ? (double)max_abs : cap) : p.d_medium;
-    if (p.has_large) {
-        const double d = p.d_large;
-        const double v = (d * d / 16.0 - DOWN_VARIANCE - UP_VARIANCE) / 16.0; /* quarter px^2 */
-        p.large_box = box_for_variance(v / 3.0);
-    }
-    p.has_near = p.has_near && p.max_near > 0.0f;
-    if (p.has_near) {
-        const double d = (double)p.max_near < cap ? (double)p.max_near : cap;
-        p.near_box = box_for_variance(d * d / 256.0 / 3.0);
-    }
-    p.medium_box = (box){1, 0.0};
+    choose_levels(&p, max_abs);
 
     /* Quarter-resolution passes: the horizontal ones (ending in large_b and near_b), the
      * vertical ones (b -> a -> b -> a: the large level ends in large_a, the blurred near CoC in

@@ -99,7 +99,8 @@ if os.path.isfile(libm):
     cases.append((libm, "is not a ddof library: it has no function ddof_version_number"))
 fake = os.environ.get("DDOF_FAKE_LIBRARY", "")
 if checks.check(os.path.isfile(fake), "DDOF_FAKE_LIBRARY not given"):
-    cases.append((fake, "is version 1.2.0, but this add-on was written for 0.4"))
+    cases.append((fake, "is version 1.2.0, but this add-on was written for %d.%d"
+                  % binding.BINDING_VERSION[:2]))
 scene.render.filepath = os.path.join(u.scratch_dir("messages"), "frame.exr")
 for path, expected in cases:
     os.environ["DDOF_LIBRARY"] = path
