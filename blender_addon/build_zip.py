@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Builds the installable add-on zip: the diffusion_dof package plus the built ddof shared
 library, ready for Blender's Preferences > Add-ons > Install.
 

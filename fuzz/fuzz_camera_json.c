@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* fuzz_camera_json.c - the camera sidecar parser (camera_json.c, cJSON underneath) on fuzzed
  * text. An accepted sidecar must hold the values the schema promises. */
 #include "camera_json.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* fuzz_exr_read.c - the command's EXR read path on fuzzed files: open (header), find the
  * channel layout as `ddof` does, load the channels, write them back with exrio_write_fd and
  * read the copy again, which must hold the same values.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* fuzz_library.c - libddof's entry points on fuzzed sizes, channel counts, row strides, CoC,
  * depth, camera, curve and params: ddof_diffuse, ddof_diffuse_layers (with and without a
  * foreground element), ddof_depth_of_field, ddof_coc_from_camera and ddof_coc_from_curve.

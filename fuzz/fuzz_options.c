@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* fuzz_options.c - the command line (options.c) and the frame lists and '#' patterns it
  * feeds (frames.c) on fuzzed argument vectors: the input split at NUL bytes is argv[1..].
  * Run with -close_fd_mask=3: the parser's messages go to stdout and stderr. */

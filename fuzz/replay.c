@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* replay.c - runs a fuzz target's LLVMFuzzerTestOneInput on files, without libFuzzer: the
  * seed corpus and every input that once crashed (kept in the corpus) run as ctest tests in
  * every build, with any compiler, under the sanitizers and valgrind like the other tests.

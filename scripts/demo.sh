@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # The main job on the embedded default: builds ddof (installing what is missing) and runs the
 # `ddof` command with its default preset on the bundled Blender sample (samples/pinhole.exr:
 # a 320x180 pinhole render with depth, samples/camera.json: its camera), then prints the error

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # deps.sh - sourced by the other scripts: installs the Debian packages a step needs, if missing.
 # On a fresh Debian 12 machine this is what makes `bash scripts/test.sh` work with no set-up.
 

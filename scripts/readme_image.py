@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Redraws docs/images/before_after.png, the README's picture: the bundled sample's pinhole
 input, ddof's result and Cycles' lens depth of field side by side (sRGB, 4 px white gaps).
 

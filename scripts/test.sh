@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # Builds ddof with warnings as errors and runs every test. Installs what is missing first.
 #
 #   bash scripts/test.sh              Release build, all ctest tests (the README's test command),

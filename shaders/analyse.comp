@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // analyse.comp - one invocation per line, once per direction and call (the CoC and gamma are
 // the same for every substep): counts lines with a conductive link (the CPU path's
 // lines_solved), the largest CoC (rows only), and with heat capacities marks the singular runs

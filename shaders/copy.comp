@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // copy.comp - a pass over lines of one pixel (or with nothing to solve): y = x.
 layout(local_size_x = 256) in;
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // cr_back.comp - one level of back-substitution: odd rows take their solution from the level
 // above, even rows solve their own equation with those as neighbours (solver_cr.c). At level 0
 // the solution goes into the image. One invocation per (row, line).

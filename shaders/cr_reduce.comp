@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // cr_reduce.comp - one level of cyclic reduction (Kass, Lefohn, Owens 2006, fig. 5): row j of
 // the next level is row 2j+1 of this one with rows 2j and 2j+2 eliminated. Level 0 is read
 // from the image with its coefficients computed on the fly. One invocation per (row, line).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // gruen_back4.comp - Gruen's last back-substitution, level 2 to the image in one pass: each
 // invocation finishes four pixels 4j .. 4j+3 from the level-2 solutions around them,
 // recomputing the level-0 and level-1 coefficients on the fly. One invocation per (group, line).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // gruen_cramer.comp - the top of Gruen's reduction: a closed system of 1, 2 or 3 unknowns
 // solved by Cramer's rule. The determinant and cofactors are expanded into sums of products
 // of non-negative terms (for this M-matrix in excess form every one of them is), so each

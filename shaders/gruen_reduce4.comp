@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // gruen_reduce4.comp - Gruen's initial four-to-one reduction (Game Engine Gems 2, ch. 8): level
 // 2 row j straight from image pixels 4j .. 4j+6, coefficients computed on the fly from the
 // CoC (8 links, 7 gammas), without storing level 0 or level 1. One invocation per (row, line).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // host_pack.comp - a host application's textures (ddof_gl_host_diffuse) into the working
 // layout: RGBA colour from texture unit 0, the CoC diameter in px from the first channel of
 // texture unit 1 (its sign ignored). Level 0 of each, read with texelFetch (no filtering).

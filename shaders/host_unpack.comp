@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // host_unpack.comp - the result into the host's output texture, bound as image unit 0 with the
 // format the program was built for (OUT_FORMAT: rgba32f or rgba16f).
 layout(local_size_x = 16, local_size_y = 16) in;

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // jacobi_init.comp - the Jacobi sweeps' first guess, one invocation per line: y = x, except in
 // holes (gamma = 0), which take the nearest value along the line that holds heat (the last one
 // before, or the first one for leading holes), as libddof/src/solver_jacobi.c does: starting

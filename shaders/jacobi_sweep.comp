@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // jacobi_sweep.comp - one Jacobi sweep over every pixel of the pass (DDOF_SOLVER_JACOBI):
 //   y_i <- x_i + wlo (y_{i-1} - x_i) + whi (y_{i+1} - x_i),  w = link / (gamma + A + C)
 // reading only the previous sweep (double-buffered), as solver_jacobi.c. The last sweep

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // lens_thomas.comp - one component of the disc kernel along one direction, one invocation per
 // line: the component's chain of u_steps complex implicit steps (libddof/src/lens_adi.c), each
 // the weighted-mean Thomas elimination of libddof/src/lens_solver.c with beta = kappa_m * b:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // line.glsl - the tridiagonal rows of one ADI pass, shared by every solver kernel.
 //
 // A pass solves `u_lines` independent lines of `u_n` unknowns each; unknown i of line l is the

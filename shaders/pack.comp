@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // pack.comp - the caller's images (uploaded as they lie: strided rows, 1..4 channels, the CoC
 // and gamma as the first of several channels) into the solver's working layout: one vec4 per
 // pixel, |CoC| and gamma as one float each. Where gamma is 0 the colour is not read (it may be

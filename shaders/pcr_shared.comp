@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // pcr_shared.comp - parallel cyclic reduction (Zhang, Cohen, Owens 2010) of one line in
 // shared memory: one work group per line, every step one barrier-separated sweep in which each
 // equation eliminates its neighbours at distance s = 1, 2, 4, ... After ceil(log2 m) steps

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // prelude.glsl - prepended to every kernel (after "#version 450" and the program's defines).
 // Helpers every kernel shares; no buffers here, so that each kernel declares only what it uses.
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // pyramid.glsl - storage of the reduced levels of cyclic reduction (CR, the PCR hybrid and
 // Gruen's solver). Level rows are laid out [level offset + j][line of the batch], so that
 // neighbouring invocations (neighbouring lines) touch neighbouring memory in both passes.

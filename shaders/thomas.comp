@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // thomas.comp - Thomas elimination, one invocation per line (DDOF_SOLVER_THOMAS).
 //
 // The weighted-mean form of libddof/src/solver_thomas.c: the eliminated row's excess q only

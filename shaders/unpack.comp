@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 // unpack.comp - the working image back into the caller's layout (channels and row stride),
 // ready to be read back; the padding between rows is never written.
 layout(local_size_x = 256) in;

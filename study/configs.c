@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* configs.c - the configurations of the study and their ids.
  *
  * The full list is not the blind cross product of every knob (too slow): a base configuration,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* main.c - ddof-study: runs the configurations of the accuracy-vs-cost study on scene folders.
  *
  *   ddof-study run --out DIR [options] SCENE_DIR...     measure; writes DIR/results.jsonl

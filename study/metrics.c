@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* metrics.c - the errors of the study: PSNR as `ddof --compare` computes it (plugin/cli/
  * compare.c: RGB, sRGB-encoded values clamped to [0, 1], peak 1), over the image or over the
  * band around depth edges, and linear differences against the double-precision reference. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* output.c - small helpers: .npy images for report.py, directories, clocks, medians. */
 #include "study.h"
 

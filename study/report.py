@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """The accuracy-vs-cost report of the study (issue 7): results.jsonl -> docs/accuracy.md, its
 plots (docs/images/accuracy_*.png) and libddof/src/presets_measured.inc.
 

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # study/run.sh - the accuracy-vs-cost study (issue 7) in one command: builds ddof-study, renders
 # the ground-truth scenes (cached), runs Blender's Defocus node on them (cached), runs the sweep
 # and writes the report. Installs what is missing first (Debian packages, as scripts/test.sh).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* scene.c - loading a study scene folder (study/scenes/README.md; samples/ has the same layout):
  *   pinhole.exr        Blender multilayer: ViewLayer.Combined.R/G/B/A + ViewLayer.Depth.Z
  *   truth.exr          the Cycles lens-DOF render, RGBA

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* study.h - the accuracy-vs-cost study (issue 7, docs/accuracy.md): shared types.
  *
  * ddof-study loads a scene folder (pinhole.exr, truth.exr, camera.json, and when present fg.exr,

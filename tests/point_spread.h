@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* point_spread.h - what a kernel draws around one bright pixel, measured against the disc a lens
  * draws: shared by test_disc_kernel.c (which asserts it) and ddof-bench (which prints it).
  *

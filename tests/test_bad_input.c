@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_bad_input.c - every bad input gets its documented status, leaves the output bitwise
  * untouched (ddof.h: "every check runs before the first output pixel is written") and leaves a
  * message in ddof_context_last_error(); a success clears it to "".

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_coc.c - circle of confusion from a camera (Cycles and thin-lens models, sensor fits,
  * pixel aspect, radial depth, depth units, sky, clamping) and from the artist curve, against
  * formulas evaluated here in double (docs/design.md section 1, ddof.h).

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_cone_dilate.c - the near spread's cone dilation (libddof/src/cone_dilate.c) against a
  * brute-force double-precision evaluation of its definition, max over q of v(q) - slope d(p, q)
  * with d the 8-connected chamfer distance, on sparse random maps of odd sizes, 1xN and Nx1 and

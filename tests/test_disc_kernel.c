@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_disc_kernel.c - the disc (lens) kernel: its point spread against a uniform disc, the
  * float driver against the double-precision complex reference on the hard cases, and the
  * invariants it keeps from the heat kernel (in-focus pixels bit for bit, nothing crossing them,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_frame.c - ddof_render_frame, the one call a host needs: bit for bit what the parts it
  * stands for give (the CoC calls and ddof_diffuse_layers), for every CoC source, with and
  * without a foreground element and a CoC output; every bad combination refused with the

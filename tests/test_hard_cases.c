@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_hard_cases.c - numerical stability of ddof_diffuse on hard inputs: huge CoC (beta up to
  * 1e10 in float), insulating checkerboards, degenerate and odd image sizes, a lone blurred pixel,
  * CoC at exactly DDOF_MAX_COC_PX, HDR values. The float solvers are compared with the library's

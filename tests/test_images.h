@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_images.h - image helpers shared by the tests that run the library on whole images
  * (test_invariants, test_hard_cases, test_coc, test_bad_input): allocation, fills, the call on
  * tightly packed images, error measures, padded-layout comparisons and the independent double

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_invariants.c - image-level properties of ddof_diffuse (the contract in ddof.h and
  * docs/design.md section 1): agreement with an independent double-precision ADI step, no overshoot,
  * conservation, CoC-0 insulation, symmetry, the second moment of the kernel, in-place operation,

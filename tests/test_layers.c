@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_layers.c - the layers of ddof_diffuse_layers (issue 4): each one improves a measured error
  * against a reference for the scene it is made for, and every layer stays numerically stable on
  * the hard cases (gamma exactly 0 over whole lines, alpha 0/1 checkerboards, one blurred pixel,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_planner.c - what ddof_diffuse_layers decides to simulate (issue 4: "simulate only what the
  * scene calls for") and what it reports in ddof_stats: scenes built in code that each call for
  * exactly one effect, with every layer left at DDOF_LAYER_AUTO, then the same scenes with the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_preview_cod4.c - the CoD4 post-process preview (params.method = DDOF_METHOD_COD4_PREVIEW,
  * GPU Gems 3 ch. 28): invariants on random images and CoC (huge CoC included), identities,
  * in place, sizes and channels, what it blurs (near spread, edge width growing with the CoC),

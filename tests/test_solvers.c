@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_solvers.c - the tridiagonal line solvers (solver.h) against a long-double reference.
  *
  * The reference is textbook Gaussian elimination with partial pivoting on the tridiagonal matrix

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_util.h - the few assertion helpers the unit tests share.
  *
  * Every CHECK counts; a failing one prints file:line and what was compared, and the test keeps

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Diffusion DOF: depth of field by simulated heat diffusion (Kass, Lefohn, Owens 2006) on the
 render's Combined and Depth passes, through the ddof shared library (ctypes, no pixel math in
 Python). See docs/blender-addon.md."""

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Getting the passes out of a render.
 
 Blender cannot run Python inside the compositor, and a render result's pixels are not readable

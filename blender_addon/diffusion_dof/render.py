@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Render handlers: every rendered frame of a scene with Diffusion DOF on goes through libddof.
 
 Order of events in Blender 3.4 to 4.x, per frame (checked in background mode):

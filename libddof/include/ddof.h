@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * ddof.h - diffusion depth of field (Kass, Lefohn, Owens 2006) as a C library.
  *

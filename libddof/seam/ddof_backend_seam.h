@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* ddof_backend_seam.h - what crosses the seam between libddof and a diffusion backend.
  *
  * The core (libddof/src) decides *what* to simulate: it validates the caller's images, plans

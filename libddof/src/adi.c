@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* adi.c - the ADI driver for the float solvers: batches of lines, gathered, solved, scattered.
  *
  * A pass (all rows, or all columns) is cut into batches of DDOF_LANES consecutive lines. Each

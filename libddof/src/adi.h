@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* adi.h - alternating-direction implicit diffusion of an image: rows, then columns, n times. */
 #ifndef DDOF_ADI_H
 #define DDOF_ADI_H

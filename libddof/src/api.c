@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* api.c - version, defaults of the parameter structs, names. */
 #include "internal.h"
 

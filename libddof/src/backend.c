@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* backend.c - choosing where the diffusion runs: the CPU solvers here, or a GL device from the
  * plugin library, loaded at run time so that libddof itself never links GL. */
 #define _GNU_SOURCE /* dladdr */

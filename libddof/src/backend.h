@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* backend.h - the seam between the core and a diffusion backend (the GL plugin).
  *
  * The planner and the layers decide *what* to simulate and issue ADI requests (adi.h); a

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* call_checks.c - what the public diffusion calls check before anything runs: the params, the
  * images and their values, the foreground element. Every check happens before the first output
  * pixel is written, so a failed call leaves the output as it was. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* call_checks.h - the checks the public diffusion calls share (call_checks.c). Each returns
  * DDOF_OK or a failure recorded in the context, and none writes an output pixel. */
 #ifndef DDOF_CALL_CHECKS_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* coc.c - circle of confusion from a camera and depth, or from the artist curve.
  *
  * Both lens models reduce to d = K * |1 - S1/Z| pixels, which is 0 at the focus plane and K for

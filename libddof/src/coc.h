@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* coc.h - circle of confusion: parameter checks and the computation on validated images. */
 #ifndef DDOF_COC_H
 #define DDOF_COC_H

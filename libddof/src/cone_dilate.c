@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* cone_dilate.c - grey-level dilation by a cone (cone_dilate.h), the chamfer way.
  *
  * max over q of v(q) - slope * d(p, q) with d the 8-connected chamfer distance is a shortest

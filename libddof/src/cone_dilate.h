@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* cone_dilate.h - grey-level dilation by a cone: v(p) <- max over q of v(q) - slope * d(p, q).
  *
  * The near spread (layers.c) uses it to let every near-field pixel claim the pixels around it

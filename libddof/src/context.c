@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* context.c - context lifetime: allocator, worker threads, last error. */
 #include "backend.h"
 

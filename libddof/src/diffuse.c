@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* diffuse.c - the public diffusion calls (ddof_diffuse, ddof_diffuse_layers) and the running
  * they share with the frame call: plan the frame, run the plan, report it. */
 #include "call_checks.h"

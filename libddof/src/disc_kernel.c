@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* disc_kernel.c - the disc kernels' fitted tables and what the layers need to know of them. */
 #include "disc_kernel.h"
 

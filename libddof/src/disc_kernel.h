@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* disc_kernel.h - the fitted tables of the disc (lens) kernel.
  *
  * The heat kernel (one real implicit step per axis) is a soft blob with long tails. A disc is

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* errors.c - status strings and the context's last-error message. */
 #include "internal.h"
 

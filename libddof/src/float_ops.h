@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* float_ops.h - tiny helpers the hot loops share. */
 #ifndef DDOF_FLOAT_OPS_H
 #define DDOF_FLOAT_OPS_H

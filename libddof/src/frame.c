@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* frame.c - the one call a host needs (ddof_render_frame): the CoC from the frame's source,
  * the foreground element's CoC from its own depth, then the planned layers. Also the checks a
  * host runs before it has pixels (ddof_params_check, ddof_camera_check). */

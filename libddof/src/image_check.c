@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* image_check.c - validation of caller-described images and versioned structs. */
 #include "internal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* internal.h - what the library's source files share: the context, errors, memory, timing. */
 #ifndef DDOF_INTERNAL_H
 #define DDOF_INTERNAL_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* layers.c - the layered diffusion of docs/design.md section 1, each effect one or two ADI runs.
  *
  *  midground    the single-layer diffusion (with the near-spread CoC when that runs)

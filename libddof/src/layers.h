@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* layers.h - the layered diffusion: midground, background layer(s), near spread, foreground. */
 #ifndef DDOF_LAYERS_H
 #define DDOF_LAYERS_H

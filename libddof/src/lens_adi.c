@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* lens_adi.c - the disc kernel's driver (disc_kernel.h) for the CPU.
  *
  * Per component c of the kernel: a row pass runs the component's chain of steps on each batch of

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* lens_reference_f64.c - the disc kernel in double precision: what lens_adi.c is measured
  * against. Deliberately independent of it: complex doubles, the whole image per component, the
  * textbook Thomas algorithm on the unnormalised system of each step, the components summed as

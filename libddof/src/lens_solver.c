@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* lens_solver.c - complex Thomas elimination in weighted-mean form (see lens_solver.h).
  *
  * Real and imaginary parts live in separate arrays, so every inner loop runs across the

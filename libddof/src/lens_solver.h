@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* lens_solver.h - the complex tridiagonal solve behind the disc kernel, DDOF_LANES lines at once.
  *
  * One step of the disc kernel is an implicit step with a complex conductance beta = kappa * b:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* line_gather.h - moving pixels between image lines and a solver batch's lanes, and the heat
  * capacities of the layers; shared by the heat driver (adi.c) and the disc driver (lens_adi.c). */
 #ifndef DDOF_LINE_GATHER_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* memory.c - aligned allocation on top of the caller's allocator, and a monotonic clock. */
 #include "internal.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* parallel_rows.c - row-chunk parallelism and value validation scans. */
 #include "parallel_rows.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* parallel_rows.h - split an image's rows into chunks and run them on the context's threads. */
 #ifndef DDOF_PARALLEL_ROWS_H
 #define DDOF_PARALLEL_ROWS_H

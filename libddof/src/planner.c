@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* planner.c - simulate only what the scene calls for.
  *
  * One pass over the CoC field counts the discontinuities that make each effect necessary:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* planner.h - decide from the CoC field which effects a frame needs, before any solve. */
 #ifndef DDOF_PLANNER_H
 #define DDOF_PLANNER_H

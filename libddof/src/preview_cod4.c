@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* preview_cod4.c - the practical post-process depth of field of Call of Duty 4 (GPU Gems 3
  * ch. 28, Earl Hammon Jr.) as libddof's fast preview, adapted to CoC diameters in pixels, any
  * image size, 1..4 float channels and CoC up to DDOF_MAX_COC_PX.

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* preview_cod4.h - the practical post-process depth of field of Call of Duty 4 (GPU Gems 3
  * ch. 28, Earl Hammon Jr.) as libddof's fast preview mode: near CoC at quarter resolution,
  * blurred and dilated (D = max(D0, 2 D_blurred - D0)), three blur levels interpolated by CoC. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* reduction_rows.h - the equation rows that cyclic reduction (solver_cr.c) and parallel cyclic
  * reduction (solver_pcr.c) store and combine.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* reference_f64.c - the double-precision reference path: what the float solvers are measured
  * against. Deliberately independent of them: the whole image is kept in double between passes,
  * each line is solved with the textbook Thomas algorithm on the unnormalised system

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* solver.h - the tridiagonal line solvers behind one table of function pointers.
  *
  * A solver works on a batch of DDOF_LANES independent lines of n unknowns each, solving per lane

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* solver_cr.c - cyclic reduction (Kass, Lefohn, Owens 2006, fig. 5).
  *
  * Level k+1 keeps the odd equations of level k; each one absorbs its two even neighbours, which

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* solver_jacobi.c - batch->iterations Jacobi sweeps, starting from y = x.
  *
  *     y_i <- (gamma_i x_i + A_i y_{i-1} + C_i y_{i+1}) / (gamma_i + A_i + C_i)

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* solver_pcr.c - parallel cyclic reduction (Zhang, Cohen, Owens 2010).
  *
  * At step k every equation eliminates its neighbours at distance s = 2^k, which couples it to the

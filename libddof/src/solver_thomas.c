@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* solver_thomas.c - Thomas (LU) elimination in weighted-mean form, DDOF_LANES lines at once.
  *
  * Textbook Thomas divides by b_i - a_i c'_{i-1}, which at beta ~ 1e8 in float cancels away the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* thread_pool.c - persistent pthread workers running one parallel-for at a time.
  *
  * A run publishes (task, count) under the mutex and bumps `generation`; workers wake, take task

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* thread_pool.h - a small pthread pool that runs a parallel-for over task indices.
  *
  * The calling thread works too, so a pool of W workers gives W + 1 threads. Tasks are taken from

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* camera_json.c - reading the camera sidecar JSON with cJSON. */
 #include "camera_json.h"
 

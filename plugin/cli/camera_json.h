@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* camera_json.h - the camera sidecar (docs/design.md section 1) read into a ddof_camera.
  *
  * Schema: focal_length_mm, sensor_width_mm, sensor_fit ("AUTO" | "HORIZONTAL" | "VERTICAL"),

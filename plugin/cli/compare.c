@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* compare.c - RMSE and PSNR against a ground truth. */
 #include "compare.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* compare.h - the error of an image against a ground truth (docs/design.md section 6), over RGB:
  *  - display-referred: each value clamped to [0, 1] and sRGB-encoded, as a person sees it in
  *    the PNG preview; RMSE and PSNR (peak 1) on that scale are the headline figures;

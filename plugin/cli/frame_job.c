@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* frame_job.c - one frame: read, CoC, diffuse, write, preview, compare. */
 #include "frame_job.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* frame_job.h - one frame, start to finish: read the EXR, find its channels, compute the CoC,
  * diffuse, write the EXR (and preview) atomically, and optionally measure against a truth. */
 #ifndef DDOF_CLI_FRAME_JOB_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* frames.c - frame lists and '#' path patterns. */
 #include "frames.h"
 

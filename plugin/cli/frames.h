@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* frames.h - frame lists ("1-240", "1-240x2", "1,4,10-12") and path patterns in which a run
  * of '#' stands for the zero-padded frame number (render_####.exr -> render_0007.exr), as in
  * Blender's output paths. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* main.c - `ddof`: depth of field for EXR renders and frame sequences (docs/cli.md).
  *
  * Order of work: signals first (so that every later thread inherits the blocked mask), then

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* options.c - the `ddof` command line: a table of options, each parsed into cli_options. */
 #include "options.h"
 

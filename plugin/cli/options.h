@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* options.h - everything the `ddof` command line can say, parsed into one struct.
  *
  * The struct keeps, for each library parameter, whether the user set it, so that the sidecar

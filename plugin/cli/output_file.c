@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* output_file.c - temporary file + rename, the clean-up thread for signals, path checks. */
 #include "output_file.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* output_file.h - outputs that are never half-written, never the input, and removed on Ctrl-C.
  *
  * Every output (EXR, PNG preview, stats JSON) is written to a hidden temporary file in the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* preview.c - 8-bit sRGB PNG preview of a linear result. */
 #include "preview.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* progress.c - the terminal progress bar. */
 #include "progress.h"
 

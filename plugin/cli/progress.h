@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* progress.h - a one-line progress bar on stderr for frame sequences, shared by the worker
  * threads. It is drawn only when enabled (by default: when stderr is a terminal), so logs of
  * batch jobs get clean per-frame lines and no carriage-return noise. Every other line the

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* sequence.c - the frame-sequence driver: a shared queue of frames and worker threads. */
 #include "sequence.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* sequence.h - running a list of frames: one after another with one context using every
  * core, or several at once with one single-threaded context per worker thread when frames are
  * small (there the library's per-call thread start-up and the single-threaded EXR decode and

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* stats_json.c - the --stats report. */
 #include "stats_json.h"
 

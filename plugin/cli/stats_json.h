@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* stats_json.h - `--stats FILE.json`: per frame, what the library simulated and skipped and
  * why, and the time of every stage, for the accuracy study and for batch logs. Written with
  * cJSON, atomically (output_file.h). */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* png_write.c - PNG output through libpng's simplified API; atomic file variant (temp + rename). */
 #include "png_write.h"
 

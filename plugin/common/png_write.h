@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* png_write.h - 8-bit PNG output through libpng, shared by ddof-demo and the `ddof` command.
  *
  * Two entry points because the two programs own their temporary files differently: ddof-demo

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* ddof_demo.c - `ddof-demo`: depth of field on a synthetic render, written out as PNGs.
  *
  * Renders the scene of synthetic_scene.h (640x360, linear RGB + planar depth), computes the
@@ -299,24 +300,107 @@ static int write_png(const char *dir, const char *name, const uint8_t *pixels, u
     return 0;
 }
 
-int main(int argc, char **argv)
+/* Depth of field of the scene in one library call, which hands back the CoC it used. */
+static int run_library(const options *opt, const demo_scene *scene, float *coc, float *result,
+                       ddof_stats *stats)
 {
-    const size_t pixels = (size_t)WIDTH * HEIGHT;
-    const uint32_t pair_width = 2 * WIDTH + SEPARATOR_PX;
-    options opt;
-    demo_scene scene = {0, 0, NULL, NULL};
     ddof_context_options context_options;
     ddof_context *context = NULL;
     ddof_camera camera;
     ddof_params params;
-    ddof_stats stats;
+    ddof_frame frame;
     ddof_status status;
+
+    ddof_context_options_init(&context_options);
+    context_options.thread_count = opt->threads;
+    status = ddof_context_create(&context_options, &context);
+    if (status != DDOF_OK) {
+        fprintf(stderr, "ddof-demo: cannot create a ddof context: %s\n", ddof_status_string(status));
+        return -1;
+    }
+    ddof_camera_init(&camera);
+    camera.lens_model = DDOF_LENS_CYCLES;
+    camera.depth_kind = DDOF_DEPTH_PLANAR;
+    camera.focal_length_mm = FOCAL_LENGTH_MM;
+    camera.sensor_width_mm = SENSOR_WIDTH_MM;
+    camera.fstop = opt->fstop;
+    camera.focus_distance_m = opt->focus_m;
+    ddof_params_init(&params);
+    if (opt->solver >= 0)
+        params.solver = (ddof_solver)opt->solver;
+    if (opt->substeps > 0)
+        params.substeps = opt->substeps;
+    ddof_frame_init(&frame);
+    frame.color = (ddof_image_in){scene->color, WIDTH, HEIGHT, 3, 0};
+    frame.depth = (ddof_image_in){scene->depth, WIDTH, HEIGHT, 1, 0};
+    frame.camera = &camera;
+    frame.coc_out = (ddof_image){coc, WIDTH, HEIGHT, 1, 0};
+    memset(stats, 0, sizeof *stats);
+    stats->struct_size = sizeof *stats;
+    status = ddof_render_frame(context, &params, &frame,
+                               &(ddof_image){result, WIDTH, HEIGHT, 3, 0}, stats);
+    if (status != DDOF_OK)
+        fprintf(stderr, "ddof-demo: depth of field: %s: %s\n", ddof_status_string(status),
+                ddof_context_last_error(context));
+    ddof_context_free(context);
+    return status == DDOF_OK ? 0 : -1;
+}
+
+/* pinhole.png, depth.png, coc.png, dof.png and before_after.png (pinhole | result). */
+static int write_pictures(const options *opt, const demo_scene *scene, const float *coc,
+                          const float *result)
+{
+    const size_t pixels = (size_t)WIDTH * HEIGHT;
+    const uint32_t pair_width = 2 * WIDTH + SEPARATOR_PX;
+    uint8_t *rgb8 = malloc(pixels * 3), *gray8 = malloc(pixels);
+    uint8_t *pair8 = malloc((size_t)pair_width * HEIGHT * 3);
+    int rc = -1;
+    uint32_t y;
+
+    if (!rgb8 || !gray8 || !pair8) {
+        fprintf(stderr, "ddof-demo: out of memory\n");
+        goto done;
+    }
+    encode_color(scene->color, pixels, rgb8);
+    if (write_png(opt->out_dir, "pinhole.png", rgb8, WIDTH, HEIGHT, 3) != 0)
+        goto done;
+    for (y = 0; y < HEIGHT; y++) { /* left half of the pair, while rgb8 holds the input */
+        uint8_t *row = pair8 + (size_t)y * pair_width * 3;
+        memcpy(row, rgb8 + (size_t)y * WIDTH * 3, (size_t)WIDTH * 3);
+        memset(row + (size_t)WIDTH * 3, 255, (size_t)SEPARATOR_PX * 3);
+    }
+    encode_depth(scene->depth, pixels, gray8);
+    if (write_png(opt->out_dir, "depth.png", gray8, WIDTH, HEIGHT, 1) != 0)
+        goto done;
+    encode_coc(coc, scene->depth, opt->focus_m, pixels, rgb8);
+    if (write_png(opt->out_dir, "coc.png", rgb8, WIDTH, HEIGHT, 3) != 0)
+        goto done;
+    encode_color(result, pixels, rgb8);
+    if (write_png(opt->out_dir, "dof.png", rgb8, WIDTH, HEIGHT, 3) != 0)
+        goto done;
+    for (y = 0; y < HEIGHT; y++)
+        memcpy(pair8 + ((size_t)y * pair_width + WIDTH + SEPARATOR_PX) * 3,
+               rgb8 + (size_t)y * WIDTH * 3, (size_t)WIDTH * 3);
+    if (write_png(opt->out_dir, "before_after.png", pair8, pair_width, HEIGHT, 3) != 0)
+        goto done;
+    rc = 0;
+done:
+    free(rgb8);
+    free(gray8);
+    free(pair8);
+    return rc;
+}
+
+int main(int argc, char **argv)
+{
+    const size_t pixels = (size_t)WIDTH * HEIGHT;
+    options opt;
+    demo_scene scene = {0, 0, NULL, NULL};
+    ddof_stats stats;
     float *coc = NULL, *result = NULL;
-    uint8_t *rgb8 = NULL, *gray8 = NULL, *pair8 = NULL;
     double t0, scene_seconds;
     int exit_code = 1;
     int rc;
-    uint32_t y;
 
     rc = parse_options(argc, argv, &opt);
     if (rc != 0)
@@ -333,83 +417,12 @@ int main(int argc, char **argv)
 
     coc = malloc(pixels * sizeof *coc);
     result = malloc(pixels * 3 * sizeof *result);
-    rgb8 = malloc(pixels * 3);
-    gray8 = malloc(pixels);
-    pair8 = malloc((size_t)pair_width * HEIGHT * 3);
-    if (!coc || !result || !rgb8 || !gray8 || !pair8) {
+    if (!coc || !result) {
         fprintf(stderr, "ddof-demo: out of memory\n");
         goto done;
     }
-
-    ddof_context_options_init(&context_options);
-    context_options.thread_count = opt.threads;
-    status = ddof_context_create(&context_options, &context);
-    if (status != DDOF_OK) {
-        fprintf(stderr, "ddof-demo: cannot create a ddof context: %s\n", ddof_status_string(status));
-        goto done;
-    }
-
-    {
-        const ddof_image_in color_in = {scene.color, WIDTH, HEIGHT, 3, 0};
-        const ddof_image_in depth_in = {scene.depth, WIDTH, HEIGHT, 1, 0};
-        const ddof_image coc_out = {coc, WIDTH, HEIGHT, 1, 0};
-        const ddof_image result_out = {result, WIDTH, HEIGHT, 3, 0};
-
-        ddof_camera_init(&camera);
-        camera.lens_model = DDOF_LENS_CYCLES;
-        camera.depth_kind = DDOF_DEPTH_PLANAR;
-        camera.focal_length_mm = FOCAL_LENGTH_MM;
-        camera.sensor_width_mm = SENSOR_WIDTH_MM;
-        camera.fstop = opt.fstop;
-        camera.focus_distance_m = opt.focus_m;
-
-        status = ddof_coc_from_camera(context, &camera, &depth_in, &coc_out);
-        if (status != DDOF_OK) {
-            fprintf(stderr, "ddof-demo: CoC: %s: %s\n", ddof_status_string(status),
-                    ddof_context_last_error(context));
-            goto done;
-        }
-
-        ddof_params_init(&params);
-        if (opt.solver >= 0)
-            params.solver = (ddof_solver)opt.solver;
-        if (opt.substeps > 0)
-            params.substeps = opt.substeps;
-        memset(&stats, 0, sizeof stats);
-        stats.struct_size = sizeof stats;
-        status = ddof_depth_of_field(context, &params, &camera, &color_in, &depth_in, &result_out,
-                                     &stats);
-        if (status != DDOF_OK) {
-            fprintf(stderr, "ddof-demo: depth of field: %s: %s\n", ddof_status_string(status),
-                    ddof_context_last_error(context));
-            goto done;
-        }
-    }
-
-    encode_color(scene.color, pixels, rgb8);
-    if (write_png(opt.out_dir, "pinhole.png", rgb8, WIDTH, HEIGHT, 3) != 0)
-        goto done;
-    for (y = 0; y < HEIGHT; y++) { /* left half of the pair, while rgb8 holds the input */
-        uint8_t *row = pair8 + (size_t)y * pair_width * 3;
-        memcpy(row, rgb8 + (size_t)y * WIDTH * 3, (size_t)WIDTH * 3);
-        memset(row + (size_t)WIDTH * 3, 255, (size_t)SEPARATOR_PX * 3);
-    }
-
-    encode_depth(scene.depth, pixels, gray8);
-    if (write_png(opt.out_dir, "depth.png", gray8, WIDTH, HEIGHT, 1) != 0)
-        goto done;
-
-    encode_coc(coc, scene.depth, opt.focus_m, pixels, rgb8);
-    if (write_png(opt.out_dir, "coc.png", rgb8, WIDTH, HEIGHT, 3) != 0)
-        goto done;
-
-    encode_color(result, pixels, rgb8);
-    if (write_png(opt.out_dir, "dof.png", rgb8, WIDTH, HEIGHT, 3) != 0)
-        goto done;
-    for (y = 0; y < HEIGHT; y++)
-        memcpy(pair8 + ((size_t)y * pair_width + WIDTH + SEPARATOR_PX) * 3,
-               rgb8 + (size_t)y * WIDTH * 3, (size_t)WIDTH * 3);
-    if (write_png(opt.out_dir, "before_after.png", pair8, pair_width, HEIGHT, 3) != 0)
+    if (run_library(&opt, &scene, coc, result, &stats) != 0 ||
+        write_pictures(&opt, &scene, coc, result) != 0)
         goto done;
 
     printf("scene: %dx%d rendered in %.1f ms; lens %.0f mm f/%g focused at %g m\n", WIDTH, HEIGHT,
@@ -424,12 +437,8 @@ int main(int argc, char **argv)
     exit_code = 0;
 
 done:
-    ddof_context_free(context);
     demo_scene_free(&scene);
     free(coc);
     free(result);
-    free(rgb8);
-    free(gray8);
-    free(pair8);
     return exit_code;
 }

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* synthetic_scene.c - ray casts the demo scene described in synthetic_scene.h.
  *
  * Camera at the origin, x right, y up, looking along +z; the ground is the plane y = -CAMERA_H.

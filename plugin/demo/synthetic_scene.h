@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* synthetic_scene.h - a small pinhole "render" made in code, so ddof-demo needs no input files.
  *
  * A brick wall with string lights 30 m away under a strip of sky, a tiled ground receding towards

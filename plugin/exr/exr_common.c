@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_common.c - names of compressions and pixel types, the file-descriptor stream given to
  * OpenEXR's C core, error formatting, channel look-up and freeing an image. */
 #include "exr_internal.h"

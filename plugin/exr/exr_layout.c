@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_layout.c - which channels are colour, depth and CoC: Blender's multilayer names, plain
  * single-layer names, or names given explicitly (see exrio_layout.h). */
 #include "exrio_layout.h"

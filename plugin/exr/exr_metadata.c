@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_metadata.c - carrying an input's header attributes (camera matrices, render time, frame
  * rate, artist notes, ...) over to an output, attribute by attribute through the typed setters
  * of the C core, skipping those that describe a pixel layout the output does not have. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_read.c - reading OpenEXR files through the C core: the header (exrio_open) and then the
  * pixels of the channels asked for (exrio_load), scanline or tiled, into float/uint32 planes. */
 #include "exr_internal.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_write.c - writing one scanline part through OpenEXR's C core onto an open descriptor. */
 #include "exr_internal.h"
 

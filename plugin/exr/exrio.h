@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exrio.h - OpenEXR input and output for ddof's tools, on OpenEXR's C core API (OpenEXRCore).
  *
  * What it does and why it is shaped this way:

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exrio_layout.h - finding the colour, depth and CoC channels of a render in an EXR header.
  *
  * Renders name their channels by convention, not by schema. Two layouts are recognised

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* backend_table.c - the plugin's one exported symbol: the table libddof/src/backend.c loads
  * (open, close, describe, supports, run, supports_disc), and run() itself: upload, ADI (heat or
  * disc kernel), read back, with the device's context current only for the call. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* context_egl.c - EGL without a window: a GPU when there is one, Mesa's surfaceless platform
  * (llvmpipe) otherwise.
  *

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* context_host.c - the GL context a host application (a DCC viewport) has made current on the
  * calling thread. ddof never makes anything current or releases it here; it only needs a way
  * to look GL functions up, found in whichever GL library the process already has loaded

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* context_osmesa.c - Mesa's off-screen software renderer (llvmpipe) as a context backend.
  *
  * libOSMesa is dlopen()ed (DDOF_GL_OSMESA_LIBRARY names another file; a path that does not

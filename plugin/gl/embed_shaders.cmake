@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # embed_shaders.cmake - run with `cmake -P`: turns every shader file into a C array in one
 # generated header, so the library carries its GLSL and never looks for files at run time.
 #   -DOUTPUT=<header> -DSOURCES=<file;file;...>

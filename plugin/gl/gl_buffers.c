@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_buffers.c - grow-only GPU buffers per slot (see gl_buffers.h). */
 #include "gl_buffers.h"
 

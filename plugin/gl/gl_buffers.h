@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_buffers.h - the solver's GPU buffers, kept by the device between calls and grown to the
  * largest call (a sequence of frames of one size allocates once), like the CPU path's scratch. */
 #ifndef DDOF_GL_BUFFERS_H

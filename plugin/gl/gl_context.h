@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_context.h - the context backends (EGL, OSMesa, the host's current context) behind one
  * table of function pointers, as GLFW does for its platforms: the solver code never knows
  * which one it runs on. One file per backend: context_egl.c, context_osmesa.c, context_host.c.

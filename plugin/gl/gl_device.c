@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_device.c - opening a backend's context, checking it is GL 4.5 core with compute, and
  * the begin/end bracket every call runs in (its context current only for the call). */
 #include "gl_device.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_device.h - an opened GL backend: its context, function table, compiled programs and
  * working buffers. The core sees it as the opaque ddof_device of libddof/src/backend.h. */
 #ifndef DDOF_GL_DEVICE_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_functions.c - fills the GL function table from a context's get_proc. */
 #include "gl_functions.h"
 

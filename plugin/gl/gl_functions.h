@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_functions.h - the one table of GL entry points the backend uses, filled per context from
  * its get_proc (OSMesaGetProcAddress, eglGetProcAddress, ...). Nothing in the plugin calls a
  * gl* symbol directly: with libOSMesa and libGL both exporting every gl* name, whichever was

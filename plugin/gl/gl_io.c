@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_io.c - an adi_request's images in host memory to the GPU and the result back.
  *
  * The caller's images are uploaded as they lie (strided rows, 1..4 channels, CoC and gamma as

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_io.h - host-memory images in and out of the GPU (gl_io.c). */
 #ifndef DDOF_GL_IO_H
 #define DDOF_GL_IO_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_lens.c - the disc kernel (libddof/src/disc_kernel.h) on the GPU, with the CPU driver's
  * semantics (libddof/src/lens_adi.c): per component c, a row pass runs the component's chain of
  * complex steps from the masked colour (IMAGE_A) into the complex image T_c (IMAGE_B real,

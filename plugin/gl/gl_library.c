@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_library.c - dlopen/dlsym for the GL libraries (see gl_library.h). */
 #define _GNU_SOURCE /* RTLD_NOLOAD */
 #include "gl_library.h"

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_library.h - loading GL libraries at run time without letting their symbols leak. */
 #ifndef DDOF_GL_LIBRARY_H
 #define DDOF_GL_LIBRARY_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_programs.c - building the compute programs from the embedded shader sources.
  *
  * A program's source is "#version 450", its defines, shaders/prelude.glsl, then (solver

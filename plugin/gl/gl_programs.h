@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_programs.h - the compute programs, built from the embedded shaders/ sources on first use
  * (compiling all of them up front would cost a second on llvmpipe for solvers never run). */
 #ifndef DDOF_GL_PROGRAMS_H

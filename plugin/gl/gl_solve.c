@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_solve.c - the ADI driver on the GPU: rows then columns, `substeps` times, with the CPU
  * path's semantics (libddof/src/adi.c): beta from the smaller |CoC| of a link, scaled by
  * k / substeps (columns also by pixel_aspect^2), insulated borders, singular runs kept,

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_solve.h - one diffusion on the GPU: the ADI driver (gl_solve.c) and the line solvers
  * behind it (gl_solvers.c). Input and output stages are separate (gl_io.c for host memory,
  * host_api.c for a host's textures), so both share everything in between. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_solvers.c - the line solvers of one ADI pass on the GPU, one function per solver:
  *
  *  THOMAS  thomas.comp, one invocation per line.

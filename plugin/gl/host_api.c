@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* host_api.c - ddof_gl.h: the single-layer diffusion on a host application's textures, through
  * the same ADI driver as every other call, with texture-reading and image-writing stages
  * (host_pack.comp, host_unpack.comp) in place of the host-memory upload and read-back. */

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gather_blur.c - the naive gather blur baseline (see gather_blur.h and README.md).
  *
  * Two passes over the rows, each shared by the threads (row y goes to thread y % threads):

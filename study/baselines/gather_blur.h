@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gather_blur.h - a naive gather depth-of-field blur, the baseline of the accuracy study
  * (docs/accuracy.md): the post-filter of Potmesil and Chakravarty (1981) at its simplest.
  *

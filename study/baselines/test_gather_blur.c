@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_gather_blur.c - checks ddof_gather_blur against a brute-force double computation of the
  * disk average on small images, plus its identities (CoC 0, constant image, in place, thread
  * counts), bad arguments, and the bleeding it exists to show. Prints `test_gather_blur: N

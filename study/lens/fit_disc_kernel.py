@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Fits the disc kernels' tables (libddof/src/disc_kernels.inc).
 
 A disc kernel is, per component c and axis, a chain of M implicit steps with complex

@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Draws docs/images/disc_kernel_psf.png: what each kernel makes of one bright pixel (the point
 spread), against the disc a lens draws, and a row through the middle.
 

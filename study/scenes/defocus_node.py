@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """The baseline users already have: Blender's compositor Defocus node on a scene's pinhole input.
 
     blender -b --factory-startup --python-exit-code 1 --python study/scenes/defocus_node.py -- \

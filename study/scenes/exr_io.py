@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """A small OpenEXR reader for system python3 + numpy (no OpenEXR module needed).
 
 Reads single-part scanline files with NONE, RLE, ZIPS or ZIP compression and HALF, FLOAT or

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Checks the Defocus node's f-stop mapping (f-stop = N * 1000 / sensor_mm, docs/design.md section 1)
 on a scene's isolated highlights and against its truth. System python3 + numpy.
 

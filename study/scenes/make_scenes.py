@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """Ground-truth scenes for the accuracy-vs-cost study (issue 7), rendered with Blender Cycles.
 
     blender -b --factory-startup --python-exit-code 1 --python study/scenes/make_scenes.py -- \

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """The noise floor of the ground truths: two truth renders of each scene with different seeds,
 (and of the pinhole inputs, where both folders have pinhole.exr)
 compared with the metric of `ddof --compare` (RGB, sRGB-encoded values clamped to [0, 1],

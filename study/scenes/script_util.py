@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """What the study's Blender scripts (make_scenes.py, defocus_node.py) share: their argument
 convention, a way to silence Blender's own output, and atomic JSON writes.
 

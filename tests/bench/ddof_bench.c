@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* ddof-bench - speed figures measured in one run, printed one per line as `name value`.
  *
  * Every figure is a ratio of two times taken in this run on this machine, so it means the same

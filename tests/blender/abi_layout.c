@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* abi_layout.c - prints the size and field offsets of every public ddof struct, one line each:
  *   <struct> <sizeof> <field>:<offset>:<size> ...
  * check_abi.py compares them with the ctypes mirror in blender_addon/diffusion_dof/binding.py,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Shared by the Blender background-mode tests (imported inside Blender, not a test itself).
 
 The tests run as

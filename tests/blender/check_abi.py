@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's ctypes mirror of ddof.h matches the C structs, enums and version; the binding
 loads the built library and runs one small frame. Plain python3, no Blender:
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: GPL-3.0-or-later */
 /* fake_ddof_version.c - a shared library that claims to be ddof 1.2.0 and has nothing else:
  * test_messages.py loads it as DDOF_LIBRARY to check the add-on's incompatible-library message. */
 #if defined(__GNUC__)

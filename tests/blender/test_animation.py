@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """A 3-frame focus pull rendered the way users render animations, `blender -b scene.blend -a`,
 with the add-on installed from the zip that build_zip.py makes (so the library is found next to
 the add-on, not through DDOF_LIBRARY): three DOF frames are written in the scene's format (PNG),

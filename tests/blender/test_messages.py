@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """What a user is told, with no traceback and Blender still working, when: the scene has no
 camera; the camera is orthographic; the Depth pass is off (and that enabling Diffusion DOF turns
 it on); the camera's lens DOF is on; a depth image is 8-bit; the library is missing, is not a

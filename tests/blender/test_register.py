@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """register() / unregister() twice leaves no residue: handlers, timers, classes, the scene
 property, the managed compositor nodes and the foreground companion scene all go, and a second
 register() does not duplicate anything. Also draws every panel into a recording layout, which

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The UI path, simulated: with the UI, Blender calls render handlers on the render job's
 thread, where the add-on must not load images or change data. Here the handlers are wrapped to
 run on another thread (the main thread waits), so they queue the frame; the add-on's timer,

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """F12 on a scene with Diffusion DOF on: the result keeps in-focus pixels, blurs the far wall,
 and is closer to a Cycles lens-DOF render of the same camera (the ground truth) than the pinhole
 input is. Also: the camera's lens DOF is switched off for the render and restored; the written

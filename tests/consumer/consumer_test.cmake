@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 # consumer_test.cmake - the `consumer_package` ctest (run as cmake -P; see CMakeLists.txt here).
 #
 #  1. cmake --install the build into WORK_DIR/prefix (inside the build tree);

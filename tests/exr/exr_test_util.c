@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_test_util.c - helpers of the EXR and CLI tests. */
 #include "exr_test_util.h"
 

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* exr_test_util.h - what the EXR and CLI tests share: checks that count failures, a scratch
  * directory in the build tree, writing EXR files from planes, running the `ddof` binary. */
 #ifndef DDOF_EXR_TEST_UTIL_H

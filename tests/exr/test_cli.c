@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_cli.c - the `ddof` command, run as a user runs it, on files written by the test.
  * Outputs are checked against the library called directly on the same data (bit-exact for
  * float output), messages and exit statuses against the issue's list of bad inputs.

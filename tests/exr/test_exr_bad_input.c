@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_exr_bad_input.c - every bad input of issue 3 at the exrio level, each with a real file:
  * missing, not an EXR (text, PNG, empty), truncated (in the header and in the pixel data),
  * DWAA/DWAB compression, missing colour or depth channels (the message lists what is there),

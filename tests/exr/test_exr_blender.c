@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_exr_blender.c - reading real Blender output.
  *
  *   test_exr_blender sample SAMPLES_DIR SCRATCH_DIR

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_exr_roundtrip.c - what exrio writes, it reads back: every pixel type with every
  * compression the C core encodes (bit-exact where the compression is lossless, within its
  * documented loss where not), windows that do not start at the origin, interleaved input,

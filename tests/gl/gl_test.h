@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* gl_test.h - what the GL tests share: opening a backend (a missing EGL is a skip, exit 77),
  * the cases they run, and error measures. Everything static inline, as in ../test_images.h. */
 #ifndef DDOF_GL_TEST_H

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_gl_backends.c - the backends side by side in one process: OSMesa then EGL then OSMesa
  * again (each call releases its context, so the next backend can make its own current), GL
  * missing (a clear DDOF_ERROR_BACKEND_UNAVAILABLE, and the context keeps working on the CPU),

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_gl_layers.c - the layers of ddof_diffuse_layers with their diffusions on the GPU: the
  * background layer (forced on: heat capacity = matte, CoC filled into the holes, singular
  * runs where no background reaches), the near-field spread (signed CoC), and a foreground

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* test_gl_solvers.c - every GPU solver against the CPU's double-precision reference on the hard
  * cases of test_hard_cases.c: odd (non-power-of-two) sizes, 1xN and Nx1, CoC 0 / huge
  * checkerboards, CoC 10,000 px (beta ~ 1e8), lines longer than the shared-memory PCR fits, 1..4

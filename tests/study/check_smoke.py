@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: MIT
 """check_smoke.py OUTDIR - checks what `bash study/run.sh --smoke OUTDIR` wrote, and that the
 library's committed presets (libddof/src/presets_measured.inc) are those docs/accuracy.md
 reports."""

@@ -1,4 +1,5 @@
 #!/usr/bin/env bash
+# SPDX-License-Identifier: MIT
 # smoke_test.sh STUDY_EXE OUTDIR - ctest `study_smoke`: the study's smoke run, then its checks.
 # Exit 77 (skipped) when Blender or python3 with numpy + matplotlib is missing.
 set -euo pipefail

@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /*
  * ddof_gl.h - diffusion depth of field on a host application's own GL textures.
  *

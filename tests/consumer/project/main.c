@@ -1,3 +1,4 @@
+/* SPDX-License-Identifier: MIT */
 /* main.c - a tiny outside program that uses the installed ddof library.
  *
  * It includes only <ddof.h>, checks that the header and the loaded library agree on the
