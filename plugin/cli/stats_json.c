@@ -1,6 +1,7 @@
 /* stats_json.c - the --stats report. */
 #include "stats_json.h"
 
+#include "camera_json.h"
 #include "option_table.h"
 #include "output_file.h"
 
@@ -99,18 +100,16 @@ void stats_backend_line(const frame_result *r, char *out, size_t out_size)
 /* In the sidecar's own spelling (camera_json.h), so that it reads back as one. */
 static cJSON *camera_json(const ddof_camera *c)
 {
-    static const char *const fits[] = {"AUTO", "HORIZONTAL", "VERTICAL"};
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "lens_model",
                             cli_choice_name(&cli_choices_lens, (int)c->lens_model));
     cJSON_AddNumberToObject(o, "focal_length_mm", c->focal_length_mm);
     cJSON_AddNumberToObject(o, "sensor_width_mm", c->sensor_width_mm);
-    cJSON_AddStringToObject(o, "sensor_fit", fits[(unsigned)c->sensor_fit % 3u]);
+    cJSON_AddStringToObject(o, "sensor_fit", camera_sidecar_fit_name(c->sensor_fit));
     cJSON_AddNumberToObject(o, "fstop", c->fstop);
     cJSON_AddNumberToObject(o, "focus_distance_m", c->focus_distance_m);
     cJSON_AddNumberToObject(o, "pixel_aspect", c->pixel_aspect);
-    cJSON_AddStringToObject(o, "depth",
-                            cli_choice_name(&cli_choices_depth_kind, (int)c->depth_kind));
+    cJSON_AddStringToObject(o, "depth", camera_sidecar_depth_name(c->depth_kind));
     cJSON_AddNumberToObject(o, "unit_scale_m", c->depth_unit_m);
     return o;
 }
