@@ -64,6 +64,7 @@ case "$mode" in
     memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip"
     memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input"
     memcheck exr_blender_sample "$exr/test_exr_blender" sample samples "$scratch/sample"
+    memcheck cli_option_table "$exr/test_option_table" "$scratch/option_table"
     # The fuzz targets' corpora (seeds and former crashes), replayed without libFuzzer.
     for exe in build/valgrind/fuzz/fuzz_replay_*; do
         [ -x "$exe" ] && memcheck "$exe" "$exe" "fuzz/corpus/${exe##*/fuzz_replay_}"

@@ -220,11 +220,23 @@ bad:
     return -1;
 }
 
+/* The sidecar's spellings, in the order of ddof_sensor_fit and ddof_depth_kind. */
+static const char *const fits[] = {"AUTO", "HORIZONTAL", "VERTICAL"};
+static const char *const depths[] = {"planar", "radial"};
+
+const char *camera_sidecar_fit_name(ddof_sensor_fit fit)
+{
+    return (unsigned)fit < 3u ? fits[fit] : "?";
+}
+
+const char *camera_sidecar_depth_name(ddof_depth_kind kind)
+{
+    return (unsigned)kind < 2u ? depths[kind] : "?";
+}
+
 int camera_sidecar_parse(const char *text, size_t size, const char *path, camera_sidecar *out,
                          char *error, size_t error_size)
 {
-    static const char *const fits[] = {"AUTO", "HORIZONTAL", "VERTICAL"};
-    static const char *const depths[] = {"planar", "radial"};
     const char *end = NULL;
     cJSON *root;
     size_t second = 0, first = 0, length = 0;

@@ -30,4 +30,8 @@ int camera_sidecar_read(const char *path, camera_sidecar *out, char *error, size
 int camera_sidecar_parse(const char *text, size_t size, const char *path, camera_sidecar *out,
                          char *error, size_t error_size);
 
+/* A value's spelling in the sidecar ("AUTO", "planar"), for writing one (the --stats camera). */
+const char *camera_sidecar_fit_name(ddof_sensor_fit fit);
+const char *camera_sidecar_depth_name(ddof_depth_kind kind);
+
 #endif

@@ -10,6 +10,7 @@
 #include "exrio_layout.h"
 #include "frame_job.h"
 #include "frames.h"
+#include "option_table.h"
 #include "options.h"
 #include "output_file.h"
 #include "progress.h"
@@ -39,44 +40,19 @@ static double now(void)
 static void resolve_params(const cli_options *o, ddof_params *params)
 {
     (void)ddof_params_init_preset(params, o->preset); /* the parser accepted only known ones */
-    if (o->method >= 0)
-        params->method = (ddof_method)o->method;
-    else if (params->method == DDOF_METHOD_COD4_PREVIEW && (o->foreground || o->foreground_layer)) {
+    cli_options_override_params(o, params);
+    if (o->method < 0 && params->method == DDOF_METHOD_COD4_PREVIEW &&
+        (o->foreground || o->foreground_layer)) {
         /* The CoD4 preview blurs one image; a foreground element asks for the layers. */
         fprintf(stderr, "ddof: note: the %s preset's CoD4 preview takes no foreground element: "
                 "using the diffusion\n", ddof_preset_name(o->preset));
         params->method = DDOF_METHOD_DIFFUSION;
     }
-    if (o->precision >= 0)
-        params->precision = (ddof_precision)o->precision;
-    if (o->kernel >= 0)
-        params->kernel = (ddof_kernel)o->kernel;
-    if (o->solver >= 0)
-        params->solver = (ddof_solver)o->solver;
-    if (o->substeps > 0)
-        params->substeps = o->substeps;
-    if (o->beta_scale > 0.0f)
-        params->beta_scale = o->beta_scale;
-    if (o->jacobi_iterations > 0)
-        params->jacobi_iterations = o->jacobi_iterations;
-    if (o->background >= 0)
-        params->background = (ddof_layer_mode)o->background;
-    if (o->background_threshold > 0.0f)
-        params->background_threshold_px = o->background_threshold;
-    if (o->background_ramp_start >= 0.0f)
-        params->background_ramp_start_px = o->background_ramp_start;
-    if (o->background_levels > 0)
-        params->background_levels = o->background_levels;
-    if (o->near_spread >= 0)
-        params->near_spread = (ddof_layer_mode)o->near_spread;
-    if (o->near_spread_threshold > 0.0f)
-        params->near_spread_threshold_px = o->near_spread_threshold;
 }
 
 /* library defaults < camera.json < flags */
 static int resolve_camera(const cli_options *o, frame_setup *setup)
 {
-    const ddof_camera *f = &o->camera;
     ddof_camera *c = &setup->camera;
     ddof_camera_init(c);
     if (o->camera_json) {
@@ -91,18 +67,9 @@ static int resolve_camera(const cli_options *o, frame_setup *setup)
         setup->sidecar_resolution[1] = sidecar.resolution[1];
         setup->camera_aspect_given = 1;
     }
-    if (o->camera_set & CAM_FOCAL) c->focal_length_mm = f->focal_length_mm;
-    if (o->camera_set & CAM_SENSOR) c->sensor_width_mm = f->sensor_width_mm;
-    if (o->camera_set & CAM_FIT) c->sensor_fit = f->sensor_fit;
-    if (o->camera_set & CAM_FSTOP) c->fstop = f->fstop;
-    if (o->camera_set & CAM_FOCUS) c->focus_distance_m = f->focus_distance_m;
-    if (o->camera_set & CAM_ASPECT) {
-        c->pixel_aspect = f->pixel_aspect;
+    cli_options_override_camera(o, c);
+    if (o->camera_set & CAM_ASPECT)
         setup->camera_aspect_given = 1;
-    }
-    if (o->camera_set & CAM_DEPTH_KIND) c->depth_kind = f->depth_kind;
-    if (o->camera_set & CAM_UNIT) c->depth_unit_m = f->depth_unit_m;
-    if (o->camera_set & CAM_LENS) c->lens_model = f->lens_model;
     return 0;
 }
 
@@ -472,120 +439,90 @@ static void print_comparison(const frame_paths *p, const frame_result *r)
            r->error_input.rmse_srgb, r->error_input.psnr_srgb, r->error_input.rmse_linear);
 }
 
-int main(int argc, char **argv)
+/* --list: the parts and channels of the first frame's file. Returns the exit status. */
+static int run_list(const cli_options *o)
 {
-    cli_options options;
-    frame_setup setup;
-    frame_paths *paths = NULL;
-    frame_result *results = NULL;
-    sequence_plan plan;
-    progress *bar = NULL;
-    char error[2048];
-    uint64_t pixels = 0;
-    double t0;
-    int count = 0, failed, i, rc, stats_failed = 0, skipped = 0;
-    char last_warning[PATH_MAX + 512] = "";
-
-    if (output_signals_install() != 0) {
-        fprintf(stderr, "ddof: cannot set up signal handling\n");
-        return 1;
-    }
-    rc = cli_parse_options(argc, argv, &options);
-    if (rc != 0) {
-        output_signals_shutdown();
-        return rc > 0 ? 0 : 2;
-    }
-    if (options.list_only) {
-        char first[PATH_MAX];
-        int *frames = NULL;
-        int n = options.frames ? frames_parse(options.frames, &frames, error, sizeof error) : 0;
-        if (n < 0) {
-            fprintf(stderr, "ddof: %s\n", error);
-            output_signals_shutdown();
-            return 2;
-        }
-        if (expand(options.input, frames ? frames[0] : -1, first, "input") != 0) {
-            free(frames);
-            output_signals_shutdown();
-            return 2;
-        }
-        free(frames);
-        rc = list_file(&options, first);
-        output_signals_shutdown();
-        return rc;
-    }
-
-    memset(&setup, 0, sizeof setup);
-    setup.options = &options;
-    setup.curve = options.curve;
-    resolve_params(&options, &setup.params);
-    if (options.source == COC_FROM_CAMERA && resolve_camera(&options, &setup) != 0) {
-        output_signals_shutdown();
+    char first[PATH_MAX], error[2048];
+    int *frames = NULL;
+    const int n = o->frames ? frames_parse(o->frames, &frames, error, sizeof error) : 0;
+    int rc;
+    if (n < 0) {
+        fprintf(stderr, "ddof: %s\n", error);
         return CLI_EXIT_USAGE;
     }
-    rc = validate_with_library(&setup);
+    rc = expand(o->input, frames ? frames[0] : -1, first, "input");
+    free(frames);
+    return rc != 0 ? CLI_EXIT_USAGE : list_file(o, first);
+}
+
+/* The first readable header sizes the plan (*pixels); a missing first frame just means
+ * "unknown" (its own error is reported when it runs). Returns 0 or the exit status. */
+static int probe_first_frame(const cli_options *o, const frame_paths *first, uint64_t *pixels)
+{
+    exrio_image probe;
+    char error[2048];
+    int rc;
+    *pixels = 0;
+    if (exrio_open(first->input, &probe, error, sizeof error) != EXRIO_OK)
+        return 0;
+    *pixels = (uint64_t)probe.parts[0].width * probe.parts[0].height;
+    rc = frame_check_input_parts(o, &probe, first->input, error, sizeof error);
+    exrio_close(&probe);
     if (rc != 0) {
-        output_signals_shutdown();
-        return rc;
-    }
-    paths = build_paths(&options, &count);
-    if (!paths) {
-        output_signals_shutdown();
-        return 2;
-    }
-    if (check_outputs(&options, paths, count) != 0) {
-        free(paths);
-        output_signals_shutdown();
-        return 1;
-    }
-    remove_stale_temps(&options, &paths[0]);
-
-    {
-        /* The first readable header sizes the plan; a missing first frame just means "unknown"
-         * (its own error is reported when it runs). */
-        exrio_image probe;
-        if (exrio_open(paths[0].input, &probe, error, sizeof error) == EXRIO_OK) {
-            pixels = (uint64_t)probe.parts[0].width * probe.parts[0].height;
-            rc = frame_check_input_parts(&options, &probe, paths[0].input, error, sizeof error);
-            exrio_close(&probe);
-            if (rc != 0) {
-                fprintf(stderr, "ddof: %s\n", error);
-                free(paths);
-                output_signals_shutdown();
-                return CLI_EXIT_USAGE;
-            }
-        }
-    }
-    plan = sequence_plan_for(&options, count, pixels);
-    results = calloc((size_t)count, sizeof *results);
-    bar = progress_create(count > 1 && (options.progress == PROGRESS_ALWAYS ||
-                                        (options.progress == PROGRESS_AUTO &&
-                                         isatty(STDERR_FILENO))),
-                          count, (int)plan.jobs);
-    if (!results || !bar) {
-        fprintf(stderr, "ddof: out of memory\n");
-        free(paths);
-        free(results);
-        progress_free(bar);
-        output_signals_shutdown();
-        return 1;
-    }
-    if (count > 1 && !options.quiet) {
-        char threads[32] = "all cores";
-        if (plan.threads_per_frame > 0)
-            snprintf(threads, sizeof threads, "%u thread%s", plan.threads_per_frame,
-                     plan.threads_per_frame == 1 ? "" : "s");
-        printf("ddof: %d frames, %u at a time, %s per frame (%s)\n", count, plan.jobs, threads,
-               plan.reason);
-    }
-
-    t0 = now();
-    failed = sequence_run(&setup, paths, results, count, &plan, bar, error, sizeof error);
-    progress_finish(bar);
-    if (failed < 0) {
         fprintf(stderr, "ddof: %s\n", error);
-        failed = count;
+        return CLI_EXIT_USAGE;
     }
+    return 0;
+}
+
+/* Everything checked once, before the first frame is read: the params and camera, the
+ * library's judgement of them, the frame list, the outputs. Returns 0 with the frames'
+ * paths (free them), or the exit status. */
+static int prepare(const cli_options *o, frame_setup *setup, frame_paths **paths, int *count,
+                   uint64_t *pixels)
+{
+    int rc;
+    memset(setup, 0, sizeof *setup);
+    setup->options = o;
+    setup->curve = o->curve;
+    resolve_params(o, &setup->params);
+    if (o->source == COC_FROM_CAMERA && resolve_camera(o, setup) != 0)
+        return CLI_EXIT_USAGE;
+    rc = validate_with_library(setup);
+    if (rc != 0)
+        return rc;
+    *paths = build_paths(o, count);
+    if (!*paths)
+        return CLI_EXIT_USAGE;
+    rc = check_outputs(o, *paths, *count) != 0 ? CLI_EXIT_FAILED : 0;
+    if (rc == 0) {
+        remove_stale_temps(o, &(*paths)[0]);
+        rc = probe_first_frame(o, &(*paths)[0], pixels);
+    }
+    if (rc != 0) {
+        free(*paths);
+        *paths = NULL;
+    }
+    return rc;
+}
+
+static void announce_plan(const cli_options *o, int count, const sequence_plan *plan)
+{
+    char threads[32] = "all cores";
+    if (count <= 1 || o->quiet)
+        return;
+    if (plan->threads_per_frame > 0)
+        snprintf(threads, sizeof threads, "%u thread%s", plan->threads_per_frame,
+                 plan->threads_per_frame == 1 ? "" : "s");
+    printf("ddof: %d frames, %u at a time, %s per frame (%s)\n", count, plan->jobs, threads,
+           plan->reason);
+}
+
+/* Each frame's warning (once while it repeats) and comparison with the truth. */
+static void print_frame_notes(const frame_paths *paths, const frame_result *results, int count)
+{
+    char last_warning[PATH_MAX + 512] = "";
+    int i;
     for (i = 0; i < count; i++) {
         if (results[i].ok && results[i].warning[0] &&
             strcmp(results[i].warning, last_warning) != 0) {
@@ -595,31 +532,97 @@ int main(int argc, char **argv)
         if (results[i].compared)
             print_comparison(&paths[i], &results[i]);
     }
-    if (options.stats_path &&
-        stats_json_write(options.stats_path, &setup, paths, results, count, plan.jobs,
-                         plan.threads_per_frame, now() - t0, error, sizeof error) != 0) {
-        /* The frames are not to blame: said apart from them. */
-        fprintf(stderr, "ddof: --stats: %s\n", error);
-        stats_failed = 1;
-    }
+}
+
+/* The closing lines: the failed frames, or how many were written in how long. */
+static void print_summary(const cli_options *o, const frame_paths *paths,
+                          const frame_result *results, int count, int failed, double seconds)
+{
+    int i, skipped = 0;
     for (i = 0; i < count; i++)
         skipped += results[i].skipped;
     if (failed > 0) {
         if (count > 1)
             fprintf(stderr, "ddof: %d of %d frames failed\n", failed, count);
         print_failed_frames(paths, results, count);
-    } else if (count > 1 && !options.quiet) {
+    } else if (count > 1 && !o->quiet) {
         if (skipped > 0)
             printf("ddof: %d frame%s written, %d skipped (already complete) in %.2f s\n",
-                   count - skipped, count - skipped == 1 ? "" : "s", skipped, now() - t0);
+                   count - skipped, count - skipped == 1 ? "" : "s", skipped, seconds);
         else
-            printf("ddof: %d frames written in %.2f s\n", count, now() - t0);
+            printf("ddof: %d frames written in %.2f s\n", count, seconds);
     }
+}
+
+/* The frames, their report and the --stats file. Returns the exit status. */
+static int run_frames(const cli_options *o)
+{
+    frame_setup setup;
+    frame_paths *paths = NULL;
+    frame_result *results = NULL;
+    sequence_plan plan;
+    progress *bar = NULL;
+    char error[2048];
+    uint64_t pixels = 0;
+    double t0;
+    int count = 0, failed, stats_failed = 0;
+    const int rc = prepare(o, &setup, &paths, &count, &pixels);
+
+    if (rc != 0)
+        return rc;
+    plan = sequence_plan_for(o, count, pixels);
+    results = calloc((size_t)count, sizeof *results);
+    bar = progress_create(count > 1 && (o->progress == PROGRESS_ALWAYS ||
+                                        (o->progress == PROGRESS_AUTO && isatty(STDERR_FILENO))),
+                          count, (int)plan.jobs);
+    if (!results || !bar) {
+        fprintf(stderr, "ddof: out of memory\n");
+        free(paths);
+        free(results);
+        progress_free(bar);
+        return CLI_EXIT_FAILED;
+    }
+    announce_plan(o, count, &plan);
+
+    t0 = now();
+    failed = sequence_run(&setup, paths, results, count, &plan, bar, error, sizeof error);
+    progress_finish(bar);
+    if (failed < 0) {
+        fprintf(stderr, "ddof: %s\n", error);
+        failed = count;
+    }
+    print_frame_notes(paths, results, count);
+    if (o->stats_path &&
+        stats_json_write(o->stats_path, &setup, paths, results, count, plan.jobs,
+                         plan.threads_per_frame, now() - t0, error, sizeof error) != 0) {
+        /* The frames are not to blame: said apart from them. */
+        fprintf(stderr, "ddof: --stats: %s\n", error);
+        stats_failed = 1;
+    }
+    print_summary(o, paths, results, count, failed, now() - t0);
     if (fflush(stdout) != 0 && errno == EPIPE)
         output_broken_pipe("standard output");
     free(paths);
     free(results);
     progress_free(bar);
+    return failed > 0 || stats_failed ? CLI_EXIT_FAILED : CLI_EXIT_OK;
+}
+
+int main(int argc, char **argv)
+{
+    cli_options options;
+    int rc;
+    if (output_signals_install() != 0) {
+        fprintf(stderr, "ddof: cannot set up signal handling\n");
+        return CLI_EXIT_FAILED;
+    }
+    rc = cli_parse_options(argc, argv, &options);
+    if (rc != 0)
+        rc = rc > 0 ? CLI_EXIT_OK : CLI_EXIT_USAGE;
+    else if (options.list_only)
+        rc = run_list(&options);
+    else
+        rc = run_frames(&options);
     output_signals_shutdown();
-    return failed > 0 || stats_failed ? 1 : 0;
+    return rc;
 }

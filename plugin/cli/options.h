@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* options.h - everything the `ddof` command line can say, parsed into one struct.
+/* options.h - everything the `ddof` command line can say, parsed into one struct (each
+ * option's spelling, help and field: option_table.c).
  *
  * The struct keeps, for each library parameter, whether the user set it, so that the sidecar
  * JSON, the preset and the flags combine in a fixed order: the library's preset
@@ -55,6 +56,7 @@ typedef struct cli_options {
 
     /* CoC source */
     coc_source source;
+    unsigned coc_sources_given;   /* --curve and --coc-channel seen: more than one is an error */
     const char *camera_json;
     ddof_camera camera;           /* flag values (valid where camera_set says) */
     unsigned camera_set;
@@ -113,10 +115,11 @@ typedef struct cli_options {
 #define CLI_EXIT_BACKEND 3  /* the backend asked for is unavailable, or it cannot run   */
                             /* the solver or precision asked for                        */
 
-/* Parses argv. Returns 0 to run, 1 when it printed help or the version (exit 0), or -1 after
- * printing a usage error to stderr (exit 2). */
+/* Parses argv with the table of options (option_table.h). Returns 0 to run, 1 when it printed
+ * help or the version (exit 0), or -1 after printing a usage error to stderr (exit 2). */
 int cli_parse_options(int argc, char **argv, cli_options *options);
 
+/* The usage text, from the table of options (usage.c). */
 void cli_usage(FILE *to);
 
 #endif

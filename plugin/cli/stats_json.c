@@ -2,6 +2,8 @@
 /* stats_json.c - the --stats report. */
 #include "stats_json.h"
 
+#include "camera_json.h"
+#include "option_table.h"
 #include "output_file.h"
 
 #include <cJSON.h>
@@ -56,12 +58,7 @@ void stats_explain(const ddof_stats *s, char *out, size_t out_size)
 
 const char *stats_method_name(uint32_t method)
 {
-    return method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion";
-}
-
-static const char *precision_name(uint32_t precision)
-{
-    return precision == DDOF_PRECISION_PACKED_HALF ? "packed-half" : "float";
+    return cli_choice_name(&cli_choices_method, (int)method);
 }
 
 /* The backend that ran the frame's call and its renderer. A call can run elsewhere than the
@@ -101,85 +98,89 @@ void stats_backend_line(const frame_result *r, char *out, size_t out_size)
              r->backend.note);
 }
 
+/* In the sidecar's own spelling (camera_json.h), so that it reads back as one. */
 static cJSON *camera_json(const ddof_camera *c)
 {
-    static const char *const fits[] = {"AUTO", "HORIZONTAL", "VERTICAL"};
     cJSON *o = cJSON_CreateObject();
     cJSON_AddStringToObject(o, "lens_model",
-                            c->lens_model == DDOF_LENS_THIN_LENS ? "thin-lens" : "cycles");
+                            cli_choice_name(&cli_choices_lens, (int)c->lens_model));
     cJSON_AddNumberToObject(o, "focal_length_mm", c->focal_length_mm);
     cJSON_AddNumberToObject(o, "sensor_width_mm", c->sensor_width_mm);
-    cJSON_AddStringToObject(o, "sensor_fit", fits[(unsigned)c->sensor_fit % 3u]);
+    cJSON_AddStringToObject(o, "sensor_fit", camera_sidecar_fit_name(c->sensor_fit));
     cJSON_AddNumberToObject(o, "fstop", c->fstop);
     cJSON_AddNumberToObject(o, "focus_distance_m", c->focus_distance_m);
     cJSON_AddNumberToObject(o, "pixel_aspect", c->pixel_aspect);
-    cJSON_AddStringToObject(o, "depth", c->depth_kind == DDOF_DEPTH_RADIAL ? "radial" : "planar");
+    cJSON_AddStringToObject(o, "depth", camera_sidecar_depth_name(c->depth_kind));
     cJSON_AddNumberToObject(o, "unit_scale_m", c->depth_unit_m);
     return o;
+}
+
+/* Every option the table gives a settings key: the resolved value for those that override
+ * the preset (what ran), else the option's own. */
+static void add_option_settings(cJSON *o, const frame_setup *setup)
+{
+    size_t i;
+    for (i = 0; i < cli_option_count; i++) {
+        const cli_option *option = &cli_option_table[i];
+        const cli_setting s = cli_option_setting(option, setup->options, &setup->params);
+        if (s.type == CLI_SETTING_TEXT)
+            cJSON_AddStringToObject(o, option->setting, s.text);
+        else if (s.type == CLI_SETTING_NUMBER)
+            cJSON_AddNumberToObject(o, option->setting, s.number);
+        else if (s.type == CLI_SETTING_BOOL)
+            cJSON_AddBoolToObject(o, option->setting, s.number != 0.0);
+    }
+}
+
+static cJSON *curve_json(const ddof_curve *curve)
+{
+    cJSON *c = cJSON_CreateObject();
+    cJSON_AddNumberToObject(c, "near_blur_px", curve->near_blur_px);
+    cJSON_AddNumberToObject(c, "near_start", curve->near_start);
+    cJSON_AddNumberToObject(c, "near_end", curve->near_end);
+    cJSON_AddNumberToObject(c, "far_start", curve->far_start);
+    cJSON_AddNumberToObject(c, "far_end", curve->far_end);
+    cJSON_AddNumberToObject(c, "far_blur_px", curve->far_blur_px);
+    return c;
+}
+
+static void add_coc_source(cJSON *o, const frame_setup *setup)
+{
+    const cli_options *opt = setup->options;
+    switch (opt->source) {
+    case COC_FROM_CAMERA:
+        cJSON_AddStringToObject(o, "coc_source", "camera");
+        cJSON_AddItemToObject(o, "camera", camera_json(&setup->camera));
+        break;
+    case COC_FROM_CURVE:
+        cJSON_AddStringToObject(o, "coc_source", "curve");
+        cJSON_AddItemToObject(o, "curve", curve_json(&setup->curve));
+        break;
+    case COC_FROM_CHANNEL:
+        cJSON_AddStringToObject(o, "coc_source", "channel");
+        cJSON_AddStringToObject(o, "coc_channel", opt->coc_channel);
+        break;
+    }
 }
 
 static cJSON *settings_json(const frame_setup *setup, uint32_t jobs, uint32_t threads)
 {
     const cli_options *opt = setup->options;
     cJSON *o = cJSON_CreateObject();
-    cJSON_AddStringToObject(o, "preset", ddof_preset_name(opt->preset));
-    cJSON_AddStringToObject(o, "method", stats_method_name((uint32_t)setup->params.method));
-    cJSON_AddStringToObject(o, "kernel", ddof_kernel_name(setup->params.kernel));
-    cJSON_AddStringToObject(o, "solver", ddof_solver_name(setup->params.solver));
-    cJSON_AddStringToObject(o, "precision", precision_name((uint32_t)setup->params.precision));
-    cJSON_AddNumberToObject(o, "substeps", setup->params.substeps);
-    cJSON_AddNumberToObject(o, "beta_scale", setup->params.beta_scale);
-    cJSON_AddNumberToObject(o, "jacobi_iterations", setup->params.jacobi_iterations);
-    {
-        static const char *const modes[] = {"auto", "off", "on"};
-        cJSON_AddStringToObject(o, "background", modes[(unsigned)setup->params.background % 3u]);
-        cJSON_AddNumberToObject(o, "background_threshold_px",
-                                setup->params.background_threshold_px);
-        cJSON_AddNumberToObject(o, "background_ramp_start_px",
-                                setup->params.background_ramp_start_px);
-        cJSON_AddNumberToObject(o, "background_levels", setup->params.background_levels);
-        cJSON_AddStringToObject(o, "near_spread", modes[(unsigned)setup->params.near_spread % 3u]);
-        cJSON_AddNumberToObject(o, "near_spread_threshold_px",
-                                setup->params.near_spread_threshold_px);
-        if (opt->foreground || opt->foreground_layer) {
-            cJSON *fg = cJSON_CreateObject();
-            if (opt->foreground)
-                cJSON_AddStringToObject(fg, "file", opt->foreground);
-            if (opt->foreground_layer)
-                cJSON_AddStringToObject(fg, "layer", opt->foreground_layer);
-            cJSON_AddBoolToObject(fg, "premultiplied", !opt->foreground_straight);
-            cJSON_AddItemToObject(o, "foreground", fg);
-        }
+    add_option_settings(o, setup);
+    if (opt->foreground || opt->foreground_layer) {
+        cJSON *fg = cJSON_CreateObject();
+        if (opt->foreground)
+            cJSON_AddStringToObject(fg, "file", opt->foreground);
+        if (opt->foreground_layer)
+            cJSON_AddStringToObject(fg, "layer", opt->foreground_layer);
+        cJSON_AddBoolToObject(fg, "premultiplied", !opt->foreground_straight);
+        cJSON_AddItemToObject(o, "foreground", fg);
     }
+    /* What the plan chose (the options may have left them to it). */
     cJSON_AddNumberToObject(o, "frames_in_parallel", jobs);
     cJSON_AddNumberToObject(o, "threads_per_frame", threads);
-    /* What was asked for; each frame says what ran. */
-    cJSON_AddStringToObject(o, "backend", ddof_backend_name(opt->backend));
-    if (opt->gl_plugin)
-        cJSON_AddStringToObject(o, "gl_plugin", opt->gl_plugin);
-    switch (opt->source) {
-    case COC_FROM_CAMERA:
-        cJSON_AddStringToObject(o, "coc_source", "camera");
-        cJSON_AddItemToObject(o, "camera", camera_json(&setup->camera));
-        break;
-    case COC_FROM_CURVE: {
-        cJSON *c = cJSON_CreateObject();
-        cJSON_AddStringToObject(o, "coc_source", "curve");
-        cJSON_AddNumberToObject(c, "near_blur_px", setup->curve.near_blur_px);
-        cJSON_AddNumberToObject(c, "near_start", setup->curve.near_start);
-        cJSON_AddNumberToObject(c, "near_end", setup->curve.near_end);
-        cJSON_AddNumberToObject(c, "far_start", setup->curve.far_start);
-        cJSON_AddNumberToObject(c, "far_end", setup->curve.far_end);
-        cJSON_AddNumberToObject(c, "far_blur_px", setup->curve.far_blur_px);
-        cJSON_AddItemToObject(o, "curve", c);
-        break;
-    }
-    case COC_FROM_CHANNEL:
-        cJSON_AddStringToObject(o, "coc_source", "channel");
-        cJSON_AddStringToObject(o, "coc_channel", opt->coc_channel);
-        break;
-    }
-    cJSON_AddStringToObject(o, "compression", exrio_compression_name(opt->compression));
+    add_coc_source(o, setup);
     return o;
 }
 

@@ -1340,7 +1340,7 @@ static int case_options(void)
         CHECK(ddof_params_init_preset(&final, DDOF_PRESET_FINAL) == DDOF_OK);
         snprintf(line, sizeof line, "final    %s",
                  final.method == DDOF_METHOD_COD4_PREVIEW ? "cod4" : "diffusion");
-        CHECK(out_contains("--backend auto|cpu|egl|osmesa") && out_contains(line));
+        CHECK(out_contains(line));
         if (final.method == DDOF_METHOD_DIFFUSION && final.kernel != DDOF_KERNEL_HEAT) {
             snprintf(line, sizeof line, "%s, %s kernel", ddof_solver_name(final.solver),
                      ddof_kernel_name(final.kernel));
@@ -1350,6 +1350,17 @@ static int case_options(void)
                      final.substeps);
             CHECK(out_contains(line));
         }
+    }
+    {
+        /* The choices are the library's names in its enum's order (all but the host's GL,
+         * which a command has not), not a copy of them. */
+        char line[128] = "--backend ";
+        int k;
+        for (k = 0; k < DDOF_BACKEND_COUNT_; k++)
+            if (k != DDOF_BACKEND_HOST_GL)
+                snprintf(line + strlen(line), sizeof line - strlen(line), "%s%s",
+                         k ? "|" : "", ddof_backend_name((ddof_backend_kind)k));
+        CHECK_MSG(out_contains(line), "%s", line);
     }
     CHECK(ddof("--version", NULL) == 0 && out_contains("libddof"));
     CHECK(ddof(in, NULL) == 2 && err_contains("no output file"));
