@@ -17,6 +17,27 @@
  *    first, then change what you need. Fields are only ever appended.
  *  - One context per thread. The library has no global mutable state.
  *
+ * Usage: one frame from a renderer's colour and depth passes
+ *
+ *     ddof_context *ctx;
+ *     if (ddof_context_create(NULL, &ctx) != DDOF_OK) return -1;   // keep it for many frames
+ *     ddof_camera cam;  ddof_camera_init(&cam);
+ *     cam.focal_length_mm = 85; cam.fstop = 1.4; cam.focus_distance_m = 3;
+ *     ddof_params params;  ddof_params_init(&params);             // the default preset
+ *     ddof_frame frame;  ddof_frame_init(&frame);
+ *     frame.color = (ddof_image_in){rgba, width, height, 4, 0};
+ *     frame.depth = (ddof_image_in){z, width, height, 1, 0};
+ *     frame.camera = &cam;
+ *     ddof_image out = {result, width, height, 4, 0};
+ *     if (ddof_render_frame(ctx, &params, &frame, &out, NULL) != DDOF_OK)
+ *         fprintf(stderr, "ddof: %s\n", ddof_context_last_error(ctx));
+ *     ddof_context_free(ctx);
+ *
+ * A foreground element (its RGBA and depth in frame.foreground_color / _depth), a CoC of the
+ * caller's own (frame.coc) and the CoC back (frame.coc_out) go through the same call; the
+ * lower-level calls (ddof_coc_from_camera, ddof_diffuse, ddof_diffuse_layers) are the parts it
+ * is made of.
+ *
  * Stable API: everything in this header outside the DDOF_EXPERIMENTAL section at its end
  * (the backend selection, the disc kernels' tables), which a program sees only with
  * `#define DDOF_EXPERIMENTAL` before the #include, and which may change between minor versions.

@@ -1,14 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* backend.h - the seam between the core and a diffusion backend (the GL plugin).
- *
- * The planner and the layers decide *what* to simulate and issue ADI requests (adi.h); a
- * backend decides *how* to run one. The CPU backend is adi.c and reference_f64.c. The GL
- * backends live in the plugin library libddof_gl, which the core loads with
- * dlopen(RTLD_LOCAL) and asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL.
- * The plugin is built from this tree, but the two libraries can still be mixed up on disk, so
- * the table carries an ABI number and its size, checked before use.
- *
- * This header is shared by libddof and plugin/gl only; it is not installed.
+/* backend.h - the core's side of the backend seam (backend.c): running a request on the
+ * context's backend, and what the planner asks of it. What crosses the seam (the request, the
+ * report, the backend's table) is in ddof_backend_seam.h, which the GL plugin includes alone.
+ * The CPU backend is adi.c, lens_adi.c and the double references.
  */
 #ifndef DDOF_BACKEND_H
 #define DDOF_BACKEND_H

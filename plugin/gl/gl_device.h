@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_device.h - an opened GL backend: its context, function table, compiled programs and
- * working buffers. The core sees it as the opaque ddof_device of libddof/src/backend.h. */
+ * working buffers. The core sees it as the opaque ddof_device of ddof_backend_seam.h. */
 #ifndef DDOF_GL_DEVICE_H
 #define DDOF_GL_DEVICE_H
 
