@@ -11,24 +11,26 @@
 #include <time.h>
 
 struct ddof_gl_host {
-    ddof_device *device;
+    ddof_device *device; /* NULL when the current context could not be adopted */
+    char last_error[256];
 };
 
-ddof_status ddof_gl_host_create(ddof_gl_host **out_host, char *message, size_t message_size)
+ddof_status ddof_gl_host_create(ddof_gl_host **out_host)
 {
     if (!out_host)
         return DDOF_ERROR_NULL_POINTER;
-    *out_host = NULL;
     ddof_gl_host *host = calloc(1, sizeof *host);
+    *out_host = host;
     if (!host)
         return DDOF_ERROR_OUT_OF_MEMORY;
-    host->device = gl_device_open(DDOF_BACKEND_HOST_GL, 0, message, message_size);
-    if (!host->device) {
-        free(host);
-        return DDOF_ERROR_BACKEND_UNAVAILABLE;
-    }
-    *out_host = host;
-    return DDOF_OK;
+    host->device = gl_device_open(DDOF_BACKEND_HOST_GL, 0, host->last_error,
+                                  sizeof host->last_error);
+    return host->device ? DDOF_OK : DDOF_ERROR_BACKEND_UNAVAILABLE;
+}
+
+const char *ddof_gl_host_last_error(const ddof_gl_host *host)
+{
+    return host ? host->last_error : "no host (ddof_gl_host_create ran out of memory)";
 }
 
 void ddof_gl_host_free(ddof_gl_host *host)
@@ -141,10 +143,19 @@ static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, GLuin
 ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
                                  unsigned color_texture, unsigned coc_texture,
                                  unsigned out_texture, uint32_t width, uint32_t height,
-                                 ddof_stats *stats, char *message, size_t size)
+                                 ddof_stats *stats)
 {
-    if (!host || !params)
+    if (!host)
         return DDOF_ERROR_NULL_POINTER;
+    char *message = host->last_error;
+    const size_t size = sizeof host->last_error;
+    if (!host->device)
+        return DDOF_ERROR_BACKEND_UNAVAILABLE; /* last_error still says why */
+    message[0] = '\0';
+    if (!params) {
+        snprintf(message, size, "params is NULL");
+        return DDOF_ERROR_NULL_POINTER;
+    }
     ddof_status status = check_params(params, message, size);
     if (status != DDOF_OK)
         return status;

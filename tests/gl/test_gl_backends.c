@@ -146,10 +146,10 @@ typedef void (*tex_sub_image_fn)(GLenum, GLint, GLint, GLint, GLsizei, GLsizei, 
                                  const void *);
 typedef void (*get_tex_image_fn)(GLenum, GLint, GLenum, GLenum, void *);
 typedef void (*delete_textures_fn)(GLsizei, const GLuint *);
-typedef ddof_status (*host_create_fn)(ddof_gl_host **, char *, size_t);
+typedef ddof_status (*host_create_fn)(ddof_gl_host **);
+typedef const char *(*host_last_error_fn)(const ddof_gl_host *);
 typedef ddof_status (*host_diffuse_fn)(ddof_gl_host *, const ddof_params *, unsigned, unsigned,
-                                       unsigned, uint32_t, uint32_t, ddof_stats *, char *,
-                                       size_t);
+                                       unsigned, uint32_t, uint32_t, ddof_stats *);
 typedef void (*host_free_fn)(ddof_gl_host *);
 
 static void *symbol(void *lib, const char *name)
@@ -213,18 +213,19 @@ static void test_host_context(void)
     LOOKUP(host_create_fn, host_create, plugin, "ddof_gl_host_create");
     LOOKUP(host_diffuse_fn, host_diffuse, plugin, "ddof_gl_host_diffuse");
     LOOKUP(host_free_fn, host_free, plugin, "ddof_gl_host_free");
-    CHECK(host_create && host_diffuse && host_free);
-    char message[256] = "";
+    LOOKUP(host_last_error_fn, host_last_error, plugin, "ddof_gl_host_last_error");
+    CHECK(host_create && host_diffuse && host_free && host_last_error);
     ddof_gl_host *gl_host = NULL;
-    CHECK_MSG(host_create(&gl_host, message, sizeof message) == DDOF_OK, "%s", message);
+    CHECK_MSG(host_create(&gl_host) == DDOF_OK, "%s", host_last_error(gl_host));
     static const ddof_solver solvers[] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
                                           DDOF_SOLVER_PCR, DDOF_SOLVER_GRUEN};
     for (size_t k = 0; gl_host && k < 4; k++) {
         p = params_for(solvers[k], 1);
         st = stats_init();
-        ddof_status s = host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, &st, message,
-                                     sizeof message);
-        CHECK_MSG(s == DDOF_OK, "host %s: %d %s", ddof_solver_name(solvers[k]), (int)s, message);
+        ddof_status s = host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, &st);
+        CHECK_MSG(s == DDOF_OK, "host %s: %d %s", ddof_solver_name(solvers[k]), (int)s,
+                  host_last_error(gl_host));
+        CHECK_EQ_INT(host_last_error(gl_host)[0], 0);
         memset(out, 0, sizeof out);
         bind_texture(GL_TEXTURE_2D, tex[2]);
         get_tex_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
@@ -233,9 +234,9 @@ static void test_host_context(void)
         CHECK(st.device_bytes > 0);
     }
     /* A wrong texture is a status, not a crash. */
-    CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], 987654u, W, H, NULL, message,
-                              sizeof message),
+    CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], 987654u, W, H, NULL),
                  DDOF_ERROR_BAD_PARAMETER);
+    CHECK(strstr(host_last_error(gl_host), "987654") != NULL);
     host_free(gl_host);
     delete_textures(3, tex);
     ddof_context_free(ctx);
@@ -246,6 +247,14 @@ static void test_host_context(void)
     CHECK_EQ_INT(ddof_context_set_backend(ctx, DDOF_BACKEND_HOST_GL, DDOF_TEST_GL_PLUGIN),
                  DDOF_ERROR_BACKEND_UNAVAILABLE);
     ddof_context_free(ctx);
+    /* And the host API says so through the host it still hands back. */
+    gl_host = NULL;
+    CHECK_EQ_INT(host_create(&gl_host), DDOF_ERROR_BACKEND_UNAVAILABLE);
+    CHECK(gl_host != NULL && strlen(host_last_error(gl_host)) > 10);
+    p = params_for(DDOF_SOLVER_THOMAS, 1);
+    CHECK_EQ_INT(host_diffuse(gl_host, &p, 1, 2, 3, W, H, NULL), DDOF_ERROR_BACKEND_UNAVAILABLE);
+    host_free(gl_host);
+    CHECK(strlen(host_last_error(NULL)) > 0);
     dlclose(plugin);
 }
 

@@ -31,22 +31,27 @@ extern "C" {
 typedef struct ddof_gl_host ddof_gl_host;
 
 /* Adopts the context current on this thread. On failure (no current context, below GL 4.5)
- * returns DDOF_ERROR_BACKEND_UNAVAILABLE with a sentence in message. */
-DDOF_GL_API ddof_status ddof_gl_host_create(ddof_gl_host **out_host, char *message,
-                                            size_t message_size);
+ * returns DDOF_ERROR_BACKEND_UNAVAILABLE and, as sqlite3_open does, still hands back a host
+ * whose ddof_gl_host_last_error says why (free it as any other); *out_host is NULL only when
+ * even that could not be allocated (DDOF_ERROR_OUT_OF_MEMORY). */
+DDOF_GL_API ddof_status ddof_gl_host_create(ddof_gl_host **out_host);
+
+/* A sentence about the host's last failure ("" after a success), as ddof_context_last_error;
+ * never NULL, also for a NULL host. */
+DDOF_GL_API const char *ddof_gl_host_last_error(const ddof_gl_host *host);
 
 /* Diffuses color_texture (GL_TEXTURE_2D, level 0, RGBA read as floats) with the CoC diameters
  * in pixels in the first channel of coc_texture (same size; the sign is ignored) into
  * out_texture (GL_TEXTURE_2D of the same size, GL_RGBA32F or GL_RGBA16F; it may not be
  * color_texture). params: ddof_params_init'ed; solver (not REFERENCE_F64), precision,
  * substeps, beta_scale, pixel_aspect and jacobi_iterations are used. stats may be NULL.
- * Returns DDOF_ERROR_BAD_PARAMETER / _BAD_SIZE / _UNSUPPORTED for bad arguments and
- * DDOF_ERROR_BACKEND_FAILED (message says why) for GL failures. */
+ * Returns DDOF_ERROR_BAD_PARAMETER / _BAD_SIZE / _UNSUPPORTED for bad arguments,
+ * DDOF_ERROR_BACKEND_UNAVAILABLE for a host that adopted no context and
+ * DDOF_ERROR_BACKEND_FAILED for GL failures; ddof_gl_host_last_error says why. */
 DDOF_GL_API ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
                                              unsigned color_texture, unsigned coc_texture,
                                              unsigned out_texture, uint32_t width,
-                                             uint32_t height, ddof_stats *stats,
-                                             char *message, size_t message_size);
+                                             uint32_t height, ddof_stats *stats);
 
 /* Accepts NULL. */
 DDOF_GL_API void ddof_gl_host_free(ddof_gl_host *host);
