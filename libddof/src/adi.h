@@ -4,6 +4,8 @@
 
 #include "internal.h"
 
+#include <math.h>
+
 /* A validated request: images are checked, strides are in floats. */
 typedef struct adi_request {
     const float *color;
@@ -27,6 +29,10 @@ typedef struct adi_request {
     const struct disc_kernel *disc; /* NULL: the heat kernel; else the disc kernel's table */
     ddof_progress_fn progress;
     void *progress_user;
+    /* |CoC| below this (read from `coc`; a uniform CoC is the layers' own fill and is never
+     * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). Appended, so
+     * the GL plugin's view of the fields before it is unchanged. */
+    float in_focus_px;
 } adi_request;
 
 typedef struct adi_report {
@@ -44,6 +50,14 @@ typedef struct adi_report {
  * CoC conducts by its size), flushed to 0 below FLT_MIN so that "no conductive link" has one
  * meaning everywhere (and no denormals reach a solver). */
 float ddof_link_beta(float scale, float coc_a, float coc_b);
+
+/* |CoC| as a link sees it: 0 below the in-focus threshold. A pixel cut to 0 has no link, so it
+ * keeps its value exactly, as a CoC-0 pixel does. */
+static inline float ddof_conducting_coc(float coc, float in_focus_px)
+{
+    const float d = fabsf(coc);
+    return d >= in_focus_px ? d : 0.0f;
+}
 
 /* The float solvers (Thomas, CR, PCR, Jacobi), multi-threaded. */
 ddof_status ddof_adi_run(ddof_context *context, const adi_request *request, adi_report *report);

@@ -94,6 +94,10 @@ static ddof_status read_params(ddof_context *context, const ddof_params *caller,
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.method %u or params.precision %u is not a known value",
                          (unsigned)p->method, (unsigned)p->precision);
+    if (!coc_size_ok(p->in_focus_threshold_px, 1))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.in_focus_threshold_px %.9g must be >= 0 and at most %g px",
+                         (double)p->in_focus_threshold_px, (double)DDOF_MAX_COC_PX);
     if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
                          (unsigned)p->kernel);
@@ -174,19 +178,20 @@ static ddof_status check_images(ddof_context *context, const ddof_image_in *colo
     bad_value bad;
     if (ddof_find_bad_value(context, color->pixels, color->width, color->height,
                             color->channels, color->channels, r->color_stride, VALUE_FINITE,
-                            &bad))
+                            &bad, NULL))
         return ddof_fail(context, DDOF_ERROR_BAD_COLOR,
                          "colour at pixel (%u, %u) channel %u is %g", bad.x, bad.y,
                          bad.channel, (double)bad.value);
     return DDOF_OK;
 }
 
+/* Validates the CoC; *max_abs is its largest |CoC|, found by the same read. */
 static ddof_status check_coc_values(ddof_context *context, const ddof_image_in *coc,
-                                    size_t stride, int coc_signed)
+                                    size_t stride, int coc_signed, float *max_abs)
 {
     bad_value bad;
     if (ddof_find_bad_value(context, coc->pixels, coc->width, coc->height, coc->channels, 1,
-                            stride, coc_signed ? VALUE_COC_SIGNED : VALUE_COC, &bad))
+                            stride, coc_signed ? VALUE_COC_SIGNED : VALUE_COC, &bad, max_abs))
         return ddof_fail(context, DDOF_ERROR_BAD_COC,
                          "CoC at pixel (%u, %u) is %.9g; it must be finite, within %s0..%g px",
                          bad.x, bad.y, (double)bad.value, coc_signed ? "+-" : "",
@@ -205,6 +210,13 @@ static void fill_request_params(adi_request *r, const ddof_params *p)
     r->disc = p->method == DDOF_METHOD_DIFFUSION ? ddof_disc_kernel(p->kernel) : NULL;
     r->progress = p->progress;
     r->progress_user = p->progress_user;
+    r->in_focus_px = p->in_focus_threshold_px;
+}
+
+/* Whether a frame whose largest |CoC| is max_coc has nothing out of focus. */
+static int all_in_focus(float max_coc, const ddof_params *p)
+{
+    return max_coc <= 0.0f || max_coc < p->in_focus_threshold_px;
 }
 
 /* Copies the fields the caller's struct has room for. */
@@ -389,30 +401,56 @@ static ddof_status run_preview(ddof_context *context, const adi_request *r, int 
     return DDOF_OK;
 }
 
-static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_stats *stats,
-                              double t_start, double seconds_coc)
+/* Nothing out of focus: the output is the input, on every backend (no device is involved). */
+static void copy_frame(ddof_context *context, const adi_request *r, adi_report *report,
+                       float max_coc)
+{
+    ddof_parallel_copy(context, r->color, r->color_stride, r->out, r->out_stride,
+                       (size_t)r->width * r->channels, r->height);
+    /* Every line skipped, counted as the run would have: a disc kernel per component. */
+    const uint64_t passes = r->disc ? r->disc->components : 1u;
+    *report = (adi_report){.threads = context->thread_count,
+                           .lines_skipped = ((uint64_t)r->width + r->height) * passes,
+                           .max_coc = max_coc};
+    if (r->progress)
+        r->progress(r->progress_user, 1.0f);
+}
+
+static ddof_status run_single(ddof_context *context, const adi_request *r, const ddof_params *p,
+                              float max_coc, ddof_stats *stats, double t_start,
+                              double seconds_coc)
 {
     adi_report report;
-    ddof_status status = ddof_run_adi(context, r, &report);
-    if (status != DDOF_OK)
-        return status;
+    /* On a device the call stays there (it is the backend's frame to run, and it reports
+     * what it ran); its CoC is cut to the threshold by ddof_run_adi. */
+    if (all_in_focus(max_coc, p) && !context->backend.device) {
+        copy_frame(context, r, &report, max_coc);
+    } else {
+        ddof_status status = ddof_run_adi(context, r, &report);
+        if (status != DDOF_OK)
+            return status;
+    }
     ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
     write_stats(stats, &full);
     return DDOF_OK;
 }
 
-/* Plans the frame, runs what the plan says, reports it. */
+/* Plans the frame, runs what the plan says, reports it. known_max_coc: the largest |CoC| when
+ * the validation found it (a frame below the in-focus threshold then needs no analysis), or
+ * negative. */
 static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_given,
-                               int fg_visible, ddof_stats *stats, double t_start,
-                               double seconds_coc)
+                               int fg_visible, float known_max_coc, ddof_stats *stats,
+                               double t_start, double seconds_coc)
 {
     const adi_request *r = &q->base;
     if (q->params->method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, r, (int)q->params->coc_signed, stats, t_start, seconds_coc);
     const double t_plan = ddof_seconds();
-    coc_analysis analysis;
-    ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
-                     q->params, &analysis);
+    coc_analysis analysis = {.max_coc = known_max_coc};
+    if (known_max_coc < 0.0f || !all_in_focus(known_max_coc, q->params) ||
+        (fg_given && fg_visible))
+        ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
+                         q->params, &analysis);
     frame_plan plan;
     ddof_plan_frame(&analysis, q->params, fg_given, fg_visible, &plan);
     const double seconds_plan = ddof_seconds() - t_plan;
@@ -420,12 +458,7 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
     layers_report report = {.adi = {.threads = context->thread_count,
                                     .lines_skipped = (uint64_t)r->width + r->height}};
     if (plan.copy_only) {
-        if (r->out != r->color)
-            for (uint32_t y = 0; y < r->height; y++)
-                memcpy(r->out + (size_t)y * r->out_stride, r->color + (size_t)y * r->color_stride,
-                       (size_t)r->width * r->channels * sizeof(float));
-        if (r->progress)
-            r->progress(r->progress_user, 1.0f);
+        copy_frame(context, r, &report.adi, analysis.max_coc);
     } else {
         q->fg_color = fg_visible ? q->fg_color : NULL;
         q->background_box = analysis.background_box;
@@ -449,14 +482,15 @@ static ddof_status run_layered(ddof_context *context, layers_request *q, int fg_
 /* The checks every diffusion call shares: params, colour, CoC, output. */
 static ddof_status prepare(ddof_context *context, const ddof_params *caller_params,
                            const ddof_image_in *color, const ddof_image_in *coc,
-                           const ddof_image *out, ddof_params *params, adi_request *r)
+                           const ddof_image *out, ddof_params *params, adi_request *r,
+                           float *max_coc)
 {
     size_t coc_stride = 0;
     ddof_status status = read_params(context, caller_params, params);
     if (status == DDOF_OK)
         status = check_images(context, color, coc, "coc", out, r, &coc_stride);
     if (status == DDOF_OK)
-        status = check_coc_values(context, coc, coc_stride, (int)params->coc_signed);
+        status = check_coc_values(context, coc, coc_stride, (int)params->coc_signed, max_coc);
     if (status != DDOF_OK)
         return status;
     r->coc = coc->pixels;
@@ -476,13 +510,14 @@ ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
     ddof_clear_error(context);
     ddof_params p;
     adi_request r = {0};
-    ddof_status status = prepare(context, params, color, coc, out, &p, &r);
+    float max_coc = 0.0f;
+    ddof_status status = prepare(context, params, color, coc, out, &p, &r, &max_coc);
     if (status != DDOF_OK)
         return status;
     if (p.method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, &r, (int)p.coc_signed, stats, t_start,
                            ddof_seconds() - t_start);
-    return run_single(context, &r, stats, t_start, ddof_seconds() - t_start);
+    return run_single(context, &r, &p, max_coc, stats, t_start, ddof_seconds() - t_start);
 }
 
 ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
@@ -497,7 +532,8 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
     ddof_params p;
     layers_request q = {.params = &p};
     int fg_visible = 0;
-    ddof_status status = prepare(context, params, color, coc, out, &p, &q.base);
+    float max_coc = 0.0f;
+    ddof_status status = prepare(context, params, color, coc, out, &p, &q.base, &max_coc);
     if (status == DDOF_OK && foreground && p.method == DDOF_METHOD_COD4_PREVIEW)
         status = ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
                            "the CoD4 preview takes no foreground element");
@@ -510,7 +546,7 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
         status = read_foreground(context, foreground, &q, &fg_visible);
     if (status != DDOF_OK)
         return status;
-    return run_layered(context, &q, foreground != NULL, fg_visible, stats, t_start,
+    return run_layered(context, &q, foreground != NULL, fg_visible, max_coc, stats, t_start,
                        ddof_seconds() - t_start);
 }
 
@@ -556,5 +592,5 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
     r->coc_stride = r->width;
     r->coc_channels = 1;
     fill_request_params(r, &p);
-    return run_layered(context, &q, 0, 0, stats, t_start, ddof_seconds() - t_start);
+    return run_layered(context, &q, 0, 0, -1.0f, stats, t_start, ddof_seconds() - t_start);
 }

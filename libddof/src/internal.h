@@ -27,6 +27,7 @@ typedef struct ddof_scratch {
 enum {
     DDOF_SCRATCH_SOLVER,
     DDOF_SCRATCH_COC,
+    DDOF_SCRATCH_DEVICE_COC,  /* backend.c: the CoC with the in-focus threshold applied */
     DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
     DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };
