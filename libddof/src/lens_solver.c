@@ -93,9 +93,19 @@ static DDOF_ALWAYS_INLINE void lens_solve_channels(const complex_batch *batch, f
                 di[k] = x_i + sr[l] * hi + si[l] * hr;
             }
     }
-    /* Back: y_{n-1} = D_{n-1}, y_i = D_i + w_i (y_{i+1} - D_i). */
+    /* Back: y_{n-1} = D_{n-1}, y_i = D_i + w_i (y_{i+1} - D_i). The last element is peeled
+     * off: a condition on i inside the lane loop kept it scalar for 3 and 4 channels. */
     float yr[L * 4], yi[L * 4];
-    for (uint32_t i = n; i-- > 0;) {
+    {
+        const size_t last = (size_t)(n - 1) * L * C;
+        for (uint32_t k = 0; k < L * C; k++) {
+            yr[k] = d_re[last + k];
+            yi[k] = d_im[last + k];
+            batch->y_re[last + k] = yr[k];
+            batch->y_im[last + k] = yi[k];
+        }
+    }
+    for (uint32_t i = n - 1; i-- > 0;) {
         const float *restrict dr = d_re + (size_t)i * L * C, *restrict di = d_im + (size_t)i * L * C;
         const float *restrict wr = w_re + (size_t)i * L, *restrict wi = w_im + (size_t)i * L;
         float *restrict outr = batch->y_re + (size_t)i * L * C;
@@ -103,16 +113,12 @@ static DDOF_ALWAYS_INLINE void lens_solve_channels(const complex_batch *batch, f
         for (uint32_t l = 0; l < L; l++)
             for (uint32_t c = 0; c < C; c++) {
                 const uint32_t k = l * C + c;
-                float vr = dr[k], vi = di[k];
-                if (i + 1 < n) {
-                    const float hr = yr[k] - vr, hi = yi[k] - vi;
-                    vr += wr[l] * hr - wi[l] * hi;
-                    vi += wr[l] * hi + wi[l] * hr;
-                }
-                yr[k] = vr;
-                yi[k] = vi;
-                outr[k] = vr;
-                outi[k] = vi;
+                const float vr = dr[k], vi = di[k];
+                const float hr = yr[k] - vr, hi = yi[k] - vi;
+                yr[k] = vr + (wr[l] * hr - wi[l] * hi);
+                yi[k] = vi + (wr[l] * hi + wi[l] * hr);
+                outr[k] = yr[k];
+                outi[k] = yi[k];
             }
     }
 }
