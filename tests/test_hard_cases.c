@@ -70,7 +70,8 @@ static void check_case_tol(ddof_context *ctx, const char *name, test_image *im, 
               ddof_context_last_error(ctx));
     for (size_t i = 0; i < n; i++)
         dref[i] = im->color[i];
-    ref_adi(dref, im->coc, im->w, im->h, im->ch, beta_scale, 1.0, substeps);
+    ref_adi(dref, im->coc, im->w, im->h, im->ch, beta_scale, 1.0, substeps,
+            p.in_focus_threshold_px);
     double e64 = max_abs_diff_fd(ref, dref, n) / scale;
     worst_f64_err = fmax(worst_f64_err, e64);
     CHECK_MSG(e64 <= TOL_F64_VS_DOUBLE, "%s: REFERENCE_F64 vs double ADI %.3g", name, e64);

@@ -249,7 +249,8 @@ static inline size_t padding_changed(const float *padded, size_t stride, size_t 
 /* ---------------------------------------------------------------------------------------- */
 /* An independent double-precision ADI step (docs/design.md section 1), written from the formulas:
  * per line a_i = -beta_{i-1}, b_i = 1 + beta_{i-1} + beta_i, c_i = -beta_i, rhs_i = x_i, with
- * beta_i = k * min(d_i, d_{i+1})^2 / n (columns: d * pixel_aspect) and 0 at the borders.
+ * beta_i = k * min(d_i, d_{i+1})^2 / n (columns: d * pixel_aspect) and 0 at the borders, and 0
+ * where min(d_i, d_{i+1}) is below the in-focus threshold (ddof_params.in_focus_threshold_px).
  * Thomas elimination keeps each row's excess (b + a + c) so nothing is formed by subtraction.
  * It shares no code with the library, so agreement with it checks the library's formulas. */
 
@@ -270,7 +271,7 @@ static inline void ref_line(uint32_t n, const double *beta, double *v, double *m
 /* `substeps` ADI steps of beta / substeps on img (w x h x ch, in place): each step solves
  * every row, then every column. */
 static inline void ref_adi(double *img, const float *coc, uint32_t w, uint32_t h, uint32_t ch,
-                           double k, double aspect, uint32_t substeps)
+                           double k, double aspect, uint32_t substeps, float in_focus)
 {
     uint32_t nmax = w > h ? w : h;
     double *beta = malloc(nmax * sizeof(double)), *v = malloc(nmax * sizeof(double));
@@ -284,7 +285,8 @@ static inline void ref_adi(double *img, const float *coc, uint32_t w, uint32_t h
                 const size_t first = columns ? l : (size_t)l * w;
                 for (uint32_t i = 0; i < len; i++) {
                     const size_t p = first + i * step;
-                    double d = i + 1 < len ? fmin(coc[p], coc[p + step]) * scale : 0.0;
+                    const float m = i + 1 < len ? fminf(coc[p], coc[p + step]) : 0.0f;
+                    const double d = m >= in_focus ? m * scale : 0.0;
                     beta[i] = k * d * d / substeps;
                 }
                 for (uint32_t c = 0; c < ch; c++) {

@@ -28,11 +28,11 @@ static void test_matches_independent_double(ddof_context *ctx)
         for (int ai = 0; ai < 2; ai++) {
             for (size_t i = 0; i < im.n; i++)
                 ref[i] = im.color[i];
-            ref_adi(ref, im.coc, im.w, im.h, im.ch, DDOF_MOMENT_BETA_SCALE, aspects[ai],
-                    substeps[si]);
-
             ddof_params p;
             heat_params_init(&p); /* default solver: Thomas, float */
+            ref_adi(ref, im.coc, im.w, im.h, im.ch, DDOF_MOMENT_BETA_SCALE, aspects[ai],
+                    substeps[si], p.in_focus_threshold_px);
+
             p.beta_scale = DDOF_MOMENT_BETA_SCALE; /* the k of ref_adi, not the preset's */
             p.substeps = substeps[si];
             p.pixel_aspect = aspects[ai];

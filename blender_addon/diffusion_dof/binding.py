@@ -164,7 +164,9 @@ class Params(ctypes.Structure):
                 ("method", _enum),
                 ("precision", _enum),
                 # version 0.4
-                ("kernel", _enum)]
+                ("kernel", _enum),
+                # version 0.5
+                ("in_focus_threshold_px", ctypes.c_float)]
 
 
 class Stats(ctypes.Structure):

@@ -387,6 +387,14 @@ typedef struct ddof_params {
     /* --- version 0.4 of this struct ------------------------------------------------------- */
     ddof_kernel kernel;        /* the point spread of every colour diffusion (the layers'     */
                                /* CoC fills stay heat). Default: the default preset's.        */
+
+    /* --- version 0.5 of this struct ------------------------------------------------------- */
+    float in_focus_threshold_px; /* a |CoC| below this counts as in focus: such a pixel      */
+                               /* conducts as CoC 0 (no link to or from it blurs; it keeps   */
+                               /* its value), and a frame whose largest |CoC| is below it is */
+                               /* a copy (0 lines solved, copied_only 1). Default 0.5         */
+                               /* (diameter); >= 0, at most DDOF_MAX_COC_PX; 0 lets every    */
+                               /* CoC above 0 conduct, as before this field existed.          */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
@@ -408,7 +416,8 @@ typedef struct ddof_stats {
     uint64_t lines_solved;     /* tridiagonal systems solved, rows and columns, all substeps  */
     uint64_t lines_skipped;    /* lines with no conductive link: copied, not solved           */
     float max_coc_px;          /* largest CoC in the input                                    */
-    uint32_t copied_only;      /* 1 when nothing was out of focus: output = input, 0 solves   */
+    uint32_t copied_only;      /* 1 when nothing was out of focus (every |CoC| below          */
+                               /* params.in_focus_threshold_px): output = input, 0 solves     */
     double seconds_total;      /* wall time of the call                                       */
     double seconds_coc;        /* computing or validating the CoC                             */
     double seconds_rows;       /* the row passes (every layer)                                */
@@ -449,7 +458,8 @@ typedef struct ddof_stats {
  *  - NaN/inf in colour: DDOF_ERROR_BAD_COLOR. NaN/inf CoC, |CoC| > DDOF_MAX_COC_PX, or a
  *    negative CoC without coc_signed: DDOF_ERROR_BAD_COC. Sizes, strides, channels: as their status codes say.
  *    In each case out is untouched and ddof_context_last_error() names the first bad pixel.
- *  - A pixel with CoC 0 is left exactly unchanged and nothing diffuses across it.
+ *  - A pixel with CoC 0 (or |CoC| below params.in_focus_threshold_px) is left exactly
+ *    unchanged and nothing diffuses across it.
  *  - With the heat kernel the output is a convex combination of the input along each row then
  *    each column: it never leaves the input's range, and each row sum is conserved by the row
  *    pass (and each column sum by the column pass). A disc kernel keeps the sums and is clamped

@@ -70,6 +70,10 @@ typedef struct adi_request {
     const struct disc_kernel *disc; /* NULL: the heat kernel; else the disc kernel's table */
     ddof_progress_fn progress;
     void *progress_user;
+    /* |CoC| below this (read from `coc`; a uniform CoC is the layers' own fill and is never
+     * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device gets
+     * requests whose CoC is already cut (backend.c), so it may ignore the field. */
+    float in_focus_px;
 } adi_request;
 
 typedef struct adi_report {

@@ -28,6 +28,18 @@ float ddof_link_beta(float scale, float coc_a, float coc_b)
     return beta >= FLT_MIN ? beta : 0.0f;
 }
 
+/* The same with the in-focus threshold: the link's smaller |CoC| is below it exactly when one
+ * of its pixels counts as in focus, so one compare cuts both (ddof_conducting_coc). */
+static inline float link_beta(float scale, float in_focus_px, float coc_a, float coc_b)
+{
+    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
+    const float beta = scale * m * m;
+    /* A product with 0 or 1 rather than a select: GCC does not if-convert a float select
+     * under -ftrapping-math, and the column links' loop then stays scalar (beta is finite, so
+     * the product is exactly beta or 0). */
+    return beta * (float)((beta >= FLT_MIN) & (m >= in_focus_px));
+}
+
 static const solver_ops *float_solver(ddof_solver solver)
 {
     switch (solver) {
@@ -116,6 +128,7 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
     /* Links element by element across the lanes (contiguous writes, in-order reads). A
      * uniform CoC is read from a one-pixel "image" with stride 0. */
     const uint32_t cc = r->coc ? r->coc_channels : 0;
+    const float in_focus = r->coc ? r->in_focus_px : 0.0f;
     const float *coc[L];
     for (uint32_t l = 0; l < L; l++)
         coc[l] = r->coc ? r->coc + (size_t)(y0 + (l < lanes ? l : 0)) * r->coc_stride
@@ -126,7 +139,7 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
         for (uint32_t l = 0; l < L; l++) {
             const float here = coc[l][(size_t)i * cc];
             const float next = i + 1 < n ? coc[l][(size_t)(i + 1) * cc] : 0.0f;
-            beta[l] = l < lanes ? ddof_link_beta(job->beta_scale, here, next) : 0.0f;
+            beta[l] = l < lanes ? link_beta(job->beta_scale, in_focus, here, next) : 0.0f;
             active[l] |= beta[l] > 0.0f;
             max_coc[l] = ddof_maxf(max_coc[l], fabsf(here));
         }
@@ -179,18 +192,38 @@ static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index
     const uint32_t lanes = r->width - x0 < L ? r->width - x0 : L;
     const uint32_t cc = r->coc ? r->coc_channels : 0;
     const size_t coc_stride = r->coc ? r->coc_stride : 0;
+    const float in_focus = r->coc ? r->in_focus_px : 0.0f;
     int active[L] = {0};
     int any_active = 0;
 
-    for (uint32_t i = 0; i + 1 < n; i++) {
-        const float *coc = r->coc ? r->coc + (size_t)i * coc_stride + (size_t)x0 * cc
-                                  : &r->uniform_coc;
-        const float *below = coc + coc_stride;
-        float *beta = ts->beta + (size_t)i * L;
-        for (uint32_t l = 0; l < L; l++) {
-            beta[l] = l < lanes ? ddof_link_beta(job->beta_scale, coc[l * cc], below[l * cc])
-                                : 0.0f;
-            active[l] |= beta[l] > 0.0f;
+    /* A full block of a one-channel CoC (the common case) reads 16 neighbouring floats a row:
+     * a loop the compiler vectorises, with the rows asked for ahead (each is in a page of its
+     * own, which the prefetchers do not follow; perf showed the scalar loop waiting on them). */
+    if (r->coc && cc == 1 && lanes == L) {
+        enum { ahead = 16 };
+        for (uint32_t i = 0; i + 1 < n; i++) {
+            const float *restrict coc = r->coc + (size_t)i * coc_stride + x0;
+            const float *restrict below = coc + coc_stride;
+            if (i + 1 + ahead < n)
+                DDOF_PREFETCH(below + (size_t)ahead * coc_stride, 0);
+            float *restrict beta = ts->beta + (size_t)i * L;
+            for (uint32_t l = 0; l < L; l++) {
+                beta[l] = link_beta(job->beta_scale, in_focus, coc[l], below[l]);
+                active[l] |= beta[l] > 0.0f;
+            }
+        }
+    } else {
+        for (uint32_t i = 0; i + 1 < n; i++) {
+            const float *coc = r->coc ? r->coc + (size_t)i * coc_stride + (size_t)x0 * cc
+                                      : &r->uniform_coc;
+            const float *below = coc + coc_stride;
+            float *beta = ts->beta + (size_t)i * L;
+            for (uint32_t l = 0; l < L; l++) {
+                beta[l] = l < lanes ? link_beta(job->beta_scale, in_focus, coc[l * cc],
+                                                below[l * cc])
+                                    : 0.0f;
+                active[l] |= beta[l] > 0.0f;
+            }
         }
     }
     for (uint32_t l = 0; l < L; l++) {

@@ -6,6 +6,8 @@
 #include "ddof_backend_seam.h"
 #include "internal.h"
 
+#include <math.h>
+
 /* Conductance of the link between two pixels: k * min(|d_a|, |d_b|)^2 (a negative, near-field
  * CoC conducts by its size), flushed to 0 below FLT_MIN so that "no conductive link" has one
  * meaning everywhere (and no denormals reach a solver). */

@@ -67,6 +67,7 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
         .near_spread_threshold_px = 4.0f,
         .precision = DDOF_PRECISION_FLOAT,
         .kernel = s->kernel,
+        .in_focus_threshold_px = 0.5f,
     };
     return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
 }

@@ -4,7 +4,10 @@
 #define _GNU_SOURCE /* dladdr */
 #include "backend.h"
 
+#include "parallel_rows.h"
+
 #include <dlfcn.h>
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -191,6 +194,56 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
                      precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
 }
 
+typedef struct cut_job {
+    const adi_request *r;
+    float *coc;       /* width floats a row */
+    float *chunk_max; /* the largest |CoC| per row chunk, before the cut */
+} cut_job;
+
+static void cut_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    const cut_job *job = user;
+    const adi_request *r = job->r;
+    float m = 0.0f;
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *src = r->coc + (size_t)y * r->coc_stride;
+        float *dst = job->coc + (size_t)y * r->width;
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float c = src[(size_t)x * r->coc_channels];
+            m = ddof_maxf(m, fabsf(c));
+            dst[x] = fabsf(c) >= r->in_focus_px ? c : 0.0f;
+        }
+    }
+    job->chunk_max[chunk] = m;
+}
+
+/* The devices know nothing of the in-focus threshold (adi_request.in_focus_px, appended after
+ * the plugin ABI's fields): they get a CoC image in which the in-focus pixels are 0, which
+ * conducts the same, so GL and CPU agree. *max_coc: the largest |CoC| before the cut (the
+ * figure the stats report). */
+static ddof_status cut_in_focus(ddof_context *context, const adi_request *r, adi_request *cut,
+                                float *max_coc)
+{
+    float *coc = ddof_scratch_get(context, DDOF_SCRATCH_DEVICE_COC,
+                                  (size_t)r->width * r->height * sizeof(float));
+    if (!coc)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the %ux%u in-focus CoC buffer", r->width, r->height);
+    enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
+    float chunk_max[max_chunks];
+    cut_job job = {r, coc, chunk_max};
+    ddof_parallel_rows(context, r->height, cut_rows, &job);
+    *max_coc = 0.0f;
+    for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++)
+        *max_coc = ddof_maxf(*max_coc, chunk_max[c]);
+    *cut = *r;
+    cut->coc = coc;
+    cut->coc_stride = r->width;
+    cut->coc_channels = 1;
+    cut->in_focus_px = 0.0f;
+    return DDOF_OK;
+}
+
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
     ddof_backend_state *b = &context->backend;
@@ -202,11 +255,21 @@ ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_
     if (!b->device || (request->disc && !device_runs_disc(b)))
         return request->disc ? ddof_lens_run(context, request, report)
                              : ddof_adi_run(context, request, report);
+    adi_request cut;
+    float max_coc = -1.0f;
+    if (request->coc && request->in_focus_px > 0.0f) {
+        ddof_status status = cut_in_focus(context, request, &cut, &max_coc);
+        if (status != DDOF_OK)
+            return status;
+        request = &cut;
+    }
     char why[512] = "";
     *report = (adi_report){0};
     ddof_status status = b->table->run(b->device, request, report, why, sizeof why);
     if (status != DDOF_OK)
         return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
                          why[0] ? why : ddof_status_string(status));
+    if (max_coc >= 0.0f)
+        report->max_coc = max_coc;
     return DDOF_OK;
 }

@@ -100,6 +100,10 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.method %u or params.precision %u is not a known value",
                          (unsigned)p->method, (unsigned)p->precision);
+    if (!coc_size_ok(p->in_focus_threshold_px, 1))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.in_focus_threshold_px %.9g must be >= 0 and at most %g px",
+                         (double)p->in_focus_threshold_px, (double)DDOF_MAX_COC_PX);
     if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
                          (unsigned)p->kernel);
@@ -185,7 +189,7 @@ ddof_status ddof_check_call_images(ddof_context *context, const ddof_image_in *c
     bad_value bad;
     if (ddof_find_bad_value(context, color->pixels, color->width, color->height,
                             color->channels, color->channels, r->color_stride, VALUE_FINITE,
-                            &bad))
+                            &bad, NULL))
         return ddof_fail(context, DDOF_ERROR_BAD_COLOR,
                          "colour at pixel (%u, %u) channel %u is %g", bad.x, bad.y,
                          bad.channel, (double)bad.value);
@@ -193,11 +197,11 @@ ddof_status ddof_check_call_images(ddof_context *context, const ddof_image_in *c
 }
 
 ddof_status ddof_check_coc_values(ddof_context *context, const ddof_image_in *coc,
-                                  size_t stride, int coc_signed)
+                                  size_t stride, int coc_signed, float *max_abs)
 {
     bad_value bad;
     if (ddof_find_bad_value(context, coc->pixels, coc->width, coc->height, coc->channels, 1,
-                            stride, coc_signed ? VALUE_COC_SIGNED : VALUE_COC, &bad))
+                            stride, coc_signed ? VALUE_COC_SIGNED : VALUE_COC, &bad, max_abs))
         return ddof_fail(context, DDOF_ERROR_BAD_COC,
                          "CoC at pixel (%u, %u) is %.9g; it must be finite, within %s0..%g px",
                          bad.x, bad.y, (double)bad.value, coc_signed ? "+-" : "",
@@ -216,6 +220,7 @@ void ddof_fill_request_params(adi_request *r, const ddof_params *p)
     r->disc = p->method == DDOF_METHOD_DIFFUSION ? ddof_disc_kernel(p->kernel) : NULL;
     r->progress = p->progress;
     r->progress_user = p->progress_user;
+    r->in_focus_px = p->in_focus_threshold_px;
 }
 /* ---- the foreground element ------------------------------------------------------------- */
 

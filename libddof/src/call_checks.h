@@ -29,9 +29,10 @@ ddof_status ddof_check_call_images(ddof_context *context, const ddof_image_in *c
                                    const ddof_image_in *map, const char *map_name,
                                    const ddof_image *out, adi_request *r, size_t *map_stride);
 
-/* CoC values: finite, |CoC| <= DDOF_MAX_COC_PX, negative only when signed. */
+/* CoC values: finite, |CoC| <= DDOF_MAX_COC_PX, negative only when signed; *max_abs (may be
+ * NULL) gets the largest |CoC|, found by the same read. */
 ddof_status ddof_check_coc_values(ddof_context *context, const ddof_image_in *coc,
-                                  size_t stride, int coc_signed);
+                                  size_t stride, int coc_signed, float *max_abs);
 
 /* The request's solver settings from validated params. */
 void ddof_fill_request_params(adi_request *r, const ddof_params *p);
@@ -42,9 +43,11 @@ ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *c
                                  layers_request *q, int *visible);
 
 /* Plans the frame of a validated request, runs what the plan says (or the CoD4 preview) and
- * reports it in stats (diffuse.c). seconds_coc: what the CoC stage took before. */
+ * reports it in stats (diffuse.c). known_max_coc: the largest |CoC| when the validation found
+ * it (a frame below the in-focus threshold then needs no analysis), or negative. seconds_coc:
+ * what the CoC stage took before. */
 ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_given,
-                             int fg_visible, ddof_stats *stats, double t_start,
-                             double seconds_coc);
+                             int fg_visible, float known_max_coc, ddof_stats *stats,
+                             double t_start, double seconds_coc);
 
 #endif

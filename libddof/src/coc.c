@@ -132,7 +132,7 @@ ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *ca
 {
     bad_value bad;
     if (ddof_find_bad_value(context, depth->pixels, depth->width, depth->height,
-                            depth->channels, 1, depth_stride, VALUE_DEPTH, &bad))
+                            depth->channels, 1, depth_stride, VALUE_DEPTH, &bad, NULL))
         return ddof_fail(context, DDOF_ERROR_BAD_DEPTH,
                          "depth at pixel (%u, %u) is %g; it must be > 0 (+inf for the sky)",
                          bad.x, bad.y, (double)bad.value);
@@ -200,7 +200,7 @@ ddof_status ddof_compute_coc_curve(ddof_context *context, const ddof_curve *curv
 {
     bad_value bad;
     if (ddof_find_bad_value(context, depth->pixels, depth->width, depth->height,
-                            depth->channels, 1, depth_stride, VALUE_DEPTH_ZERO, &bad))
+                            depth->channels, 1, depth_stride, VALUE_DEPTH_ZERO, &bad, NULL))
         return ddof_fail(context, DDOF_ERROR_BAD_DEPTH,
                          "depth at pixel (%u, %u) is %g; it must be >= 0 (+inf for the sky)",
                          bad.x, bad.y, (double)bad.value);

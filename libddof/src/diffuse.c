@@ -12,6 +12,12 @@
 #include <stdio.h>
 #include <string.h>
 
+/* Whether a frame whose largest |CoC| is max_coc has nothing out of focus. */
+static int all_in_focus(float max_coc, const ddof_params *p)
+{
+    return max_coc <= 0.0f || max_coc < p->in_focus_threshold_px;
+}
+
 /* Copies the fields the caller's struct has room for. */
 static void write_stats(ddof_stats *stats, const ddof_stats *full)
 {
@@ -80,13 +86,35 @@ static ddof_status run_preview(ddof_context *context, const adi_request *r, int 
     return DDOF_OK;
 }
 
-static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_stats *stats,
-                              double t_start, double seconds_coc)
+/* Nothing out of focus: the output is the input, on every backend (no device is involved). */
+static void copy_frame(ddof_context *context, const adi_request *r, adi_report *report,
+                       float max_coc)
+{
+    ddof_parallel_copy(context, r->color, r->color_stride, r->out, r->out_stride,
+                       (size_t)r->width * r->channels, r->height);
+    /* Every line skipped, counted as the run would have: a disc kernel per component. */
+    const uint64_t passes = r->disc ? r->disc->components : 1u;
+    *report = (adi_report){.threads = context->thread_count,
+                           .lines_skipped = ((uint64_t)r->width + r->height) * passes,
+                           .max_coc = max_coc};
+    if (r->progress)
+        r->progress(r->progress_user, 1.0f);
+}
+
+static ddof_status run_single(ddof_context *context, const adi_request *r, const ddof_params *p,
+                              float max_coc, ddof_stats *stats, double t_start,
+                              double seconds_coc)
 {
     adi_report report;
-    ddof_status status = ddof_run_adi(context, r, &report);
-    if (status != DDOF_OK)
-        return status;
+    /* On a device the call stays there (it is the backend's frame to run, and it reports
+     * what it ran); its CoC is cut to the threshold by ddof_run_adi. */
+    if (all_in_focus(max_coc, p) && !context->backend.device) {
+        copy_frame(context, r, &report, max_coc);
+    } else {
+        ddof_status status = ddof_run_adi(context, r, &report);
+        if (status != DDOF_OK)
+            return status;
+    }
     ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
     write_stats(stats, &full);
     return DDOF_OK;
@@ -94,16 +122,18 @@ static ddof_status run_single(ddof_context *context, const adi_request *r, ddof_
 
 /* Plans the frame, runs what the plan says, reports it. */
 ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_given,
-                             int fg_visible, ddof_stats *stats, double t_start,
-                             double seconds_coc)
+                             int fg_visible, float known_max_coc, ddof_stats *stats,
+                             double t_start, double seconds_coc)
 {
     const adi_request *r = &q->base;
     if (q->params->method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, r, (int)q->params->coc_signed, stats, t_start, seconds_coc);
     const double t_plan = ddof_seconds();
-    coc_analysis analysis;
-    ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
-                     q->params, &analysis);
+    coc_analysis analysis = {.max_coc = known_max_coc};
+    if (known_max_coc < 0.0f || !all_in_focus(known_max_coc, q->params) ||
+        (fg_given && fg_visible))
+        ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
+                         q->params, &analysis);
     frame_plan plan;
     ddof_plan_frame(&analysis, q->params, fg_given, fg_visible, &plan);
     const double seconds_plan = ddof_seconds() - t_plan;
@@ -111,12 +141,7 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
     layers_report report = {.adi = {.threads = context->thread_count,
                                     .lines_skipped = (uint64_t)r->width + r->height}};
     if (plan.copy_only) {
-        if (r->out != r->color)
-            for (uint32_t y = 0; y < r->height; y++)
-                memcpy(r->out + (size_t)y * r->out_stride, r->color + (size_t)y * r->color_stride,
-                       (size_t)r->width * r->channels * sizeof(float));
-        if (r->progress)
-            r->progress(r->progress_user, 1.0f);
+        copy_frame(context, r, &report.adi, analysis.max_coc);
     } else {
         q->fg_color = fg_visible ? q->fg_color : NULL;
         q->background_box = analysis.background_box;
@@ -140,7 +165,8 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
 /* The checks every diffusion call shares: params, colour, CoC, output. */
 static ddof_status prepare(ddof_context *context, const ddof_params *caller_params,
                            const ddof_image_in *color, const ddof_image_in *coc,
-                           const ddof_image *out, ddof_params *params, adi_request *r)
+                           const ddof_image *out, ddof_params *params, adi_request *r,
+                           float *max_coc)
 {
     size_t coc_stride = 0;
     ddof_status status = ddof_read_params(context, caller_params, params);
@@ -149,7 +175,8 @@ static ddof_status prepare(ddof_context *context, const ddof_params *caller_para
     if (status == DDOF_OK)
         status = ddof_check_call_images(context, color, coc, "coc", out, r, &coc_stride);
     if (status == DDOF_OK)
-        status = ddof_check_coc_values(context, coc, coc_stride, (int)params->coc_signed);
+        status = ddof_check_coc_values(context, coc, coc_stride, (int)params->coc_signed,
+                                       max_coc);
     if (status != DDOF_OK)
         return status;
     r->coc = coc->pixels;
@@ -169,13 +196,14 @@ ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
     ddof_clear_error(context);
     ddof_params p;
     adi_request r = {0};
-    ddof_status status = prepare(context, params, color, coc, out, &p, &r);
+    float max_coc = 0.0f;
+    ddof_status status = prepare(context, params, color, coc, out, &p, &r, &max_coc);
     if (status != DDOF_OK)
         return status;
     if (p.method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, &r, (int)p.coc_signed, stats, t_start,
                            ddof_seconds() - t_start);
-    return run_single(context, &r, stats, t_start, ddof_seconds() - t_start);
+    return run_single(context, &r, &p, max_coc, stats, t_start, ddof_seconds() - t_start);
 }
 
 ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
@@ -190,7 +218,8 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
     ddof_params p;
     layers_request q = {.params = &p};
     int fg_visible = 0;
-    ddof_status status = prepare(context, params, color, coc, out, &p, &q.base);
+    float max_coc = 0.0f;
+    ddof_status status = prepare(context, params, color, coc, out, &p, &q.base, &max_coc);
     if (status == DDOF_OK && foreground && p.method == DDOF_METHOD_COD4_PREVIEW)
         status = ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
                            "the CoD4 preview takes no foreground element");

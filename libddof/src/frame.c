@@ -157,14 +157,15 @@ static ddof_status prepare_foreground(ddof_context *context, const frame_setup *
 }
 
 /* The frame's CoC: into coc_out when the caller wants it, else into scratch; a given CoC is
- * checked and, for coc_out, copied. */
+ * checked (*max_coc its largest |CoC|; left negative for a computed one, which the planner
+ * measures) and, for coc_out, copied. */
 static ddof_status prepare_coc(ddof_context *context, const frame_setup *s, const ddof_params *p,
-                               adi_request *r)
+                               adi_request *r, float *max_coc)
 {
     const ddof_frame *f = &s->frame;
     if (s->source == SOURCE_GIVEN) {
         ddof_status status = ddof_check_coc_values(context, &f->coc, s->map_stride,
-                                                   (int)p->coc_signed);
+                                                   (int)p->coc_signed, max_coc);
         if (status != DDOF_OK)
             return status;
         r->coc = f->coc.pixels;
@@ -209,6 +210,7 @@ ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
     layers_request q = {.params = &p};
     adi_request *r = &q.base;
     int fg_visible = 0;
+    float max_coc = -1.0f;
     ddof_status status = ddof_read_struct(context, frame, sizeof s.frame, &s.frame,
                                           sizeof s.frame, "frame");
     if (status == DDOF_OK)
@@ -229,12 +231,12 @@ ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
     if (status == DDOF_OK && s.has_foreground)
         status = prepare_foreground(context, &s, &q, &fg_visible);
     if (status == DDOF_OK)
-        status = prepare_coc(context, &s, &p, r);
+        status = prepare_coc(context, &s, &p, r, &max_coc);
     if (status != DDOF_OK)
         return status;
     ddof_fill_request_params(r, &p);
-    return ddof_run_layered(context, &q, s.has_foreground, fg_visible, stats, t_start,
-                            ddof_seconds() - t_start);
+    return ddof_run_layered(context, &q, s.has_foreground, fg_visible, max_coc, stats,
+                            t_start, ddof_seconds() - t_start);
 }
 
 ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,

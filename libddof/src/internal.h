@@ -29,6 +29,7 @@ enum {
     DDOF_SCRATCH_SOLVER,
     DDOF_SCRATCH_COC,
     DDOF_SCRATCH_FOREGROUND_COC, /* the foreground element's CoC, computed by the frame call */
+    DDOF_SCRATCH_DEVICE_COC,  /* backend.c: the CoC with the in-focus threshold applied */
     DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
     DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };

@@ -52,11 +52,17 @@ typedef struct lens_job {
 } lens_job;
 
 /* The real conductance of a link: the smaller |CoC| squared, or 0 below the solver's floor. */
-static inline float lens_link(float coc_a, float coc_b, float scale)
+static inline float lens_link(float coc_a, float coc_b, float scale, float in_focus_px)
 {
     const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
     const float b = m * m * scale;
-    return b >= DDOF_LENS_MIN_LINK ? b : 0.0f;
+    return b >= DDOF_LENS_MIN_LINK && m >= in_focus_px ? b : 0.0f;
+}
+
+/* The in-focus threshold applies to CoC images only (a uniform CoC is a layer's own fill). */
+static inline float in_focus_of(const adi_request *r)
+{
+    return r->coc ? r->in_focus_px : 0.0f;
 }
 
 static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
@@ -102,12 +108,14 @@ static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_ind
     const uint32_t lanes = r->height - y0 < L ? r->height - y0 : L;
     int active[L] = {0}, any_active = 0;
     float max_coc = 0.0f;
+    const float in_focus = in_focus_of(r);
 
     for (uint32_t l = 0; l < L; l++) {
         const uint32_t y = y0 + (l < lanes ? l : 0);
         for (uint32_t i = 0; i < n; i++) {
             const float here = coc_at(r, i, y);
-            const float b = l < lanes && i + 1 < n ? lens_link(here, coc_at(r, i + 1, y), 1.0f)
+            const float b = l < lanes && i + 1 < n ? lens_link(here, coc_at(r, i + 1, y), 1.0f,
+                                                               in_focus)
                                                    : 0.0f;
             ts->b[(size_t)i * L + l] = b;
             active[l] |= b > 0.0f;
@@ -160,16 +168,25 @@ static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_
     const uint32_t n = r->height, C = r->channels, x0 = batch_index * L;
     const uint32_t lanes = r->width - x0 < L ? r->width - x0 : L;
     int active[L] = {0}, any_active = 0;
+    const float in_focus = in_focus_of(r);
 
-    for (uint32_t i = 0; i < n; i++)
+    /* Rows of the images are pages of their own, which the hardware prefetchers do not
+     * follow down a column block (perf: these loops waited on the CoC, colour and output
+     * loads); ask for them this many rows ahead. */
+    enum { ahead = 8 };
+    for (uint32_t i = 0; i < n; i++) {
+        if (r->coc && i + ahead < n)
+            DDOF_PREFETCH(r->coc + (size_t)(i + ahead) * r->coc_stride +
+                              (size_t)x0 * r->coc_channels, 0);
         for (uint32_t l = 0; l < L; l++) {
             const float b = l < lanes && i + 1 < n
                                 ? lens_link(coc_at(r, x0 + l, i), coc_at(r, x0 + l, i + 1),
-                                            job->aspect2)
+                                            job->aspect2, in_focus)
                                 : 0.0f;
             ts->b[(size_t)i * L + l] = b;
             active[l] |= b > 0.0f;
         }
+    }
     for (uint32_t l = 0; l < lanes; l++)
         any_active |= active[l];
     if (r->gamma)
@@ -182,6 +199,15 @@ static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_
     const float mr = job->k->mix[job->component][0], mi = job->k->mix[job->component][1];
     const int first = job->component == 0, last = job->component + 1 == job->k->components;
     for (uint32_t i = 0; i < n; i++) {
+        if (i + ahead < n) {
+            const size_t row = (size_t)(i + ahead);
+            const float *src_ahead = job->src + row * job->src_stride + (size_t)x0 * C;
+            float *out_ahead = r->out + row * r->out_stride + (size_t)x0 * C;
+            for (uint32_t k = 0; k < lanes * C; k += 16) {
+                DDOF_PREFETCH(src_ahead + k, 0);
+                DDOF_PREFETCH(out_ahead + k, 1);
+            }
+        }
         const float *src = job->src + (size_t)i * job->src_stride + (size_t)x0 * C;
         const float *g = r->gamma ? r->gamma + (size_t)i * r->gamma_stride +
                                         (size_t)x0 * r->gamma_channels

@@ -84,7 +84,8 @@ static uint64_t lens_pass(const adi_request *r, const disc_kernel *k, uint32_t c
                 const double m = d0 < d1 ? d0 : d1;
                 /* The float path's floor, applied to the same float value. */
                 const float bf = (float)(m * m) * (float)scale;
-                b = bf >= DDOF_LENS_MIN_LINK ? (double)bf : 0.0;
+                const int in_focus = r->coc && (float)m < r->in_focus_px;
+                b = bf >= DDOF_LENS_MIN_LINK && !in_focus ? (double)bf : 0.0;
             }
             buf->b[i] = b;
             buf->gamma[i] = gamma_at(r, x, y);

@@ -61,8 +61,18 @@ static DDOF_ALWAYS_INLINE void lens_solve_channels(const complex_batch *batch, f
     float *restrict d_im = d_re + nl * C;
     lens_weights(batch, kr, ki, s_re, s_im, w_re, w_im);
 
-    /* Forward: D_i = x_i + s_i (D_{i-1} - x_i), D_0 = x_0 (s_0 = 0). */
+    /* Forward: D_i = x_i + s_i (D_{i-1} - x_i), D_0 = x_0 (s_0 = 0). A column block's first
+     * step reads the complex image where it lies, a row a page apart: prefetched ahead, as
+     * the hardware prefetchers do not follow that stride. */
+    enum { ahead = 8 };
+    const int strided = xs > (size_t)L * C;
     for (uint32_t i = 0; i < n; i++) {
+        if (strided && i + ahead < n)
+            for (uint32_t k = 0; k < L * C; k += 16) {
+                DDOF_PREFETCH(batch->x_re + (size_t)(i + ahead) * xs + k, 0);
+                if (!real_input)
+                    DDOF_PREFETCH(batch->x_im + (size_t)(i + ahead) * xs + k, 0);
+            }
         const float *restrict xr = batch->x_re + (size_t)i * xs;
         const float *restrict xi = real_input ? xr : batch->x_im + (size_t)i * xs;
         float *restrict dr = d_re + (size_t)i * L * C, *restrict di = d_im + (size_t)i * L * C;
@@ -84,9 +94,19 @@ static DDOF_ALWAYS_INLINE void lens_solve_channels(const complex_batch *batch, f
                 di[k] = x_i + sr[l] * hi + si[l] * hr;
             }
     }
-    /* Back: y_{n-1} = D_{n-1}, y_i = D_i + w_i (y_{i+1} - D_i). */
+    /* Back: y_{n-1} = D_{n-1}, y_i = D_i + w_i (y_{i+1} - D_i). The last element is peeled
+     * off: a condition on i inside the lane loop kept it scalar for 3 and 4 channels. */
     float yr[L * 4], yi[L * 4];
-    for (uint32_t i = n; i-- > 0;) {
+    {
+        const size_t last = (size_t)(n - 1) * L * C;
+        for (uint32_t k = 0; k < L * C; k++) {
+            yr[k] = d_re[last + k];
+            yi[k] = d_im[last + k];
+            batch->y_re[last + k] = yr[k];
+            batch->y_im[last + k] = yi[k];
+        }
+    }
+    for (uint32_t i = n - 1; i-- > 0;) {
         const float *restrict dr = d_re + (size_t)i * L * C, *restrict di = d_im + (size_t)i * L * C;
         const float *restrict wr = w_re + (size_t)i * L, *restrict wi = w_im + (size_t)i * L;
         float *restrict outr = batch->y_re + (size_t)i * L * C;
@@ -94,16 +114,12 @@ static DDOF_ALWAYS_INLINE void lens_solve_channels(const complex_batch *batch, f
         for (uint32_t l = 0; l < L; l++)
             for (uint32_t c = 0; c < C; c++) {
                 const uint32_t k = l * C + c;
-                float vr = dr[k], vi = di[k];
-                if (i + 1 < n) {
-                    const float hr = yr[k] - vr, hi = yi[k] - vi;
-                    vr += wr[l] * hr - wi[l] * hi;
-                    vi += wr[l] * hi + wi[l] * hr;
-                }
-                yr[k] = vr;
-                yi[k] = vi;
-                outr[k] = vr;
-                outi[k] = vi;
+                const float vr = dr[k], vi = di[k];
+                const float hr = yr[k] - vr, hi = yi[k] - vi;
+                yr[k] = vr + (wr[l] * hr - wi[l] * hi);
+                yi[k] = vi + (wr[l] * hi + wi[l] * hr);
+                outr[k] = yr[k];
+                outi[k] = yi[k];
             }
     }
 }

@@ -32,9 +32,15 @@ typedef struct bad_value {
 } bad_value;
 
 /* Scans the first `channels_read` of each pixel (1 or all `channels`); returns 1 and the first offending
- * value in row-major order, or 0 when all pass. */
+ * value in row-major order, or 0 when all pass. max_abs (may be NULL): on 0, the largest
+ * |value| scanned, found in the same read (the planner's copy test needs no second pass). */
 int ddof_find_bad_value(ddof_context *context, const float *pixels, uint32_t width,
                         uint32_t height, uint32_t channels, uint32_t channels_read,
-                        size_t stride_floats, value_rule rule, bad_value *bad);
+                        size_t stride_floats, value_rule rule, bad_value *bad, float *max_abs);
+
+/* Copies `height` rows of row_floats floats on the context's threads (nothing when src is
+ * dst): one core's memcpy does not reach the memory's bandwidth on every machine. */
+void ddof_parallel_copy(ddof_context *context, const float *src, size_t src_stride, float *dst,
+                        size_t dst_stride, size_t row_floats, uint32_t height);
 
 #endif

@@ -128,9 +128,13 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground
                                     ? "foreground: off: the foreground element is fully transparent"
                                     : "foreground: off: no foreground element";
     memset(plan, 0, sizeof *plan);
-    if (a->max_coc <= 0.0f && !has_foreground) {
+    /* Below the in-focus threshold no pixel conducts (adi_request.in_focus_px), so the
+     * diffusion would copy every line: the frame is a copy without solving any. */
+    if ((a->max_coc <= 0.0f || a->max_coc < p->in_focus_threshold_px) && !has_foreground) {
         plan->copy_only = 1;
-        say(plan, "midground: off: nothing is out of focus (largest CoC 0), output = input");
+        say(plan, "midground: off: nothing is out of focus (largest CoC %.3g px, in-focus "
+                  "threshold %.3g px), output = input",
+            (double)a->max_coc, (double)p->in_focus_threshold_px);
         say(plan, "background: off: nothing is out of focus");
         say(plan, "near spread: off: nothing is out of focus");
         say(plan, "%s", no_foreground);

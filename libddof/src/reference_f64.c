@@ -83,7 +83,8 @@ static uint64_t pass_f64(const adi_request *r, double *image, int rows, double b
             if (i + 1 < n) {
                 const float d0 = coc_at(r, x, y), d1 = coc_at(r, rows ? x + 1 : x, rows ? y : y + 1);
                 const double m = d0 < d1 ? d0 : d1;
-                beta = beta_scale * m * m;
+                /* The in-focus threshold, compared in float as the float solvers do. */
+                beta = r->coc && (float)m < r->in_focus_px ? 0.0 : beta_scale * m * m;
             }
             buf->beta[i] = beta;
             buf->gamma[i] = gamma_at(r, x, y);

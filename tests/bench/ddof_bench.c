@@ -6,7 +6,7 @@
  * time at 2 px, one thread's time over two threads'. Each time is the median of --reps runs
  * after one warm-up. Absolute milliseconds are printed too (as *_ms) for the notes.
  *
- *   ddof-bench [--size WxH] [--reps N] [--solver NAME|layers|disc|all]
+ *   ddof-bench [--size WxH] [--reps N] [--solver NAME|speed|layers|disc|all]
  *              [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]
  *
  * With a GL backend (docs/gl-backend.md) it prints the renderer, and per solver the time at the
@@ -15,6 +15,9 @@
  * --solver disc: the disc kernels (on the backend): time vs memcpy and vs one heat step, CoC 200 / 2,
  * threads, the layered frame, and the point spread at CoC 12, 32 and 80 px (kernel SNR
  * against a uniform disc, energy, the most negative value over the disc's height).
+ * --solver speed: the speed issue's figures (speed_*): one heat step and the default preset's
+ * kernel vs memcpy and each other, CoC 200 / 2 and 2 threads / 1 for both, and a sub-pixel
+ * frame (largest CoC 0.18 px: a copy) vs memcpy; `all` prints them first.
  * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is found as
  * ddof_context_set_backend says (DDOF_GL_PLUGIN, beside libddof.so, ...) unless --plugin names it.
  */
@@ -30,6 +33,7 @@ typedef struct bench {
     uint32_t width, height, reps;
     float *color, *coc_scene, *coc_2, *coc_200, *out;
     float *coc_sharp, *coc_half; /* all in focus; top half in focus, bottom half 2 px   */
+    float *coc_sub;              /* sub-pixel everywhere (0 to 0.18 px): in focus        */
     float *fg_color, *fg_coc;    /* a foreground element: a disc, alpha 1, CoC 30 px   */
 } bench;
 
@@ -155,10 +159,11 @@ static void make_scene(bench *b)
     b->coc_200 = malloc(pixels * sizeof(float));
     b->coc_sharp = calloc(pixels, sizeof(float));
     b->coc_half = malloc(pixels * sizeof(float));
+    b->coc_sub = malloc(pixels * sizeof(float));
     b->fg_color = malloc(pixels * 4 * sizeof(float));
     b->fg_coc = malloc(pixels * sizeof(float));
     if (!b->color || !b->out || !b->coc_scene || !b->coc_2 || !b->coc_200 || !b->coc_sharp ||
-        !b->coc_half || !b->fg_color || !b->fg_coc) {
+        !b->coc_half || !b->coc_sub || !b->fg_color || !b->fg_coc) {
         fprintf(stderr, "ddof-bench: out of memory\n");
         exit(1);
     }
@@ -178,6 +183,7 @@ static void make_scene(bench *b)
             b->coc_2[i] = 2.0f;
             b->coc_200[i] = 200.0f;
             b->coc_half[i] = v < 0.5f ? 0.0f : 2.0f;
+            b->coc_sub[i] = 0.18f * u * v; /* the issue's invisible frame: largest 0.18 px */
             const float dx = u - 0.2f, dy = (v - 0.7f) * b->height / b->width;
             const float fg_alpha = dx * dx + dy * dy < 0.01f ? 1.0f : 0.0f;
             for (int k = 0; k < 3; k++)
@@ -185,6 +191,45 @@ static void make_scene(bench *b)
             b->fg_color[4 * i + 3] = fg_alpha;
             b->fg_coc[i] = 30.0f;
         }
+}
+
+/* The speed issue's figures (issue 15), all from this run: one heat step and the default
+ * preset's kernel against memcpy and each other, CoC 200 / 2 and 2 threads / 1 for both, and a
+ * sub-pixel frame (largest CoC 0.18 px, below the in-focus threshold: a copy) against memcpy,
+ * through the planner and through the single-layer call. */
+static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, ddof_context *all,
+                        double memcpy_s, int on_gl)
+{
+    ddof_params defaults;
+    ddof_params_init(&defaults);
+    const run_config heat = single_layer;
+    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel};
+    const run_config kernels[2] = {heat, disc};
+    const char *names[2] = {"heat", "disc_default"};
+    double scene[2];
+    printf("speed_disc_default_kernel %s\n", ddof_kernel_name(defaults.kernel));
+    for (int k = 0; k < 2; k++) {
+        scene[k] = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, kernels[k]);
+        const double coc2 = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_2, kernels[k]);
+        const double coc200 = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, kernels[k]);
+        printf("speed_%s_ms %.3f\n", names[k], 1e3 * scene[k]);
+        printf("speed_%s_vs_memcpy %.3f\n", names[k], scene[k] / memcpy_s);
+        printf("speed_%s_coc200_vs_coc2 %.3f\n", names[k], coc200 / coc2);
+        if (!on_gl) {
+            const double t1 = time_config(b, one, DDOF_SOLVER_THOMAS, b->coc_scene, kernels[k]);
+            const double t2 = time_config(b, two, DDOF_SOLVER_THOMAS, b->coc_scene, kernels[k]);
+            printf("speed_%s_threads2_vs_threads1 %.3f\n", names[k], t1 / t2);
+        }
+        fflush(stdout);
+    }
+    printf("speed_disc_default_vs_heat %.3f\n", scene[1] / scene[0]);
+    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel};
+    const double sub_layers = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, planned);
+    const double sub_single = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, disc);
+    printf("speed_sub_pixel_layers_ms %.3f\n", 1e3 * sub_layers);
+    printf("speed_sub_pixel_layers_vs_memcpy %.3f\n", sub_layers / memcpy_s);
+    printf("speed_sub_pixel_single_vs_memcpy %.3f\n", sub_single / memcpy_s);
+    fflush(stdout);
 }
 
 /* The disc kernels (CPU Thomas): their cost against memcpy and the heat step, CoC 200 / 2,
@@ -279,7 +324,7 @@ int main(int argc, char **argv)
             }
         } else {
             fprintf(stderr,
-                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|layers|disc|all]\n"
+                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|speed|layers|disc|all]\n"
                     "                  [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]\n"
                     "Prints `name value` lines: times as ratios measured in this run.\n");
             return 2;
@@ -308,6 +353,8 @@ int main(int argc, char **argv)
     printf("threads_default %u\n", ddof_context_thread_count(all));
     const double memcpy_s = time_memcpy(&b);
     printf("memcpy_ms %.3f\n", 1e3 * memcpy_s);
+    if (!strcmp(only, "all") || !strcmp(only, "speed"))
+        bench_speed(&b, one, two, all, memcpy_s, on_gl);
 
     for (int s = 0; s < DDOF_SOLVER_COUNT_; s++) {
         const char *name = ddof_solver_name((ddof_solver)s);
@@ -379,6 +426,7 @@ int main(int argc, char **argv)
     free(b.coc_200);
     free(b.coc_sharp);
     free(b.coc_half);
+    free(b.coc_sub);
     free(b.fg_color);
     free(b.fg_coc);
     return 0;

@@ -49,6 +49,7 @@ int main(void)
     F(ddof_params, background_ramp_start_px); F(ddof_params, background_levels);
     F(ddof_params, near_spread); F(ddof_params, near_spread_threshold_px);
     F(ddof_params, method); F(ddof_params, precision); F(ddof_params, kernel);
+    F(ddof_params, in_focus_threshold_px);
     END();
     BEGIN(ddof_frame);
     F(ddof_frame, struct_size); F(ddof_frame, color); F(ddof_frame, depth);
