@@ -80,8 +80,10 @@ EFFECT_MIDGROUND = 1
 EFFECT_BACKGROUND = 2
 EFFECT_FOREGROUND = 4
 EFFECT_NEAR_SPREAD = 8
+EFFECT_HIGHLIGHTS = 16
 EFFECT_NAMES = ((EFFECT_MIDGROUND, "midground"), (EFFECT_BACKGROUND, "background"),
-                (EFFECT_FOREGROUND, "foreground"), (EFFECT_NEAR_SPREAD, "near spread"))
+                (EFFECT_FOREGROUND, "foreground"), (EFFECT_NEAR_SPREAD, "near spread"),
+                (EFFECT_HIGHLIGHTS, "highlights"))
 
 # ---------------------------------------------------------------------------------------------
 # Structures. C enums are int-sized on every platform Blender runs on.
@@ -166,7 +168,9 @@ class Params(ctypes.Structure):
                 # version 0.4
                 ("kernel", _enum),
                 # version 0.5
-                ("in_focus_threshold_px", ctypes.c_float)]
+                ("in_focus_threshold_px", ctypes.c_float),
+                ("highlights", _enum),
+                ("highlight_threshold", ctypes.c_float)]
 
 
 class Stats(ctypes.Structure):

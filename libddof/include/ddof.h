@@ -337,6 +337,7 @@ typedef enum ddof_layer_mode {
 #define DDOF_EFFECT_BACKGROUND 2u  /* blurring underneath (Kass et al. 3.1)                    */
 #define DDOF_EFFECT_FOREGROUND 4u  /* a separate foreground element blurred on top (3.2)       */
 #define DDOF_EFFECT_NEAR_SPREAD 8u /* one image: near-CoC dilation (GPU Gems 3 ch. 28)         */
+#define DDOF_EFFECT_HIGHLIGHTS 16u /* the highlight pass: the brightest pixels drawn as discs   */
 
 typedef struct ddof_params {
     uint32_t struct_size;      /* sizeof(ddof_params)                                         */
@@ -395,6 +396,17 @@ typedef struct ddof_params {
                                /* a copy (0 lines solved, copied_only 1). Default 0.5         */
                                /* (diameter); >= 0, at most DDOF_MAX_COC_PX; 0 lets every    */
                                /* CoC above 0 conduct, as before this field existed.          */
+    ddof_layer_mode highlights;  /* the highlight pass: the part of a pixel brighter than      */
+                               /* highlight_threshold (its largest colour channel) with |CoC|  */
+                               /* >= 4 px is taken out before the diffusion and drawn as a    */
+                               /* uniform disc of its CoC afterwards (on the pixels at or    */
+                               /* behind its depth), so HDR highlights come out as the crisp  */
+                               /* discs a lens draws, without a disc kernel's dark rim. Its  */
+                               /* discs cover at most 2x the frame's pixels: the brightest    */
+                               /* first (the threshold doubles until they fit). Colour with 3 */
+                               /* or 4 channels only. Default AUTO: on when such a pixel      */
+                               /* exists; ON is AUTO's rule too (nothing to draw otherwise). */
+    float highlight_threshold; /* default 1 (scene-linear); > 0, finite                       */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */

@@ -68,6 +68,8 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
         .precision = DDOF_PRECISION_FLOAT,
         .kernel = s->kernel,
         .in_focus_threshold_px = 0.5f,
+        .highlights = DDOF_LAYER_AUTO,
+        .highlight_threshold = 1.0f,
     };
     return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
 }

@@ -104,6 +104,12 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.in_focus_threshold_px %.9g must be >= 0 and at most %g px",
                          (double)p->in_focus_threshold_px, (double)DDOF_MAX_COC_PX);
+    if ((unsigned)p->highlights > DDOF_LAYER_ON ||
+        !(p->highlight_threshold > 0.0f && isfinite(p->highlight_threshold)))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.highlights %u is not a known value, or highlight_threshold %.9g "
+                         "is not > 0 and finite",
+                         (unsigned)p->highlights, (double)p->highlight_threshold);
     if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
                          (unsigned)p->kernel);

@@ -5,6 +5,7 @@
 
 #include "backend.h"
 #include "layers.h"
+#include "parallel_rows.h"
 #include "planner.h"
 #include "preview_cod4.h"
 
@@ -158,6 +159,10 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
     full.seconds_background = report.seconds_background;
     full.seconds_foreground = report.seconds_foreground;
     memcpy(full.plan, plan.text, sizeof full.plan);
+    if (report.highlights_line[0]) {
+        const size_t used = strlen(full.plan);
+        snprintf(full.plan + used, sizeof full.plan - used, "%s\n", report.highlights_line);
+    }
     write_stats(stats, &full);
     return DDOF_OK;
 }
@@ -232,6 +237,6 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
         status = ddof_read_foreground(context, foreground, &q, &fg_visible);
     if (status != DDOF_OK)
         return status;
-    return ddof_run_layered(context, &q, foreground != NULL, fg_visible, stats, t_start,
-                       ddof_seconds() - t_start);
+    return ddof_run_layered(context, &q, foreground != NULL, fg_visible, max_coc, stats,
+                            t_start, ddof_seconds() - t_start);
 }

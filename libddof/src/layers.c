@@ -31,10 +31,12 @@
 #include "backend.h"
 #include "cone_dilate.h"
 #include "disc_kernel.h"
+#include "highlights.h"
 
 #include "parallel_rows.h"
 
 #include <math.h>
+#include <stdio.h>
 #include <string.h>
 
 /* Extra working images, each kept by the context between calls. */
@@ -461,6 +463,47 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
     return DDOF_OK;
 }
 
+/* The colour with the highlights taken out (ddof_find_highlights wrote it). */
+static const float *highlights_base(ddof_context *context, const adi_request *r)
+{
+    return ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_BASE,
+                            (size_t)r->width * r->height * r->channels * sizeof(float));
+}
+
+/* Finds the frame's highlights (colour with 3 or 4 channels) into `set` and the base colour,
+ * and writes the pass's plan line. */
+static ddof_status find_highlights(ddof_context *context, const layers_request *q,
+                                   highlight_set *set, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    char *line = report->highlights_line;
+    const size_t size = sizeof report->highlights_line;
+    if (r->channels < 3) {
+        snprintf(line, size, "highlights: off: %u colour channel%s (the pass needs RGB)",
+                 r->channels, r->channels == 1 ? "" : "s");
+        return DDOF_OK;
+    }
+    float *base = (float *)highlights_base(context, r);
+    if (!base)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the highlight pass's %ux%u image", r->width,
+                         r->height);
+    ddof_status status =
+        ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed, base, set);
+    if (status != DDOF_OK)
+        return status;
+    if (set->count)
+        snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px "
+                             "drawn as discs (%.2f disc pixels per frame pixel)",
+                 set->count, (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
+                 (double)set->disc_pixels / ((double)r->width * r->height));
+    else
+        snprintf(line, size, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
+                 (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
+    return DDOF_OK;
+}
+
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, float max_near_coc, layers_report *report)
 {
@@ -486,7 +529,22 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         color_stride = row;
     }
 
+    /* The highlight pass takes the highlights out of the colour every layer diffuses. */
+    highlight_set highlights = {0};
+    if (plan->highlights) {
+        const double t0 = ddof_seconds();
+        if ((status = find_highlights(context, q, &highlights, report)) != DDOF_OK)
+            return status;
+        if (highlights.count) {
+            color = highlights_base(context, r);
+            color_stride = (size_t)r->width * r->channels;
+        }
+        report->seconds_highlights += ddof_seconds() - t0;
+    }
+
     adi_request mid = *r;
+    mid.color = color;
+    mid.color_stride = color_stride;
     const float *spread = NULL;
     if (plan->near_spread) {
         const double t0 = ddof_seconds();
@@ -534,6 +592,13 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         }
         report->effects |= DDOF_EFFECT_BACKGROUND;
         report->seconds_background = ddof_seconds() - t0;
+    }
+
+    if (highlights.count) {
+        const double t0 = ddof_seconds();
+        ddof_scatter_highlights(context, r, (int)p->coc_signed, &highlights);
+        report->effects |= DDOF_EFFECT_HIGHLIGHTS;
+        report->seconds_highlights += ddof_seconds() - t0;
     }
 
     if (plan->foreground) {

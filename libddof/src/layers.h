@@ -28,6 +28,8 @@ typedef struct layers_report {
     uint32_t effects;          /* DDOF_EFFECT_* bits                   */
     double seconds_background;
     double seconds_foreground;
+    double seconds_highlights;
+    char highlights_line[160]; /* the highlight pass's plan line ("" when it did not look)   */
 } layers_report;
 
 /* Runs what the plan says; out is written only after every check has passed (the caller's

@@ -13,6 +13,8 @@
  * The decisions and their reasons go to ddof_stats.plan. */
 #include "planner.h"
 
+#include "highlights.h"
+
 #include "parallel_rows.h"
 
 #include <math.h>
@@ -138,6 +140,7 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground
         say(plan, "background: off: nothing is out of focus");
         say(plan, "near spread: off: nothing is out of focus");
         say(plan, "%s", no_foreground);
+        say(plan, "highlights: off: nothing is out of focus");
         return;
     }
     say(plan, "midground: on: largest CoC %.3g px", (double)a->max_coc);
@@ -177,4 +180,14 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground
                 (double)a->max_near_coc);
         }
     }
+
+    /* Whether any pixel is bright enough needs the colour: the pass itself finds out and
+     * writes its own line (ddof_run_layers). */
+    if (p->highlights == DDOF_LAYER_OFF)
+        say(plan, "highlights: %s", forced(p->highlights));
+    else if (a->max_coc < DDOF_HIGHLIGHT_MIN_COC_PX)
+        say(plan, "highlights: off: the largest CoC is below %.3g px, where a disc and a blob "
+                  "look the same", (double)DDOF_HIGHLIGHT_MIN_COC_PX);
+    else
+        plan->highlights = 1;
 }

@@ -21,6 +21,7 @@ typedef struct frame_plan {
     int background;    /* run the background layer(s)                                  */
     int near_spread;   /* spread the near-field CoC before the midground diffusion     */
     int foreground;    /* blur the foreground element and composite it over            */
+    int highlights;    /* look for highlights (the pass says what it found: layers.c) */
     char text[512];    /* the decisions and their reasons, one line each               */
 } frame_plan;
 

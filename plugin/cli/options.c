@@ -21,6 +21,7 @@ static void defaults(cli_options *o)
     o->solver = -1;
     o->background = -1;
     o->near_spread = -1;
+    o->highlights = -1;
     o->background_ramp_start = -1.0f;
     o->backend = DDOF_BACKEND_AUTO;
     o->pixel_type = -1;

@@ -82,6 +82,8 @@ typedef struct cli_options {
     uint32_t background_levels;   /* 0: default */
     int near_spread;              /* ddof_layer_mode or -1 */
     float near_spread_threshold;  /* px; 0: default */
+    int highlights;               /* ddof_layer_mode or -1 */
+    float highlight_threshold;    /* 0: default */
     int coc_signed;               /* --coc-signed: the CoC channel marks the near field < 0 */
     const char *foreground;       /* file (path or pattern) of a foreground element; NULL */
     const char *foreground_layer; /* its layer (in that file, or in the input); NULL */

@@ -252,7 +252,8 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
             } names[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
                          {DDOF_EFFECT_BACKGROUND, "background"},
                          {DDOF_EFFECT_NEAR_SPREAD, "near_spread"},
-                         {DDOF_EFFECT_FOREGROUND, "foreground"}};
+                         {DDOF_EFFECT_FOREGROUND, "foreground"},
+                         {DDOF_EFFECT_HIGHLIGHTS, "highlights"}};
             cJSON *effects = cJSON_CreateObject();
             cJSON *plan = cJSON_CreateArray();
             char copy[sizeof r->stats.plan + 1];

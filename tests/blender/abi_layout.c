@@ -49,7 +49,8 @@ int main(void)
     F(ddof_params, background_ramp_start_px); F(ddof_params, background_levels);
     F(ddof_params, near_spread); F(ddof_params, near_spread_threshold_px);
     F(ddof_params, method); F(ddof_params, precision); F(ddof_params, kernel);
-    F(ddof_params, in_focus_threshold_px);
+    F(ddof_params, in_focus_threshold_px); F(ddof_params, highlights);
+    F(ddof_params, highlight_threshold);
     END();
     BEGIN(ddof_frame);
     F(ddof_frame, struct_size); F(ddof_frame, color); F(ddof_frame, depth);
@@ -97,6 +98,7 @@ int main(void)
     E(DDOF_LAYER_AUTO); E(DDOF_LAYER_OFF); E(DDOF_LAYER_ON);
     E(DDOF_EFFECT_MIDGROUND); E(DDOF_EFFECT_BACKGROUND); E(DDOF_EFFECT_FOREGROUND);
     E(DDOF_EFFECT_NEAR_SPREAD);
+    E(DDOF_EFFECT_HIGHLIGHTS);
     printf("version %u\n", (unsigned)DDOF_VERSION_NUMBER);
     return 0;
 }

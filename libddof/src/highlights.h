@@ -1,0 +1,55 @@
+/* SPDX-License-Identifier: MIT */
+/* highlights.h - the highlight pass: the few brightest out-of-focus pixels drawn as discs.
+ *
+ * A disc kernel is a sum of complex chains whose rim rings (about -7% of the disc's height).
+ * Next to an HDR highlight a hundred times brighter than its surroundings that ring is a dark
+ * band (clamped to the input's range, so black) around every bokeh disc, and the separable
+ * chains leave a faint cross. So the part of a highlight above a brightness threshold is taken
+ * out of the image before the diffusion and scattered afterwards as a uniform, anti-aliased
+ * disc of its CoC (Unreal's Diaphragm DOF does the same for its brightest pixels): the
+ * diffusion only ever sees values up to the threshold, and the disc a lens draws is drawn
+ * exactly. Its cost is bounded: the discs may cover at most DDOF_HIGHLIGHT_BUDGET times the
+ * frame's pixels, the brightest highlights first (the threshold is raised in quarter octaves
+ * until they fit; a frame whose brightest quarter octave alone is over the budget, such as a
+ * bright sky, gets no disc and is left to the diffusion).
+ *
+ * The scatter keeps the diffusion's rules: a far highlight's disc lands only on pixels at
+ * least half as blurred and on the far side (signed CoC >= half its own), so nothing is drawn
+ * over in-focus or nearer pixels, and its weights are renormalised over the pixels it lands
+ * on, so the light is kept as the diffusion keeps it at an insulator. A near highlight spreads
+ * over everything behind it. Colour channels only: alpha (channel 3 of 4) is left to the
+ * diffusion. */
+#ifndef DDOF_HIGHLIGHTS_H
+#define DDOF_HIGHLIGHTS_H
+
+#include "adi.h"
+
+#define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
+#define DDOF_HIGHLIGHT_BUDGET 2.0f     /* disc pixels per frame pixel, at most       */
+
+typedef struct highlight {
+    uint32_t x, y;
+    float coc;       /* signed CoC of the pixel                                       */
+    float excess[3]; /* colour above the threshold, taken out before the diffusion    */
+    float weight;    /* 1 / the sum of the disc's weights over the pixels it lands on */
+} highlight;
+
+typedef struct highlight_set {
+    highlight *items; /* sorted by row                                                */
+    uint32_t count;
+    float threshold;  /* the threshold that was applied (raised to fit the budget)     */
+    uint64_t disc_pixels;
+} highlight_set;
+
+/* Finds the highlights of r (colour with 3 or 4 channels, its signed or unsigned CoC):
+ * pixels whose largest colour channel exceeds `threshold` and whose |CoC| >= the minimum,
+ * and writes `base` (width x height x channels floats, packed) = the colour with their excess
+ * taken out. set->count 0: none (base is then not written). Memory from the context. */
+ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
+                                 int coc_signed, float *base, highlight_set *set);
+
+/* Adds each highlight's excess to r->out as its disc. */
+void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
+                             const highlight_set *set);
+
+#endif

@@ -1,0 +1,241 @@
+/* SPDX-License-Identifier: MIT */
+/* test_highlights.c - the highlight pass (libddof/src/highlights.h): an HDR highlight comes out
+ * as a flat disc of its CoC with its energy kept and no dark rim (the disc kernel alone leaves
+ * one, its ring clamped to the input's range), nothing lands on in-focus or nearer pixels, a near highlight spreads over what is
+ * behind it, alpha is the diffusion's, the budget holds, and the parameters are checked. */
+#include "test_util.h"
+
+#include <ddof.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { W = 96, H = 80, N = W * H };
+
+static ddof_context *ctx;
+
+typedef struct frame {
+    float color[N * 4], coc[N], out[N * 4];
+} frame;
+
+/* A dim flat background (0.1) of CoC `coc`, RGBA with alpha 1. */
+static void flat(frame *f, float coc)
+{
+    for (int i = 0; i < N; i++) {
+        for (int c = 0; c < 3; c++)
+            f->color[i * 4 + c] = 0.1f;
+        f->color[i * 4 + 3] = 1.0f;
+        f->coc[i] = coc;
+    }
+}
+
+static ddof_status run(frame *f, ddof_layer_mode highlights, ddof_stats *stats)
+{
+    ddof_params p;
+    ddof_params_init(&p); /* the default preset: a disc kernel */
+    p.coc_signed = 1;
+    p.highlights = highlights;
+    p.background = DDOF_LAYER_OFF;
+    p.near_spread = DDOF_LAYER_OFF;
+    return ddof_diffuse_layers(ctx, &p, &(ddof_image_in){f->color, W, H, 4, 0},
+                               &(ddof_image_in){f->coc, W, H, 1, 0}, NULL,
+                               &(ddof_image){f->out, W, H, 4, 0}, stats);
+}
+
+static double channel_sum(const float *img, int c)
+{
+    double s = 0.0;
+    for (int i = 0; i < N; i++)
+        s += img[i * 4 + c];
+    return s;
+}
+
+/* One pixel of 200 at CoC 24 on the flat background. */
+static void test_one_highlight(void)
+{
+    static frame f, g;
+    flat(&f, 24.0f);
+    /* One black pixel far away: the input's range starts at 0, as in any textured frame,
+     * so the disc kernel's ring (clamped to that range) shows. */
+    for (int c = 0; c < 3; c++)
+        f.color[(2 * W + 2) * 4 + c] = 0.0f;
+    const int cx = 48, cy = 40;
+    for (int c = 0; c < 3; c++)
+        f.color[(cy * W + cx) * 4 + c] = 200.0f;
+    g = f;
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(run(&f, DDOF_LAYER_AUTO, &st) == DDOF_OK);
+    CHECK(st.effects & DDOF_EFFECT_HIGHLIGHTS);
+    CHECK_MSG(strstr(st.plan, "highlights: on: 1 pixels") != NULL, "%s", st.plan);
+    CHECK(run(&g, DDOF_LAYER_OFF, NULL) == DDOF_OK);
+
+    /* The energy is kept: the diffusion keeps the base, the disc the excess. */
+    CHECK_NEAR(channel_sum(f.out, 0) / channel_sum(f.color, 0), 1.0, 2e-3);
+    /* Inside the disc (radius 12, one pixel in from the rim) it is flat: the excess spread
+     * evenly; without the pass the diffused spike is anything but. */
+    double lo = 1e30, hi = -1e30, lo_off = 1e30, hi_off = -1e30;
+    for (int y = cy - 10; y <= cy + 10; y++)
+        for (int x = cx - 10; x <= cx + 10; x++) {
+            if ((x - cx) * (x - cx) + (y - cy) * (y - cy) > 10 * 10)
+                continue;
+            const float v = f.out[(y * W + x) * 4], u = g.out[(y * W + x) * 4];
+            lo = fmin(lo, v);
+            hi = fmax(hi, v);
+            lo_off = fmin(lo_off, u);
+            hi_off = fmax(hi_off, u);
+        }
+    const double level = 200.0 / (3.14159 * 12.5 * 12.5); /* the excess per disc pixel */
+    CHECK_MSG(hi - lo < 0.05 * level, "disc not flat: %g..%g (level %g)", lo, hi, level);
+    CHECK_MSG(hi_off - lo_off > 0.3 * level, "the disc kernel alone was flat already: %g..%g",
+              lo_off, hi_off);
+    /* No dark rim: the background around the disc stays at 0.1 (the kernel alone rings to 0:
+     * -7% of a 200-unit spike is far below the background, clamped to black). */
+    float min_on = 1e30f, min_off = 1e30f;
+    for (int i = 0; i < N; i++) {
+        if (abs(i % W - 2) < 14 && abs(i / W - 2) < 14)
+            continue; /* the black pixel's own blur */
+        min_on = fminf(min_on, f.out[i * 4]);
+        min_off = fminf(min_off, g.out[i * 4]);
+    }
+    CHECK_MSG(min_on > 0.09f, "dark rim with the pass: min %g", (double)min_on);
+    CHECK_MSG(min_off < 0.08f, "no dark rim without the pass (min %g): the test shows nothing",
+              (double)min_off);
+    /* Alpha is the diffusion's alone. */
+    int alpha_differs = 0;
+    for (int i = 0; i < N; i++)
+        alpha_differs += f.out[i * 4 + 3] != g.out[i * 4 + 3];
+    CHECK_EQ_INT(alpha_differs, 0);
+}
+
+/* A far highlight beside an in-focus column and a nearer region: neither gets its light. */
+static void test_occlusion(void)
+{
+    static frame f, g;
+    flat(&f, 20.0f);
+    for (int y = 0; y < H; y++) {
+        f.coc[y * W + 52] = 0.0f; /* an in-focus column 4 px right of the highlight */
+        for (int x = 0; x < 40; x++)
+            f.coc[y * W + x] = -20.0f; /* a near region to its left, 8 px away */
+    }
+    for (int c = 0; c < 3; c++)
+        f.color[(40 * W + 48) * 4 + c] = 500.0f;
+    g = f;
+    CHECK(run(&f, DDOF_LAYER_ON, NULL) == DDOF_OK);
+    CHECK(run(&g, DDOF_LAYER_OFF, NULL) == DDOF_OK);
+    int column_changed = 0, near_lit = 0;
+    for (int y = 0; y < H; y++) {
+        for (int c = 0; c < 4; c++)
+            column_changed += f.out[(y * W + 52) * 4 + c] != f.color[(y * W + 52) * 4 + c];
+        for (int x = 0; x < 40; x++)
+            near_lit += f.out[(y * W + x) * 4] > g.out[(y * W + x) * 4] + 1e-6f;
+    }
+    CHECK_EQ_INT(column_changed, 0);
+    CHECK_EQ_INT(near_lit, 0);
+    /* The light the column and the near region did not take stays on this side. */
+    CHECK_NEAR(channel_sum(f.out, 0) / channel_sum(f.color, 0), 1.0, 1e-2);
+}
+
+/* A near highlight in front of an in-focus background spreads over it. */
+static void test_near_spreads(void)
+{
+    static frame f;
+    flat(&f, 0.0f);
+    const int cx = 30, cy = 30;
+    f.coc[cy * W + cx] = -16.0f;
+    for (int c = 0; c < 3; c++)
+        f.color[(cy * W + cx) * 4 + c] = 300.0f;
+    CHECK(run(&f, DDOF_LAYER_AUTO, NULL) == DDOF_OK);
+    const float beside = f.out[(cy * W + cx + 5) * 4];
+    CHECK_MSG(beside > 0.1f + 0.5f * 300.0f / (3.14159f * 8.5f * 8.5f),
+              "the near highlight did not spread over the sharp background: %g",
+              (double)beside);
+    CHECK(f.out[(cy * W + cx + 12) * 4] == 0.1f); /* beyond its radius 8: untouched */
+}
+
+/* 300 bright pixels of CoC 30 (2 to 4096, as many in each octave) would need 30 disc pixels
+ * per frame pixel: the brightest are drawn within the budget, the threshold raised; all
+ * pixels about equally bright (a sky): none. */
+static void test_budget(void)
+{
+    static frame f;
+    flat(&f, 30.0f);
+    test_rng rng = {99u};
+    for (int k = 0; k < 300; k++) {
+        const int i = (int)(test_uniform(&rng) * N);
+        const float v = 2.0f * exp2f(11.0f * (float)test_uniform(&rng)); /* 2 .. 4096 */
+        for (int c = 0; c < 3; c++)
+            f.color[i * 4 + c] = v;
+    }
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(run(&f, DDOF_LAYER_AUTO, &st) == DDOF_OK);
+    const char *line = strstr(st.plan, "highlights: on:");
+    CHECK_MSG(line != NULL, "%s", st.plan);
+    double per_pixel = 99.0, threshold = 0.0;
+    unsigned count = 0;
+    if (line)
+        CHECK(sscanf(line, "highlights: on: %u pixels brighter than %lf with CoC >= 4 px drawn "
+                           "as discs (%lf",
+                     &count, &threshold, &per_pixel) == 3);
+    CHECK_MSG(per_pixel <= 2.0, "%g disc pixels per frame pixel", per_pixel);
+    CHECK_MSG(threshold >= 100.0, "the threshold was not raised: %g", threshold);
+    CHECK_MSG(count > 0 && count < 300, "%u highlights", count);
+    for (int i = 0; i < N * 4; i++)
+        if (!isfinite(f.out[i])) {
+            CHECK_MSG(0, "non-finite output at %d", i);
+            break;
+        }
+    for (int i = 0; i < N; i++)
+        for (int c = 0; c < 3; c++)
+            f.color[i * 4 + c] = 5.0f + (float)(i % 7);
+    CHECK(run(&f, DDOF_LAYER_AUTO, &st) == DDOF_OK);
+    CHECK_MSG(strstr(st.plan, "highlights: off:") != NULL, "%s", st.plan);
+}
+
+static void test_params(void)
+{
+    static frame f;
+    flat(&f, 10.0f);
+    ddof_params p;
+    ddof_params_init(&p);
+    CHECK_EQ_INT(p.highlights, DDOF_LAYER_AUTO);
+    CHECK_NEAR(p.highlight_threshold, 1.0, 0.0);
+    p.highlight_threshold = 0.0f;
+    CHECK_EQ_INT(ddof_params_check(ctx, &p), DDOF_ERROR_BAD_PARAMETER);
+    p.highlight_threshold = NAN;
+    CHECK_EQ_INT(ddof_params_check(ctx, &p), DDOF_ERROR_BAD_PARAMETER);
+    p.highlight_threshold = 1.0f;
+    p.highlights = (ddof_layer_mode)3;
+    CHECK_EQ_INT(ddof_params_check(ctx, &p), DDOF_ERROR_BAD_PARAMETER);
+    /* An older struct (0.4: up to the kernel) gets the pass's defaults. */
+    ddof_params_init(&p);
+    p.struct_size = (uint32_t)offsetof(ddof_params, in_focus_threshold_px);
+    p.highlight_threshold = -5.0f; /* beyond the caller's struct: never read */
+    CHECK_EQ_INT(ddof_params_check(ctx, &p), DDOF_OK);
+    /* One channel: no colour to judge; the plan says so. */
+    static float gray[N], out[N];
+    for (int i = 0; i < N; i++)
+        gray[i] = i == 500 ? 100.0f : 0.1f;
+    ddof_params_init(&p);
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(ddof_diffuse_layers(ctx, &p, &(ddof_image_in){gray, W, H, 1, 0},
+                              &(ddof_image_in){f.coc, W, H, 1, 0}, NULL,
+                              &(ddof_image){out, W, H, 1, 0}, &st) == DDOF_OK);
+    CHECK_MSG(strstr(st.plan, "highlights: off: 1 colour channel") != NULL, "%s", st.plan);
+    CHECK(!(st.effects & DDOF_EFFECT_HIGHLIGHTS));
+}
+
+int main(void)
+{
+    ddof_context_options co;
+    ddof_context_options_init(&co);
+    co.thread_count = 2;
+    CHECK(ddof_context_create(&co, &ctx) == DDOF_OK);
+    test_one_highlight();
+    test_occlusion();
+    test_near_spreads();
+    test_budget();
+    test_params();
+    ddof_context_free(ctx);
+    return test_report("test_highlights");
+}
