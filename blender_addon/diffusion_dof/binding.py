@@ -127,7 +127,12 @@ class Camera(ctypes.Structure):
                 ("focus_distance_m", ctypes.c_double),
                 ("pixel_aspect", ctypes.c_double),
                 ("depth_unit_m", ctypes.c_double),
-                ("signed_coc", ctypes.c_uint32)]
+                ("signed_coc", ctypes.c_uint32),
+                # version 0.5 of this struct: a crop of the full frame (a render border)
+                ("frame_width", ctypes.c_uint32),
+                ("frame_height", ctypes.c_uint32),
+                ("window_x", ctypes.c_int32),
+                ("window_y", ctypes.c_int32)]
 
 
 class Curve(ctypes.Structure):
