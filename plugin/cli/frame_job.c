@@ -187,40 +187,27 @@ static float *interleave(const exrio_image *image, const int *index, int count, 
     return out;
 }
 
-/* The horizontal pixel pitch on the sensor for the full frame (display window), the way
- * libddof resolves the sensor fit (ddof.h: AUTO spans the larger dimension). */
-static double pixel_width_mm(const ddof_camera *camera, uint32_t width, uint32_t height)
-{
-    int horizontal = camera->sensor_fit == DDOF_SENSOR_FIT_HORIZONTAL ||
-                     (camera->sensor_fit == DDOF_SENSOR_FIT_AUTO &&
-                      (double)width * camera->pixel_aspect >= (double)height);
-    return horizontal ? camera->sensor_width_mm / width
-                      : camera->sensor_width_mm / height * camera->pixel_aspect;
-}
-
-/* When the data window is not the display window, the CoC in pixels must still follow the
- * frame's pixel pitch, but libddof derives the pitch from the size of the image it is given.
- * For planar depth the CoC does not depend on where a pixel is, so a camera whose sensor spans
- * exactly the data window at the frame's pitch gives the right CoC. Radial depth is converted
- * about the image centre, which is not the frame's centre here: refused rather than wrong. */
+/* When the data window is not the display window, the camera is the display window's: the
+ * full frame's size and the data window's place in it (ddof_camera 0.5), so the sensor fit, the
+ * pixel pitch and the centre that radial depth is converted about are the frame's. */
 static int camera_for_window(ddof_camera *camera, const exrio_part *part, frame_result *result)
 {
     const exrio_box *d = &part->display_window;
-    const uint32_t dw = (uint32_t)(d->max_x - d->min_x + 1);
-    const uint32_t dh = (uint32_t)(d->max_y - d->min_y + 1);
-    double pitch;
+    const int64_t dw = (int64_t)d->max_x - d->min_x + 1, dh = (int64_t)d->max_y - d->min_y + 1;
+    const int64_t wx = (int64_t)part->data_window.min_x - d->min_x;
+    const int64_t wy = (int64_t)part->data_window.min_y - d->min_y;
     if (same_box(&part->data_window, d))
         return 0;
-    if (camera->depth_kind == DDOF_DEPTH_RADIAL)
-        return fail(result, "the data window (%d,%d)-(%d,%d) differs from the display window "
-                    "(%d,%d)-(%d,%d), and radial depth cannot be converted for a cropped frame; "
-                    "use planar depth or render the full frame",
-                    (int)part->data_window.min_x, (int)part->data_window.min_y,
-                    (int)part->data_window.max_x, (int)part->data_window.max_y, (int)d->min_x,
-                    (int)d->min_y, (int)d->max_x, (int)d->max_y);
-    pitch = pixel_width_mm(camera, dw, dh);
-    camera->sensor_fit = DDOF_SENSOR_FIT_HORIZONTAL;
-    camera->sensor_width_mm = pitch * part->width;
+    if (dw < 1 || dh < 1 || dw > DDOF_MAX_DIMENSION || dh > DDOF_MAX_DIMENSION ||
+        wx < -(int64_t)DDOF_MAX_DIMENSION || wx > DDOF_MAX_DIMENSION ||
+        wy < -(int64_t)DDOF_MAX_DIMENSION || wy > DDOF_MAX_DIMENSION)
+        return fail(result, "the display window (%d,%d)-(%d,%d) or the data window's place in "
+                    "it is too large for the camera", (int)d->min_x, (int)d->min_y,
+                    (int)d->max_x, (int)d->max_y);
+    camera->frame_width = (uint32_t)dw;
+    camera->frame_height = (uint32_t)dh;
+    camera->window_x = (int32_t)wx;
+    camera->window_y = (int32_t)wy;
     return 0;
 }
 

@@ -517,11 +517,27 @@ static int case_window(void)
     }
     exrio_close(&image);
 
-    /* Radial depth cannot be converted for a cropped frame: refused, not guessed. */
+    /* Radial depth in a cropped frame: converted about the full frame's centre (ddof_camera's
+     * frame and window), so every pixel's CoC is the full frame's at that place. */
     CHECK(ddof(in, "-o", test_path(dir, "radial.exr"), "--focal-length", "50", "--fstop", "1.4",
-               "--focus", "1", "--depth-kind", "radial", NULL) == 1);
-    CHECK(err_contains("radial") && err_contains("display window"));
-    CHECK(!test_file_exists(test_path(dir, "radial.exr")));
+               "--focus", "1", "--depth-kind", "radial", "--substeps", "2", "--write-coc",
+               NULL) == 0);
+    CHECK(exrio_open(test_path(dir, "radial.exr"), &image, error, sizeof error) == EXRIO_OK);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_OK);
+    {
+        const float *coc_got = image.channels[exrio_find_channel(&image, "coc", 0)].pixels;
+        const double pw = 36.0 / 64.0;
+        double worst = 0.0;
+        for (i = 0; i < DW * DH; i++) {
+            const double xs = ((i % DW) + 4 + 0.5 - 32.0) * pw, ys = ((i / DW) + 2 + 0.5 - 20.0) * pw;
+            const double z = 6000.0 / sqrt(1.0 + (xs * xs + ys * ys) / 2500.0);
+            const double want = 50.0 * 50.0 / (1.4 * 1000.0) * (z - 1000.0) / z / pw;
+            worst = fmax(worst, fabs(coc_got[i] - want) / want);
+        }
+        CHECK_MSG(worst < 1e-5, "radial CoC of the crop off the full frame's by %g (relative)",
+                  worst);
+    }
+    exrio_close(&image);
 
     /* Depth from a second file: same window works, another window is a size mismatch. */
     {
