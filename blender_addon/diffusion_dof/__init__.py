@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Diffusion DOF: depth of field by simulated heat diffusion (Kass, Lefohn, Owens 2006) on the
 render's Combined and Depth passes, through the ddof shared library (ctypes, no pixel math in
 Python). See docs/blender-addon.md."""
@@ -14,13 +15,14 @@ bl_info = {
 
 if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency order
     import importlib
-    for _name in ("errors", "binding", "settings", "camera", "passes", "render", "ops", "ui"):
+    for _name in ("errors", "binding", "compat", "settings", "camera", "passes", "render", "ops",
+                  "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
 import bpy  # noqa: E402
 
-from . import errors, binding, settings, camera, passes, render, ops, ui  # noqa: E402,F401
+from . import errors, binding, compat, settings, camera, passes, render, ops, ui  # noqa: E402,F401
 
 _MODULES = (settings, ops, ui, render)
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.3).
 
 This module does not import bpy: it is the add-on's only contact with the C library and can be

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The camera of a frame as ddof_camera fields, read from Blender's camera (evaluated for the
 frame being rendered when a depsgraph is given) with the panel's overrides on top."""
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Errors the add-on reports to the user as one clear sentence (never as a traceback)."""
 
 

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Operators: apply to any two images, set up the passes, pinhole render, reload the library."""
 
 import bpy

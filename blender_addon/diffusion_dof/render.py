@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """Render handlers: every rendered frame of a scene with Diffusion DOF on goes through libddof.
 
 Order of events in Blender 3.4 to 4.x, per frame (checked in background mode):
@@ -26,7 +27,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import camera as camera_mod
-from . import binding, passes
+from . import binding, compat, passes
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -166,14 +167,13 @@ def write_frame(scene, image, frame, since):
     partial = path + ".ddof-partial"
     try:
         if fmt == "OPEN_EXR_MULTILAYER":
-            settings.file_format = "OPEN_EXR"
+            compat.set_file_format(settings, "OPEN_EXR")
         image.save_render(partial, scene=scene)
         os.replace(partial, path)
     except RuntimeError as err:
         raise SetupError("Could not write %s: %s" % (path, str(err).strip())) from None
     finally:
-        if settings.file_format != fmt:
-            settings.file_format = fmt
+        compat.set_file_format(settings, fmt)
         if os.path.exists(partial):
             os.remove(partial)
     return path

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The per-scene settings (scene.diffusion_dof) and what they mean for the library."""
 
 import bpy

@@ -1,3 +1,4 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
 """The "Diffusion DOF" panel, in Properties > Render and in the compositor's sidebar (N panel,
 "Diffusion DOF" tab). Both draw the same sub-panels."""
 

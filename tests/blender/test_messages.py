@@ -124,5 +124,5 @@ scene.render.resolution_percentage = 50
 bpy.ops.render.render()
 checks.check(tuple(bpy.data.images["Diffusion DOF"].size) == (80, 45),
              "result size after a 50%% render: %r" % (tuple(bpy.data.images["Diffusion DOF"].size),))
-addon.unregister()
+u.unload_addon(addon)
 checks.finish()

@@ -21,8 +21,8 @@ def handler_snapshot():
     return {name: list(getattr(bpy.app.handlers, name)) for name in HANDLER_LISTS}
 
 
-def ours(fn):
-    return getattr(fn, "__module__", "").startswith("diffusion_dof")
+def ours(fn):  # diffusion_dof.render, or bl_ext.user_default.diffusion_dof.render
+    return "diffusion_dof" in getattr(fn, "__module__", "").split(".")
 
 
 def our_types():
@@ -34,7 +34,7 @@ def our_ops():
 
 
 def managed_nodes(scene):
-    tree = scene.node_tree
+    tree = u.compositor_tree(scene)
     return sorted(n.name for n in tree.nodes if n.name.startswith("DDOF")) if tree else []
 
 
@@ -77,9 +77,7 @@ u.configure(scene, samples=1)
 scenes_before = sorted(s.name for s in bpy.data.scenes)
 collections_before = sorted(c.name for c in bpy.data.collections)
 
-if u.ADDON_DIR not in sys.path:
-    sys.path.insert(0, u.ADDON_DIR)
-import diffusion_dof  # noqa: E402
+diffusion_dof = u.addon_module()  # imported, not registered
 
 for round_ in (1, 2):
     diffusion_dof.register()

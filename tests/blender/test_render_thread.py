@@ -72,7 +72,8 @@ cam.data.dof.use_dof = False
 
 # Setup missing (another session's temporary folder): the render thread does not fix it; the
 # frame says to click Set Up Passes.
-scene.node_tree.nodes[addon.passes.OUTPUT_NODE].base_path = "/nonexistent/elsewhere/"
+addon.compat.set_file_output_folder(u.compositor_tree(scene).nodes[addon.passes.OUTPUT_NODE],
+                                    "/nonexistent/elsewhere/")
 bpy.ops.render.render()
 render._timer()
 report = render.reports.get(scene.name)
@@ -84,5 +85,5 @@ for name, fn in render.HANDLERS:
         handlers = getattr(bpy.app.handlers, name)
         handlers.remove(wrapped[name])
         handlers.append(fn)
-addon.unregister()
+u.unload_addon(addon)
 checks.finish()
