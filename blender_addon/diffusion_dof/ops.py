@@ -76,8 +76,11 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
                     raise SetupError("The foreground images must be RGBA and %dx%d like the "
                                      "colour image." % (width, height))
                 foreground = {"color": fg_color, "depth": fg_depth, "depth_channels": gchannels}
-            out, stats = render.run(scene, settings, width, height, color, channels, depth,
-                                    dchannels, cam, foreground)
+            # Images of the scene's render border (the kept passes) keep their place in the
+            # frame; other images are frames of their own.
+            region = render.scene_region(scene, width, height, strict=False)
+            out, stats = render.run_region(scene, settings, width, height, color, channels,
+                                           depth, dchannels, cam, foreground, region)
             render.store_result(self.output or render.RESULT_IMAGE, width, height, channels,
                                 out)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:

@@ -18,6 +18,7 @@ data is not safe: the handlers only queue the frame and a timer on the main thre
 work (while the next frame renders).
 """
 
+import array
 import os
 import threading
 import time
@@ -27,7 +28,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import camera as camera_mod
-from . import binding, compat, passes
+from . import binding, compat, frame_region, passes
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -194,6 +195,51 @@ def run(scene, settings, width, height, color, color_channels, depth, depth_chan
                               backend=settings.library_backend())
 
 
+def scene_region(scene, width, height, strict=True):
+    """The frame_region.Region of a width x height render of the scene (None without a render
+    border). strict: an image that is neither the frame's nor the border's size raises
+    SetupError; else it is taken as a frame of its own (None)."""
+    r = scene.render
+    try:
+        return frame_region.region_of(
+            r.use_border, r.use_crop_to_border,
+            (r.border_min_x, r.border_min_y, r.border_max_x, r.border_max_y),
+            frame_region.full_size(r.resolution_x, r.resolution_y, r.resolution_percentage),
+            (width, height))
+    except ValueError as err:
+        if strict:
+            raise SetupError("Cannot place the render in its frame: %s." % err) from None
+        return None
+
+
+def run_region(scene, settings, width, height, color, color_channels, depth, depth_channels,
+               camera, foreground=None, region=None):
+    """run() for a render that may be a render border's: the camera is the full frame's, and
+    with a full-size image only the border's pixels go to the library; the rest of the frame is
+    returned as rendered."""
+    if region is None:
+        return run(scene, settings, width, height, color, color_channels, depth, depth_channels,
+                   camera, foreground)
+    camera = dict(camera, **region.camera_fields())
+    if region.cropped:
+        return run(scene, settings, width, height, color, color_channels, depth, depth_channels,
+                   camera, foreground)
+    x, y, w, h = region.x, region.y, region.width, region.height
+
+    def part(buf, channels):
+        return frame_region.crop(buf, width, channels, x, y, w, h)
+    fg = None
+    if foreground is not None:
+        fg_channels = foreground.get("depth_channels", depth_channels)
+        fg = {"color": part(foreground["color"], 4),
+              "depth": part(foreground["depth"], fg_channels), "depth_channels": fg_channels}
+    out, stats = run(scene, settings, w, h, part(color, color_channels), color_channels,
+                     part(depth, depth_channels), depth_channels, camera, fg)
+    full = array.array("f", color)
+    frame_region.paste(full, width, color_channels, x, y, w, h, out)
+    return full, stats
+
+
 def backend_line(stats):
     """'cpu (CPU, 2 threads)': where a frame ran."""
     return "%s (%s)" % (stats.get("backend_name", "?"), stats.get("renderer", ""))
@@ -260,8 +306,9 @@ def process_job(job):
                                      % job.frame)
                 foreground = {"color": fg_color[0], "depth": fg_depth[0],
                               "depth_channels": fg_depth[3]}
-            out, stats = run(scene, settings, width, height, buf, channels, depth_buf,
-                             dchannels, cam, foreground)
+            region = scene_region(scene, width, height)
+            out, stats = run_region(scene, settings, width, height, buf, channels, depth_buf,
+                                    dchannels, cam, foreground, region)
             image = store_result(RESULT_IMAGE, width, height, channels, out)
             if settings.keep_inputs:
                 store_result(INPUT_IMAGE, width, height, channels, buf)
