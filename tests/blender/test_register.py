@@ -73,7 +73,7 @@ near = bpy.data.collections.new("NearObjects")
 scene.collection.children.link(near)
 u.add_plane(scene, "Post", (0.1, 1.0), (0.0, 1.5, 0.0),
             u.emission_checker("PostMat", (1, 1, 1, 1), (0, 0, 0, 1), 10.0), collection=near)
-u.configure(scene, samples=1)
+u.configure(scene, samples=7)
 scenes_before = sorted(s.name for s in bpy.data.scenes)
 collections_before = sorted(c.name for c in bpy.data.collections)
 
@@ -97,6 +97,12 @@ for round_ in (1, 2):
     s.foreground_collection = near
     companion = diffusion_dof.passes.companion_scene(scene)
     checks.check(companion is not None, "round %d: no companion scene" % round_)
+    # It renders with the main scene's Cycles settings (5.0 no longer reads them through []).
+    checks.check(companion is not None and companion.cycles.samples == scene.cycles.samples
+                 and companion.cycles.max_bounces == scene.cycles.max_bounces,
+                 "round %d: the companion's Cycles samples %s, the scene's %d" % (
+                     round_, companion.cycles.samples if companion else None,
+                     scene.cycles.samples))
     checks.check(managed_nodes(scene) == sorted(diffusion_dof.passes.MANAGED_NODES),
                  "round %d: managed nodes %s" % (round_, managed_nodes(scene)))
     layer_near = scene.view_layers[0].layer_collection.children["NearObjects"]
