@@ -276,6 +276,9 @@ def process_job(job):
                                  "Camera properties > Depth of Field (its focus and f-stop still "
                                  "drive Diffusion DOF) and render again.")
             color = read_exr(job.files[passes.SLOT_COLOR])
+            if color is None and scene.camera is None:
+                # Blender refused to render: say why, not that the compositor did not run.
+                camera_mod.camera_settings(scene, settings)  # raises: no active camera
             if color is None:
                 raise SetupError("The Combined pass of frame %d did not reach the add-on: the "
                                  "compositor did not run. Check Output properties > Post "
