@@ -34,6 +34,7 @@ STATUS_NAMES = (
 DDOF_ERROR_BACKEND_UNAVAILABLE = STATUS_NAMES.index("DDOF_ERROR_BACKEND_UNAVAILABLE")
 DDOF_ERROR_UNSUPPORTED = STATUS_NAMES.index("DDOF_ERROR_UNSUPPORTED")
 DDOF_ERROR_BACKEND_FAILED = STATUS_NAMES.index("DDOF_ERROR_BACKEND_FAILED")
+DDOF_ERROR_CANCELLED = STATUS_NAMES.index("DDOF_ERROR_CANCELLED")
 
 # ddof_backend_kind, by ddof_backend_name()
 BACKENDS = {"cpu": 0, "auto": 1, "egl": 2, "osmesa": 3, "host": 4}
@@ -256,6 +257,13 @@ _PROTOTYPES = {
 # Errors
 
 
+def _ask_cancel(cancel, fraction):
+    try:
+        return bool(cancel(fraction))
+    except Exception:  # a broken callback stops the call rather than raising through C
+        return True
+
+
 class LibraryError(Exception):
     """The library is missing, is not a ddof library, or has an incompatible version."""
 
@@ -266,6 +274,10 @@ class DdofError(Exception):
     def __init__(self, status, message):
         super().__init__(message)
         self.status = status
+
+
+class Cancelled(DdofError):
+    """The cancel function asked the library to stop (DDOF_ERROR_CANCELLED)."""
 
 
 def version_tuple(number):
@@ -452,6 +464,8 @@ class Library:
                 "note": info.note.decode("utf-8", "replace")}
 
     def _check(self, ctx, status, what):
+        if status == DDOF_ERROR_CANCELLED:
+            raise Cancelled(status, "%s: cancelled" % what)
         if status != DDOF_OK:
             detail = self._dll.ddof_context_last_error(ctx).decode("utf-8", "replace")
             raise DdofError(status, "%s: %s%s" % (what, self.status_string(status),
@@ -461,7 +475,7 @@ class Library:
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
                        camera, params=None, threads=0, foreground=None, preset=None,
-                       backend="cpu", plugin_path=None):
+                       backend="cpu", plugin_path=None, cancel=None):
         """Diffusion depth of field of one frame.
 
         color, depth: array.array('f') of width * height * channels floats (the depth's first
@@ -477,7 +491,9 @@ class Library:
         Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
         plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name' (and
         'method_note' when the method was changed). Raises DdofError with the library's message
-        on bad input or an unavailable backend.
+        on bad input or an unavailable backend. cancel: None, or a function of the progress
+        fraction that returns True to stop (ddof_params.progress): the call then raises
+        Cancelled.
         """
         count = width * height
         if len(color) != count * color_channels or len(depth) != count * depth_channels:
@@ -507,6 +523,12 @@ class Library:
             # The CoD4 preview blurs one image; a foreground element asks for the layers.
             p.method = METHOD_DIFFUSION
             method_note = ("the CoD4 preview takes no foreground element: the diffusion ran")
+
+        # The progress callback; kept referenced until the call returns.
+        progress = None if cancel is None else PROGRESS_FN(
+            lambda _user, fraction: 1 if _ask_cancel(cancel, fraction) else 0)
+        if progress is not None:
+            p.progress = progress
 
         out = new_buffer(count * color_channels)
         color_in = ImageIn(_buffer_pointer(color), width, height, color_channels, 0)

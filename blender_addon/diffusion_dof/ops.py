@@ -79,6 +79,7 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
             # Images of the scene's render border (the kept passes) keep their place in the
             # frame; other images are frames of their own.
             region = render.scene_region(scene, width, height, strict=False)
+            render.cancel_event.clear()
             out, stats = render.run_region(scene, settings, width, height, color, channels,
                                            depth, dchannels, cam, foreground, region)
             render.store_result(self.output or render.RESULT_IMAGE, width, height, channels,
@@ -93,6 +94,26 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
                                       "path": None, "time": 0.0}
         self.report({"INFO"}, message)
         return {"FINISHED"}
+
+
+class DIFFUSION_DOF_OT_watch_escape(bpy.types.Operator):
+    """Esc cancels the Diffusion DOF call that is running (the frame is left as rendered)"""
+    bl_idname = "diffusion_dof.watch_escape"
+    bl_label = "Cancel Diffusion DOF"
+    bl_options = {"INTERNAL"}
+
+    def invoke(self, context, _event):
+        self._timer = context.window_manager.event_timer_add(0.1, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC" and event.value == "PRESS":
+            render.request_cancel()
+        if not render.busy():
+            context.window_manager.event_timer_remove(self._timer)
+            return {"FINISHED"}
+        return {"PASS_THROUGH"}
 
 
 class DIFFUSION_DOF_OT_reapply(bpy.types.Operator):
@@ -166,7 +187,8 @@ class DIFFUSION_DOF_OT_reload_library(bpy.types.Operator):
         return {"FINISHED"} if ok else {"CANCELLED"}
 
 
-CLASSES = (DIFFUSION_DOF_OT_apply_images, DIFFUSION_DOF_OT_reapply, DIFFUSION_DOF_OT_setup,
+CLASSES = (DIFFUSION_DOF_OT_apply_images, DIFFUSION_DOF_OT_watch_escape,
+           DIFFUSION_DOF_OT_reapply, DIFFUSION_DOF_OT_setup,
            DIFFUSION_DOF_OT_pinhole, DIFFUSION_DOF_OT_reload_library)
 
 

@@ -184,15 +184,35 @@ def write_frame(scene, image, frame, since):
 # One frame
 
 
+# Set to stop the library call that runs (Esc, a cancelled render): its progress callback
+# answers "stop" and the frame is left as rendered. Cleared when a render starts.
+cancel_event = threading.Event()
+# Run the library call on a worker thread while the main thread keeps handling events (Esc):
+# with the UI; tests set it to run that path in background mode.
+FORCE_WORKER = False
+
+
+def request_cancel():
+    cancel_event.set()
+
+
+def library_options(settings):
+    """The settings' preset (the library's values), overrides and backend, read on the main
+    thread (a worker thread must not read Blender data)."""
+    return {"params": settings.library_params(), "threads": settings.threads,
+            "preset": settings.preset_name(), "backend": settings.library_backend()}
+
+
 def run(scene, settings, width, height, color, color_channels, depth, depth_channels,
-        camera, foreground=None):
-    """Calls the library with the settings' preset (the library's values), their overrides and
-    their backend; returns (out, stats). Raises LibraryError, DdofError."""
+        camera, foreground=None, options=None):
+    """Calls the library with the settings' library_options() (or `options`); returns (out,
+    stats). Raises LibraryError, DdofError, binding.Cancelled (cancel_event set)."""
     lib = binding.get_library()
+    o = options or library_options(settings)
     return lib.depth_of_field(width, height, color, color_channels, depth, depth_channels,
-                              camera, settings.library_params(), threads=settings.threads,
-                              foreground=foreground, preset=settings.preset_name(),
-                              backend=settings.library_backend())
+                              camera, o["params"], threads=o["threads"],
+                              foreground=foreground, preset=o["preset"],
+                              backend=o["backend"], cancel=lambda _f: cancel_event.is_set())
 
 
 def scene_region(scene, width, height, strict=True):
@@ -213,17 +233,17 @@ def scene_region(scene, width, height, strict=True):
 
 
 def run_region(scene, settings, width, height, color, color_channels, depth, depth_channels,
-               camera, foreground=None, region=None):
+               camera, foreground=None, region=None, options=None):
     """run() for a render that may be a render border's: the camera is the full frame's, and
     with a full-size image only the border's pixels go to the library; the rest of the frame is
     returned as rendered."""
     if region is None:
         return run(scene, settings, width, height, color, color_channels, depth, depth_channels,
-                   camera, foreground)
+                   camera, foreground, options)
     camera = dict(camera, **region.camera_fields())
     if region.cropped:
         return run(scene, settings, width, height, color, color_channels, depth, depth_channels,
-                   camera, foreground)
+                   camera, foreground, options)
     x, y, w, h = region.x, region.y, region.width, region.height
 
     def part(buf, channels):
@@ -234,7 +254,7 @@ def run_region(scene, settings, width, height, color, color_channels, depth, dep
         fg = {"color": part(foreground["color"], 4),
               "depth": part(foreground["depth"], fg_channels), "depth_channels": fg_channels}
     out, stats = run(scene, settings, w, h, part(color, color_channels), color_channels,
-                     part(depth, depth_channels), depth_channels, camera, fg)
+                     part(depth, depth_channels), depth_channels, camera, fg, options)
     full = array.array("f", color)
     frame_region.paste(full, width, color_channels, x, y, w, h, out)
     return full, stats
@@ -256,7 +276,35 @@ def summary(stats):
         stats["seconds_total"], backend_line(stats), stats["max_coc_px"], what)
 
 
+class _Call(threading.Thread):
+    """A function run on a worker thread; value() returns its result or raises its error."""
+
+    def __init__(self, fn, args, kwargs):
+        super().__init__(name="Diffusion DOF", daemon=True)
+        self._fn, self._args, self._kwargs = fn, args, kwargs
+        self._result = self._error = None
+
+    def run(self):
+        try:
+            self._result = self._fn(*self._args, **self._kwargs)
+        except BaseException as err:  # handed to the main thread
+            self._error = err
+
+    def value(self):
+        if self._error is not None:
+            raise self._error
+        return self._result
+
+
 def process_job(job):
+    """Processes one frame on this (the main) thread, start to end."""
+    for _ in job_steps(job, worker=False):
+        pass
+
+
+def job_steps(job, worker):
+    """Processes one frame: a generator that, with worker=True, runs the library call on a
+    worker thread and yields while it runs (the main thread's timer resumes it)."""
     scene = bpy.data.scenes.get(job.scene_name)
     try:
         if scene is None:
@@ -310,8 +358,20 @@ def process_job(job):
                 foreground = {"color": fg_color[0], "depth": fg_depth[0],
                               "depth_channels": fg_depth[3]}
             region = scene_region(scene, width, height)
-            out, stats = run_region(scene, settings, width, height, buf, channels, depth_buf,
-                                    dchannels, cam, foreground, region)
+            call = _Call(run_region, (scene, settings, width, height, buf, channels, depth_buf,
+                                      dchannels, cam, foreground, region),
+                         {"options": library_options(settings)})
+            if worker:
+                call.start()
+                _start_escape_watch()
+                while call.is_alive():
+                    yield
+                scene = bpy.data.scenes.get(job.scene_name)
+                if scene is None:  # removed meanwhile
+                    return
+            else:
+                call.run()
+            out, stats = call.value()
             image = store_result(RESULT_IMAGE, width, height, channels, out)
             if settings.keep_inputs:
                 store_result(INPUT_IMAGE, width, height, channels, buf)
@@ -337,6 +397,9 @@ def process_job(job):
             set_report(scene.name, True, "frame %d: %s; %s%s" % (
                 job.frame, summary(stats), camera_line, (" -> " + path) if path else ""),
                 job.frame, stats, camera_line, path)
+        except binding.Cancelled:
+            set_report(scene.name, False, "frame %d: cancelled (Esc): left as rendered, without "
+                       "depth of field" % job.frame, job.frame)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             set_report(scene.name, False, "frame %d not processed: %s" % (job.frame, err),
                        job.frame)
@@ -362,15 +425,54 @@ def _show_in_render_window(image):
                 space.image = image
 
 
+_active = None  # job_steps() of the frame whose library call runs on a worker thread
+
+
+def busy():
+    """Whether a frame is being processed or waits to be."""
+    with _lock:
+        return _active is not None or bool(_jobs)
+
+
+def _use_worker():
+    return FORCE_WORKER or not bpy.app.background
+
+
 def process_ready():
-    """Processes every queued frame that is ready (main thread only)."""
+    """Processes every queued frame that is ready (main thread only). With a worker thread,
+    returns while a frame's library call runs; the next call goes on with it."""
+    global _active
     while True:
+        if _active is not None:
+            try:
+                next(_active)
+                return
+            except StopIteration:
+                _active = None
         with _lock:
             job = next((j for j in _jobs if j.ready), None)
             if job is None:
                 return
             _jobs.remove(job)
-        process_job(job)
+        if _use_worker():
+            _active = job_steps(job, worker=True)
+        else:
+            process_job(job)
+
+
+def _start_escape_watch():
+    """Esc cancels the frame's library call: a modal operator in the first window watches
+    for it while the call runs (nothing to watch without a window)."""
+    if bpy.app.background:
+        return
+    try:
+        wm = bpy.context.window_manager
+        window = wm.windows[0] if wm is not None and len(wm.windows) else None
+        if window is not None:
+            with bpy.context.temp_override(window=window):
+                bpy.ops.diffusion_dof.watch_escape("INVOKE_DEFAULT")
+    except (AttributeError, RuntimeError, TypeError):
+        pass  # no window to watch: the render's own Esc still cancels (render_cancel)
 
 
 def _timer():
@@ -378,9 +480,7 @@ def _timer():
         process_ready()
     except Exception:
         traceback.print_exc()
-    with _lock:
-        busy = bool(_jobs)
-    return 0.2 if busy else 0.5
+    return 0.05 if _active is not None else 0.2 if busy() else 0.5
 
 
 # ---------------------------------------------------------------------------------------------
@@ -392,6 +492,7 @@ def on_render_init(scene, _depsgraph=None):
     settings = _enabled(scene)
     if settings is None:
         return
+    cancel_event.clear()
     state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time()}
     main = _is_main_thread()
     try:
@@ -491,6 +592,8 @@ def on_render_complete(scene, _depsgraph=None):
 
 @persistent
 def on_render_cancel(scene, _depsgraph=None):
+    if scene.name in _render_state:
+        request_cancel()  # Esc during the render: the frame being processed stops too
     _finish(scene, cancelled=True)
 
 
@@ -551,6 +654,15 @@ def unregister():
             handlers.remove(old)
     if bpy.app.timers.is_registered(_timer):
         bpy.app.timers.unregister(_timer)
+    global _active
+    if _active is not None:  # a frame in progress: stop it and wait for the library
+        request_cancel()
+        try:
+            for _ in _active:
+                time.sleep(0.01)
+        except Exception:
+            traceback.print_exc()
+        _active = None
     with _lock:
         _jobs.clear()
         _snapshots.clear()
