@@ -4,6 +4,7 @@
 #include "exrio.h"
 #include "exrio_layout.h"
 #include "output_file.h"
+#include "focus_map.h"
 #include "preview.h"
 
 #include <stdarg.h>
@@ -53,8 +54,8 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
 {
     const char *inputs[4];
     const char *input_kind[4] = {"input", "depth file", "ground truth", "foreground element"};
-    const char *outputs[3];
-    const char *output_kind[3] = {"output", "preview", "input preview"};
+    const char *outputs[4];
+    const char *output_kind[4] = {"output", "preview", "input preview", "focus map"};
     int i, o;
     inputs[0] = paths->input;
     inputs[1] = paths->depth_file;
@@ -63,7 +64,8 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
     outputs[0] = paths->output;
     outputs[1] = paths->preview;
     outputs[2] = paths->preview_input;
-    for (o = 0; o < 3; o++) {
+    outputs[3] = paths->focus_map;
+    for (o = 0; o < 4; o++) {
         if (!outputs[o][0])
             continue;
         for (i = 0; i < 4; i++) {
@@ -120,13 +122,14 @@ static int newer_than(const struct stat *output, const char *input)
 
 int frame_outputs_complete(const cli_options *options, const frame_paths *paths)
 {
-    const char *outputs[3] = {paths->output, paths->preview, paths->preview_input};
+    const char *outputs[4] = {paths->output, paths->preview, paths->preview_input,
+                              paths->focus_map};
     const char *inputs[5] = {paths->input, paths->depth_file, paths->foreground,
                              options->camera_json, options->compare ? paths->compare : NULL};
     exrio_image image;
     char error[1024];
     int o, i;
-    for (o = 0; o < 3; o++) {
+    for (o = 0; o < 4; o++) {
         struct stat st;
         if (!outputs[o][0])
             continue;
@@ -639,7 +642,7 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
                                       (uint32_t)layout.color_count, 0};
         const ddof_image_in depth_in = {depth, part->width, part->height, 1, 0};
         const ddof_image_in fg_depth_in = {fg.depth, part->width, part->height, 1, 0};
-        const int need_coc = opt->write_coc || fg.color != NULL;
+        const int need_coc = opt->write_coc || fg.color != NULL || paths->focus_map[0];
         ddof_image coc_image = {NULL, part->width, part->height, 1, 0};
         ddof_image fg_coc_image = {NULL, part->width, part->height, 1, 0};
         ddof_foreground element;
@@ -770,6 +773,16 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
         if (preview_write(paths->preview_input, color, (uint32_t)layout.color_count, part->width,
                           part->height, opt->preview_exposure, error, sizeof error) != 0) {
             fail(result, "input preview: %s", error);
+            goto done;
+        }
+        result->seconds_preview += now() - t;
+    }
+    if (paths->focus_map[0]) {
+        t = now();
+        if (focus_map_write(paths->focus_map, coc ? coc : coc_in, color,
+                            (uint32_t)layout.color_count, part->width, part->height, error,
+                            sizeof error) != 0) {
+            fail(result, "focus map: %s", error);
             goto done;
         }
         result->seconds_preview += now() - t;

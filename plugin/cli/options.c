@@ -86,6 +86,8 @@ void cli_usage(FILE *to)
         "  --preview FILE.png      also write an sRGB preview (#### for sequences)\n"
         "  --preview-input FILE.png  the same for the input, to compare before and after\n"
         "  --preview-exposure EV   exposure of the previews in stops (default 0)\n"
+        "  --focus-map FILE.png    also write the focal-plane view: in focus green, near blur\n"
+        "                          orange, far blur blue (#### for sequences)\n"
         "\n",
         "Sequences and reporting:\n"
         "  --frames LIST           e.g. 1-240, 1-240x2, 1,4,10-12; # runs in paths are frame numbers\n"
@@ -171,7 +173,7 @@ static const option_spec specs[] = {
     {"--keep-channels", NULL, ARG_FLAG},{"--keep-metadata", NULL, ARG_FLAG},
     {"--keep", NULL, ARG_FLAG},         {"--write-coc", NULL, ARG_FLAG},
     {"--preview", NULL, ARG_VALUE},     {"--preview-exposure", NULL, ARG_VALUE},
-    {"--preview-input", NULL, ARG_VALUE},
+    {"--preview-input", NULL, ARG_VALUE}, {"--focus-map", NULL, ARG_VALUE},
     {"--frames", NULL, ARG_VALUE},      {"--jobs", "-j", ARG_VALUE},
     {"--stats", NULL, ARG_VALUE},       {"--compare", NULL, ARG_VALUE},
     {"--skip-existing", NULL, ARG_FLAG},
@@ -486,6 +488,7 @@ static int apply(cli_options *o, const char *name, const char *value, int *sourc
     else if (!strcmp(name, "--write-coc")) o->write_coc = 1;
     else if (!strcmp(name, "--preview")) o->preview = value;
     else if (!strcmp(name, "--preview-input")) o->preview_input = value;
+    else if (!strcmp(name, "--focus-map")) o->focus_map = value;
     else if (!strcmp(name, "--preview-exposure")) {
         double ev;
         if (parse_double(name, value, &ev, 0) != 0) return -1;
