@@ -471,6 +471,33 @@ class Library:
             raise DdofError(status, "%s: %s%s" % (what, self.status_string(status),
                                                   (" (" + detail + ")") if detail else ""))
 
+    def coc(self, width, height, depth, depth_channels, camera, threads=0):
+        """The signed CoC (px, negative in front of the focus) of a depth buffer for a camera
+        dict (as depth_of_field takes): an array.array('f') of width * height. Raises
+        DdofError."""
+        if len(depth) != width * height * depth_channels:
+            raise ValueError("the depth buffer does not match %dx%d" % (width, height))
+        cam = self.default_camera()
+        for key, value in camera.items():
+            if key == "lens_model":
+                value = LENS_MODELS[value] if isinstance(value, str) else value
+            elif key == "sensor_fit":
+                value = SENSOR_FITS[value] if isinstance(value, str) else value
+            setattr(cam, key, value)
+        cam.signed_coc = 1
+        out = new_buffer(width * height)
+        depth_in = ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
+        coc_img = Image(_buffer_pointer(out), width, height, 1, 0)
+        ctx = self._context(threads)
+        try:
+            self._check(ctx, self._dll.ddof_coc_from_camera(ctx, ctypes.byref(cam),
+                                                           ctypes.byref(depth_in),
+                                                           ctypes.byref(coc_img)),
+                        "circle of confusion")
+        finally:
+            self._dll.ddof_context_free(ctx)
+        return out
+
     # -- the job -------------------------------------------------------------------------------
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,

@@ -37,6 +37,7 @@ INPUT_IMAGE = "Diffusion DOF Input"
 DEPTH_IMAGE = "Diffusion DOF Depth"
 FG_INPUT_IMAGE = "Diffusion DOF Foreground"
 FG_DEPTH_IMAGE = "Diffusion DOF Foreground Depth"
+FOCUS_MAP_IMAGE = "Diffusion DOF Focus Map"
 MOVIE_FORMATS = {"FFMPEG", "AVI_JPEG", "AVI_RAW"}
 
 _lock = threading.Lock()
@@ -413,6 +414,15 @@ def job_steps(job, worker):
                 os.remove(path)
             except OSError:
                 pass
+
+
+def show_image(image):
+    """Shows an image in the first image editor of the screen (if there is one)."""
+    for window in bpy.context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == "IMAGE_EDITOR":
+                area.spaces.active.image = image
+                return
 
 
 def _show_in_render_window(image):
