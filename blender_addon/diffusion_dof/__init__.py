@@ -22,8 +22,8 @@ if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency 
 
 import bpy  # noqa: E402
 
-from . import (errors, binding, compat, frame_region, focus_map, settings, camera,  # noqa: E402,F401
-               passes, render, ops, ui)
+from . import errors, binding, compat, frame_region, focus_map  # noqa: E402,F401
+from . import settings, camera, passes, render, ops, ui  # noqa: E402,F401
 
 _MODULES = (settings, ops, ui, render)
 

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Render handlers: every rendered frame of a scene with Diffusion DOF on goes through libddof.
 
-Order of events in Blender 3.4 to 4.x, per frame (checked in background mode):
+Order of events in Blender 3.4 to 5.x, per frame (checked in background mode on 3.4.1, 4.2.23
+and 5.0.1):
   render_init                     once per render, before the render is set up
   frame_change_pre/post           with the *render* depsgraph (mode 'RENDER'), evaluated for
                                   the frame: the only place where animated camera values are
