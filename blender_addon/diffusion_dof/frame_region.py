@@ -59,7 +59,9 @@ class Region:
 
 def region_of(use_border, use_crop, border, frame_size, image_size):
     """The Region of a render's image (None without a border, or a border that is the whole
-    frame). Raises ValueError when the image's size is neither the frame's nor the border's."""
+    frame). Whether it is cropped is read from the image's size, the frame's or the border's,
+    which is what the passes really are; use_crop, Blender's setting, is kept for the message.
+    Raises ValueError when the image's size is neither the frame's nor the border's."""
     if not use_border:
         return None
     fw, fh = frame_size
@@ -71,8 +73,9 @@ def region_of(use_border, use_crop, border, frame_size, image_size):
     elif tuple(image_size) == (w, h):
         cropped = True
     else:
-        raise ValueError("the render is %dx%d, but its border is %dx%d of a %dx%d frame"
-                         % (image_size[0], image_size[1], w, h, fw, fh))
+        raise ValueError("the render is %dx%d, but its border is %dx%d of a %dx%d frame (%s)"
+                         % (image_size[0], image_size[1], w, h, fw, fh,
+                            "cropped" if use_crop else "not cropped"))
     if w < 1 or h < 1:
         raise ValueError("the render border is empty (%dx%d)" % (w, h))
     return Region(fw, fh, x, y, w, h, cropped)
