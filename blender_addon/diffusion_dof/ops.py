@@ -105,6 +105,7 @@ class DIFFUSION_DOF_OT_watch_escape(bpy.types.Operator):
     def invoke(self, context, _event):
         self._timer = context.window_manager.event_timer_add(0.1, window=context.window)
         context.window_manager.modal_handler_add(self)
+        render.escape_watch["on"] = True
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
@@ -112,6 +113,7 @@ class DIFFUSION_DOF_OT_watch_escape(bpy.types.Operator):
             render.request_cancel()
         if not render.busy():
             context.window_manager.event_timer_remove(self._timer)
+            render.escape_watch["on"] = False
             return {"FINISHED"}
         return {"PASS_THROUGH"}
 

@@ -437,6 +437,7 @@ def _show_in_render_window(image):
 
 
 _active = None  # job_steps() of the frame whose library call runs on a worker thread
+escape_watch = {"on": False}  # the Esc watcher (ops.DIFFUSION_DOF_OT_watch_escape) runs
 
 
 def busy():
@@ -474,8 +475,8 @@ def process_ready():
 def _start_escape_watch():
     """Esc cancels the frame's library call: a modal operator in the first window watches
     for it while the call runs (nothing to watch without a window)."""
-    if bpy.app.background:
-        return
+    if bpy.app.background or escape_watch["on"]:
+        return  # one watcher runs while there are frames
     try:
         wm = bpy.context.window_manager
         window = wm.windows[0] if wm is not None and len(wm.windows) else None
@@ -679,3 +680,4 @@ def unregister():
         _snapshots.clear()
     _render_state.clear()
     reports.clear()
+    escape_watch["on"] = False
