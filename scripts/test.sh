@@ -21,6 +21,8 @@ case "$mode" in
     # when Debian's Blender is installed; without it they are reported as skipped.
     ensure_packages blender python3 ||
         echo "warning: could not install blender: the Blender add-on tests will be skipped" >&2
+    ensure_packages xvfb xauth ||
+        echo "warning: could not install xvfb: the add-on's UI test will be skipped" >&2
     ensure_packages python3-numpy python3-matplotlib || echo "warning: could not install numpy/matplotlib: the study smoke test (tests/study) will be skipped" >&2
     # Blender as a Python module from PyPI (4.2 LTS and 5.x), for the add-on's `bpy` tests
     # (tests/bpy): cached venvs under ~/.cache/ddof-bpy; one that cannot be installed is a
