@@ -333,6 +333,123 @@ static void test_radial(void)
     free(radial);
 }
 
+/* A crop (a render border, an EXR data window): with the full frame's size and the window's
+ * offset in the camera, the CoC of the crop is the same region of the full frame's CoC, bit for
+ * bit, for every sensor fit, planar and radial depth, odd offsets and a window reaching out of
+ * the frame. Without them the crop's width is taken as the sensor's (the old behaviour, a
+ * different CoC): that is checked too, so the test can tell. Older struct sizes and bad frames. */
+static void test_crop(void)
+{
+    test_rng rng = {15};
+    const uint32_t w = 96, h = 54;
+    const size_t px = (size_t)w * h;
+    float *depth = alloc_f(px), *full = alloc_f(px);
+    fill_depth(depth, px, &rng, 0.3, 40.0);
+    depth[5] = INFINITY;
+    struct { uint32_t x, y, cw, ch; } crops[] = {{0, 0, w, h}, {17, 9, 31, 23}, {0, 30, 96, 24},
+                                                  {60, 0, 36, 54}, {95, 53, 1, 1}, {1, 1, 7, 50}};
+    const ddof_sensor_fit fits[] = {DDOF_SENSOR_FIT_AUTO, DDOF_SENSOR_FIT_HORIZONTAL,
+                                    DDOF_SENSOR_FIT_VERTICAL};
+    double largest_diff_old = 0.0;
+    for (int kind = 0; kind < 2; kind++)
+        for (int f = 0; f < 3; f++)
+            for (size_t c = 0; c < sizeof crops / sizeof crops[0]; c++) {
+                ddof_camera cam;
+                ddof_camera_init(&cam);
+                set_lens(&cam, 24, 1.8, 2.5);
+                cam.sensor_fit = fits[f];
+                cam.depth_kind = kind ? DDOF_DEPTH_RADIAL : DDOF_DEPTH_PLANAR;
+                cam.pixel_aspect = f == 2 ? 1.25 : 1.0;
+                cam.signed_coc = 1;
+                CHECK_EQ_INT(coc_from_camera(&cam, depth, full, w, h), DDOF_OK);
+                const uint32_t cw = crops[c].cw, ch = crops[c].ch;
+                float *sub = alloc_f((size_t)cw * ch), *got = alloc_f((size_t)cw * ch);
+                for (uint32_t y = 0; y < ch; y++)
+                    memcpy(sub + (size_t)y * cw, depth + (size_t)(y + crops[c].y) * w + crops[c].x,
+                           cw * sizeof(float));
+                cam.frame_width = w;
+                cam.frame_height = h;
+                cam.window_x = (int32_t)crops[c].x;
+                cam.window_y = (int32_t)crops[c].y;
+                ddof_status s = coc_from_camera(&cam, sub, got, cw, ch);
+                CHECK_MSG(s == DDOF_OK, "crop %zu: %s", c, ddof_context_last_error(ctx));
+                size_t bad = 0;
+                for (uint32_t y = 0; y < ch; y++)
+                    for (uint32_t x = 0; x < cw; x++)
+                        bad += got[(size_t)y * cw + x] !=
+                               full[(size_t)(y + crops[c].y) * w + x + crops[c].x];
+                CHECK_MSG(bad == 0, "crop %zu (%u,%u %ux%u), fit %d, %s: %zu pixels differ from "
+                          "the full frame's", c, crops[c].x, crops[c].y, cw, ch, f,
+                          kind ? "radial" : "planar", bad);
+                /* The crop as a frame of its own: another CoC (the old, wrong one). */
+                cam.frame_width = cam.frame_height = 0;
+                cam.window_x = cam.window_y = 0;
+                CHECK_EQ_INT(coc_from_camera(&cam, sub, got, cw, ch), DDOF_OK);
+                for (uint32_t y = 0; y < ch; y++)
+                    for (uint32_t x = 0; x < cw; x++)
+                        largest_diff_old = fmax(largest_diff_old,
+                                                fabs(got[(size_t)y * cw + x] -
+                                                     full[(size_t)(y + crops[c].y) * w + x +
+                                                          crops[c].x]));
+                free(sub);
+                free(got);
+            }
+    CHECK_MSG(largest_diff_old > 1.0, "a crop as its own frame should differ (%g px)",
+              largest_diff_old);
+    printf("crop vs full frame: bit for bit; the crop as its own frame differs by up to %.3g px\n",
+           largest_diff_old);
+
+    /* A window reaching out of the frame (overscan): the formula at those pixels. */
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    set_lens(&cam, 24, 1.8, 2.5);
+    cam.depth_kind = DDOF_DEPTH_RADIAL;
+    cam.sensor_fit = DDOF_SENSOR_FIT_HORIZONTAL;
+    float one = 3.0f, got1 = 0.0f;
+    cam.frame_width = w;
+    cam.frame_height = h;
+    cam.window_x = -4;
+    cam.window_y = 60;
+    CHECK_EQ_INT(coc_from_camera(&cam, &one, &got1, 1, 1), DDOF_OK);
+    {
+        const double pw = 36.0 / w, fl = 24.0;
+        const double xs = (-4 + 0.5 - w / 2.0) * pw, ys = (60 + 0.5 - h / 2.0) * pw;
+        const double z = 3000.0 / sqrt(1.0 + (xs / fl) * (xs / fl) + (ys / fl) * (ys / fl));
+        const double want = cycles_mm(fl, 1.8, 2500.0, z) / pw;
+        CHECK_NEAR(got1, want, 1e-5 * want);
+    }
+
+    /* An older struct (0.4: up to signed_coc) gets the defaults: the image is the frame. */
+    cam.struct_size = (uint32_t)offsetof(ddof_camera, frame_width);
+    float old = 0.0f, plain = 0.0f;
+    CHECK_EQ_INT(coc_from_camera(&cam, &one, &old, 1, 1), DDOF_OK);
+    ddof_camera cam2 = cam;
+    cam2.struct_size = sizeof cam2;
+    cam2.frame_width = cam2.frame_height = 0;
+    cam2.window_x = cam2.window_y = 0;
+    CHECK_EQ_INT(coc_from_camera(&cam2, &one, &plain, 1, 1), DDOF_OK);
+    CHECK(old == plain);
+    CHECK(old != got1);
+
+    /* Bad frames are refused with a message. */
+    float dummy = 0.0f;
+    cam2.frame_width = 10;
+    cam2.frame_height = 0;
+    CHECK_EQ_INT(coc_from_camera(&cam2, &one, &dummy, 1, 1), DDOF_ERROR_BAD_CAMERA);
+    CHECK(strstr(ddof_context_last_error(ctx), "frame") != NULL);
+    cam2.frame_width = 0;
+    cam2.window_x = 3;
+    CHECK_EQ_INT(coc_from_camera(&cam2, &one, &dummy, 1, 1), DDOF_ERROR_BAD_CAMERA);
+    cam2.frame_width = cam2.frame_height = DDOF_MAX_DIMENSION + 1;
+    cam2.window_x = 0;
+    CHECK_EQ_INT(coc_from_camera(&cam2, &one, &dummy, 1, 1), DDOF_ERROR_BAD_CAMERA);
+    cam2.frame_width = cam2.frame_height = 100;
+    cam2.window_y = INT32_MIN;
+    CHECK_EQ_INT(coc_from_camera(&cam2, &one, &dummy, 1, 1), DDOF_ERROR_BAD_CAMERA);
+    free(depth);
+    free(full);
+}
+
 static void test_clamp(void)
 {
     ddof_camera cam;
@@ -495,6 +612,7 @@ int main(void)
     test_units_and_sky();
     test_sensor_fit();
     test_radial();
+    test_crop();
     test_clamp();
     test_layout();
     test_curve();

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.3).
+"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.5).
 
 This module does not import bpy: it is the add-on's only contact with the C library and can be
 used (and is tested) from a plain Python interpreter. The structures mirror ddof.h field by field;
@@ -131,7 +131,12 @@ class Camera(ctypes.Structure):
                 ("focus_distance_m", ctypes.c_double),
                 ("pixel_aspect", ctypes.c_double),
                 ("depth_unit_m", ctypes.c_double),
-                ("signed_coc", ctypes.c_uint32)]
+                ("signed_coc", ctypes.c_uint32),
+                # version 0.5 of this struct: a crop of the full frame (a render border)
+                ("frame_width", ctypes.c_uint32),
+                ("frame_height", ctypes.c_uint32),
+                ("window_x", ctypes.c_int32),
+                ("window_y", ctypes.c_int32)]
 
 
 class Curve(ctypes.Structure):
@@ -271,6 +276,13 @@ _PROTOTYPES = {
 # Errors
 
 
+def _ask_cancel(cancel, fraction):
+    try:
+        return bool(cancel(fraction))
+    except Exception:  # a broken callback stops the call rather than raising through C
+        return True
+
+
 class LibraryError(Exception):
     """The library is missing, is not a ddof library, or has an incompatible version."""
 
@@ -281,6 +293,10 @@ class DdofError(Exception):
     def __init__(self, status, message):
         super().__init__(message)
         self.status = status
+
+
+class Cancelled(DdofError):
+    """The cancel function asked the library to stop (DDOF_ERROR_CANCELLED)."""
 
 
 def version_tuple(number):
@@ -467,12 +483,35 @@ class Library:
                 "note": info.note.decode("utf-8", "replace")}
 
     def _check(self, ctx, status, what):
+        if status == DDOF_ERROR_CANCELLED:
+            raise Cancelled(status, "%s: cancelled" % what)
         if status != DDOF_OK:
             detail = self._dll.ddof_context_last_error(ctx).decode("utf-8", "replace")
             raise DdofError(status, "%s: %s%s" % (what, self.status_string(status),
                                                   (" (" + detail + ")") if detail else ""))
 
     # -- the job -------------------------------------------------------------------------------
+
+    def coc(self, width, height, depth, depth_channels, camera, threads=0):
+        """The signed CoC (px, negative in front of the focus) of a depth buffer for a camera
+        dict (as depth_of_field takes): an array.array('f') of width * height, for the focus
+        tools (the focus picker, the focal-plane view). Raises DdofError."""
+        if len(depth) != width * height * depth_channels:
+            raise ValueError("the depth buffer does not match %dx%d" % (width, height))
+        cam = self.make_camera(camera)
+        cam.signed_coc = 1
+        out = new_buffer(width * height)
+        depth_in = ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
+        coc_img = Image(_buffer_pointer(out), width, height, 1, 0)
+        ctx = self._context(threads)
+        try:
+            self._check(ctx, self._dll.ddof_coc_from_camera(ctx, ctypes.byref(cam),
+                                                           ctypes.byref(depth_in),
+                                                           ctypes.byref(coc_img)),
+                        "circle of confusion")
+        finally:
+            self._dll.ddof_context_free(ctx)
+        return out
 
     def session(self, threads=0, backend="cpu", plugin_path=None):
         """A Session: one context kept for many frames (its threads, working memory and, on a
@@ -481,11 +520,12 @@ class Library:
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
                        camera, params=None, threads=0, foreground=None, preset=None,
-                       backend="cpu", plugin_path=None):
+                       backend="cpu", plugin_path=None, cancel=None):
         """One frame with a context of its own: Session.depth_of_field (see there)."""
         with self.session(threads, backend, plugin_path) as session:
             return session.depth_of_field(width, height, color, color_channels, depth,
-                                          depth_channels, camera, params, foreground, preset)
+                                          depth_channels, camera, params, foreground, preset,
+                                          cancel)
 
     def make_camera(self, camera):
         """A ddof_camera from a dict of its fields (lens_model, sensor_fit as names)."""
@@ -548,7 +588,7 @@ class Session:
         return None if status == DDOF_OK else self._last_error()
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
-                       camera, params=None, foreground=None, preset=None, progress=None):
+                       camera, params=None, foreground=None, preset=None, cancel=None):
         """Diffusion depth of field of one frame, in one ddof_render_frame call.
 
         color, depth: array.array('f') of width * height * channels floats (the depth's first
@@ -556,9 +596,9 @@ class Session:
         None (ddof_params_init, the default preset) or a name in PRESETS; params: a dict of
         ddof_params fields over the preset's (Library.make_params). foreground: None, or a dict
         with 'color' (4 channels, RGB premultiplied by alpha) and 'depth' (+ 'depth_channels')
-        of the same size: the separately rendered foreground element. progress: None, or a
-        function of the fraction done in [0, 1] returning True to cancel (the call then raises
-        DdofError with DDOF_ERROR_CANCELLED).
+        of the same size: the separately rendered foreground element. cancel: None, or a
+        function of the fraction done in [0, 1] returning True to stop (ddof_params.progress):
+        the call then raises Cancelled.
         Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
         plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name'. Raises
         DdofError with the library's message on bad input or combinations it refuses.
@@ -582,9 +622,10 @@ class Session:
             frame.foreground_depth = ImageIn(_buffer_pointer(fg_depth), width, height,
                                              fg_depth_channels, 0)
         callback = None
-        if progress is not None:
+        if cancel is not None:
             # Kept referenced until the call returns: ctypes frees an unreferenced callback.
-            callback = PROGRESS_FN(lambda _user, fraction: 1 if progress(fraction) else 0)
+            callback = PROGRESS_FN(lambda _user, fraction: 1 if _ask_cancel(cancel, fraction)
+                                   else 0)
             p.progress = callback
         out = new_buffer(count * color_channels)
         out_img = Image(_buffer_pointer(out), width, height, color_channels, 0)

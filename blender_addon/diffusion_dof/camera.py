@@ -33,6 +33,24 @@ def camera_object(scene, depsgraph=None):
     return scene.camera
 
 
+def check_lens(name, focal_mm, fstop, focus_m, settings):
+    """Raises SetupError with what to change when the lens cannot give depth of field: an
+    f-stop of 0 (Blender accepts it), a focus distance within the focal length (a focus
+    distance of 0, a focus object at the camera), where a lens would focus behind itself."""
+    where = "the Diffusion DOF panel's F-Stop" if settings.override_fstop else \
+        "Camera properties > Depth of Field > Aperture > F-Stop"
+    if not fstop > 0.0:
+        raise SetupError("Camera '%s' has f/%g: depth of field needs an f-stop above 0 (%s)."
+                         % (name, fstop, where))
+    if not focus_m * 1000.0 > focal_mm:
+        where = "the Diffusion DOF panel's Focus Distance" if settings.override_focus else \
+            "Camera properties > Depth of Field > Focus Distance or Focus Object"
+        raise SetupError("Camera '%s' focuses at %.3g m, within its focal length (%g mm): "
+                         "a lens cannot focus there (the focus would be behind the lens). Set "
+                         "a focus farther than the focal length (%s)."
+                         % (name, focus_m, focal_mm, where))
+
+
 def camera_settings(scene, settings, depsgraph=None, cam_obj=None):
     """(camera dict for Library.depth_of_field, description dict). Raises SetupError with a
     sentence that says what to do when the scene cannot drive depth of field."""
@@ -45,9 +63,9 @@ def camera_settings(scene, settings, depsgraph=None, cam_obj=None):
         raise SetupError("The scene camera '%s' is not a camera object." % cam_obj.name)
     data = cam_obj.data
     if data.type != "PERSP":
+        kind = {"ORTHO": "orthographic", "PANO": "panoramic"}.get(data.type, data.type.lower())
         raise SetupError("Camera '%s' is %s: depth of field needs a perspective camera "
-                         "(Camera properties > Lens > Type)."
-                         % (cam_obj.name, data.type.lower()))
+                         "(Camera properties > Lens > Type)." % (cam_obj.name, kind))
     render = scene.render
     unit = scene.unit_settings.scale_length or 1.0
 
@@ -63,6 +81,8 @@ def camera_settings(scene, settings, depsgraph=None, cam_obj=None):
         fit = data.sensor_fit
         # Blender's vertical fit spans the image height with the sensor *height*.
         sensor = data.sensor_height if fit == "VERTICAL" else data.sensor_width
+
+    check_lens(cam_obj.name, focal, fstop, float(focus_units) * unit, settings)
 
     camera = {
         "lens_model": settings.lens_model,

@@ -2,10 +2,10 @@
 """Operators: apply to any two images, set up the passes, pinhole render, reload the library."""
 
 import bpy
-from bpy.props import StringProperty
+from bpy.props import IntProperty, StringProperty
 
 from . import camera as camera_mod
-from . import binding, passes, render
+from . import binding, focus_map, frame_region, passes, render
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -76,8 +76,12 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
                     raise SetupError("The foreground images must be RGBA and %dx%d like the "
                                      "colour image." % (width, height))
                 foreground = {"color": fg_color, "depth": fg_depth, "depth_channels": gchannels}
-            out, stats = render.run(scene, settings, width, height, color, channels, depth,
-                                    dchannels, cam, foreground)
+            # Images of the scene's render border (the kept passes) keep their place in the
+            # frame; other images are frames of their own.
+            region = render.scene_region(scene, width, height, strict=False)
+            render.cancel_event.clear()
+            out, stats = render.run_region(scene, settings, width, height, color, channels,
+                                           depth, dchannels, cam, foreground, region)
             render.store_result(self.output or render.RESULT_IMAGE, width, height, channels,
                                 out)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
@@ -90,6 +94,164 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
                                       "path": None, "time": 0.0}
         self.report({"INFO"}, message)
         return {"FINISHED"}
+
+
+class DIFFUSION_DOF_OT_watch_escape(bpy.types.Operator):
+    """Esc cancels the Diffusion DOF call that is running (the frame is left as rendered)"""
+    bl_idname = "diffusion_dof.watch_escape"
+    bl_label = "Cancel Diffusion DOF"
+    bl_options = {"INTERNAL"}
+
+    def invoke(self, context, _event):
+        self._timer = context.window_manager.event_timer_add(0.1, window=context.window)
+        context.window_manager.modal_handler_add(self)
+        render.escape_watch["on"] = True
+        return {"RUNNING_MODAL"}
+
+    def modal(self, context, event):
+        if event.type == "ESC" and event.value == "PRESS":
+            render.request_cancel()
+        if not render.busy():
+            context.window_manager.event_timer_remove(self._timer)
+            render.escape_watch["on"] = False
+            return {"FINISHED"}
+        return {"PASS_THROUGH"}
+
+
+def _kept_passes():
+    """(color, depth) of the last frame's kept passes: each (buffer, width, height, channels).
+    Raises SetupError when there are none."""
+    color_img = bpy.data.images.get(render.INPUT_IMAGE)
+    depth_img = bpy.data.images.get(render.DEPTH_IMAGE)
+    if color_img is None or depth_img is None:
+        raise SetupError("Render a frame with Diffusion DOF on and Output > Keep Inputs "
+                         "checked first: the focus tools read its Depth pass.")
+    color, depth = render.read_image(color_img), render.read_image(depth_img)
+    if color[1:3] != depth[1:3]:
+        raise SetupError("The kept colour and depth images differ in size.")
+    return color, depth
+
+
+class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
+    """Show the focal-plane view of the last rendered frame with the current camera: in focus
+    green, near blur orange, far blur blue (the image 'Diffusion DOF Focus Map'; the same as
+    `ddof --focus-map`)"""
+    bl_idname = "diffusion_dof.focus_map"
+    bl_label = "Focal-Plane View"
+
+    def execute(self, context):
+        scene = context.scene
+        settings = settings_mod.get(scene)
+        try:
+            (color, w, h, ch), (depth, _, _, dch) = _kept_passes()
+            cam, _info = camera_mod.camera_settings(scene, settings)
+            lib = binding.get_library()
+            region = render.scene_region(scene, w, h, strict=False)
+            if region is None or region.cropped:
+                if region is not None:
+                    cam = dict(cam, **region.camera_fields())
+                coc = lib.coc(w, h, depth, dch, cam)
+                rgba = focus_map.focus_map_rgba(coc, color, ch, w, h)
+            else:  # the border's pixels only; the rest of the frame black
+                x, y, rw, rh = region.x, region.y, region.width, region.height
+                coc = lib.coc(rw, rh, frame_region.crop(depth, w, dch, x, y, rw, rh), dch,
+                              dict(cam, **region.camera_fields()))
+                part = focus_map.focus_map_rgba(coc, frame_region.crop(color, w, ch, x, y, rw,
+                                                                       rh), ch, rw, rh)
+                rgba = binding.new_buffer(w * h * 4)
+                frame_region.paste(rgba, w, 4, x, y, rw, rh, part)
+            image = render.store_result(render.FOCUS_MAP_IMAGE, w, h, 4, rgba, data=True)
+        except (SetupError, binding.LibraryError, binding.DdofError) as err:
+            self.report({"ERROR"}, str(err))
+            return {"CANCELLED"}
+        sharp, near, far = focus_map.band_counts(coc)
+        total = max(len(coc), 1)
+        self.report({"INFO"}, "Focal-plane view in '%s': %.0f%% in focus (green), %.0f%% near "
+                    "blur (orange), %.0f%% far blur (blue)" % (
+                        image.name, 100.0 * sharp / total, 100.0 * near / total,
+                        100.0 * far / total))
+        if not bpy.app.background:
+            render.show_image(image)
+        return {"FINISHED"}
+
+
+class DIFFUSION_DOF_OT_pick_focus(bpy.types.Operator):
+    """Click a pixel of the render, the result or the viewer in an image editor: the focus
+    distance becomes that pixel's depth (from the last frame's kept Depth pass). Esc or right
+    click cancels"""
+    bl_idname = "diffusion_dof.pick_focus"
+    bl_label = "Pick Focus"
+    bl_options = {"REGISTER", "UNDO"}
+
+    x: IntProperty(name="X", default=-1, description="Pixel column (from the left)")
+    y: IntProperty(name="Y", default=-1, description="Pixel row (from the bottom)")
+
+    def execute(self, context):
+        scene = context.scene
+        settings = settings_mod.get(scene)
+        try:
+            _color, (depth, w, h, dch) = _kept_passes()
+        except SetupError as err:
+            self.report({"ERROR"}, str(err))
+            return {"CANCELLED"}
+        z = focus_map.depth_at(depth, w, h, dch, self.x, self.y)
+        if z is None:
+            self.report({"ERROR"}, "No surface at pixel (%d, %d) of the %dx%d frame (the sky, "
+                        "or outside it): pick another pixel." % (self.x, self.y, w, h))
+            return {"CANCELLED"}
+        cam = scene.camera
+        where = "Diffusion DOF's focus override"
+        if settings.override_focus or cam is None or cam.type != "CAMERA" or \
+                cam.data.dof.focus_object is not None:
+            # The camera's focus object would win over its focus distance: use the override.
+            settings.override_focus = True
+            settings.focus_distance = z
+        else:
+            cam.data.dof.focus_distance = z
+            where = "camera '%s'" % cam.name
+        self.report({"INFO"}, "Focus %.4g (scene units) from pixel (%d, %d), set on %s"
+                    % (z, self.x, self.y, where))
+        return {"FINISHED"}
+
+    def invoke(self, context, _event):
+        if render.DEPTH_IMAGE not in bpy.data.images:
+            return self.execute(context)  # says what to do
+        context.window_manager.modal_handler_add(self)
+        if context.area is not None:
+            context.area.header_text_set("Pick Focus: click a pixel in an image editor "
+                                         "(Esc: cancel)")
+        self._area = context.area
+        return {"RUNNING_MODAL"}
+
+    def _done(self):
+        if getattr(self, "_area", None) is not None:
+            try:
+                self._area.header_text_set(None)
+            except ReferenceError:
+                pass
+
+    def modal(self, context, event):
+        if event.type in {"ESC", "RIGHTMOUSE"} and event.value == "PRESS":
+            self._done()
+            return {"CANCELLED"}
+        if event.type != "LEFTMOUSE" or event.value != "PRESS":
+            return {"PASS_THROUGH"}
+        for area in context.window.screen.areas:
+            if area.type != "IMAGE_EDITOR":
+                continue
+            for region in area.regions:
+                if region.type == "WINDOW" and region.x <= event.mouse_x < region.x + \
+                        region.width and region.y <= event.mouse_y < region.y + region.height:
+                    u, v = region.view2d.region_to_view(event.mouse_x - region.x,
+                                                        event.mouse_y - region.y)
+                    _w, _h = bpy.data.images[render.DEPTH_IMAGE].size
+                    pixel = focus_map.pixel_of(u, v, _w, _h)
+                    if pixel is None:
+                        return {"RUNNING_MODAL"}
+                    self.x, self.y = pixel
+                    self._done()
+                    return self.execute(context)
+        return {"PASS_THROUGH"}
 
 
 class DIFFUSION_DOF_OT_reapply(bpy.types.Operator):
@@ -163,7 +325,9 @@ class DIFFUSION_DOF_OT_reload_library(bpy.types.Operator):
         return {"FINISHED"} if ok else {"CANCELLED"}
 
 
-CLASSES = (DIFFUSION_DOF_OT_apply_images, DIFFUSION_DOF_OT_reapply, DIFFUSION_DOF_OT_setup,
+CLASSES = (DIFFUSION_DOF_OT_apply_images, DIFFUSION_DOF_OT_watch_escape,
+           DIFFUSION_DOF_OT_focus_map, DIFFUSION_DOF_OT_pick_focus,
+           DIFFUSION_DOF_OT_reapply, DIFFUSION_DOF_OT_setup,
            DIFFUSION_DOF_OT_pinhole, DIFFUSION_DOF_OT_reload_library)
 
 

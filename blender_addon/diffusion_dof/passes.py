@@ -17,6 +17,7 @@ import zlib
 
 import bpy
 
+from . import compat
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -67,11 +68,8 @@ def frame_files(scene, frame, foreground=False):
 
 
 def node_tree(scene):
-    """The scene's compositor tree (None while compositing nodes are off)."""
-    if not hasattr(scene, "node_tree"):  # Blender 5.0 moved the compositor to node groups
-        raise SetupError("This Blender's compositor API is not supported by the add-on "
-                         "(it targets Blender 3.4 to 4.x).")
-    return scene.node_tree
+    """The scene's compositor tree (None while it has none or compositing nodes are off)."""
+    return compat.compositor_tree(scene)
 
 
 def render_view_layer(scene, settings):
@@ -158,7 +156,7 @@ def missing_setup(scene, settings):
         return str(err)
     if not layer.use_pass_z:
         return "the Depth pass of view layer '%s' is off" % layer.name
-    if not scene.use_nodes or tree is None:
+    if tree is None:
         return "compositing nodes are off"
     if not scene.render.use_compositing:
         return "Output properties > Post Processing > Compositing is off"
@@ -166,7 +164,8 @@ def missing_setup(scene, settings):
     rl = tree.nodes.get(RLAYERS_NODE)
     if out is None or rl is None or rl.layer != layer.name:
         return "the managed compositor nodes are missing"
-    if os.path.normpath(bpy.path.abspath(out.base_path)) != os.path.normpath(temp_dir(scene)):
+    if os.path.normpath(bpy.path.abspath(compat.file_output_folder(out))) != \
+            os.path.normpath(temp_dir(scene)):
         return ("the managed File Output node writes to another folder (another Blender "
                 "session or scene name)")
     want_fg = settings.foreground_collection is not None
@@ -197,7 +196,7 @@ def _new_node(tree, kind, name, label, location, parent):
 
 
 def _configure_format(fmt):
-    fmt.file_format = "OPEN_EXR"
+    compat.set_file_format(fmt, "OPEN_EXR")
     fmt.color_depth = "32"
     fmt.color_mode = "RGBA"
     fmt.exr_codec = "NONE"  # temporary files: no time spent compressing
@@ -213,14 +212,13 @@ def ensure_setup(scene):
     if not layer.use_pass_z:
         layer.use_pass_z = True
         changes.append("enabled the Depth pass of view layer '%s'" % layer.name)
-    if not scene.use_nodes or tree is None:
-        scene.use_nodes = True  # a new tree gets Render Layers -> Composite: the same image
-        tree = scene.node_tree
+    tree, made = compat.ensure_compositor_tree(scene)
+    if made:
         changes.append("turned on compositing nodes")
     if not scene.render.use_compositing:
         scene.render.use_compositing = True
         changes.append("turned on Post Processing > Compositing")
-    if not any(n.bl_idname == "CompositorNodeComposite" for n in tree.nodes):
+    if compat.needs_composite_node() and compat.output_node(tree) is None:
         composite = tree.nodes.new("CompositorNodeComposite")
         source = next((n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers"
                        and n.name not in MANAGED_NODES), None)
@@ -292,24 +290,19 @@ def _output_node(tree, name, label, location, parent, folder, slots):
     wanted = [slot + "#" * FRAME_DIGITS for slot in slots]
     node = tree.nodes.get(name)
     if node is not None and (node.bl_idname != "CompositorNodeOutputFile"
-                             or [s.path for s in node.file_slots] != wanted):
+                             or compat.file_output_paths(node) != wanted):
         tree.nodes.remove(node)
     node = _new_node(tree, "CompositorNodeOutputFile", name, label, location, parent)
-    if [s.path for s in node.file_slots] != wanted:  # a new node has one slot, "Image"
-        node.file_slots[0].path = wanted[0]
-        for path in wanted[1:]:
-            node.file_slots.new(path)
-    for slot in node.file_slots:
-        slot.use_node_format = True
-    if node.base_path != folder + os.sep:
-        node.base_path = folder + os.sep
+    if compat.file_output_paths(node) != wanted:
+        compat.set_file_output_paths(node, wanted, ["RGBA", "FLOAT"])
+    compat.set_file_output_folder(node, folder + os.sep)
     _configure_format(node.format)
     return node
 
 
 def teardown(scene):
     """Removes the managed nodes and the companion scene (the Depth pass stays on)."""
-    tree = getattr(scene, "node_tree", None)
+    tree = compat.compositor_tree(scene, even_off=True)
     if tree is not None:
         for name in MANAGED_NODES:
             node = tree.nodes.get(name)
@@ -335,20 +328,6 @@ _SYNCED_RENDER = ("engine", "resolution_x", "resolution_y", "resolution_percenta
                   "use_motion_blur", "motion_blur_shutter", "threads_mode", "threads")
 
 
-def _copy_id_group(source, target, key):
-    """Copies an add-on settings group (e.g. scene.cycles) as raw ID properties: exact, and
-    without reading enum values this Blender build may not know."""
-    data = source.get(key)
-    data = data.to_dict() if data is not None else None
-    current = target.get(key)
-    current = current.to_dict() if current is not None else None
-    if data != current:
-        if data is None:
-            del target[key]
-        else:
-            target[key] = data
-
-
 def sync_companion(scene, companion):
     """Copies what decides the picture from the main scene (idempotent: writes only changes)."""
     for name in _SYNCED_RENDER:
@@ -365,7 +344,7 @@ def sync_companion(scene, companion):
         companion.world = scene.world
     if companion.unit_settings.scale_length != scene.unit_settings.scale_length:
         companion.unit_settings.scale_length = scene.unit_settings.scale_length
-    _copy_id_group(scene, companion, "cycles")
+    compat.copy_settings_group(scene, companion, "cycles")
 
 
 def _contains(collection, target):

@@ -1,7 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Render handlers: every rendered frame of a scene with Diffusion DOF on goes through libddof.
 
-Order of events in Blender 3.4 to 4.x, per frame (checked in background mode):
+Order of events in Blender 3.4 to 5.x, per frame (checked in background mode on 3.4.1, 4.2.23
+and 5.0.1):
   render_init                     once per render, before the render is set up
   frame_change_pre/post           with the *render* depsgraph (mode 'RENDER'), evaluated for
                                   the frame: the only place where animated camera values are
@@ -18,6 +19,7 @@ data is not safe: the handlers only queue the frame and a timer on the main thre
 work (while the next frame renders).
 """
 
+import array
 import os
 import threading
 import time
@@ -27,7 +29,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import camera as camera_mod
-from . import binding, passes
+from . import binding, compat, frame_region, passes
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -36,6 +38,7 @@ INPUT_IMAGE = "Diffusion DOF Input"
 DEPTH_IMAGE = "Diffusion DOF Depth"
 FG_INPUT_IMAGE = "Diffusion DOF Foreground"
 FG_DEPTH_IMAGE = "Diffusion DOF Foreground Depth"
+FOCUS_MAP_IMAGE = "Diffusion DOF Focus Map"
 MOVIE_FORMATS = {"FFMPEG", "AVI_JPEG", "AVI_RAW"}
 
 _lock = threading.Lock()
@@ -168,14 +171,13 @@ def write_frame(scene, image, frame, since):
     partial = path + ".ddof-partial"
     try:
         if fmt == "OPEN_EXR_MULTILAYER":
-            settings.file_format = "OPEN_EXR"
+            compat.set_file_format(settings, "OPEN_EXR")
         image.save_render(partial, scene=scene)
         os.replace(partial, path)
     except RuntimeError as err:
         raise SetupError("Could not write %s: %s" % (path, str(err).strip())) from None
     finally:
-        if settings.file_format != fmt:
-            settings.file_format = fmt
+        compat.set_file_format(settings, fmt)
         if os.path.exists(partial):
             os.remove(partial)
     return path
@@ -185,17 +187,37 @@ def write_frame(scene, image, frame, since):
 # One frame
 
 
-def session_for(settings):
+# Set to stop the library call that runs (Esc, a cancelled render): its progress callback
+# answers "stop" and the frame is left as rendered. Cleared when a render starts.
+cancel_event = threading.Event()
+# Run the library call on a worker thread while the main thread keeps handling events (Esc):
+# with the UI; tests set it to run that path in background mode.
+FORCE_WORKER = False
+
+
+def request_cancel():
+    cancel_event.set()
+
+
+def library_options(settings):
+    """The settings' preset (the library's values), overrides and backend, read on the main
+    thread (a worker thread must not read Blender data)."""
+    return {"params": settings.library_params(), "threads": settings.threads,
+            "preset": settings.preset_name(), "backend": settings.library_backend()}
+
+
+def session_for(threads, backend):
     """The ddof context of the render (threads, working memory, a GL backend's plugin and
-    context): kept across its frames, made anew when the threads or backend change, freed
-    by close_session once no frame is left to process."""
+    context): kept across its frames, made anew when the threads or backend change, freed by
+    close_session once no frame is left to process. Used by one thread at a time (the main
+    thread, or the worker of the frame that runs)."""
     global _session
     lib = binding.get_library()
-    key = (max(0, int(settings.threads)), settings.library_backend(), None)
+    key = (max(0, int(threads)), backend, None)
     if _session is not None and (_session.key != key or _session.library is not lib):
         close_session()
     if _session is None:
-        _session = lib.session(settings.threads, settings.library_backend())
+        _session = lib.session(threads, backend)
     return _session
 
 
@@ -207,12 +229,59 @@ def close_session():
 
 
 def run(scene, settings, width, height, color, color_channels, depth, depth_channels,
-        camera, foreground=None):
-    """One frame in the render's session with the settings' preset (the library's values),
-    their overrides and their backend; returns (out, stats). Raises LibraryError, DdofError."""
-    return session_for(settings).depth_of_field(
-        width, height, color, color_channels, depth, depth_channels, camera,
-        settings.library_params(), foreground=foreground, preset=settings.preset_name())
+        camera, foreground=None, options=None):
+    """One frame in the render's session with the settings' library_options() (or `options`);
+    returns (out, stats). Raises LibraryError, DdofError, binding.Cancelled (cancel_event
+    set)."""
+    o = options or library_options(settings)
+    return session_for(o["threads"], o["backend"]).depth_of_field(
+        width, height, color, color_channels, depth, depth_channels, camera, o["params"],
+        foreground=foreground, preset=o["preset"], cancel=lambda _f: cancel_event.is_set())
+
+
+def scene_region(scene, width, height, strict=True):
+    """The frame_region.Region of a width x height render of the scene (None without a render
+    border). strict: an image that is neither the frame's nor the border's size raises
+    SetupError; else it is taken as a frame of its own (None)."""
+    r = scene.render
+    try:
+        return frame_region.region_of(
+            r.use_border, r.use_crop_to_border,
+            (r.border_min_x, r.border_min_y, r.border_max_x, r.border_max_y),
+            frame_region.full_size(r.resolution_x, r.resolution_y, r.resolution_percentage),
+            (width, height))
+    except ValueError as err:
+        if strict:
+            raise SetupError("Cannot place the render in its frame: %s." % err) from None
+        return None
+
+
+def run_region(scene, settings, width, height, color, color_channels, depth, depth_channels,
+               camera, foreground=None, region=None, options=None):
+    """run() for a render that may be a render border's: the camera is the full frame's, and
+    with a full-size image only the border's pixels go to the library; the rest of the frame is
+    returned as rendered."""
+    if region is None:
+        return run(scene, settings, width, height, color, color_channels, depth, depth_channels,
+                   camera, foreground, options)
+    camera = dict(camera, **region.camera_fields())
+    if region.cropped:
+        return run(scene, settings, width, height, color, color_channels, depth, depth_channels,
+                   camera, foreground, options)
+    x, y, w, h = region.x, region.y, region.width, region.height
+
+    def part(buf, channels):
+        return frame_region.crop(buf, width, channels, x, y, w, h)
+    fg = None
+    if foreground is not None:
+        fg_channels = foreground.get("depth_channels", depth_channels)
+        fg = {"color": part(foreground["color"], 4),
+              "depth": part(foreground["depth"], fg_channels), "depth_channels": fg_channels}
+    out, stats = run(scene, settings, w, h, part(color, color_channels), color_channels,
+                     part(depth, depth_channels), depth_channels, camera, fg, options)
+    full = array.array("f", color)
+    frame_region.paste(full, width, color_channels, x, y, w, h, out)
+    return full, stats
 
 
 def backend_line(stats):
@@ -231,7 +300,35 @@ def summary(stats):
         stats["seconds_total"], backend_line(stats), stats["max_coc_px"], what)
 
 
+class _Call(threading.Thread):
+    """A function run on a worker thread; value() returns its result or raises its error."""
+
+    def __init__(self, fn, args, kwargs):
+        super().__init__(name="Diffusion DOF", daemon=True)
+        self._fn, self._args, self._kwargs = fn, args, kwargs
+        self._result = self._error = None
+
+    def run(self):
+        try:
+            self._result = self._fn(*self._args, **self._kwargs)
+        except BaseException as err:  # handed to the main thread
+            self._error = err
+
+    def value(self):
+        if self._error is not None:
+            raise self._error
+        return self._result
+
+
 def process_job(job):
+    """Processes one frame on this (the main) thread, start to end."""
+    for _ in job_steps(job, worker=False):
+        pass
+
+
+def job_steps(job, worker):
+    """Processes one frame: a generator that, with worker=True, runs the library call on a
+    worker thread and yields while it runs (the main thread's timer resumes it)."""
     scene = bpy.data.scenes.get(job.scene_name)
     try:
         if scene is None:
@@ -251,6 +348,9 @@ def process_job(job):
                                  "Camera properties > Depth of Field (its focus and f-stop still "
                                  "drive Diffusion DOF) and render again.")
             color = read_exr(job.files[passes.SLOT_COLOR])
+            if color is None and scene.camera is None:
+                # Blender refused to render: say why, not that the compositor did not run.
+                camera_mod.camera_settings(scene, settings)  # raises: no active camera
             if color is None:
                 raise SetupError("The Combined pass of frame %d did not reach the add-on: the "
                                  "compositor did not run. Check Output properties > Post "
@@ -281,8 +381,21 @@ def process_job(job):
                                      % job.frame)
                 foreground = {"color": fg_color[0], "depth": fg_depth[0],
                               "depth_channels": fg_depth[3]}
-            out, stats = run(scene, settings, width, height, buf, channels, depth_buf,
-                             dchannels, cam, foreground)
+            region = scene_region(scene, width, height)
+            call = _Call(run_region, (scene, settings, width, height, buf, channels, depth_buf,
+                                      dchannels, cam, foreground, region),
+                         {"options": library_options(settings)})
+            if worker:
+                call.start()
+                _start_escape_watch()
+                while call.is_alive():
+                    yield
+                scene = bpy.data.scenes.get(job.scene_name)
+                if scene is None:  # removed meanwhile
+                    return
+            else:
+                call.run()
+            out, stats = call.value()
             image = store_result(RESULT_IMAGE, width, height, channels, out)
             if settings.keep_inputs:
                 store_result(INPUT_IMAGE, width, height, channels, buf)
@@ -308,6 +421,9 @@ def process_job(job):
             set_report(scene.name, True, "frame %d: %s; %s%s" % (
                 job.frame, summary(stats), camera_line, (" -> " + path) if path else ""),
                 job.frame, stats, camera_line, path)
+        except binding.Cancelled:
+            set_report(scene.name, False, "frame %d: cancelled (Esc): left as rendered, without "
+                       "depth of field" % job.frame, job.frame)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             set_report(scene.name, False, "frame %d not processed: %s" % (job.frame, err),
                        job.frame)
@@ -323,6 +439,15 @@ def process_job(job):
                 pass
 
 
+def show_image(image):
+    """Shows an image in the first image editor of the screen (if there is one)."""
+    for window in bpy.context.window_manager.windows:
+        for area in window.screen.areas:
+            if area.type == "IMAGE_EDITOR":
+                area.spaces.active.image = image
+                return
+
+
 def _show_in_render_window(image):
     for window in bpy.context.window_manager.windows:
         for area in window.screen.areas:
@@ -333,19 +458,59 @@ def _show_in_render_window(image):
                 space.image = image
 
 
+_active = None  # job_steps() of the frame whose library call runs on a worker thread
+escape_watch = {"on": False}  # the Esc watcher (ops.DIFFUSION_DOF_OT_watch_escape) runs
+
+
+def busy():
+    """Whether a frame is being processed or waits to be."""
+    with _lock:
+        return _active is not None or bool(_jobs)
+
+
+def _use_worker():
+    return FORCE_WORKER or not bpy.app.background
+
+
 def process_ready():
-    """Processes every queued frame that is ready (main thread only); frees the session once
-    no render is running and no frame is queued."""
+    """Processes every queued frame that is ready (main thread only). With a worker thread,
+    returns while a frame's library call runs; the next call goes on with it. Frees the session
+    once no render is running and no frame is queued or running."""
+    global _active
     while True:
+        if _active is not None:
+            try:
+                next(_active)
+                return
+            except StopIteration:
+                _active = None
         with _lock:
             job = next((j for j in _jobs if j.ready), None)
             idle = not _jobs and not _render_state
             if job is None:
                 break
             _jobs.remove(job)
-        process_job(job)
+        if _use_worker():
+            _active = job_steps(job, worker=True)
+        else:
+            process_job(job)
     if idle:
         close_session()
+
+
+def _start_escape_watch():
+    """Esc cancels the frame's library call: a modal operator in the first window watches
+    for it while the call runs (nothing to watch without a window)."""
+    if bpy.app.background or escape_watch["on"]:
+        return  # one watcher runs while there are frames
+    try:
+        wm = bpy.context.window_manager
+        window = wm.windows[0] if wm is not None and len(wm.windows) else None
+        if window is not None:
+            with bpy.context.temp_override(window=window):
+                bpy.ops.diffusion_dof.watch_escape("INVOKE_DEFAULT")
+    except (AttributeError, RuntimeError, TypeError):
+        pass  # no window to watch: the render's own Esc still cancels (render_cancel)
 
 
 def _timer():
@@ -353,9 +518,7 @@ def _timer():
         process_ready()
     except Exception:
         traceback.print_exc()
-    with _lock:
-        busy = bool(_jobs)
-    return 0.2 if busy else 0.5
+    return 0.05 if _active is not None else 0.2 if busy() else 0.5
 
 
 # ---------------------------------------------------------------------------------------------
@@ -367,6 +530,7 @@ def on_render_init(scene, _depsgraph=None):
     settings = _enabled(scene)
     if settings is None:
         return
+    cancel_event.clear()
     state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time()}
     main = _is_main_thread()
     try:
@@ -466,6 +630,8 @@ def on_render_complete(scene, _depsgraph=None):
 
 @persistent
 def on_render_cancel(scene, _depsgraph=None):
+    if scene.name in _render_state:
+        request_cancel()  # Esc during the render: the frame being processed stops too
     _finish(scene, cancelled=True)
 
 
@@ -526,9 +692,19 @@ def unregister():
             handlers.remove(old)
     if bpy.app.timers.is_registered(_timer):
         bpy.app.timers.unregister(_timer)
+    global _active
+    if _active is not None:  # a frame in progress: stop it and wait for the library
+        request_cancel()
+        try:
+            for _ in _active:
+                time.sleep(0.01)
+        except Exception:
+            traceback.print_exc()
+        _active = None
     with _lock:
         _jobs.clear()
         _snapshots.clear()
     _render_state.clear()
     reports.clear()
     close_session()
+    escape_watch["on"] = False

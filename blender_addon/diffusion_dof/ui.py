@@ -96,6 +96,9 @@ def draw_camera(layout, context):
         _wrapped(layout, camera_mod.describe(cam, info), icon="CAMERA_DATA")
     except SetupError as err:
         _wrapped(layout, str(err), icon="ERROR")
+    row = layout.row(align=True)
+    row.operator("diffusion_dof.pick_focus", icon="EYEDROPPER")
+    row.operator("diffusion_dof.focus_map", icon="IMAGE_ZDEPTH")
     layout.prop(s, "lens_model")
     col = layout.column(align=True)
     for flag, value in (("override_focus", "focus_distance"), ("override_fstop", "fstop"),

@@ -211,6 +211,13 @@ typedef struct ddof_camera {
     double depth_unit_m;          /* metres per depth unit, default 1; > 0                   */
     uint32_t signed_coc;          /* 1: write the CoC of points nearer than the focus plane  */
                                   /* negative (see ddof_params.coc_signed). Default 0.       */
+    /* version 0.5 of this struct: a crop (a render border, an EXR data window). The sensor fit */
+    /* and the image centre are the full frame's, and radial depth is converted about the full */
+    /* frame's centre, so the CoC of a crop is the same region of the full frame's CoC. The     */
+    /* window may reach outside the frame (overscan). A caller with an older struct_size gets   */
+    /* the defaults: all 0, the image is the full frame.                                        */
+    uint32_t frame_width, frame_height; /* the full frame's size in pixels; 0 = the image's own */
+    int32_t window_x, window_y; /* the image's top-left pixel within the full frame */
 } ddof_camera;
 
 DDOF_API void ddof_camera_init(ddof_camera *camera);

@@ -51,6 +51,23 @@ ddof_status ddof_read_camera(ddof_context *context, const ddof_camera *caller,
         return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
                          "camera focus distance %g m must be beyond the focal length (%g mm)",
                          camera->focus_distance_m, camera->focal_length_mm);
+    if ((camera->frame_width == 0) != (camera->frame_height == 0) ||
+        camera->frame_width > DDOF_MAX_DIMENSION || camera->frame_height > DDOF_MAX_DIMENSION)
+        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
+                         "camera frame %ux%u: both sides must be 0 (the image is the frame) or "
+                         "1..%u", camera->frame_width, camera->frame_height, DDOF_MAX_DIMENSION);
+    if (camera->frame_width == 0 && (camera->window_x != 0 || camera->window_y != 0))
+        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
+                         "camera window (%d, %d) needs the full frame's size (frame_width, "
+                         "frame_height)", (int)camera->window_x, (int)camera->window_y);
+    if (camera->window_x < -(int32_t)DDOF_MAX_DIMENSION ||
+        camera->window_x > (int32_t)DDOF_MAX_DIMENSION ||
+        camera->window_y < -(int32_t)DDOF_MAX_DIMENSION ||
+        camera->window_y > (int32_t)DDOF_MAX_DIMENSION)
+        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
+                         "camera window (%d, %d) must be within -%u..%u",
+                         (int)camera->window_x, (int)camera->window_y, DDOF_MAX_DIMENSION,
+                         DDOF_MAX_DIMENSION);
     return DDOF_OK;
 }
 
@@ -97,6 +114,8 @@ typedef struct camera_job {
     uint32_t depth_channels, width, height;
     float *coc;
     size_t coc_stride;
+    double frame_width, frame_height; /* the full frame (the image unless cropped)  */
+    double window_x, window_y;        /* the image's top-left pixel in the frame     */
     double k_px;          /* CoC in pixels of an object at infinity        */
     double focus_units;   /* S1 in depth units                             */
     int radial;
@@ -111,12 +130,15 @@ static void camera_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++) {
         const float *depth = job->depth + (size_t)y * job->depth_stride;
         float *coc = job->coc + (size_t)y * job->coc_stride;
-        const double ys = ((double)y + 0.5 - 0.5 * job->height) * job->pixel_h_over_f;
+        /* (double)y + window_y is the frame's row exactly: a crop's values are the frame's. */
+        const double ys =
+            ((double)y + job->window_y + 0.5 - 0.5 * job->frame_height) * job->pixel_h_over_f;
         for (uint32_t x = 0; x < job->width; x++) {
             double z = depth[(size_t)x * job->depth_channels];
             if (job->radial) {
                 /* Planar Z of a point at distance r seen through this pixel's centre. */
-                const double xs = ((double)x + 0.5 - 0.5 * job->width) * job->pixel_w_over_f;
+                const double xs = ((double)x + job->window_x + 0.5 - 0.5 * job->frame_width) *
+                                  job->pixel_w_over_f;
                 z /= sqrt(1.0 + xs * xs + ys * ys);
             }
             const double d = job->k_px * fabs(1.0 - job->focus_units / z);
@@ -137,8 +159,11 @@ ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *ca
                          "depth at pixel (%u, %u) is %g; it must be > 0 (+inf for the sky)",
                          bad.x, bad.y, (double)bad.value);
 
+    /* The sensor spans the full frame, a crop is a part of it. */
+    const uint32_t frame_w = camera->frame_width ? camera->frame_width : depth->width;
+    const uint32_t frame_h = camera->frame_height ? camera->frame_height : depth->height;
     double pixel_w, pixel_h;
-    ddof_camera_pixel_size(camera, depth->width, depth->height, &pixel_w, &pixel_h);
+    ddof_camera_pixel_size(camera, frame_w, frame_h, &pixel_w, &pixel_h);
     const double f = camera->focal_length_mm;
     const double s1_mm = camera->focus_distance_m * 1000.0;
     const double lens_distance = camera->lens_model == DDOF_LENS_CYCLES ? s1_mm : s1_mm - f;
@@ -146,6 +171,8 @@ ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *ca
     camera_job job = {
         .depth = depth->pixels, .depth_stride = depth_stride, .depth_channels = depth->channels,
         .width = depth->width, .height = depth->height, .coc = coc, .coc_stride = coc_stride,
+        .frame_width = frame_w, .frame_height = frame_h,
+        .window_x = camera->window_x, .window_y = camera->window_y,
         .k_px = k_mm / pixel_w,
         .focus_units = camera->focus_distance_m / camera->depth_unit_m,
         .radial = camera->depth_kind == DDOF_DEPTH_RADIAL,

@@ -5,6 +5,7 @@
 #include "exrio.h"
 #include "exrio_layout.h"
 #include "output_file.h"
+#include "focus_map.h"
 #include "preview.h"
 
 #include <stdarg.h>
@@ -54,8 +55,8 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
 {
     const char *inputs[4];
     const char *input_kind[4] = {"input", "depth file", "ground truth", "foreground element"};
-    const char *outputs[3];
-    const char *output_kind[3] = {"output", "preview", "input preview"};
+    const char *outputs[4];
+    const char *output_kind[4] = {"output", "preview", "input preview", "focus map"};
     int i, o;
     inputs[0] = paths->input;
     inputs[1] = paths->depth_file;
@@ -64,7 +65,8 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
     outputs[0] = paths->output;
     outputs[1] = paths->preview;
     outputs[2] = paths->preview_input;
-    for (o = 0; o < 3; o++) {
+    outputs[3] = paths->focus_map;
+    for (o = 0; o < 4; o++) {
         if (!outputs[o][0])
             continue;
         for (i = 0; i < 4; i++) {
@@ -121,13 +123,14 @@ static int newer_than(const struct stat *output, const char *input)
 
 int frame_outputs_complete(const cli_options *options, const frame_paths *paths)
 {
-    const char *outputs[3] = {paths->output, paths->preview, paths->preview_input};
+    const char *outputs[4] = {paths->output, paths->preview, paths->preview_input,
+                              paths->focus_map};
     const char *inputs[5] = {paths->input, paths->depth_file, paths->foreground,
                              options->camera_json, options->compare ? paths->compare : NULL};
     exrio_image image;
     char error[1024];
     int o, i;
-    for (o = 0; o < 3; o++) {
+    for (o = 0; o < 4; o++) {
         struct stat st;
         if (!outputs[o][0])
             continue;
@@ -188,40 +191,27 @@ static float *interleave(const exrio_image *image, const int *index, int count, 
     return out;
 }
 
-/* The horizontal pixel pitch on the sensor for the full frame (display window), the way
- * libddof resolves the sensor fit (ddof.h: AUTO spans the larger dimension). */
-static double pixel_width_mm(const ddof_camera *camera, uint32_t width, uint32_t height)
-{
-    int horizontal = camera->sensor_fit == DDOF_SENSOR_FIT_HORIZONTAL ||
-                     (camera->sensor_fit == DDOF_SENSOR_FIT_AUTO &&
-                      (double)width * camera->pixel_aspect >= (double)height);
-    return horizontal ? camera->sensor_width_mm / width
-                      : camera->sensor_width_mm / height * camera->pixel_aspect;
-}
-
-/* When the data window is not the display window, the CoC in pixels must still follow the
- * frame's pixel pitch, but libddof derives the pitch from the size of the image it is given.
- * For planar depth the CoC does not depend on where a pixel is, so a camera whose sensor spans
- * exactly the data window at the frame's pitch gives the right CoC. Radial depth is converted
- * about the image centre, which is not the frame's centre here: refused rather than wrong. */
+/* When the data window is not the display window, the camera is the display window's: the
+ * full frame's size and the data window's place in it (ddof_camera 0.5), so the sensor fit, the
+ * pixel pitch and the centre that radial depth is converted about are the frame's. */
 static int camera_for_window(ddof_camera *camera, const exrio_part *part, frame_result *result)
 {
     const exrio_box *d = &part->display_window;
-    const uint32_t dw = (uint32_t)(d->max_x - d->min_x + 1);
-    const uint32_t dh = (uint32_t)(d->max_y - d->min_y + 1);
-    double pitch;
+    const int64_t dw = (int64_t)d->max_x - d->min_x + 1, dh = (int64_t)d->max_y - d->min_y + 1;
+    const int64_t wx = (int64_t)part->data_window.min_x - d->min_x;
+    const int64_t wy = (int64_t)part->data_window.min_y - d->min_y;
     if (same_box(&part->data_window, d))
         return 0;
-    if (camera->depth_kind == DDOF_DEPTH_RADIAL)
-        return fail(result, "the data window (%d,%d)-(%d,%d) differs from the display window "
-                    "(%d,%d)-(%d,%d), and radial depth cannot be converted for a cropped frame; "
-                    "use planar depth or render the full frame",
-                    (int)part->data_window.min_x, (int)part->data_window.min_y,
-                    (int)part->data_window.max_x, (int)part->data_window.max_y, (int)d->min_x,
-                    (int)d->min_y, (int)d->max_x, (int)d->max_y);
-    pitch = pixel_width_mm(camera, dw, dh);
-    camera->sensor_fit = DDOF_SENSOR_FIT_HORIZONTAL;
-    camera->sensor_width_mm = pitch * part->width;
+    if (dw < 1 || dh < 1 || dw > DDOF_MAX_DIMENSION || dh > DDOF_MAX_DIMENSION ||
+        wx < -(int64_t)DDOF_MAX_DIMENSION || wx > DDOF_MAX_DIMENSION ||
+        wy < -(int64_t)DDOF_MAX_DIMENSION || wy > DDOF_MAX_DIMENSION)
+        return fail(result, "the display window (%d,%d)-(%d,%d) or the data window's place in "
+                    "it is too large for the camera", (int)d->min_x, (int)d->min_y,
+                    (int)d->max_x, (int)d->max_y);
+    camera->frame_width = (uint32_t)dw;
+    camera->frame_height = (uint32_t)dh;
+    camera->window_x = (int32_t)wx;
+    camera->window_y = (int32_t)wy;
     return 0;
 }
 
@@ -625,9 +615,11 @@ static int load_input(const frame_setup *setup, const frame_paths *paths, frame_
     }
     d->color = interleave(&d->image, layout->color, layout->color_count, d->pixels);
     d->out = malloc(d->pixels * (size_t)layout->color_count * sizeof *d->out);
-    if (opt->write_coc)
+    /* The CoC the call used: written out (--write-coc) or drawn (--focus-map). */
+    const int want_coc = opt->write_coc || paths->focus_map[0];
+    if (want_coc)
         d->coc = malloc(d->pixels * sizeof *d->coc);
-    if (!d->color || !d->out || (!d->depth && !d->coc_in) || (opt->write_coc && !d->coc))
+    if (!d->color || !d->out || (!d->depth && !d->coc_in) || (want_coc && !d->coc))
         return fail(result, "out of memory for a %ux%u frame", d->part->width, d->part->height);
     /* The foreground element, when there is one: same size, RGBA, its own depth or CoC. */
     if (opt->foreground || opt->foreground_layer)
@@ -735,6 +727,13 @@ static int write_results(const frame_setup *setup, const frame_paths *paths,
         if (preview_write(paths->preview_input, d->color, channels, d->part->width,
                           d->part->height, opt->preview_exposure, error, sizeof error) != 0)
             return fail(result, "input preview: %s", error);
+        result->seconds_preview += now() - t;
+    }
+    if (paths->focus_map[0]) {
+        t = now();
+        if (focus_map_write(paths->focus_map, d->coc, d->color, channels, d->part->width,
+                            d->part->height, error, sizeof error) != 0)
+            return fail(result, "focus map: %s", error);
         result->seconds_preview += now() - t;
     }
     progress_update(bar, slot, 0.95f);

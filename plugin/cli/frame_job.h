@@ -44,6 +44,7 @@ typedef struct frame_paths {
     char output[PATH_MAX];
     char preview[PATH_MAX];       /* "" when none */
     char preview_input[PATH_MAX]; /* "" when none */
+    char focus_map[PATH_MAX];     /* "" when none */
     char depth_file[PATH_MAX];    /* "" when none */
     char foreground[PATH_MAX];    /* a foreground element file; "" when none */
     char compare[PATH_MAX];       /* "" when none */

@@ -163,7 +163,8 @@ static frame_paths *build_paths(const cli_options *o, int *count)
         }
         if (!frames_has_pattern(o->input) || !frames_has_pattern(o->output) ||
             (o->preview && !frames_has_pattern(o->preview)) ||
-            (o->preview_input && !frames_has_pattern(o->preview_input))) {
+            (o->preview_input && !frames_has_pattern(o->preview_input)) ||
+            (o->focus_map && !frames_has_pattern(o->focus_map))) {
             fprintf(stderr, "ddof: with --frames, the input, -o and preview paths need a run "
                     "of '#' for the frame number (render_####.exr)\n");
             free(frames);
@@ -183,6 +184,7 @@ static frame_paths *build_paths(const cli_options *o, int *count)
             expand(o->output, f, paths[i].output, "output") ||
             expand(o->preview, f, paths[i].preview, "preview") ||
             expand(o->preview_input, f, paths[i].preview_input, "input preview") ||
+            expand(o->focus_map, f, paths[i].focus_map, "focus map") ||
             expand(o->depth_file, f, paths[i].depth_file, "depth file") ||
             expand(o->foreground, f, paths[i].foreground, "foreground") ||
             expand(o->compare, f, paths[i].compare, "compare")) {
@@ -252,11 +254,12 @@ static int check_no_input_overwritten(const cli_options *o, const frame_paths *p
     qsort(ids, n, sizeof *ids, compare_file_ids);
     for (i = 0; i <= count && !refused; i++) {
         /* Every frame's outputs, then (i == count) the stats file. */
-        const char *outputs[3] = {i < count ? paths[i].output : o->stats_path,
+        const char *outputs[4] = {i < count ? paths[i].output : o->stats_path,
                                   i < count ? paths[i].preview : NULL,
-                                  i < count ? paths[i].preview_input : NULL};
+                                  i < count ? paths[i].preview_input : NULL,
+                                  i < count ? paths[i].focus_map : NULL};
         int k;
-        for (k = 0; k < 3 && !refused; k++) {
+        for (k = 0; k < 4 && !refused; k++) {
             const file_id *hit = find_file_id(ids, n, outputs[k]);
             if (hit) {
                 fprintf(stderr, "ddof: refusing to write %s: it is an input (%s); ddof never "
@@ -285,11 +288,12 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
     /* A device, FIFO, socket, directory or link at any frame's output path: one lstat each,
      * before the first frame, not a failure after frame 239. */
     for (i = 0; i <= count; i++) {
-        const char *outputs[3] = {i < count ? paths[i].output : o->stats_path,
+        const char *outputs[4] = {i < count ? paths[i].output : o->stats_path,
                                   i < count ? paths[i].preview : NULL,
-                                  i < count ? paths[i].preview_input : NULL};
+                                  i < count ? paths[i].preview_input : NULL,
+                                  i < count ? paths[i].focus_map : NULL};
         int k;
-        for (k = 0; k < 3; k++)
+        for (k = 0; k < 4; k++)
             if (outputs[k] && outputs[k][0] &&
                 output_check_target(outputs[k], error, sizeof error) != 0) {
                 fprintf(stderr, "ddof: %s%s\n", k == 0 && i == count ? "--stats: " : "", error);
@@ -299,9 +303,10 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
     if (check_no_input_overwritten(o, paths, count) != 0)
         return -1;
     for (i = 0; o->stats_path && i < count; i++) { /* nor may --stats be one of the outputs */
-        const char *outputs[3] = {paths[i].output, paths[i].preview, paths[i].preview_input};
+        const char *outputs[4] = {paths[i].output, paths[i].preview, paths[i].preview_input,
+                                  paths[i].focus_map};
         int k;
-        for (k = 0; k < 3; k++)
+        for (k = 0; k < 4; k++)
             if (outputs[k][0] && (strcmp(outputs[k], o->stats_path) == 0 ||
                                   output_same_file(outputs[k], o->stats_path))) {
                 if (paths[i].frame < 0)
@@ -318,6 +323,8 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
          output_check_directory(paths[0].preview, error, sizeof error) != 0) ||
         (paths[0].preview_input[0] &&
          output_check_directory(paths[0].preview_input, error, sizeof error) != 0) ||
+        (paths[0].focus_map[0] &&
+         output_check_directory(paths[0].focus_map, error, sizeof error) != 0) ||
         (o->stats_path && output_check_directory(o->stats_path, error, sizeof error) != 0)) {
         fprintf(stderr, "ddof: %s\n", error);
         return -1;
@@ -329,10 +336,10 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
  * directory the same for every frame, so the first frame's paths name them all. */
 static void remove_stale_temps(const cli_options *o, const frame_paths *first)
 {
-    const char *outputs[4] = {first->output, first->preview, first->preview_input,
-                              o->stats_path};
+    const char *outputs[5] = {first->output, first->preview, first->preview_input,
+                              first->focus_map, o->stats_path};
     int k;
-    for (k = 0; k < 4; k++) {
+    for (k = 0; k < 5; k++) {
         char note[PATH_MAX + 64];
         int removed;
         if (!outputs[k] || !outputs[k][0])

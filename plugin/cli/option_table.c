@@ -246,6 +246,9 @@ const cli_option cli_option_table[] = {
      .help = "also write an sRGB preview (#### for sequences)"},
     {"--preview-input", OUTPUT, STRING(preview_input, "FILE.png"),
      .help = "the same for the input, to compare before and after"},
+    {"--focus-map", OUTPUT, STRING(focus_map, "FILE.png"),
+     .help = "also write the focal-plane view: in focus green, near blur\n"
+             "orange, far blur blue (#### for sequences)"},
     {"--preview-exposure", OUTPUT, FLOAT(preview_exposure, "EV", CLI_ANY_NUMBER),
      .help = "exposure of the previews in stops (default 0)"},
 

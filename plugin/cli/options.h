@@ -46,6 +46,7 @@ typedef struct cli_options {
     const char *output;           /* path or pattern with #### */
     const char *preview;          /* PNG preview path or pattern; NULL: none */
     const char *preview_input;    /* PNG preview of the input (pinhole); NULL: none */
+    const char *focus_map;        /* --focus-map: PNG focal-plane view (focus_map.h); NULL */
     const char *depth_file;       /* depth from another EXR (path or pattern); NULL: same file */
     const char *compare;          /* ground truth EXR (path or pattern); NULL: none */
     const char *stats_path;       /* --stats FILE.json */

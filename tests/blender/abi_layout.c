@@ -35,6 +35,8 @@ int main(void)
     F(ddof_camera, sensor_fit); F(ddof_camera, focal_length_mm); F(ddof_camera, sensor_width_mm);
     F(ddof_camera, fstop); F(ddof_camera, focus_distance_m); F(ddof_camera, pixel_aspect);
     F(ddof_camera, depth_unit_m); F(ddof_camera, signed_coc);
+    F(ddof_camera, frame_width); F(ddof_camera, frame_height); F(ddof_camera, window_x);
+    F(ddof_camera, window_y);
     END();
     BEGIN(ddof_curve);
     F(ddof_curve, struct_size); F(ddof_curve, near_blur_px); F(ddof_curve, near_start);

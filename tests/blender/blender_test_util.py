@@ -52,13 +52,128 @@ def scratch_dir(name):
     return path
 
 
-def load_addon():
-    """Imports blender_addon/diffusion_dof from the source tree and registers it."""
+# ---------------------------------------------------------------------------------------------
+# The Blender the tests run in: the `blender` executable (tests/blender, ctest label `blender`),
+# or Blender as a Python module from PyPI (tests/bpy/run_bpy.py sets DDOF_BLENDER_HOST=bpy and
+# runs these same scripts with the venv's python; label `bpy`). With the module, the add-on is
+# the extension package, validated and installed by Blender's own extension tooling.
+
+BPY_MODULE = os.environ.get("DDOF_BLENDER_HOST") == "bpy"
+EXTENSION_REPO = "user_default"
+EXTENSION_MODULE = "bl_ext.%s.diffusion_dof" % EXTENSION_REPO
+
+
+def blender_ext_script():
+    """Blender's own extension command-line tool (what `blender --command extension` runs)."""
+    for base in bpy.utils.script_paths():
+        path = os.path.join(base, "addons_core", "bl_pkg", "cli", "blender_ext.py")
+        if os.path.isfile(path):
+            return path
+    raise RuntimeError("this Blender has no bl_pkg/cli/blender_ext.py")
+
+
+def build_extension(library, folder):
+    """The extension package built as the build builds it; returns its path."""
+    if ADDON_DIR not in sys.path:
+        sys.path.insert(0, ADDON_DIR)
+    import build_zip
+    path, _ = build_zip.build_extension(library, os.path.join(folder, "ext"))
+    return path
+
+
+def validate_extension(path):
+    """(ok, output) of Blender's extension validator on a package file."""
+    import subprocess
+    proc = subprocess.run([sys.executable, blender_ext_script(), "validate", path],
+                          capture_output=True, text=True, timeout=120)
+    return proc.returncode == 0, (proc.stdout + proc.stderr).strip()
+
+
+def install_extension(enable=True):
+    """Builds, validates and installs the extension into the user repository with Blender's
+    operator (Preferences > Get Extensions > Install from Disk); returns the module."""
+    import importlib
+    library = os.environ["DDOF_LIBRARY"]
+    path = build_extension(library, scratch_dir("extension"))
+    ok, text = validate_extension(path)
+    if not ok:
+        raise RuntimeError("Blender's validator refused %s: %s" % (path, text))
+    result = bpy.ops.extensions.package_install_files(filepath=path, repo=EXTENSION_REPO,
+                                                      enable_on_install=enable)
+    if result != {"FINISHED"}:
+        raise RuntimeError("installing %s: %s" % (path, result))
+    return importlib.import_module(EXTENSION_MODULE)
+
+
+def addon_module():
+    """The add-on's package, imported (not registered): from the source tree with the
+    executable, the installed extension with the module."""
+    if BPY_MODULE:
+        return install_extension(enable=False)
     if ADDON_DIR not in sys.path:
         sys.path.insert(0, ADDON_DIR)
     import diffusion_dof
-    diffusion_dof.register()
     return diffusion_dof
+
+
+def load_addon():
+    """The add-on, registered: blender_addon/diffusion_dof from the source tree with the
+    executable, the installed and enabled extension with the module."""
+    if BPY_MODULE:
+        return install_extension(enable=True)
+    addon = addon_module()
+    addon.register()
+    return addon
+
+
+def unload_addon(addon):
+    """Unregisters what load_addon() registered (with the module through addon_utils, which
+    would otherwise unregister it again at exit)."""
+    if BPY_MODULE:
+        import addon_utils
+        addon_utils.disable(EXTENSION_MODULE, default_set=True)
+    else:
+        addon.unregister()
+
+
+def blender_command(*args):
+    """The command line of a Blender run in the background: `blender ARGS`, or with the module
+    tests/bpy/bpy_blender.py, which does what those arguments do."""
+    if BPY_MODULE:
+        return [sys.executable, os.path.join(REPO, "tests", "bpy", "bpy_blender.py")] + list(args)
+    return [bpy.app.binary_path] + list(args)
+
+
+def compositor_tree(scene):
+    """The scene's compositor tree in this Blender (it differs from 5.0 on)."""
+    if hasattr(scene, "compositing_node_group"):
+        return scene.compositing_node_group
+    return scene.node_tree
+
+
+def composite_from(scene, socket):
+    """Makes the compositor output `socket` (e.g. the render layers' Depth) as the image."""
+    tree = compositor_tree(scene)
+    if hasattr(scene, "compositing_node_group"):
+        if not any(i.in_out == "OUTPUT" for i in tree.interface.items_tree):
+            tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+        out = next((n for n in tree.nodes if n.bl_idname == "NodeGroupOutput"), None)
+        if out is None:
+            out = tree.nodes.new("NodeGroupOutput")
+    else:
+        out = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeComposite")
+    tree.links.new(socket, out.inputs[0])
+    return out
+
+
+def render_layers_node(scene):
+    """The scene's own Render Layers node (not the add-on's), made if there is none."""
+    tree = compositor_tree(scene)
+    node = next((n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers"
+                 and not n.name.startswith("DDOF")), None)
+    if node is None:
+        node = tree.nodes.new("CompositorNodeRLayers")
+    return node
 
 
 # ---------------------------------------------------------------------------------------------

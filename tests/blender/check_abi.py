@@ -263,7 +263,7 @@ def main():
         seen = []
         try:
             session.depth_of_field(w, h, color, 4, depth, 1, camera, {},
-                                   progress=lambda f: seen.append(f) or True)
+                                   cancel=lambda f: seen.append(f) or True)
             failures.append("a cancelled call returned normally")
         except b.DdofError as err:
             if err.status != b.DDOF_ERROR_CANCELLED or not seen:

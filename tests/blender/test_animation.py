@@ -42,6 +42,9 @@ with zipfile.ZipFile(zip_path) as z:
     checks.check("diffusion_dof/libddof.so" in names and "diffusion_dof/__init__.py" in names,
                  "zip content: %s" % names)
     z.extractall(addons)
+# With Blender as a module the add-on is the extension load_addon() installed (in the user
+# resources folder run_bpy.py gives this test, which the render below shares).
+addon_name = u.EXTENSION_MODULE if u.BPY_MODULE else "diffusion_dof"
 
 # The scene, saved with Diffusion DOF on (the add-on is registered here to set it).
 scene = u.clear_scene()
@@ -52,16 +55,15 @@ cam = u.add_camera(scene, lens=100.0, fstop=1.4, focus=5.0)
 target = bpy.data.objects.new("FocusTarget", None)
 scene.collection.objects.link(target)
 cam.data.dof.focus_object = target
+# Constant keys (set as new keys' interpolation: 5.0's layered actions have no .fcurves).
+bpy.context.preferences.edit.keyframe_new_interpolation_type = "CONSTANT"
 for frame, (_, dist, _, _, _) in zip(FRAMES, CARDS):
     target.location = (0.0, dist, 0.0)
     target.keyframe_insert("location", frame=frame)
-for fc in target.animation_data.action.fcurves:
-    for key in fc.keyframe_points:
-        key.interpolation = "CONSTANT"
 u.configure(scene, samples=16)
 scene.frame_start, scene.frame_end = FRAMES[0], FRAMES[-1]
 settings = scene.render.image_settings
-settings.file_format = "PNG"
+addon.compat.set_file_format(settings, "PNG")
 settings.color_mode = "RGBA"
 settings.color_depth = "16"
 frames_dir = os.path.join(work, "frames")
@@ -76,15 +78,12 @@ scene.diffusion_dof.quality = "PREVIEW"
 scene.diffusion_dof.write_frames = True
 blend = os.path.join(work, "focus_pull.blend")
 bpy.ops.wm.save_as_mainfile(filepath=blend)
-addon.unregister()
+u.unload_addon(addon)
 
 # Masks: which pixels each card covers (its depth), from a depth render of the same scene.
 depth_dir = os.path.join(work, "depth")
-tree = scene.node_tree
-rl = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers")
-comp = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeComposite")
-tree.links.new(rl.outputs["Depth"], comp.inputs["Image"])
-scene.render.image_settings.file_format = "OPEN_EXR"
+u.composite_from(scene, u.render_layers_node(scene).outputs["Depth"])
+addon.compat.set_file_format(scene.render.image_settings, "OPEN_EXR")
 scene.render.image_settings.color_depth = "32"
 depth, _, _, _ = u.render_still(scene, os.path.join(depth_dir, "depth.exr"))
 masks = {}
@@ -98,8 +97,8 @@ env = dict(os.environ)
 env.pop("DDOF_LIBRARY", None)
 env["BLENDER_USER_SCRIPTS"] = user_scripts
 t0 = time.time()
-proc = subprocess.run([bpy.app.binary_path, "-b", "--factory-startup", "--addons",
-                       "diffusion_dof", blend, "-a"], env=env, capture_output=True, text=True,
+proc = subprocess.run(u.blender_command("-b", "--factory-startup", "--addons", addon_name, blend,
+                                        "-a"), env=env, capture_output=True, text=True,
                       timeout=300)
 t_anim = time.time() - t0
 log = proc.stdout + proc.stderr

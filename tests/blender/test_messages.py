@@ -121,10 +121,59 @@ bpy.ops.render.render(write_still=True)
 report = render.reports.get(scene.name)
 checks.check(report is not None and report["ok"], "render after reload: %r" % (report,))
 
+# Invalid cameras, shown by the panel before rendering: panoramic, f/0 (Blender accepts it),
+# a focus within the focal length; each also leaves a rendered frame with the same reason.
+cam.data.type = "PANO"
+checks.check("is panoramic" in problems(scene) and "perspective camera" in problems(scene),
+             "panoramic camera diagnosis: %s" % problems(scene))
+cam.data.type = "ORTHO"
+checks.check("is orthographic" in problems(scene), "ortho diagnosis: %s" % problems(scene))
+cam.data.type = "PERSP"
+cam.data.dof.use_dof = False
+cam.data.dof.aperture_fstop = 0.0
+text = problems(scene)
+checks.check(cam.data.dof.aperture_fstop == 0.0 and "has f/0" in text and "F-Stop" in text,
+             "f/0 diagnosis: %s" % text)
+bpy.ops.render.render()
+report = render.reports.get(scene.name)
+checks.check(report is not None and not report["ok"] and "has f/0" in report["message"],
+             "f/0 render report: %r" % (report,))
+cam.data.dof.aperture_fstop = 1.4
+cam.data.dof.focus_distance = 0.0
+text = problems(scene)
+checks.check("focuses at 0 m, within its focal length" in text and "Focus Distance" in text,
+             "focus-within-the-lens diagnosis: %s" % text)
+scene.diffusion_dof.override_focus = True
+scene.diffusion_dof.focus_distance = 0.05
+text = problems(scene)
+checks.check("focuses at 0.05 m" in text and "panel's Focus Distance" in text,
+             "override focus diagnosis: %s" % text)
+scene.diffusion_dof.override_focus = False
+cam.data.dof.focus_distance = 3.0
+checks.check(problems(scene) == "", "a good camera still diagnosed: %s" % problems(scene))
+
+# No camera at render time: Blender refuses to render (here without calling the handlers; in
+# other runs after render_init) and nothing reaches the compositor. The frame's report says
+# there is no camera, not that the compositor did not run: the handlers' path, called here.
+scene.camera = None
+render.reports.clear()
+try:
+    bpy.ops.render.render()
+except RuntimeError as err:
+    print("Blender: %s" % str(err).strip())
+render.on_render_init(scene)
+render.on_render_post(scene)
+render.on_render_complete(scene)
+report = render.reports.get(scene.name)
+checks.check(report is not None and not report["ok"] and
+             "has no active camera" in report["message"] and
+             "compositor" not in report["message"], "no-camera render report: %r" % (report,))
+scene.camera = cam
+
 # Another resolution: the result image follows.
 scene.render.resolution_percentage = 50
 bpy.ops.render.render()
 checks.check(tuple(bpy.data.images["Diffusion DOF"].size) == (80, 45),
              "result size after a 50%% render: %r" % (tuple(bpy.data.images["Diffusion DOF"].size),))
-addon.unregister()
+u.unload_addon(addon)
 checks.finish()

@@ -22,8 +22,8 @@ def handler_snapshot():
     return {name: list(getattr(bpy.app.handlers, name)) for name in HANDLER_LISTS}
 
 
-def ours(fn):
-    return getattr(fn, "__module__", "").startswith("diffusion_dof")
+def ours(fn):  # diffusion_dof.render, or bl_ext.user_default.diffusion_dof.render
+    return "diffusion_dof" in getattr(fn, "__module__", "").split(".")
 
 
 def our_types():
@@ -35,7 +35,7 @@ def our_ops():
 
 
 def managed_nodes(scene):
-    tree = scene.node_tree
+    tree = u.compositor_tree(scene)
     return sorted(n.name for n in tree.nodes if n.name.startswith("DDOF")) if tree else []
 
 
@@ -74,13 +74,11 @@ near = bpy.data.collections.new("NearObjects")
 scene.collection.children.link(near)
 u.add_plane(scene, "Post", (0.1, 1.0), (0.0, 1.5, 0.0),
             u.emission_checker("PostMat", (1, 1, 1, 1), (0, 0, 0, 1), 10.0), collection=near)
-u.configure(scene, samples=1)
+u.configure(scene, samples=7)
 scenes_before = sorted(s.name for s in bpy.data.scenes)
 collections_before = sorted(c.name for c in bpy.data.collections)
 
-if u.ADDON_DIR not in sys.path:
-    sys.path.insert(0, u.ADDON_DIR)
-import diffusion_dof  # noqa: E402
+diffusion_dof = u.addon_module()  # imported, not registered
 
 for round_ in (1, 2):
     diffusion_dof.register()
@@ -100,6 +98,12 @@ for round_ in (1, 2):
     s.foreground_collection = near
     companion = diffusion_dof.passes.companion_scene(scene)
     checks.check(companion is not None, "round %d: no companion scene" % round_)
+    # It renders with the main scene's Cycles settings (5.0 no longer reads them through []).
+    checks.check(companion is not None and companion.cycles.samples == scene.cycles.samples
+                 and companion.cycles.max_bounces == scene.cycles.max_bounces,
+                 "round %d: the companion's Cycles samples %s, the scene's %d" % (
+                     round_, companion.cycles.samples if companion else None,
+                     scene.cycles.samples))
     checks.check(managed_nodes(scene) == sorted(diffusion_dof.passes.MANAGED_NODES),
                  "round %d: managed nodes %s" % (round_, managed_nodes(scene)))
     layer_near = scene.view_layers[0].layer_collection.children["NearObjects"]

@@ -3,11 +3,15 @@
 thread, where the add-on must not load images or change data. Here the handlers are wrapped to
 run on another thread (the main thread waits), so they queue the frame; the add-on's timer,
 called on the main thread as Blender's event loop would, then does the work. Also: on that
-thread the camera's lens DOF is not switched off, and the frame gets the clear message."""
+thread the camera's lens DOF is not switched off, and the frame gets the clear message. As
+with the UI, the library call runs on a worker thread while the timer keeps returning to the
+event loop; Esc (here request_cancel, what the Esc watcher and render_cancel call) stops it
+and the frame is left as rendered."""
 
 import os
 import sys
 import threading
+import time
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import blender_test_util as u  # noqa: E402
@@ -40,6 +44,30 @@ def on_other_thread(fn):
     return wrapper
 
 
+render.FORCE_WORKER = True  # the library call on a worker thread, as with the UI
+timer_calls = []
+call_threads = []
+_run_region = render.run_region
+
+
+def run_region_recorded(*args, **kwargs):
+    call_threads.append(threading.current_thread() is threading.main_thread())
+    return _run_region(*args, **kwargs)
+
+
+render.run_region = run_region_recorded
+
+
+def drain():
+    """Calls the timer as Blender's event loop would until the frames are done."""
+    t0 = time.time()
+    while True:
+        timer_calls.append(render._timer())
+        if not render.busy() or time.time() - t0 > 120:
+            return
+        time.sleep(0.005)
+
+
 wrapped = {}
 for name, fn in render.HANDLERS:
     if name.startswith("render_"):
@@ -55,7 +83,7 @@ checks.check(len(render._jobs) == 1 and render._jobs[0].ready and render._jobs[0
              "expected one ready job to write, got %r" % [(j.frame, j.ready, j.write)
                                                           for j in render._jobs])
 checks.check("Diffusion DOF" not in bpy.data.images, "the render thread created the image")
-render._timer()
+drain()
 checks.check(not render._jobs, "the timer left jobs queued")
 report = render.reports.get(scene.name)
 checks.check(report is not None and report["ok"] and report["path"], "timer report %r" % report)
@@ -65,7 +93,7 @@ checks.check("Diffusion DOF" in bpy.data.images, "no result image after the time
 cam.data.dof.use_dof = True
 bpy.ops.render.render()
 checks.check(cam.data.dof.use_dof, "the render thread changed the camera")
-render._timer()
+drain()
 report = render.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "lens depth of field was on"
              in report["message"], "lens DOF report %r" % report)
@@ -73,17 +101,41 @@ cam.data.dof.use_dof = False
 
 # Setup missing (another session's temporary folder): the render thread does not fix it; the
 # frame says to click Set Up Passes.
-scene.node_tree.nodes[addon.passes.OUTPUT_NODE].base_path = "/nonexistent/elsewhere/"
+addon.compat.set_file_output_folder(u.compositor_tree(scene).nodes[addon.passes.OUTPUT_NODE],
+                                    "/nonexistent/elsewhere/")
 bpy.ops.render.render()
-render._timer()
+drain()
 report = render.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "Set Up Passes" in report["message"],
              "setup report %r" % report)
 
+addon.compat.set_file_output_folder(u.compositor_tree(scene).nodes[addon.passes.OUTPUT_NODE],
+                                    addon.passes.temp_dir(scene) + os.sep)
+
+# Esc while the library call runs: the frame is left as rendered and the report says so.
+bpy.ops.render.render(write_still=True)
+written = scene.render.filepath
+before = u.load_file(written)[0]
+render.request_cancel()  # after render_init, which clears it for a new render
+drain()
+report = render.reports.get(scene.name)
+checks.check(report is not None and not report["ok"] and "cancelled (Esc)" in report["message"]
+             and "left as rendered" in report["message"], "cancel report %r" % (report,))
+checks.check(u.load_file(written)[0] == before, "the cancelled frame's file was replaced")
+# The next render is not cancelled.
+bpy.ops.render.render(write_still=True)
+drain()
+report = render.reports.get(scene.name)
+checks.check(report is not None and report["ok"], "render after a cancel: %r" % (report,))
+checks.check(call_threads and not any(call_threads),
+             "the library call ran on the main thread: %r" % call_threads)
+
+render.run_region = _run_region
+render.FORCE_WORKER = False
 for name, fn in render.HANDLERS:
     if name in wrapped:
         handlers = getattr(bpy.app.handlers, name)
         handlers.remove(wrapped[name])
         handlers.append(fn)
-addon.unregister()
+u.unload_addon(addon)
 checks.finish()

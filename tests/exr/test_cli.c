@@ -15,6 +15,8 @@
 #include <openexr.h>
 #include <png.h>
 
+#include "focus_map.h"
+
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -518,11 +520,27 @@ static int case_window(void)
     }
     exrio_close(&image);
 
-    /* Radial depth cannot be converted for a cropped frame: refused, not guessed. */
+    /* Radial depth in a cropped frame: converted about the full frame's centre (ddof_camera's
+     * frame and window), so every pixel's CoC is the full frame's at that place. */
     CHECK(ddof(in, "-o", test_path(dir, "radial.exr"), "--focal-length", "50", "--fstop", "1.4",
-               "--focus", "1", "--depth-kind", "radial", NULL) == 1);
-    CHECK(err_contains("radial") && err_contains("display window"));
-    CHECK(!test_file_exists(test_path(dir, "radial.exr")));
+               "--focus", "1", "--depth-kind", "radial", "--substeps", "2", "--write-coc",
+               NULL) == 0);
+    CHECK(exrio_open(test_path(dir, "radial.exr"), &image, error, sizeof error) == EXRIO_OK);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_OK);
+    {
+        const float *coc_got = image.channels[exrio_find_channel(&image, "coc", 0)].pixels;
+        const double pw = 36.0 / 64.0;
+        double worst = 0.0;
+        for (i = 0; i < DW * DH; i++) {
+            const double xs = ((i % DW) + 4 + 0.5 - 32.0) * pw, ys = ((i / DW) + 2 + 0.5 - 20.0) * pw;
+            const double z = 6000.0 / sqrt(1.0 + (xs * xs + ys * ys) / 2500.0);
+            const double want = 50.0 * 50.0 / (1.4 * 1000.0) * (z - 1000.0) / z / pw;
+            worst = fmax(worst, fabs(coc_got[i] - want) / want);
+        }
+        CHECK_MSG(worst < 1e-5, "radial CoC of the crop off the full frame's by %g (relative)",
+                  worst);
+    }
+    exrio_close(&image);
 
     /* Depth from a second file: same window works, another window is a size mismatch. */
     {
@@ -551,6 +569,79 @@ static int case_window(void)
         free(b);
     }
     return test_finish("test_cli window");
+}
+
+/* --focus-map: the focal-plane view. Depth in three bands (near 0.6 m, focus 1 m, far 6 m) of
+ * a mid-grey frame: green where in focus, orange where near, blue where far; the PNG is
+ * focus_map_pixels() of the camera's signed CoC, byte for byte; it is an output like the
+ * others (never the input). */
+static int case_focus_map(void)
+{
+    static const char *const names[5] = {"R", "G", "B", "A", "Z"};
+    const exrio_pixel_type types[5] = {EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT,
+                                       EXRIO_FLOAT};
+    enum { FW = 48, FH = 16 };
+    static float planes[5][FW * FH], rgb[FW * FH * 4], coc[FW * FH];
+    static uint8_t want[FW * FH * 3];
+    const void *cplanes[5] = {planes[0], planes[1], planes[2], planes[3], planes[4]};
+    exrio_box box = test_box(0, 0, FW, FH);
+    const char *in = test_path(dir, "fm.exr"), *map = test_path(dir, "fm.png");
+    ddof_context *ctx = NULL;
+    ddof_camera cam;
+    png_image img;
+    uint8_t *px = NULL;
+    int i, c, bad = 0;
+
+    for (i = 0; i < FW * FH; i++) {
+        const int x = i % FW;
+        for (c = 0; c < 4; c++)
+            planes[c][i] = c == 3 ? 1.0f : 0.2f;
+        planes[4][i] = x < FW / 3 ? 0.6f : x < 2 * FW / 3 ? 1.0f : 6.0f;
+        for (c = 0; c < 4; c++)
+            rgb[i * 4 + c] = planes[c][i];
+    }
+    CHECK(test_write_exr(in, &box, NULL, 5, names, types, cplanes, EXRIO_COMPRESSION_NONE) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "fm_out.exr"), "--focal-length", "50", "--fstop", "1.4",
+               "--focus", "1", "--focus-map", map, NULL) == 0);
+    memset(&img, 0, sizeof img);
+    img.version = PNG_IMAGE_VERSION;
+    CHECK(png_image_begin_read_from_file(&img, map) != 0);
+    CHECK(img.width == FW && img.height == FH);
+    img.format = PNG_FORMAT_RGB;
+    px = malloc(PNG_IMAGE_SIZE(img));
+    CHECK(px && png_image_finish_read(&img, NULL, px, 0, NULL) != 0);
+
+    ddof_context_create(NULL, &ctx);
+    ddof_camera_init(&cam);
+    cam.focal_length_mm = 50;
+    cam.fstop = 1.4;
+    cam.focus_distance_m = 1;
+    cam.signed_coc = 1;
+    {
+        const ddof_image_in depth_in = {planes[4], FW, FH, 1, 0};
+        const ddof_image coc_out = {coc, FW, FH, 1, 0};
+        CHECK(ddof_coc_from_camera(ctx, &cam, &depth_in, &coc_out) == DDOF_OK);
+    }
+    ddof_context_free(ctx);
+    focus_map_pixels(coc, rgb, 4, FW, FH, want);
+    for (i = 0; i < FW * FH * 3; i++)
+        bad += px[i] != want[i];
+    CHECK_MSG(bad == 0, "%d bytes of the focus map differ from focus_map_pixels()", bad);
+    {
+        const uint8_t *near = px + (size_t)(8 * FW + 2) * 3, *focus = px + (size_t)(8 * FW + 24) * 3,
+                      *far = px + (size_t)(8 * FW + 45) * 3;
+        CHECK_MSG(near[0] > near[1] && near[0] > near[2], "near %d %d %d", near[0], near[1],
+                  near[2]);
+        CHECK_MSG(focus[1] > focus[0] && focus[1] > focus[2], "focus %d %d %d", focus[0],
+                  focus[1], focus[2]);
+        CHECK_MSG(far[2] > far[0] && far[2] > far[1], "far %d %d %d", far[0], far[1], far[2]);
+    }
+    free(px);
+    /* Never the input. */
+    CHECK(ddof(in, "-o", test_path(dir, "fm_out2.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "1", "--focus-map", in, NULL) == 1);
+    CHECK(err_contains("refusing to write") && err_contains("focus map"));
+    return test_finish("test_cli focus_map");
 }
 
 static int case_refuse_same(void)
@@ -1797,6 +1888,7 @@ int main(int argc, char **argv)
     test_fresh_dir(dir);
     if (!strcmp(which, "values")) return case_values();
     if (!strcmp(which, "window")) return case_window();
+    if (!strcmp(which, "focus_map")) return case_focus_map();
     if (!strcmp(which, "refuse_same")) return case_refuse_same();
     if (!strcmp(which, "unwritable")) return case_unwritable();
     if (!strcmp(which, "bad_inputs")) return case_bad_inputs();

@@ -1,0 +1,166 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Where Blender's Python API differs between the versions the add-on supports (3.4 to 5.x), and
+only there: the rest of the add-on has one code path.
+
+- The compositor tree: scene.use_nodes + scene.node_tree up to 4.x; from 5.0 a node group in
+  scene.compositing_node_group, which a scene does not get by itself.
+- The Composite node: a render needs one up to 4.x; 5.0 removed it (a render's image is the
+  render layers' unless the group has an output).
+- The File Output node: base_path + file_slots[].path + use_node_format up to 4.x; 5.0:
+  directory + file_name + file_output_items (name, socket type) and a media type in its format.
+- Image settings: 5.0 splits the file format by a media type (OPEN_EXR is an IMAGE format,
+  OPEN_EXR_MULTILAYER a MULTI_LAYER_IMAGE one).
+- Settings groups registered with bpy.props (scene.cycles): readable as ID properties through
+  scene["cycles"] up to 4.x; 5.0 no longer exposes them through [], only through RNA.
+"""
+
+import bpy
+
+VERSION = tuple(bpy.app.version)
+NODE_GROUP_COMPOSITOR = "compositing_node_group" in bpy.types.Scene.bl_rna.properties  # 5.0+
+COMPOSITOR_TREE_NAME = "Compositing"  # the name Blender 5.0's UI gives a new one too
+BPY_PROPS_AS_ID_PROPERTIES = VERSION < (5, 0, 0)
+
+
+def compositor_tree(scene, even_off=False):
+    """The scene's compositor tree, or None when it has none (or compositing nodes are off,
+    unless even_off)."""
+    if NODE_GROUP_COMPOSITOR:
+        return scene.compositing_node_group
+    return scene.node_tree if scene.use_nodes or even_off else None
+
+
+def ensure_compositor_tree(scene):
+    """(tree, changed): the scene's compositor tree, made (and turned on) when it has none."""
+    if NODE_GROUP_COMPOSITOR:
+        tree = scene.compositing_node_group
+        if tree is not None:
+            return tree, False
+        tree = bpy.data.node_groups.new(COMPOSITOR_TREE_NAME, "CompositorNodeTree")
+        scene.compositing_node_group = tree
+        return tree, True
+    if scene.use_nodes and scene.node_tree is not None:
+        return scene.node_tree, False
+    scene.use_nodes = True  # a new tree gets Render Layers -> Composite: the same image
+    return scene.node_tree, True
+
+
+def needs_composite_node():
+    """Whether a render needs a Composite node in the tree (up to 4.x)."""
+    return not NODE_GROUP_COMPOSITOR
+
+
+def output_node(tree):
+    """The node whose image the compositor outputs: the Composite node up to 4.x, the group
+    output in 5.0; None when there is none."""
+    kind = "NodeGroupOutput" if NODE_GROUP_COMPOSITOR else "CompositorNodeComposite"
+    return next((n for n in tree.nodes if n.bl_idname == kind), None)
+
+
+# -- the File Output node --------------------------------------------------------------------
+
+
+def file_output_paths(node):
+    """The file names (without the folder) the node's inputs write, in input order."""
+    if hasattr(node, "file_output_items"):
+        return [item.name for item in node.file_output_items]
+    return [slot.path for slot in node.file_slots]
+
+
+def set_file_output_paths(node, paths, socket_types):
+    """Makes a new File Output node write `paths` (one per input, socket_types: 'RGBA' or
+    'FLOAT') with the node's own format. Only ever adds (Blender 3.4 leaks memory when a file
+    slot is removed): a node with other paths is to be replaced as a whole by the caller."""
+    if hasattr(node, "file_output_items"):
+        for path, kind in zip(paths[len(node.file_output_items):],
+                              socket_types[len(node.file_output_items):]):
+            node.file_output_items.new(kind, path)
+        for item in node.file_output_items:
+            if item.override_node_format:
+                item.override_node_format = False
+        if node.file_name:
+            node.file_name = ""
+        return
+    node.file_slots[0].path = paths[0]  # a new node has one slot, "Image"
+    for path in paths[1:]:
+        node.file_slots.new(path)
+    for slot in node.file_slots:
+        slot.use_node_format = True
+
+
+def file_output_folder(node):
+    return node.directory if hasattr(node, "directory") else node.base_path
+
+
+def set_file_output_folder(node, folder):
+    if hasattr(node, "directory"):
+        if node.directory != folder:
+            node.directory = folder
+    elif node.base_path != folder:
+        node.base_path = folder
+
+
+def set_file_format(image_settings, file_format):
+    """Sets an ImageFormatSettings' file format; 5.0 needs the media type of the format first."""
+    if hasattr(image_settings, "media_type"):
+        media = "MULTI_LAYER_IMAGE" if file_format == "OPEN_EXR_MULTILAYER" else "IMAGE"
+        if image_settings.media_type != media:
+            image_settings.media_type = media
+    if image_settings.file_format != file_format:
+        image_settings.file_format = file_format
+
+
+# -- settings groups ---------------------------------------------------------------------------
+
+
+def _rna_values(group):
+    """{identifier: value} of a property group's writable, plain values (nested groups too)."""
+    values = {}
+    for prop in group.bl_rna.properties:
+        key = prop.identifier
+        if key == "rna_type" or prop.is_readonly and prop.type != "POINTER":
+            continue
+        if prop.type == "POINTER":
+            value = getattr(group, key)
+            if value is not None and isinstance(value, bpy.types.PropertyGroup):
+                values[key] = _rna_values(value)
+            continue
+        if prop.type == "COLLECTION":
+            continue
+        value = getattr(group, key)
+        if getattr(prop, "is_array", False):
+            value = tuple(value)
+        values[key] = value
+    return values
+
+
+def _set_rna_values(group, values):
+    for key, value in values.items():
+        if isinstance(value, dict):
+            _set_rna_values(getattr(group, key), value)
+        elif getattr(group, key) != value and not isinstance(getattr(group, key), bpy.types.ID):
+            try:
+                setattr(group, key, value)
+            except (AttributeError, TypeError, ValueError):
+                pass  # a value this property takes only in some states: left as it is
+
+
+def copy_settings_group(source, target, key):
+    """Copies an add-on settings group (e.g. scene.cycles) from one ID to another, writing only
+    changes. Up to 4.x as raw ID properties (exact, and without reading enum values this build
+    may not know); 5.0 exposes them only through RNA, so there property by property."""
+    if BPY_PROPS_AS_ID_PROPERTIES:
+        data = source.get(key)
+        data = data.to_dict() if data is not None else None
+        current = target.get(key)
+        current = current.to_dict() if current is not None else None
+        if data != current:
+            if data is None:
+                del target[key]
+            else:
+                target[key] = data
+        return
+    group = getattr(source, key, None)
+    if group is None:
+        return
+    _set_rna_values(getattr(target, key), _rna_values(group))

@@ -1,0 +1,122 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""The add-on with Blender's UI (run under Xvfb with --enable-event-simulate, events simulated
+through Window.event_simulate): F12 with the UI processes the frame on a worker thread while the
+Esc watcher runs; Esc pressed while the library call runs cancels it (the frame is left as
+rendered, the report says so); the next F12 is processed; Pick Focus, clicked on a pixel of the
+kept Depth pass in an image editor, sets the camera's focus to that pixel's depth.
+
+    xvfb-run blender --factory-startup --enable-event-simulate --python test_ui.py
+
+Ends with exit status 1 on a failure (the UI's quit does not carry one)."""
+
+import os
+import sys
+import time
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test_util as u  # noqa: E402
+
+import bpy  # noqa: E402
+
+checks = u.Checks("test_ui")
+addon = u.load_addon()
+render = addon.render
+scene = u.clear_scene()
+u.add_plane(scene, "Wall", (24.0, 14.0), (0.0, 12.0, 0.0),
+            u.emission_checker("WallMat", (0.95, 0.85, 0.6, 1), (0.08, 0.12, 0.3, 1), 4.0))
+u.add_plane(scene, "Card", (0.3, 0.3), (0.0, 3.0, 0.0),
+            u.emission_checker("CardMat", (0.9, 0.3, 0.1, 1), (0.95, 0.95, 0.9, 1), 20.0))
+cam = u.add_camera(scene, lens=100.0, fstop=1.4, focus=3.0)
+u.configure(scene, samples=1)
+# Large enough for the library call to last while the Esc is simulated (about a second).
+scene.render.resolution_x, scene.render.resolution_y = 1920, 1080
+scene.diffusion_dof.quality = "FINAL"
+scene.diffusion_dof.enabled = True
+state = {"step": "render1", "t0": time.time(), "esc": False, "watch": False}
+
+
+def window():
+    return bpy.context.window_manager.windows[0]
+
+
+def f12():
+    with bpy.context.temp_override(window=window()):
+        bpy.ops.render.render("INVOKE_DEFAULT")
+
+
+def finish():
+    checks.check(state["step"] == "done", "stopped at step %s" % state["step"])
+    print("%s: %d checks, %d failures" % (checks.name, checks.count, len(checks.failures)),
+          flush=True)
+    os._exit(1 if checks.failures else 0)
+
+
+def image_editor():
+    """An area of the screen turned into an image editor showing the kept Depth pass."""
+    area = max(window().screen.areas, key=lambda a: a.width * a.height)
+    area.type = "IMAGE_EDITOR"
+    area.spaces.active.image = bpy.data.images[render.DEPTH_IMAGE]
+    return area
+
+
+def tick():
+    step = state["step"]
+    if time.time() - state["t0"] > 150:
+        checks.check(False, "timed out at step %s" % step)
+        finish()
+    if step == "render1":
+        render.reports.clear()
+        f12()
+        state["step"] = "esc"
+    elif step == "esc":
+        if render.escape_watch["on"]:
+            state["watch"] = True
+        if render._active is not None and render.escape_watch["on"] and not state["esc"]:
+            window().event_simulate(type="ESC", value="PRESS")
+            window().event_simulate(type="ESC", value="RELEASE")
+            state["esc"] = True
+        report = render.reports.get(scene.name)
+        if report is not None and not render.busy():
+            checks.check(state["watch"], "the Esc watcher did not run")
+            checks.check(state["esc"], "Esc was not simulated while the call ran")
+            checks.check(not report["ok"] and "cancelled (Esc)" in report["message"],
+                         "Esc report: %r" % report)
+            render.reports.clear()
+            f12()
+            state["step"] = "render2"
+    elif step == "render2":
+        report = render.reports.get(scene.name)
+        if report is not None and not render.busy():
+            checks.check(report["ok"], "the render after a cancel: %r" % report)
+            area = image_editor()
+            state["area"] = area
+            state["step"] = "pick"
+            return 0.5  # let the editor draw once
+    elif step == "pick":
+        area = state["area"]
+        region = next(r for r in area.regions if r.type == "WINDOW")
+        with bpy.context.temp_override(window=window(), area=area, region=region):
+            bpy.ops.diffusion_dof.pick_focus("INVOKE_DEFAULT")
+        # A wall pixel: a tenth of the editor's width from its left, at mid height (the image
+        # shows at 1:1, wider than the editor: the card is in the middle).
+        rx, ry = int(region.width * 0.1), region.height // 2
+        u_, v_ = region.view2d.region_to_view(rx, ry)
+        checks.check(0.0 <= u_ < 0.3 and 0.3 < v_ < 0.7, "clicked at image (%.3f, %.3f)"
+                     % (u_, v_))
+        x, y = region.x + rx, region.y + ry
+        window().event_simulate(type="MOUSEMOVE", value="NOTHING", x=x, y=y)
+        window().event_simulate(type="LEFTMOUSE", value="PRESS", x=x, y=y)
+        window().event_simulate(type="LEFTMOUSE", value="RELEASE", x=x, y=y)
+        state["step"] = "picked"
+        return 0.3
+    elif step == "picked":
+        checks.check(abs(cam.data.dof.focus_distance - 12.0) < 1e-3,
+                     "picked focus %.4f, the wall is at 12" % cam.data.dof.focus_distance)
+        print("UI: Esc cancelled the call; the focus picked from the wall: %.4f"
+              % cam.data.dof.focus_distance, flush=True)
+        state["step"] = "done"
+        finish()
+    return 0.02
+
+
+bpy.app.timers.register(tick, first_interval=1.0)
