@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Explores disc-kernel constructions beyond the library's tables (docs/disc-kernel.md, "Longer
 chains and other constructions"): longer chains, rows and columns with different chains, a final
 shared real (heat) step, fits at one CoC or all, the ring bound. Same discrete-resolvent model and

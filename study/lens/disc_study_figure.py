@@ -1,4 +1,5 @@
 #!/usr/bin/env python3
+# SPDX-License-Identifier: MIT
 """Draws docs/images/disc_kernel_chains.png: point spreads of fitted disc-kernel constructions
 (saved by disc_study.py --save) against the uniform disc at one CoC: the 2-D kernel, its
 non-radial part (the cross), and cross-sections along the axis and the diagonal on a symmetric
