@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* metrics.c - the errors of the study: PSNR as `ddof --compare` computes it (plugin/cli/
+/* metrics.c - the errors of the study: PSNR as `ddof --compare` computes it (plugin/apps/cli/
  * compare.c: RGB, sRGB-encoded values clamped to [0, 1], peak 1), over the image or over the
  * band around depth edges, and linear differences against the double-precision reference. */
 #include "study.h"

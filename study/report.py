@@ -893,7 +893,7 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
     L.append("")
     L.append("- **Error against the truth**: PSNR over R, G, B of sRGB-encoded values clamped to "
              "[0, 1], peak 1: exactly what `ddof --compare` and `bash scripts/demo.sh` print "
-             "(`plugin/cli/compare.c`; the study links that code). *image*: every pixel; "
+             "(`plugin/apps/cli/compare.c`; the study links that code). *image*: every pixel; "
              "*band*: the pixels around depth edges.")
     L.append("- **The band**: a depth edge is a pair of 4-neighbours whose signed CoC differs "
              "by at least 2 px (a depth discontinuity that changes the blur); every pixel within "

@@ -124,7 +124,7 @@ void study_scene_free(study_scene *scene);
 #define STUDY_BAND_MIN_PX 4.0f
 size_t study_band(const float *coc, uint32_t width, uint32_t height, unsigned char *band);
 
-/* PSNR over RGB of sRGB-encoded values clamped to [0, 1], peak 1: plugin/cli/compare.c's
+/* PSNR over RGB of sRGB-encoded values clamped to [0, 1], peak 1: plugin/apps/cli/compare.c's
  * definition (`ddof --compare`). mask NULL: every pixel. +inf when identical; NAN when the mask
  * is empty. Both images RGBA. */
 double study_psnr(const float *a, const float *b, size_t pixels, const unsigned char *mask);

@@ -3,7 +3,7 @@
 (tests/blender/test_focus_tools.py).
 
 The view is the frame in false colour by its signed CoC, the same mapping as `ddof --focus-map`
-(plugin/cli/focus_map.h): green where the blur is under SHARP_PX (the in-focus band), orange in
+(plugin/apps/cli/focus_map.h): green where the blur is under SHARP_PX (the in-focus band), orange in
 front of the focus (near blur), blue behind it (far blur), each brighter with more blur (up to
 the frame's largest CoC), all shaded by the picture's luminance.
 """

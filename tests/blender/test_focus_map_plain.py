@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """The add-on's bpy-free focus tools from a plain python3: the focal-plane view's colours (the
-mapping `ddof --focus-map` uses, plugin/cli/focus_map.h) on hand-computed pixels, and the
+mapping `ddof --focus-map` uses, plugin/apps/cli/focus_map.h) on hand-computed pixels, and the
 picker's pixel and depth look-ups."""
 
 import math

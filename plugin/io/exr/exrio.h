@@ -15,7 +15,7 @@
  *  - Writing makes one scanline part from caller-owned channel planes (any pixel and line
  *    stride, so an interleaved RGBA buffer is written without copying), as HALF, FLOAT or UINT,
  *    with any compression the C core can encode. It writes to an already open file descriptor:
- *    the caller owns the temporary file and its rename (see plugin/cli/output_file.h).
+ *    the caller owns the temporary file and its rename (see plugin/apps/cli/output_file.h).
  *  - Functions return an exrio_status and fill a one-line message; the library never prints.
  */
 #ifndef DDOF_EXRIO_H

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* exr_internal.h - what the files of plugin/exr/ share: the stream that connects OpenEXR's C
+/* exr_internal.h - what the files of plugin/io/exr/ share: the stream that connects OpenEXR's C
  * core to a file descriptor, and how its error messages are caught instead of printed. */
 #ifndef DDOF_EXR_INTERNAL_H
 #define DDOF_EXR_INTERNAL_H

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* preview.h - the PNG preview of a result: linear RGB times 2^exposure, clamped, sRGB-encoded
- * to 8 bits, written through libpng (plugin/common/png_write.h) as an atomic output. */
+ * to 8 bits, written through libpng (plugin/io/png/png_write.h) as an atomic output. */
 #ifndef DDOF_CLI_PREVIEW_H
 #define DDOF_CLI_PREVIEW_H
 
