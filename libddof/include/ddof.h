@@ -412,7 +412,9 @@ typedef struct ddof_params {
                                /* its value), and a frame whose largest |CoC| is below it is */
                                /* a copy (0 lines solved, copied_only 1). Default 0.5         */
                                /* (diameter); >= 0, at most DDOF_MAX_COC_PX; 0 lets every    */
-                               /* CoC above 0 conduct, as before this field existed.          */
+                               /* CoC above 0 conduct, as before this field existed. The      */
+                               /* layers' own CoC fills are not cut; the CoD4 preview ignores */
+                               /* it (docs/design.md, the planner).                           */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
