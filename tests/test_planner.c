@@ -393,6 +393,31 @@ static void test_in_focus_threshold(void)
                   "%s, threshold 0: the output is the input", name);
     }
 
+    /* ddof_depth_of_field computes its CoC (no validation pass finds the largest): a scene
+     * just behind the focus plane has a CoC far below a pixel, and is a copy too. */
+    {
+        ddof_camera cam;
+        ddof_camera_init(&cam); /* 50 mm f/2.8 focused at 10 m */
+        float *depth = alloc_f(npx);
+        for (size_t i = 0; i < npx; i++)
+            depth[i] = 10.0f + 0.01f * (float)(i % 7);
+        ddof_params p;
+        ddof_params_init(&p);
+        ddof_image_in ci = {color, W, H, CH, 0}, di = {depth, W, H, 1, 0};
+        ddof_image oi = {out, W, H, CH, 0};
+        ddof_stats st = stats_init();
+        fill(out, n, -7.0f);
+        CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, &st), DDOF_OK);
+        CHECK_MSG(st.max_coc_px > 0.0f && st.max_coc_px < 0.5f, "camera: largest CoC %g",
+                  (double)st.max_coc_px);
+        check_copy("camera, sub-pixel", &st, out, st.max_coc_px);
+        p.in_focus_threshold_px = 0.0f;
+        CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, &st), DDOF_OK);
+        CHECK_MSG(st.lines_solved > 0, "camera, threshold 0: %llu lines",
+                  (unsigned long long)st.lines_solved);
+        free(depth);
+    }
+
     /* The bound: a largest |CoC| equal to the threshold conducts (|CoC| < t is in focus), one
      * a hair below it does not. */
     ddof_params p;

@@ -402,7 +402,9 @@ typedef struct ddof_params {
                                /* its value), and a frame whose largest |CoC| is below it is */
                                /* a copy (0 lines solved, copied_only 1). Default 0.5         */
                                /* (diameter); >= 0, at most DDOF_MAX_COC_PX; 0 lets every    */
-                               /* CoC above 0 conduct, as before this field existed.          */
+                               /* CoC above 0 conduct, as before this field existed. The      */
+                               /* layers' own CoC fills are not cut; the CoD4 preview ignores */
+                               /* it (docs/design.md, the planner).                           */
     ddof_layer_mode highlights;  /* the highlight pass: the part of a pixel brighter than      */
                                /* highlight_threshold (its largest colour channel) with |CoC|  */
                                /* >= 4 px is taken out before the diffusion and drawn as a    */
@@ -410,9 +412,9 @@ typedef struct ddof_params {
                                /* behind its depth), so HDR highlights come out as the crisp  */
                                /* discs a lens draws, without a disc kernel's dark rim. Its  */
                                /* discs cover at most 2x the frame's pixels: the brightest    */
-                               /* first (the threshold doubles until they fit). Colour with 3 */
-                               /* or 4 channels only. Default AUTO: on when such a pixel      */
-                               /* exists; ON is AUTO's rule too (nothing to draw otherwise). */
+                               /* first (the threshold rises in quarter octaves until they    */
+                               /* fit). Colour with 3 or 4 channels only. Default AUTO: on   */
+                               /* when such a pixel exists; ON is AUTO's rule too.           */
     float highlight_threshold; /* default 1 (scene-linear); > 0, finite                       */
 } ddof_params;
 

@@ -56,7 +56,9 @@ static inline float lens_link(float coc_a, float coc_b, float scale, float in_fo
 {
     const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
     const float b = m * m * scale;
-    return b >= DDOF_LENS_MIN_LINK && m >= in_focus_px ? b : 0.0f;
+    /* A product with 0 or 1, not a float select, which GCC does not if-convert under
+     * -ftrapping-math: the column links' loop vectorises (b is finite). */
+    return b * (float)((b >= DDOF_LENS_MIN_LINK) & (m >= in_focus_px));
 }
 
 /* The in-focus threshold applies to CoC images only (a uniform CoC is a layer's own fill). */
@@ -145,17 +147,25 @@ static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_ind
     if (any_active)
         solve_chain(job, ts, n, ts->x, NULL, (size_t)L * C);
 
-    for (uint32_t l = 0; l < lanes; l++) {
-        float *tr = job->t_re + (size_t)(y0 + l) * job->t_stride;
-        float *ti = job->t_im + (size_t)(y0 + l) * job->t_stride;
-        for (uint32_t i = 0; i < n; i++)
-            for (uint32_t c = 0; c < C; c++) {
-                const size_t k = ((size_t)i * L + l) * C + c;
-                tr[(size_t)i * C + c] = active[l] ? ts->acc_re[k] : ts->x[k];
-                ti[(size_t)i * C + c] = active[l] ? ts->acc_im[k] : 0.0f;
-            }
+    /* Into the complex image by the chunked scatter of the heat driver (perf: a lane-by-lane
+     * loop here was a fifth of the row pass): solved lanes take the chain's result, the others
+     * their input and 0. */
+    float *re_solved[L], *im_solved[L], *re_idle[L];
+    for (uint32_t l = 0; l < L; l++) {
+        float *tr = l < lanes ? job->t_re + (size_t)(y0 + l) * job->t_stride : NULL;
+        float *ti = l < lanes ? job->t_im + (size_t)(y0 + l) * job->t_stride : NULL;
+        re_solved[l] = active[l] ? tr : NULL;
+        im_solved[l] = active[l] ? ti : NULL;
+        re_idle[l] = active[l] ? NULL : tr;
+        if (ti && !active[l])
+            memset(ti, 0, (size_t)n * C * sizeof(float));
         ts->lines_solved += (uint64_t)active[l] * job->k->steps;
     }
+    if (any_active) {
+        rows_out(re_solved, ts->acc_re, n, C);
+        rows_out(im_solved, ts->acc_im, n, C);
+    }
+    rows_out(re_idle, ts->x, n, C);
 }
 
 /* ---- columns: in place on the complex image, then folded into the output ----------------- */
@@ -174,18 +184,33 @@ static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_
      * follow down a column block (perf: these loops waited on the CoC, colour and output
      * loads); ask for them this many rows ahead. */
     enum { ahead = 8 };
-    for (uint32_t i = 0; i < n; i++) {
-        if (r->coc && i + ahead < n)
-            DDOF_PREFETCH(r->coc + (size_t)(i + ahead) * r->coc_stride +
-                              (size_t)x0 * r->coc_channels, 0);
-        for (uint32_t l = 0; l < L; l++) {
-            const float b = l < lanes && i + 1 < n
-                                ? lens_link(coc_at(r, x0 + l, i), coc_at(r, x0 + l, i + 1),
-                                            job->aspect2, in_focus)
-                                : 0.0f;
-            ts->b[(size_t)i * L + l] = b;
-            active[l] |= b > 0.0f;
+    if (r->coc && r->coc_channels == 1 && lanes == L) {
+        /* A full block of one-channel CoC: 16 neighbouring floats a row, vectorised. */
+        for (uint32_t i = 0; i + 1 < n; i++) {
+            const float *restrict coc = r->coc + (size_t)i * r->coc_stride + x0;
+            const float *restrict below = coc + r->coc_stride;
+            if (i + 1 + 2 * ahead < n) {
+                DDOF_PREFETCH(below + (size_t)2 * ahead * r->coc_stride, 0);
+                DDOF_PREFETCH(below + (size_t)2 * ahead * r->coc_stride + L - 1, 0);
+            }
+            float *restrict b = ts->b + (size_t)i * L;
+            for (uint32_t l = 0; l < L; l++) {
+                b[l] = lens_link(coc[l], below[l], job->aspect2, in_focus);
+                active[l] |= b[l] > 0.0f;
+            }
         }
+        for (uint32_t l = 0; l < L; l++)
+            ts->b[(size_t)(n - 1) * L + l] = 0.0f;
+    } else {
+        for (uint32_t i = 0; i < n; i++)
+            for (uint32_t l = 0; l < L; l++) {
+                const float b = l < lanes && i + 1 < n
+                                    ? lens_link(coc_at(r, x0 + l, i), coc_at(r, x0 + l, i + 1),
+                                                job->aspect2, in_focus)
+                                    : 0.0f;
+                ts->b[(size_t)i * L + l] = b;
+                active[l] |= b > 0.0f;
+            }
     }
     for (uint32_t l = 0; l < lanes; l++)
         any_active |= active[l];
