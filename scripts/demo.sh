@@ -18,7 +18,7 @@ ensure_packages "${BUILD_PACKAGES[@]}"
 cmake -S . -B build/release -G Ninja -DCMAKE_BUILD_TYPE=Release -DDDOF_BUILD_TESTS=OFF >/dev/null
 cmake --build build/release -j "$(nproc 2>/dev/null || echo 2)" --target ddof-cli
 out=ddof-demo-out
-build/release/plugin/ddof samples/pinhole.exr -o "$out/dof.exr" --camera samples/camera.json \
+build/release/plugin/apps/ddof samples/pinhole.exr -o "$out/dof.exr" --camera samples/camera.json \
     --preview "$out/dof.png" --preview-input "$out/pinhole.png" --stats "$out/stats.json" \
     --compare samples/truth.exr "$@"
 echo "look at: $out/pinhole.png (input) and $out/dof.png (result); EXR: $out/dof.exr"
