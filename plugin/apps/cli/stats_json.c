@@ -21,7 +21,8 @@ void stats_effects(const ddof_stats *s, char *out, size_t out_size)
     } effects[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
                    {DDOF_EFFECT_BACKGROUND, "background"},
                    {DDOF_EFFECT_NEAR_SPREAD, "near spread"},
-                   {DDOF_EFFECT_FOREGROUND, "foreground"}};
+                   {DDOF_EFFECT_FOREGROUND, "foreground"},
+                   {DDOF_EFFECT_HIGHLIGHTS, "highlights"}};
     size_t used = 0, i;
     out[0] = '\0';
     for (i = 0; i < sizeof effects / sizeof effects[0]; i++) {
