@@ -203,7 +203,9 @@ class Stats(ctypes.Structure):
                 ("device_bytes", ctypes.c_uint64),
                 ("host_bytes", ctypes.c_uint64),
                 # version 0.4
-                ("kernel", ctypes.c_uint32)]
+                ("kernel", ctypes.c_uint32),
+                # version 0.5
+                ("seconds_highlights", ctypes.c_double)]
 
 
 class Foreground(ctypes.Structure):

@@ -410,11 +410,12 @@ typedef struct ddof_params {
                                /* >= 4 px is taken out before the diffusion and drawn as a    */
                                /* uniform disc of its CoC afterwards (on the pixels at or    */
                                /* behind its depth), so HDR highlights come out as the crisp  */
-                               /* discs a lens draws, without a disc kernel's dark rim. Its  */
-                               /* discs cover at most 2x the frame's pixels: the brightest    */
-                               /* first (the threshold rises in quarter octaves until they    */
-                               /* fit). Colour with 3 or 4 channels only. Default AUTO: on   */
-                               /* when such a pixel exists; ON is AUTO's rule too.           */
+                               /* discs a lens draws, without a disc kernel's dark rim. A    */
+                               /* disc costs its rows and rim, not its area, and the pass at  */
+                               /* most 8 operations per frame pixel: the brightest first (the */
+                               /* threshold rises in quarter octaves until they fit).        */
+                               /* Colour with 3 or 4 channels only. Default AUTO: on when     */
+                               /* such a pixel exists; ON is AUTO's rule too.                */
     float highlight_threshold; /* default 1 (scene-linear); > 0, finite                       */
 } ddof_params;
 
@@ -465,6 +466,9 @@ typedef struct ddof_stats {
     uint32_t kernel;           /* the ddof_kernel that ran: the heat kernel where the         */
                                /* solver has no disc form (ddof_kernel); lines_solved         */
                                /* counts each of a disc's complex solves, on any backend      */
+
+    /* --- version 0.5 of this struct ------------------------------------------------------- */
+    double seconds_highlights; /* the highlight pass: finding, taking out, drawing the discs */
 } ddof_stats;
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels

@@ -158,6 +158,7 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
     full.seconds_plan = seconds_plan;
     full.seconds_background = report.seconds_background;
     full.seconds_foreground = report.seconds_foreground;
+    full.seconds_highlights = report.seconds_highlights;
     memcpy(full.plan, plan.text, sizeof full.plan);
     if (report.highlights_line[0]) {
         const size_t used = strlen(full.plan);

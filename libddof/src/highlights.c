@@ -38,11 +38,12 @@ static float brightness(const float *px)
     return fmaxf(px[0], fmaxf(px[1], px[2]));
 }
 
-/* The pixels an anti-aliased disc of this CoC touches (its bounding ellipse's area). */
-static double disc_area(float coc, float aspect)
+/* What drawing a disc of this CoC costs, in pixel operations: its rows, and its rim pixels
+ * (about twice its circumference) for the weights and the scatter. */
+static double disc_cost(float coc, float aspect)
 {
     const double r = 0.5 * fabs((double)coc) + 0.5;
-    return 3.14159265358979 * r * r * (double)aspect + 1.0;
+    return 2.0 * r * (double)aspect + 1.0 + 4.0 * 3.14159265358979 * r;
 }
 
 /* The class of a pixel, or -1 when it is no highlight. */
@@ -68,7 +69,7 @@ static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const int k = highlight_class(job, row + (size_t)x * r->channels, coc);
             if (k >= 0) {
                 c->count[k]++;
-                c->area[k] += disc_area(coc, r->pixel_aspect);
+                c->area[k] += disc_cost(coc, r->pixel_aspect);
             }
         }
     }
@@ -103,72 +104,194 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     }
 }
 
-/* Whether a highlight of CoC `from` lands on a pixel of CoC `to`: everything behind a near
- * highlight, and for a far one what is at least half as blurred on the far side. */
-static int lands_on(float from, float to, int coc_signed)
+/* ---- the scatter --------------------------------------------------------------------------
+ *
+ * A disc costs its rows, not its area: each row of it is an interior span of weight 1, added to
+ * a difference image as +v at its start and -v past its end, plus its anti-aliased rim pixels
+ * one by one; a running sum along each row then turns the differences into values. Where the
+ * light may land is a property of the pixel and of the highlight's size, so the highlights are
+ * drawn in classes of one octave of |CoC| (and one class for the near field), each with one
+ * rule for the whole class: a far highlight's class lands on pixels whose signed CoC is at
+ * least half its smallest |CoC| (never on in-focus or nearer pixels); the near class lands
+ * everywhere. Each disc's weights are renormalised over the pixels it lands on, counted from
+ * per-row prefix counts of the class's rule, so its light is kept. */
+
+#define SIZE_CLASSES 20 /* octaves of |CoC| from the minimum; the last one is open */
+#define NEAR_CLASS SIZE_CLASSES
+
+static int size_class(float coc, int coc_signed)
 {
-    if (coc_signed && from < 0.0f)
-        return 1;
-    return (coc_signed ? to : fabsf(to)) >= 0.5f * fabsf(from);
+    if (coc_signed && coc < 0.0f)
+        return NEAR_CLASS;
+    const int k = (int)floorf(log2f(fabsf(coc) / DDOF_HIGHLIGHT_MIN_COC_PX));
+    return k < 0 ? 0 : k >= SIZE_CLASSES ? SIZE_CLASSES - 1 : k;
 }
 
-/* The disc's weight at (dx, dy) pixels from its centre: anti-aliased by the distance to the
- * rim, rows scaled by the pixel aspect. */
-static float disc_weight(float radius, float aspect, int dx, int dy)
+/* The signed CoC a pixel needs to receive a class's light (NEAR_CLASS: any). */
+static float landing_threshold(int size)
 {
-    const float u = (float)dx, v = (float)dy / aspect;
-    const float w = radius + 0.5f - sqrtf(u * u + v * v);
+    return size == NEAR_CLASS ? -INFINITY
+                              : 0.5f * DDOF_HIGHLIGHT_MIN_COC_PX * exp2f((float)size);
+}
+
+static int lands(const adi_request *r, int coc_signed, float threshold, uint32_t x, uint32_t y)
+{
+    const float c = coc_at(r, x, y);
+    return (coc_signed ? c : fabsf(c)) >= threshold;
+}
+
+/* One row of a disc: |dx| <= inner has weight 1; inner < |dx| <= outer is the rim, whose
+ * weight is clamp(radius + 0.5 - distance, 0, 1); inner < 0 when the row has no interior. */
+typedef struct disc_row {
+    int inner, outer;
+    float v2; /* the row's vertical offset squared, in horizontal pixels */
+} disc_row;
+
+static float radius_of(const highlight *h)
+{
+    return 0.5f * fabsf(h->coc);
+}
+
+/* Rows of a disc above and below its centre (the pixel aspect stretches it vertically). */
+static int half_height(const highlight *h, float aspect)
+{
+    return (int)ceilf((radius_of(h) + 0.5f) * aspect);
+}
+
+static int disc_row_at(const highlight *h, float aspect, int dy, disc_row *row)
+{
+    const float outer_r = radius_of(h) + 0.5f, inner_r = outer_r - 1.0f;
+    const float v = (float)dy / aspect, v2 = v * v;
+    if (v2 >= outer_r * outer_r)
+        return 0;
+    row->v2 = v2;
+    row->outer = (int)ceilf(sqrtf(outer_r * outer_r - v2));
+    row->inner = inner_r > 0.0f && v2 <= inner_r * inner_r
+                     ? (int)floorf(sqrtf(inner_r * inner_r - v2))
+                     : -1;
+    return 1;
+}
+
+static float rim_weight(const highlight *h, const disc_row *row, int dx)
+{
+    const float w = radius_of(h) + 0.5f - sqrtf((float)(dx * dx) + row->v2);
     return w <= 0.0f ? 0.0f : w >= 1.0f ? 1.0f : w;
-}
-
-typedef struct disc_extent {
-    int x0, x1, y0, y1; /* inclusive, within the image */
-    float radius;
-} disc_extent;
-
-static disc_extent extent_of(const adi_request *r, const highlight *h)
-{
-    const float radius = 0.5f * fabsf(h->coc);
-    const int rx = (int)ceilf(radius + 0.5f), ry = (int)ceilf((radius + 0.5f) * r->pixel_aspect);
-    const int x = (int)h->x, y = (int)h->y;
-    return (disc_extent){x - rx < 0 ? 0 : x - rx,
-                         x + rx >= (int)r->width ? (int)r->width - 1 : x + rx,
-                         y - ry < 0 ? 0 : y - ry,
-                         y + ry >= (int)r->height ? (int)r->height - 1 : y + ry, radius};
 }
 
 typedef struct scatter_job {
     const adi_request *r;
     int coc_signed;
-    highlight *items;
+    const highlight *items; /* of one size class, in row order                           */
     uint32_t count;
-    int reach_rows; /* the largest disc's half height */
+    float threshold;        /* the class's landing threshold                             */
+    int reach_rows;         /* the class's largest half height                           */
+    int bx0, bx1, by0, by1; /* the box its discs cover (end exclusive): the passes' area    */
+    uint32_t *landing;      /* per box row: prefix counts of the pixels the class lands on  */
+    float *weights;         /* per item: 1 / its weights' sum over the pixels it lands on */
+    float *diff;            /* W x H x 3: the difference image                           */
 } scatter_job;
 
-/* Per highlight: 1 / its weights' sum over the pixels it lands on (the centre always counts). */
+/* The landing counts of a box row: count[i] = pixels the class lands on in [bx0, bx0 + i). */
+static const uint32_t *landing_row(const scatter_job *job, int y)
+{
+    return job->landing + (size_t)(y - job->by0) * (size_t)(job->bx1 - job->bx0 + 1);
+}
+
+static void landing_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const scatter_job *job = user;
+    const adi_request *r = job->r;
+    for (uint32_t yy = y0; yy < y1; yy++) {
+        const int y = job->by0 + (int)yy;
+        uint32_t *count = (uint32_t *)landing_row(job, y);
+        count[0] = 0;
+        for (int x = job->bx0; x < job->bx1; x++)
+            count[x - job->bx0 + 1] =
+                count[x - job->bx0] +
+                (uint32_t)lands(r, job->coc_signed, job->threshold, (uint32_t)x, (uint32_t)y);
+    }
+}
+
+/* The interior span of a disc row, clipped to the image: [*a, *b], empty when *a > *b. */
+static void interior_span(const adi_request *r, const highlight *h, const disc_row *row, int *a,
+                          int *b)
+{
+    *a = (int)h->x - row->inner < 0 ? 0 : (int)h->x - row->inner;
+    *b = (int)h->x + row->inner >= (int)r->width ? (int)r->width - 1 : (int)h->x + row->inner;
+}
+
+/* The rim pixels of a disc row: dx = inner + 1 .. outer on both sides; *x the first one's
+ * column on `side` (-1 or 1), 0 when it is outside the image or has no weight. */
+static int rim_pixel(const adi_request *r, const highlight *h, const disc_row *row, int dx,
+                     int side, int *x, float *w)
+{
+    if (dx == 0 && side > 0)
+        return 0; /* the centre column, once */
+    *w = rim_weight(h, row, dx);
+    *x = (int)h->x + side * dx;
+    return *w > 0.0f && *x >= 0 && *x < (int)r->width;
+}
+
 static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
 {
     (void)chunk;
     const scatter_job *job = user;
     const adi_request *r = job->r;
     for (uint32_t i = i0; i < i1; i++) {
-        highlight *h = &job->items[i];
-        const disc_extent e = extent_of(r, h);
+        const highlight *h = &job->items[i];
+        const int reach = half_height(h, r->pixel_aspect);
         double sum = 0.0;
-        for (int y = e.y0; y <= e.y1; y++)
-            for (int x = e.x0; x <= e.x1; x++)
-                if (lands_on(h->coc, coc_at(r, (uint32_t)x, (uint32_t)y), job->coc_signed))
-                    sum += disc_weight(e.radius, r->pixel_aspect, x - (int)h->x, y - (int)h->y);
-        h->weight = sum > 0.0 ? (float)(1.0 / sum) : 0.0f;
+        for (int dy = -reach; dy <= reach; dy++) {
+            const int y = (int)h->y + dy;
+            disc_row row;
+            if (y < 0 || y >= (int)r->height || !disc_row_at(h, r->pixel_aspect, dy, &row))
+                continue;
+            if (row.inner >= 0) {
+                int a, b;
+                interior_span(r, h, &row, &a, &b);
+                const uint32_t *count = landing_row(job, y);
+                if (a <= b)
+                    sum += (double)(count[b + 1 - job->bx0] - count[a - job->bx0]);
+            }
+            for (int dx = row.inner + 1; dx <= row.outer; dx++)
+                for (int side = -1; side <= 1; side += 2) {
+                    int x;
+                    float w;
+                    if (rim_pixel(r, h, &row, dx, side, &x, &w) &&
+                        lands(r, job->coc_signed, job->threshold, (uint32_t)x, (uint32_t)y))
+                        sum += w;
+                }
+        }
+        /* The centre always lands (its own CoC passes its class's rule), so sum > 0. */
+        job->weights[i] = sum > 0.0 ? (float)(1.0 / sum) : 0.0f;
     }
 }
 
-/* The output rows [y0, y1): every disc that reaches them, added. */
+/* +v at x, -v at x + 1 (when that is still in the box, whose running sum ends there). */
+static void add_diff(float *row, int end, int x, const float v[3])
+{
+    for (int c = 0; c < 3; c++)
+        row[(size_t)x * 3 + c] += v[c];
+    if (x + 1 < end)
+        for (int c = 0; c < 3; c++)
+            row[(size_t)(x + 1) * 3 + c] -= v[c];
+}
+
+/* The output rows [y0, y1): the class's discs that reach them, into the difference image, then
+ * summed along each row and added where the class lands. */
 static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const scatter_job *job = user;
     const adi_request *r = job->r;
+    const size_t row_floats = (size_t)r->width * 3;
+    /* Box rows [y0, y1) of the call are image rows [by0 + y0, by0 + y1). */
+    y0 += (uint32_t)job->by0;
+    y1 += (uint32_t)job->by0;
+    for (uint32_t y = y0; y < y1; y++)
+        memset(job->diff + (size_t)y * row_floats + (size_t)job->bx0 * 3, 0,
+               (size_t)(job->bx1 - job->bx0) * 3 * sizeof(float));
     /* The items are in row order: skip to the first whose disc may reach y0. */
     uint32_t lo = 0, hi = job->count;
     while (lo < hi) {
@@ -181,21 +304,46 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t i = lo; i < job->count && (int)job->items[i].y - job->reach_rows < (int)y1;
          i++) {
         const highlight *h = &job->items[i];
-        const disc_extent e = extent_of(r, h);
-        const int ya = e.y0 > (int)y0 ? e.y0 : (int)y0;
-        const int yb = e.y1 < (int)y1 - 1 ? e.y1 : (int)y1 - 1;
-        for (int y = ya; y <= yb; y++) {
-            float *row = r->out + (size_t)y * r->out_stride;
-            for (int x = e.x0; x <= e.x1; x++) {
-                if (!lands_on(h->coc, coc_at(r, (uint32_t)x, (uint32_t)y), job->coc_signed))
-                    continue;
-                const float w =
-                    h->weight * disc_weight(e.radius, r->pixel_aspect, x - (int)h->x,
-                                            y - (int)h->y);
-                float *px = row + (size_t)x * r->channels;
-                for (int c = 0; c < 3; c++)
-                    px[c] += w * h->excess[c];
+        const float k = job->weights[i];
+        const float e[3] = {h->excess[0] * k, h->excess[1] * k, h->excess[2] * k};
+        const int reach = half_height(h, r->pixel_aspect);
+        for (int dy = -reach; dy <= reach; dy++) {
+            const int y = (int)h->y + dy;
+            disc_row row;
+            if (y < (int)y0 || y >= (int)y1 || !disc_row_at(h, r->pixel_aspect, dy, &row))
+                continue;
+            float *d = job->diff + (size_t)y * row_floats;
+            if (row.inner >= 0) {
+                int a, b;
+                interior_span(r, h, &row, &a, &b);
+                if (a <= b)
+                    for (int c = 0; c < 3; c++) {
+                        d[(size_t)a * 3 + c] += e[c];
+                        if (b + 1 < job->bx1)
+                            d[(size_t)(b + 1) * 3 + c] -= e[c];
+                    }
             }
+            for (int dx = row.inner + 1; dx <= row.outer; dx++)
+                for (int side = -1; side <= 1; side += 2) {
+                    int x;
+                    float w;
+                    if (rim_pixel(r, h, &row, dx, side, &x, &w)) {
+                        const float v[3] = {e[0] * w, e[1] * w, e[2] * w};
+                        add_diff(d, job->bx1, x, v);
+                    }
+                }
+        }
+    }
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *d = job->diff + (size_t)y * row_floats;
+        float *out = r->out + (size_t)y * r->out_stride;
+        double sum[3] = {0.0, 0.0, 0.0};
+        for (uint32_t x = (uint32_t)job->bx0; x < (uint32_t)job->bx1; x++) {
+            for (int c = 0; c < 3; c++)
+                sum[c] += d[(size_t)x * 3 + c];
+            if (lands(r, job->coc_signed, job->threshold, x, y))
+                for (int c = 0; c < 3; c++)
+                    out[(size_t)x * r->channels + c] += (float)sum[c];
         }
     }
 }
@@ -232,16 +380,28 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
         kept_area += area[first];
         kept += count[first];
     }
-    if (kept == 0)
+    if (kept == 0) {
+        /* None fits: say so when there were some (the threshold is then that of the
+         * brightest class, which alone is over the budget). */
+        for (int k = CLASSES - 1; k >= 0 && !set->over_budget; k--)
+            if (count[k]) {
+                set->over_budget = 1;
+                set->threshold = threshold * exp2f((float)k / CLASSES_PER_OCTAVE);
+            }
         return DDOF_OK;
+    }
     job.first_class = (uint32_t)first;
     for (uint32_t c = 0, at = 0; c < chunks; c++) {
         job.offsets[c] = at;
         for (int k = first; k < CLASSES; k++)
             at += counts[c].count[k];
     }
-    highlight *items =
-        ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHTS, (size_t)kept * sizeof *items);
+    /* The highlights twice (found, then sorted into size classes), their weights, and the
+     * per-row landing counts of one size class at a time. */
+    const size_t landing_bytes = (size_t)(r->width + 1) * r->height * sizeof(uint32_t);
+    highlight *items = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHTS,
+                                        2 * (size_t)kept * sizeof *items +
+                                            (size_t)kept * sizeof(float) + landing_bytes);
     if (!items)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the highlight pass's %llu highlights",
@@ -250,23 +410,56 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
     ddof_parallel_rows(context, r->height, fill_rows, &job);
     *set = (highlight_set){items, (uint32_t)kept,
                            threshold * exp2f((float)first / CLASSES_PER_OCTAVE),
-                           (uint64_t)kept_area};
+                           (uint64_t)kept_area, 0, (float *)(items + 2 * kept),
+                           (uint32_t *)((float *)(items + 2 * kept) + kept)};
     return DDOF_OK;
 }
 
 void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
-                             const highlight_set *set)
+                             const highlight_set *set, float *scratch)
 {
     if (!set->count)
         return;
-    scatter_job job = {r, coc_signed, set->items, set->count, 0};
-    for (uint32_t i = 0; i < set->count; i++) {
-        const disc_extent e = extent_of(r, &set->items[i]);
-        const int reach = (int)set->items[i].y - e.y0 > e.y1 - (int)set->items[i].y
-                              ? (int)set->items[i].y - e.y0
-                              : e.y1 - (int)set->items[i].y;
-        job.reach_rows = reach > job.reach_rows ? reach : job.reach_rows;
+    /* Counting sort into size classes; the row order within each class is kept. */
+    uint32_t start[SIZE_CLASSES + 2] = {0};
+    for (uint32_t i = 0; i < set->count; i++)
+        start[size_class(set->items[i].coc, coc_signed) + 1]++;
+    for (int k = 0; k <= SIZE_CLASSES; k++)
+        start[k + 1] += start[k];
+    highlight *sorted = set->items + set->count; /* the second half of the allocation */
+    uint32_t at[SIZE_CLASSES + 1];
+    memcpy(at, start, sizeof at);
+    for (uint32_t i = 0; i < set->count; i++)
+        sorted[at[size_class(set->items[i].coc, coc_signed)]++] = set->items[i];
+
+    scatter_job job = {.r = r, .coc_signed = coc_signed, .landing = set->landing,
+                       .weights = set->weights, .diff = scratch};
+    for (int k = 0; k <= SIZE_CLASSES; k++) {
+        if (start[k + 1] == start[k])
+            continue;
+        job.items = sorted + start[k];
+        job.count = start[k + 1] - start[k];
+        job.threshold = landing_threshold(k);
+        job.reach_rows = 0;
+        job.bx0 = job.by0 = INT32_MAX;
+        job.bx1 = job.by1 = INT32_MIN;
+        for (uint32_t i = 0; i < job.count; i++) {
+            const highlight *h = &job.items[i];
+            const int reach = half_height(h, r->pixel_aspect);
+            const int reach_x = (int)ceilf(radius_of(h) + 0.5f) + 1;
+            job.reach_rows = reach > job.reach_rows ? reach : job.reach_rows;
+            job.bx0 = (int)h->x - reach_x < job.bx0 ? (int)h->x - reach_x : job.bx0;
+            job.bx1 = (int)h->x + reach_x + 1 > job.bx1 ? (int)h->x + reach_x + 1 : job.bx1;
+            job.by0 = (int)h->y - reach < job.by0 ? (int)h->y - reach : job.by0;
+            job.by1 = (int)h->y + reach + 1 > job.by1 ? (int)h->y + reach + 1 : job.by1;
+        }
+        job.bx0 = job.bx0 < 0 ? 0 : job.bx0;
+        job.by0 = job.by0 < 0 ? 0 : job.by0;
+        job.bx1 = job.bx1 > (int)r->width ? (int)r->width : job.bx1;
+        job.by1 = job.by1 > (int)r->height ? (int)r->height : job.by1;
+        const uint32_t rows = (uint32_t)(job.by1 - job.by0);
+        ddof_parallel_rows(context, rows, landing_rows, &job);
+        ddof_parallel_rows(context, job.count, weigh_items, &job);
+        ddof_parallel_rows(context, rows, scatter_rows, &job);
     }
-    ddof_parallel_rows(context, set->count, weigh_items, &job);
-    ddof_parallel_rows(context, r->height, scatter_rows, &job);
 }

@@ -8,10 +8,11 @@
  * out of the image before the diffusion and scattered afterwards as a uniform, anti-aliased
  * disc of its CoC (Unreal's Diaphragm DOF does the same for its brightest pixels): the
  * diffusion only ever sees values up to the threshold, and the disc a lens draws is drawn
- * exactly. Its cost is bounded: the discs may cover at most DDOF_HIGHLIGHT_BUDGET times the
- * frame's pixels, the brightest highlights first (the threshold is raised in quarter octaves
- * until they fit; a frame whose brightest quarter octave alone is over the budget, such as a
- * bright sky, gets no disc and is left to the diffusion).
+ * exactly. A disc costs its rows and its rim, not its area (highlights.c draws spans into a
+ * difference image), and the pass is bounded: its discs may cost at most DDOF_HIGHLIGHT_BUDGET
+ * pixel operations per frame pixel, the brightest highlights first (the threshold is raised in
+ * quarter octaves until they fit; a frame whose brightest quarter octave alone is over the
+ * budget, such as a bright sky, gets no disc and is left to the diffusion).
  *
  * The scatter keeps the diffusion's rules: a far highlight's disc lands only on pixels at
  * least half as blurred and on the far side (signed CoC >= half its own), so nothing is drawn
@@ -25,20 +26,22 @@
 #include "adi.h"
 
 #define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
-#define DDOF_HIGHLIGHT_BUDGET 2.0f     /* disc pixels per frame pixel, at most       */
+#define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel   */
 
 typedef struct highlight {
     uint32_t x, y;
     float coc;       /* signed CoC of the pixel                                       */
     float excess[3]; /* colour above the threshold, taken out before the diffusion    */
-    float weight;    /* 1 / the sum of the disc's weights over the pixels it lands on */
 } highlight;
 
 typedef struct highlight_set {
     highlight *items; /* sorted by row                                                */
     uint32_t count;
     float threshold;  /* the threshold that was applied (raised to fit the budget)     */
-    uint64_t disc_pixels;
+    uint64_t cost;    /* the discs' rows and rim pixels                                */
+    int over_budget;  /* none drawn: the brightest class alone was over the budget     */
+    float *weights;   /* scratch for the scatter: one per highlight                    */
+    uint32_t *landing;/* scratch for the scatter: (width + 1) x height                 */
 } highlight_set;
 
 /* Finds the highlights of r (colour with 3 or 4 channels, its signed or unsigned CoC):
@@ -48,8 +51,9 @@ typedef struct highlight_set {
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
                                  int coc_signed, float *base, highlight_set *set);
 
-/* Adds each highlight's excess to r->out as its disc. */
+/* Adds each highlight's excess to r->out as its disc. scratch: width x height x 3 floats
+ * (the base image of ddof_find_highlights may serve: it is not needed any more). */
 void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
-                             const highlight_set *set);
+                             const highlight_set *set, float *scratch);
 
 #endif

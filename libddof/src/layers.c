@@ -495,9 +495,14 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
         return status;
     if (set->count)
         snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px "
-                             "drawn as discs (%.2f disc pixels per frame pixel)",
+                             "drawn as discs (%.2f operations per frame pixel)",
                  set->count, (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
-                 (double)set->disc_pixels / ((double)r->width * r->height));
+                 (double)set->cost / ((double)r->width * r->height));
+    else if (set->over_budget)
+        snprintf(line, size, "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g "
+                             "px) alone would cost over %.3g operations per frame pixel",
+                 (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
+                 (double)DDOF_HIGHLIGHT_BUDGET);
     else
         snprintf(line, size, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
                  (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
@@ -596,7 +601,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
 
     if (highlights.count) {
         const double t0 = ddof_seconds();
-        ddof_scatter_highlights(context, r, (int)p->coc_signed, &highlights);
+        ddof_scatter_highlights(context, r, (int)p->coc_signed, &highlights,
+                                (float *)highlights_base(context, r));
         report->effects |= DDOF_EFFECT_HIGHLIGHTS;
         report->seconds_highlights += ddof_seconds() - t0;
     }

@@ -280,6 +280,7 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddNumberToObject(t, "plan", r->stats.seconds_plan);
         cJSON_AddNumberToObject(t, "background", r->stats.seconds_background);
         cJSON_AddNumberToObject(t, "foreground", r->stats.seconds_foreground);
+        cJSON_AddNumberToObject(t, "highlights", r->stats.seconds_highlights);
         cJSON_AddNumberToObject(t, "library_total", r->stats.seconds_total);
         cJSON_AddNumberToObject(t, "write", r->seconds_write);
         cJSON_AddNumberToObject(t, "preview", r->seconds_preview);
