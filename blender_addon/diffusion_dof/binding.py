@@ -192,7 +192,10 @@ class Stats(ctypes.Structure):
                 ("device_bytes", ctypes.c_uint64),
                 ("host_bytes", ctypes.c_uint64),
                 # version 0.4
-                ("kernel", ctypes.c_uint32)]
+                ("kernel", ctypes.c_uint32),
+                # version 0.5
+                ("device_uploads", ctypes.c_uint32),
+                ("device_readbacks", ctypes.c_uint32)]
 
 
 class Foreground(ctypes.Structure):

@@ -435,6 +435,10 @@ typedef struct ddof_stats {
     uint32_t kernel;           /* the ddof_kernel that ran: the heat kernel where the         */
                                /* solver has no disc form (ddof_kernel); lines_solved         */
                                /* counts each of a disc's complex solves, on any backend      */
+
+    /* --- version 0.5 of this struct ------------------------------------------------------- */
+    uint32_t device_uploads;   /* GL backends: host-to-device transfers of image data the     */
+    uint32_t device_readbacks; /* call made, and device-to-host ones (0 on the CPU)           */
 } ddof_stats;
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels

@@ -80,6 +80,8 @@ static ddof_status diffuse(ddof_context *context, adi_request *r, stages *st,
     report->adi.lines_skipped += a.lines_skipped;
     report->adi.seconds_rows += a.seconds_rows;
     report->adi.seconds_columns += a.seconds_columns;
+    report->adi.uploads += a.uploads;
+    report->adi.readbacks += a.readbacks;
     report->adi.threads = a.threads;
     report->adi.max_coc = ddof_maxf(report->adi.max_coc, a.max_coc);
     if (a.device_bytes > report->adi.device_bytes)

@@ -51,6 +51,7 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
     while (gl->GetError() != GL_NO_ERROR) { /* the host's errors are not ours */
     }
     gl_buffers_begin(&device->buffers);
+    device->uploads = device->readbacks = 0;
     gl_diffusion d = {r->width, r->height, r->channels, r->solver, r->precision,
                       r->substeps, r->jacobi_iterations, r->beta_scale, r->pixel_aspect,
                       r->gamma != NULL, r->progress, r->progress_user, r->disc, {0}, {0}};
@@ -71,6 +72,8 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
         status = DDOF_ERROR_BACKEND_FAILED;
     }
     report->device_bytes = gl_buffers_used(&device->buffers);
+    report->uploads = device->uploads;
+    report->readbacks = device->readbacks;
     gl_device_end(device);
     if (status == DDOF_OK && r->progress)
         r->progress(r->progress_user, 1.0f);
@@ -79,7 +82,7 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
 
 static const ddof_backend_table table = {
     DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
-    table_supports, table_run, table_supports_disc,
+    table_supports, table_run, table_supports_disc, NULL,
 };
 
 DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);

@@ -20,8 +20,10 @@ static uint64_t span_floats(uint32_t width, uint32_t height, size_t stride, uint
     return (uint64_t)(height - 1) * stride + (uint64_t)(width - 1) * step + used;
 }
 
-static void upload(const gl_functions *gl, GLuint buffer, const float *data, uint64_t floats)
+static void upload(ddof_device *device, GLuint buffer, const float *data, uint64_t floats)
 {
+    const gl_functions *gl = &device->gl;
+    device->uploads++;
     gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
     gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(floats * sizeof(float)), data);
 }
@@ -51,11 +53,11 @@ int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_
     if (!raw || !dummy || !image || !coc || !gamma || !raw_coc || !raw_gamma || !pack)
         return 0;
 
-    upload(gl, raw, r->color, color_span);
+    upload(device, raw, r->color, color_span);
     if (r->coc)
-        upload(gl, raw_coc, r->coc, coc_span);
+        upload(device, raw_coc, r->coc, coc_span);
     if (r->gamma)
-        upload(gl, raw_gamma, r->gamma, gamma_span);
+        upload(device, raw_gamma, r->gamma, gamma_span);
 
     gl_bind(gl, 0, coc);
     gl_bind(gl, 1, gamma);
@@ -66,6 +68,9 @@ int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_
     gl_uniform_u(gl, pack, "u_width", w);
     gl_uniform_u(gl, pack, "u_height", h);
     gl_uniform_u(gl, pack, "u_channels", C);
+    gl_uniform_u(gl, pack, "u_color_offset", 0);
+    gl_uniform_u(gl, pack, "u_coc_offset", 0);
+    gl_uniform_u(gl, pack, "u_gamma_offset", 0);
     gl_uniform_u(gl, pack, "u_color_stride", (GLuint)r->color_stride);
     gl_uniform_u(gl, pack, "u_has_coc", r->coc != NULL);
     gl_uniform_f(gl, pack, "u_uniform_coc", r->uniform_coc);
@@ -93,6 +98,7 @@ int gl_io_download(ddof_device *device, const adi_request *r, char *message, siz
     gl_uniform_u(gl, unpack, "u_width", w);
     gl_uniform_u(gl, unpack, "u_height", h);
     gl_uniform_u(gl, unpack, "u_channels", C);
+    gl_uniform_u(gl, unpack, "u_out_offset", 0);
     gl_uniform_u(gl, unpack, "u_out_stride", (GLuint)r->out_stride);
     gl->UseProgram(unpack);
     gl_dispatch(gl, (uint64_t)w * h, 256);
@@ -106,6 +112,7 @@ int gl_io_download(ddof_device *device, const adi_request *r, char *message, siz
         snprintf(message, size, "the result buffer could not be mapped for reading");
         return 0;
     }
+    device->readbacks++;
     for (uint32_t y = 0; y < h; y++)
         memcpy(r->out + (size_t)y * r->out_stride, mapped + (size_t)y * r->out_stride,
                (size_t)w * C * sizeof(float));

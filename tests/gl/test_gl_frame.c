@@ -1,0 +1,176 @@
+/* SPDX-License-Identifier: MIT */
+/* test_gl_frame.c - whole layered frames on a GL backend against the same frames on the CPU
+ * (Thomas on both, float): the midground alone, the background layer with 1 and 3 levels, the
+ * near spread, a foreground element, each with the heat kernel and with a disc kernel. The GL
+ * result must match the CPU's within TOL_FRAME, leave every pixel the CPU leaves untouched bit
+ * for bit, report the same effects, and make the host <-> device transfers expect_uploads /
+ * expect_readbacks say (ddof_stats.device_uploads, device_readbacks). Argument: "osmesa" or
+ * "egl". DDOF_TEST_VERBOSE=1 prints the measured differences and counts. */
+#include "gl_test.h"
+
+/* Both sides in float with the same operations; the GPU may contract them differently.
+ * Relative to the colour range (the images here span [0.05, 0.9]); test_gl_disc's tolerance. */
+#define TOL_FRAME 1e-4
+
+enum { W = 83, H = 61, CH = 4 };
+
+static ddof_context *gl, *cpu;
+static int verbose;
+
+/* In-focus bars, a far background of CoC 12..40, and a disc of CoC 30 (near when signed). */
+static void scene(float *color, float *coc, int signed_near)
+{
+    test_rng rng = {7};
+    fill_uniform(color, (size_t)W * H * CH, &rng, 0.05, 0.9);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            float d = 12.0f + 28.0f * (float)y / (float)H; /* far background */
+            if (x % 19 < 3)
+                d = 0.0f; /* thin in-focus bars */
+            const float dx = (float)x - 55.0f, dy = (float)y - 28.0f;
+            if (dx * dx + dy * dy < 81.0f)
+                d = signed_near ? -30.0f : 30.0f; /* a near disc */
+            coc[(size_t)y * W + x] = d;
+        }
+}
+
+/* A premultiplied disc of soft alpha at (24, 30), NaN colour where alpha = 0. */
+static void element(float *fg_color, float *fg_coc)
+{
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const float dx = (float)x - 24.0f, dy = (float)y - 30.0f;
+            const float r = sqrtf(dx * dx + dy * dy);
+            const float a = r < 6.0f ? 1.0f : r < 9.0f ? (9.0f - r) / 3.0f : 0.0f;
+            float *px = fg_color + ((size_t)y * W + x) * 4;
+            px[0] = a > 0 ? 0.9f * a : NAN;
+            px[1] = a > 0 ? 0.3f * a : NAN;
+            px[2] = a > 0 ? 0.1f * a : NAN;
+            px[3] = a;
+            fg_coc[(size_t)y * W + x] = 16.0f;
+        }
+}
+
+/* Values the CPU left equal to the input that GL changed (bit for bit). */
+static size_t untouched_changed(const float *input, const float *cpu_out, const float *gl_out,
+                                size_t n)
+{
+    size_t changed = 0;
+    for (size_t i = 0; i < n; i++)
+        if (memcmp(&cpu_out[i], &input[i], sizeof(float)) == 0)
+            changed += memcmp(&gl_out[i], &input[i], sizeof(float)) != 0;
+    return changed;
+}
+
+/* The transfers of a frame: one diffusion request at a time, each uploading its colour, CoC
+ * and gamma (those it has) and reading its result back. */
+static uint32_t expect_uploads(const ddof_params *p, uint32_t effects)
+{
+    const uint32_t levels = effects & DDOF_EFFECT_BACKGROUND ? p->background_levels : 0;
+    return 2 + 5 * levels + (effects & DDOF_EFFECT_FOREGROUND ? 6 : 0);
+}
+
+static uint32_t expect_readbacks(const ddof_params *p, uint32_t effects)
+{
+    const uint32_t levels = effects & DDOF_EFFECT_BACKGROUND ? p->background_levels : 0;
+    return 1 + 2 * levels + (effects & DDOF_EFFECT_FOREGROUND ? 3 : 0);
+}
+
+static void compare(const char *name, ddof_params p, const float *color, const float *coc,
+                    const ddof_foreground *fg, uint32_t expect_effects)
+{
+    const size_t n = (size_t)W * H * CH;
+    float *ref = alloc_f(n), *out = alloc_f(n);
+    ddof_stats sc = stats_init(), sg = stats_init();
+    ddof_status s = diffuse_layers(cpu, &p, color, coc, fg, ref, W, H, CH, &sc);
+    CHECK_MSG(s == DDOF_OK, "%s: CPU %d (%s)", name, (int)s, ddof_context_last_error(cpu));
+    s = diffuse_layers(gl, &p, color, coc, fg, out, W, H, CH, &sg);
+    CHECK_MSG(s == DDOF_OK, "%s: GL %d (%s)", name, (int)s, ddof_context_last_error(gl));
+    const double e = max_diff(out, ref, n);
+    const size_t changed = untouched_changed(color, ref, out, n);
+    if (verbose)
+        printf("  %-34s %-8s GL vs CPU %.3g, uploads %u, read-backs %u, %.1f MB/MP\n", name,
+               ddof_kernel_name(p.kernel), e, sg.device_uploads, sg.device_readbacks,
+               (double)sg.device_bytes / ((double)W * H));
+    CHECK_MSG(e <= TOL_FRAME, "%s %s: GL vs CPU %.3g > %.3g", name, ddof_kernel_name(p.kernel),
+              e, TOL_FRAME);
+    CHECK_MSG(changed == 0, "%s %s: %zu values the CPU leaves as they are changed", name,
+              ddof_kernel_name(p.kernel), changed);
+    CHECK_MSG((sc.effects & expect_effects) == expect_effects, "%s: effects %u, wanted %u (%s)",
+              name, sc.effects, expect_effects, sc.plan);
+    CHECK_EQ_INT(sg.effects, sc.effects);
+    CHECK_EQ_INT(sg.kernel, sc.kernel);
+    CHECK_MSG(sg.device_bytes > 0, "%s: nothing ran on the device", name);
+    CHECK_EQ_INT(sc.device_uploads, 0);
+    CHECK_EQ_INT(sc.device_readbacks, 0);
+    CHECK_MSG(sg.device_uploads == expect_uploads(&p, sc.effects) &&
+                  sg.device_readbacks == expect_readbacks(&p, sc.effects),
+              "%s: %u uploads and %u read-backs", name, sg.device_uploads, sg.device_readbacks);
+    free(ref);
+    free(out);
+}
+
+static void frames(ddof_kernel kernel)
+{
+    float *color = alloc_f((size_t)W * H * CH), *coc = alloc_f((size_t)W * H);
+    ddof_params p;
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.kernel = kernel;
+
+    scene(color, coc, 0);
+    p.background = DDOF_LAYER_OFF;
+    compare("midground only", p, color, coc, NULL, DDOF_EFFECT_MIDGROUND);
+    p.background = DDOF_LAYER_AUTO;
+    p.background_levels = 1;
+    compare("background, 1 level", p, color, coc, NULL, DDOF_EFFECT_BACKGROUND);
+    p.background_levels = 3;
+    compare("background, 3 levels", p, color, coc, NULL, DDOF_EFFECT_BACKGROUND);
+    p.background = DDOF_LAYER_ON;
+    p.background_levels = 1;
+    p.substeps = kernel == DDOF_KERNEL_HEAT ? 2 : p.substeps;
+    compare("background forced on", p, color, coc, NULL, DDOF_EFFECT_BACKGROUND);
+
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.kernel = kernel;
+    scene(color, coc, 1);
+    p.coc_signed = 1;
+    compare("near spread + background", p, color, coc, NULL,
+            DDOF_EFFECT_NEAR_SPREAD | DDOF_EFFECT_BACKGROUND);
+
+    float *fg_color = alloc_f((size_t)W * H * 4), *fg_coc = alloc_f((size_t)W * H);
+    element(fg_color, fg_coc);
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
+    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.kernel = kernel;
+    scene(color, coc, 0);
+    compare("foreground element + background", p, color, coc, &fg,
+            DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
+    p.background_levels = 3;
+    compare("foreground + background 3 levels", p, color, coc, &fg,
+            DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
+
+    free(fg_color);
+    free(fg_coc);
+    free(color);
+    free(coc);
+}
+
+int main(int argc, char **argv)
+{
+    verbose = verbose_test();
+    gl = gl_context_for(backend_from_name(argc > 1 ? argv[1] : NULL));
+    if (!gl)
+        return GL_TEST_SKIP;
+    cpu = make_context(0);
+    frames(DDOF_KERNEL_HEAT);
+    frames(DDOF_KERNEL_DISC_2X3);
+    ddof_context_free(cpu);
+    ddof_context_free(gl);
+    return test_report("test_gl_frame");
+}
