@@ -23,6 +23,15 @@ typedef enum gl_buffer_slot {
     GL_BUF_PYRAMID,   /* reduced levels (CR, hybrid, Gruen)    */
     GL_BUF_COUNTERS,  /* active rows, columns, max CoC         */
     GL_BUF_DUMMY,     /* bound where a kernel reads nothing    */
+    GL_BUF_RANGE,     /* the disc's clamp range (8 uint keys)  */
+    GL_BUF_FRAME,     /* a layered frame's one upload          */
+    GL_BUF_OUT,       /* its result, read back at the end      */
+    GL_BUF_MAP_A,     /* its maps (layers.c's scratch slots)   */
+    GL_BUF_MAP_B,
+    GL_BUF_MAP_C,
+    GL_BUF_CAPACITY,
+    GL_BUF_SPREAD,
+    GL_BUF_LAYER,
     GL_BUF_COUNT
 } gl_buffer_slot;
 
