@@ -178,6 +178,112 @@ static void frames(ddof_kernel kernel)
     free(coc);
 }
 
+/* Copies a tight w x ch image into rows `stride` floats apart, the padding set to `pad`. */
+static float *padded(const float *tight, uint32_t ch, size_t stride, float pad)
+{
+    float *p = alloc_f(stride * H);
+    fill_const(p, stride * H, pad);
+    for (uint32_t y = 0; y < H; y++)
+        memcpy(p + y * stride, tight + (size_t)y * W * ch, (size_t)W * ch * sizeof(float));
+    return p;
+}
+
+/* The frame with strided images (CoC as the first of 2 channels, padded rows everywhere) on
+ * the device, out of place and in place, against the CPU's frame of tight images: the same
+ * rows, the padding never written. */
+static void layouts(uint32_t ch, int with_element)
+{
+    float *color = alloc_f((size_t)W * H * CH), *coc = alloc_f((size_t)W * H);
+    float *fg_color = alloc_f((size_t)W * H * 4), *fg_coc = alloc_f((size_t)W * H);
+    scene(color, coc, 1);
+    element(fg_color, fg_coc);
+    float *tight = alloc_f((size_t)W * H * ch), *ref = alloc_f((size_t)W * H * ch);
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        memcpy(tight + i * ch, color + i * CH, ch * sizeof(float));
+    ddof_params p;
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.coc_signed = 1;
+    p.background_levels = 2;
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
+    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
+    const ddof_foreground *element_or = with_element ? &fg : NULL;
+    CHECK_EQ_INT(diffuse_layers(cpu, &p, tight, coc, element_or, ref, W, H, ch, NULL), DDOF_OK);
+
+    const size_t cs = (size_t)W * ch + 5, zs = (size_t)W * 2 + 3, fs = (size_t)W * 4 + 7;
+    float *coc2 = padded(coc, 1, zs, NAN); /* channel 2 and the padding are never read */
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            coc2[y * zs + x * 2] = coc[(size_t)y * W + x];
+            coc2[y * zs + x * 2 + 1] = NAN;
+        }
+    float *fgc = padded(fg_color, 4, fs, NAN), *fgz = padded(fg_coc, 1, W + 1, NAN);
+    fg.color = (ddof_image_in){fgc, W, H, 4, fs * sizeof(float)};
+    fg.coc = (ddof_image_in){fgz, W, H, 1, (W + 1) * sizeof(float)};
+    for (int in_place = 0; in_place < 2; in_place++) {
+        float *in = padded(tight, ch, cs, 555.0f), *out = padded(tight, ch, cs, 777.0f);
+        float *target = in_place ? in : out;
+        ddof_image_in ci = {in, W, H, ch, cs * sizeof(float)};
+        ddof_image_in zi = {coc2, W, H, 2, zs * sizeof(float)};
+        ddof_image oi = {target, W, H, ch, cs * sizeof(float)};
+        ddof_stats st = stats_init();
+        ddof_status s = ddof_diffuse_layers(gl, &p, &ci, &zi, element_or, &oi, &st);
+        CHECK_MSG(s == DDOF_OK, "layouts %u ch: %d (%s)", ch, (int)s, ddof_context_last_error(gl));
+        const size_t rows = padded_rows_differ(target, cs, ref, (size_t)W * ch, H);
+        double e = 0.0;
+        for (uint32_t y = 0; y < H; y++)
+            e = fmax(e, max_diff(target + y * cs, ref + (size_t)y * W * ch, (size_t)W * ch));
+        if (verbose)
+            printf("  layouts, %u channels%s%s: GL vs CPU %.3g, uploads %u, read-backs %u\n", ch,
+                   with_element ? ", element" : "", in_place ? ", in place" : "", e,
+                   st.device_uploads, st.device_readbacks);
+        CHECK_MSG(e <= TOL_FRAME, "layouts %u ch, in place %d: GL vs CPU %.3g (%zu rows differ)",
+                  ch, in_place, e, rows);
+        CHECK_EQ_INT(padding_changed(target, cs, (size_t)W * ch, H, in_place ? 555.0f : 777.0f),
+                     0);
+        CHECK_EQ_INT(st.device_uploads, 1);
+        CHECK_EQ_INT(st.device_readbacks, 1);
+        free(in);
+        free(out);
+    }
+    free(coc2);
+    free(fgc);
+    free(fgz);
+    free(tight);
+    free(ref);
+    free(color);
+    free(coc);
+    free(fg_color);
+    free(fg_coc);
+}
+
+static int cancel_at_half(void *user, float fraction)
+{
+    (void)user;
+    return fraction >= 0.5f;
+}
+
+/* A layered frame cancelled halfway (in the background layer): CANCELLED, out finite. */
+static void cancelled(void)
+{
+    float *color = alloc_f((size_t)W * H * CH), *coc = alloc_f((size_t)W * H);
+    float *out = alloc_f((size_t)W * H * CH);
+    scene(color, coc, 0);
+    ddof_params p;
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.background_levels = 3;
+    p.progress = cancel_at_half;
+    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, NULL, out, W, H, CH, NULL),
+                 DDOF_ERROR_CANCELLED);
+    CHECK(all_finite(out, (size_t)W * H * CH));
+    free(color);
+    free(coc);
+    free(out);
+}
+
 int main(int argc, char **argv)
 {
     verbose = verbose_test();
@@ -187,6 +293,10 @@ int main(int argc, char **argv)
     cpu = make_context(0);
     frames(DDOF_KERNEL_HEAT);
     frames(DDOF_KERNEL_DISC_2X3);
+    layouts(4, 1);
+    layouts(3, 1);
+    layouts(1, 0);
+    cancelled();
     ddof_context_free(cpu);
     ddof_context_free(gl);
     return test_report("test_gl_frame");
