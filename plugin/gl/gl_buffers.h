@@ -9,9 +9,8 @@
 #include <stdint.h>
 
 typedef enum gl_buffer_slot {
-    GL_BUF_RAW_COLOR, /* the caller's colour as it lies; reused for the read-back */
-    GL_BUF_RAW_COC,
-    GL_BUF_RAW_GAMMA,
+    GL_BUF_RAW_COLOR, /* the caller's colour, CoC and gamma as they lie, one after the */
+                      /* other (one upload); reused for the read-back                 */
     GL_BUF_COC,       /* |CoC| per pixel                       */
     GL_BUF_GAMMA,     /* gamma per pixel                       */
     GL_BUF_FLAGS,     /* singular-run marks per pixel          */

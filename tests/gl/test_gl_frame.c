@@ -114,6 +114,14 @@ static void compare(const char *name, ddof_params p, const float *color, const f
     CHECK_EQ_INT(sc.device_readbacks, 0);
     CHECK_MSG(sg.device_uploads == expect_uploads() && sg.device_readbacks == expect_readbacks(),
               "%s: %u uploads and %u read-backs", name, sg.device_uploads, sg.device_readbacks);
+    if (expect_effects == DDOF_EFFECT_MIDGROUND) {
+        /* The one diffusion through ddof_diffuse (the seam's run()): one upload too. */
+        sg = stats_init();
+        CHECK_EQ_INT(diffuse(gl, &p, color, coc, out, W, H, CH, &sg), DDOF_OK);
+        CHECK_EQ_INT(sg.device_uploads, 1);
+        CHECK_EQ_INT(sg.device_readbacks, 1);
+        CHECK_MSG(max_diff(out, ref, n) <= TOL_FRAME, "%s: ddof_diffuse", name);
+    }
     if (expect_effects != DDOF_EFFECT_MIDGROUND) {
         float *mid = midground_alone(p, color, coc);
         const double effect = max_diff(ref, mid, n);
