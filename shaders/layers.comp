@@ -5,24 +5,29 @@
 // multiply and add the CPU rounds twice, so the device's frame differs from the CPU's only by
 // the diffusions' rounding.
 //
-// Images are float arrays in the CPU's layouts: the uploaded frame (caller's strides, the CoC
-// and the element's CoC as the first of several channels), the output (w x channels floats a
+// Images are float arrays in the CPU's layouts: the uploaded images (caller's strides, the CoC
+// and the element's CoC as the first of several channels; each a bound section of the upload), the output (w x channels floats a
 // row), and the maps of the area (area width floats a row), so that a crop is an offset.
 layout(local_size_x = 256) in;
 
-layout(std430, binding = 0) readonly buffer Frame { float frame[]; };  // the upload
+layout(std430, binding = 0) readonly buffer CocIn { float coc_in[]; }; // the upload's CoC
+#ifdef STEP_FG_PREPARE // the element's sections of the upload, where OUT and SPREAD would be
+layout(std430, binding = 1) readonly buffer FgColor { float fg_color[]; };
+layout(std430, binding = 6) readonly buffer FgCoc { float fg_coc[]; };
+#else
 layout(std430, binding = 1) buffer Out { float out_px[]; };            // the result so far
+layout(std430, binding = 6) buffer Spread { float spread[]; };         // near-spread CoC
+#endif
 layout(std430, binding = 2) buffer MapA { float map_a[]; };
 layout(std430, binding = 3) buffer MapB { float map_b[]; };
 layout(std430, binding = 4) buffer MapC { float map_c[]; };            // proximity
 layout(std430, binding = 5) buffer Capacity { float capacity[]; };
-layout(std430, binding = 6) buffer Spread { float spread[]; };         // near-spread CoC
 layout(std430, binding = 7) buffer Layer { float layer[]; };           // B or premultiplied F
 
 uniform uint u_width;        // of the area
 uniform uint u_height;
 uniform uint u_channels;     // of the colour
-uniform uint u_coc_base;     // frame[] index of the area's first CoC
+uniform uint u_coc_base;     // coc_in[] index of the area's first CoC
 uniform uint u_coc_stride;
 uniform uint u_coc_step;
 uniform uint u_out_base;     // out_px[] index of the area's first value
@@ -30,7 +35,7 @@ uniform uint u_out_stride;
 uniform uint u_spread_base;  // spread[] index of the area's first value (frame width a row)
 uniform uint u_spread_stride;
 uniform uint u_has_spread;
-uniform uint u_fg_base;      // frame[] index of the area's first element pixel
+uniform uint u_fg_base;      // fg_color[] index of the area's first element pixel
 uniform uint u_fg_stride;
 uniform uint u_fg_coc_base;
 uniform uint u_fg_coc_stride;
@@ -49,7 +54,7 @@ uniform uint u_blend_y1;
 
 float coc_at(uint x, uint y)
 {
-    return frame[u_coc_base + y * u_coc_stride + x * u_coc_step];
+    return coc_in[u_coc_base + y * u_coc_stride + x * u_coc_step];
 }
 
 // Fully within |c|/2 of the nearest in-focus pixel, not at all beyond |c| (layers.c).
@@ -102,14 +107,14 @@ void main()
     // layer = the element premultiplied (alpha clamped, colour read only where alpha > 0),
     // b = its |CoC| (0 where transparent).
     uint q = u_fg_base + y * u_fg_stride + x * 4u;
-    float alpha = min(1.0, max(0.0, frame[q + 3u]));
+    float alpha = min(1.0, max(0.0, fg_color[q + 3u]));
     float scale = u_premultiplied != 0u ? 1.0 : alpha;
     for (uint k = 0u; k < 3u; k++) {
-        precise float v = alpha > 0.0 ? frame[q + k] * scale : 0.0;
+        precise float v = alpha > 0.0 ? fg_color[q + k] * scale : 0.0;
         layer[p * 4u + k] = v;
     }
     layer[p * 4u + 3u] = alpha;
-    map_b[p] = alpha > 0.0 ? abs(frame[u_fg_coc_base + y * u_fg_coc_stride + x * u_fg_coc_step])
+    map_b[p] = alpha > 0.0 ? abs(fg_coc[u_fg_coc_base + y * u_fg_coc_stride + x * u_fg_coc_step])
                            : 0.0;
 #elif defined(STEP_HOLDS_VALUE)
     // b = 1 where the first CoC fill (c) left a value, the second fill's sources.

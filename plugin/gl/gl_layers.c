@@ -38,11 +38,14 @@ static uint32_t kernel_reach_px(const disc_kernel *disc, float beta_scale, float
 
 /* ---- the frame's state -------------------------------------------------------------------- */
 
+/* The images of the one upload, each a section of FRAME. */
+enum { IN_COLOR, IN_COC, IN_FG, IN_FG_COC, IN_COUNT };
+
 typedef struct frame {
     ddof_device *device;
     const adi_layers_request *q;
     uint32_t w, h, c;
-    uint32_t coc_at, fg_at, fg_coc_at; /* where each image starts in FRAME (floats) */
+    uint64_t at[IN_COUNT], bytes[IN_COUNT]; /* each image's section of FRAME */
     adi_layers_report *report;
     uint32_t stage, stages;            /* progress: the diffusion running, of how many */
     char *message;
@@ -62,48 +65,66 @@ static GLuint slot(const frame *f, gl_buffer_slot s)
     return b->name[s] ? b->name[s] : b->name[GL_BUF_DUMMY];
 }
 
+/* Image `offset` floats into section `in` of the upload. */
+static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride, uint32_t step)
+{
+    return (gl_image_ref){f->device->buffers.name[GL_BUF_FRAME], offset, (uint32_t)stride, step,
+                          f->at[in], f->bytes[in]};
+}
+
 static GLuint need(frame *f, gl_buffer_slot s, uint64_t floats)
 {
     return gl_need(f->device, s, floats * sizeof(float), f->message, f->size);
 }
 
-/* The one upload: every image the frame reads, each as it lies, into FRAME. */
+/* The one upload: every image the frame reads, each as it lies, into its section of FRAME
+ * (sections start at the renderer's binding alignment and are bound one at a time, so each
+ * must fit the storage-block limit, not the whole). */
 static int upload(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    const uint64_t color = span_floats(f->w, f->h, r->color_stride, f->c, f->c);
-    const uint64_t coc = span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1);
-    const uint64_t fg = q->fg_color ? span_floats(f->w, f->h, q->fg_color_stride, 4, 4) : 0;
-    const uint64_t fg_coc =
-        q->fg_color ? span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1) : 0;
-    const uint64_t total = color + coc + fg + fg_coc;
-    if (total > UINT32_MAX) {
-        snprintf(f->message, f->size, "the frame's images exceed 2^32 floats");
+    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc};
+    uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
+                                 span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1), 0,
+                                 0};
+    if (q->fg_color) {
+        floats[IN_FG] = span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
+        floats[IN_FG_COC] = span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
+    }
+    const uint64_t align = f->device->buffer_alignment;
+    uint64_t total = 0;
+    for (int i = 0; i < IN_COUNT; i++) {
+        f->at[i] = (total + align - 1) / align * align;
+        f->bytes[i] = floats[i] * sizeof(float);
+        total = f->at[i] + f->bytes[i];
+        if (f->bytes[i] > f->device->max_buffer_bytes || floats[i] > UINT32_MAX) {
+            snprintf(f->message, f->size,
+                     "an image needs a %llu-byte buffer, more than this renderer's "
+                     "GL_MAX_SHADER_STORAGE_BLOCK_SIZE (%llu)",
+                     (unsigned long long)f->bytes[i],
+                     (unsigned long long)f->device->max_buffer_bytes);
+            return 0;
+        }
+    }
+    const gl_functions *gl = &f->device->gl;
+    GLuint buffer = gl_buffers_get(gl, &f->device->buffers, GL_BUF_FRAME, total);
+    if (!buffer) {
+        snprintf(f->message, f->size, "out of GPU memory (%llu-byte buffer)",
+                 (unsigned long long)total);
         return 0;
     }
-    f->coc_at = (uint32_t)color;
-    f->fg_at = (uint32_t)(color + coc);
-    f->fg_coc_at = (uint32_t)(color + coc + fg);
-    const gl_functions *gl = &f->device->gl;
-    GLuint buffer = need(f, GL_BUF_FRAME, total);
-    if (!buffer)
-        return 0;
     gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
-    float *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0,
-                                       (GLsizeiptr)(total * sizeof(float)),
-                                       GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    unsigned char *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)total,
+                                               GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
     if (!mapped) {
         snprintf(f->message, f->size, "the frame's buffer could not be mapped for writing");
         return 0;
     }
     f->device->uploads++;
-    memcpy(mapped, r->color, color * sizeof(float));
-    memcpy(mapped + f->coc_at, r->coc, coc * sizeof(float));
-    if (q->fg_color) {
-        memcpy(mapped + f->fg_at, q->fg_color, fg * sizeof(float));
-        memcpy(mapped + f->fg_coc_at, q->fg_coc, fg_coc * sizeof(float));
-    }
+    for (int i = 0; i < IN_COUNT; i++)
+        if (f->bytes[i])
+            memcpy(mapped + f->at[i], source[i], f->bytes[i]);
     if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
         snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
         return 0;
@@ -151,12 +172,20 @@ static GLuint step_program(frame *f, gl_program_id id, adi_box area)
                                             GL_BUF_SPREAD, GL_BUF_LAYER};
     for (GLuint i = 0; i < 8; i++)
         gl_bind(gl, i, slot(f, bound[i]));
+    /* Binding 0: the CoC's section; the element's step reads the element's sections at 1 and
+     * 6 instead of OUT and SPREAD (layers.comp). */
+    const gl_image_ref coc = input(f, IN_COC, 0, 0, 0);
+    gl_bind_ref(gl, 0, &coc, 0);
+    if (id == GL_PROG_LAYER_FG_PREPARE) {
+        const gl_image_ref fg = input(f, IN_FG, 0, 0, 0), fg_coc = input(f, IN_FG_COC, 0, 0, 0);
+        gl_bind_ref(gl, 1, &fg, 0);
+        gl_bind_ref(gl, 6, &fg_coc, 0);
+    }
     const uint32_t x0 = area.x0, y0 = area.y0;
     gl_uniform_u(gl, prog, "u_width", area.x1 - x0);
     gl_uniform_u(gl, prog, "u_height", area.y1 - y0);
     gl_uniform_u(gl, prog, "u_channels", f->c);
-    gl_uniform_u(gl, prog, "u_coc_base",
-                 f->coc_at + (GLuint)(y0 * r->coc_stride + x0 * r->coc_channels));
+    gl_uniform_u(gl, prog, "u_coc_base", (GLuint)(y0 * r->coc_stride + x0 * r->coc_channels));
     gl_uniform_u(gl, prog, "u_coc_stride", (GLuint)r->coc_stride);
     gl_uniform_u(gl, prog, "u_coc_step", r->coc_channels);
     gl_uniform_u(gl, prog, "u_out_base", (y0 * f->w + x0) * f->c);
@@ -165,10 +194,10 @@ static GLuint step_program(frame *f, gl_program_id id, adi_box area)
     gl_uniform_u(gl, prog, "u_spread_stride", f->w);
     gl_uniform_u(gl, prog, "u_has_spread", q->near_spread);
     if (q->fg_color) {
-        gl_uniform_u(gl, prog, "u_fg_base", f->fg_at + (GLuint)(y0 * q->fg_color_stride + x0 * 4));
+        gl_uniform_u(gl, prog, "u_fg_base", (GLuint)(y0 * q->fg_color_stride + x0 * 4));
         gl_uniform_u(gl, prog, "u_fg_stride", (GLuint)q->fg_color_stride);
         gl_uniform_u(gl, prog, "u_fg_coc_base",
-                     f->fg_coc_at + (GLuint)(y0 * q->fg_coc_stride + x0 * q->fg_coc_channels));
+                     (GLuint)(y0 * q->fg_coc_stride + x0 * q->fg_coc_channels));
         gl_uniform_u(gl, prog, "u_fg_coc_stride", (GLuint)q->fg_coc_stride);
         gl_uniform_u(gl, prog, "u_fg_coc_step", q->fg_coc_channels);
         gl_uniform_u(gl, prog, "u_premultiplied", q->fg_premultiplied);
@@ -225,7 +254,7 @@ static int stage_progress(void *user, float fraction)
 
 static gl_image_ref map_ref(const frame *f, gl_buffer_slot s, uint32_t width, uint32_t step)
 {
-    return (gl_image_ref){f->device->buffers.name[s], 0, width * step, step};
+    return (gl_image_ref){f->device->buffers.name[s], 0, width * step, step, 0, 0};
 }
 
 /* One diffusion; its figures are added to the report as layers.c's diffuse() adds them. */
@@ -298,12 +327,10 @@ static ddof_status midground(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    gl_resident mid = derived(f, whole(f), (gl_image_ref){slot(f, GL_BUF_FRAME), 0,
-                                                          (uint32_t)r->color_stride, f->c},
-                              f->c, map_ref(f, GL_BUF_OUT, f->w, f->c));
+    gl_resident mid = derived(f, whole(f), input(f, IN_COLOR, 0, r->color_stride, f->c), f->c,
+                              map_ref(f, GL_BUF_OUT, f->w, f->c));
     mid.coc = q->near_spread ? map_ref(f, GL_BUF_SPREAD, f->w, 1)
-                             : (gl_image_ref){slot(f, GL_BUF_FRAME), f->coc_at,
-                                              (uint32_t)r->coc_stride, r->coc_channels};
+                             : input(f, IN_COC, 0, r->coc_stride, r->coc_channels);
     return diffuse(f, &mid);
 }
 
@@ -340,9 +367,8 @@ static ddof_status background_level(frame *f, adi_box area, adi_box blend, float
 
     /* The colour, with the holes holding no heat of their own. */
     const uint32_t color_at = (uint32_t)(area.y0 * r->color_stride) + area.x0 * f->c;
-    gl_resident bg = derived(f, area, (gl_image_ref){slot(f, GL_BUF_FRAME), color_at,
-                                                     (uint32_t)r->color_stride, f->c},
-                             f->c, map_ref(f, GL_BUF_LAYER, aw, f->c));
+    gl_resident bg = derived(f, area, input(f, IN_COLOR, color_at, r->color_stride, f->c), f->c,
+                             map_ref(f, GL_BUF_LAYER, aw, f->c));
     bg.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
     bg.gamma = map_ref(f, GL_BUF_CAPACITY, aw, 1);
     if ((status = diffuse(f, &bg)) != DDOF_OK)
@@ -407,7 +433,7 @@ static ddof_status foreground(frame *f)
     fill.uniform_coc = q->fg_max_coc; /* the CPU's map_max of b: the same value */
     fill.substeps = 1;
     fill.disc = NULL;
-    fill.gamma = (gl_image_ref){slot(f, GL_BUF_LAYER), 3, aw * 4, 4};
+    fill.gamma = (gl_image_ref){slot(f, GL_BUF_LAYER), 3, aw * 4, 4, 0, 0};
     ddof_status status = diffuse(f, &fill);
     if (status != DDOF_OK)
         return status;

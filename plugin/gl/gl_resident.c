@@ -11,10 +11,15 @@
 #include <stdio.h>
 #include <string.h>
 
-/* Binds an image's buffer, or the dummy where a request has none. */
-static GLuint buffer_or(const gl_image_ref *ref, GLuint dummy)
+void gl_bind_ref(const gl_functions *gl, GLuint index, const gl_image_ref *ref, GLuint fallback)
 {
-    return ref->buffer ? ref->buffer : dummy;
+    if (!ref->buffer)
+        gl_bind(gl, index, fallback);
+    else if (ref->bytes)
+        gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, index, ref->buffer, (GLintptr)ref->at,
+                            (GLsizeiptr)ref->bytes);
+    else
+        gl_bind(gl, index, ref->buffer);
 }
 
 static int pack(ddof_device *device, const gl_resident *q, char *message, size_t size)
@@ -32,9 +37,9 @@ static int pack(ddof_device *device, const gl_resident *q, char *message, size_t
     gl_bind(gl, 0, coc);
     gl_bind(gl, 1, gamma);
     gl_bind(gl, 4, image);
-    gl_bind(gl, 5, q->color.buffer);
-    gl_bind(gl, 6, buffer_or(&q->coc, dummy));
-    gl_bind(gl, 7, buffer_or(&q->gamma, dummy));
+    gl_bind_ref(gl, 5, &q->color, dummy);
+    gl_bind_ref(gl, 6, &q->coc, dummy);
+    gl_bind_ref(gl, 7, &q->gamma, dummy);
     gl_uniform_u(gl, prog, "u_width", q->width);
     gl_uniform_u(gl, prog, "u_height", q->height);
     gl_uniform_u(gl, prog, "u_channels", q->channels);
@@ -98,7 +103,7 @@ static int unpack(ddof_device *device, const gl_resident *q, char *message, size
     if (!prog)
         return 0;
     gl_bind(gl, 3, device->buffers.name[GL_BUF_IMAGE_A]);
-    gl_bind(gl, 7, q->out.buffer);
+    gl_bind_ref(gl, 7, &q->out, q->out.buffer);
     gl_uniform_u(gl, prog, "u_width", q->width);
     gl_uniform_u(gl, prog, "u_height", q->height);
     gl_uniform_u(gl, prog, "u_channels", q->channels);
