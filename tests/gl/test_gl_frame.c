@@ -12,7 +12,9 @@
  * Relative to the colour range (the images here span [0.05, 0.9]); test_gl_disc's tolerance. */
 #define TOL_FRAME 1e-4
 
-enum { W = 83, H = 61, CH = 4 };
+/* The frame size; larger_frame() changes it. */
+static uint32_t W = 83, H = 61;
+enum { CH = 4 };
 
 static ddof_context *gl, *cpu;
 static int verbose;
@@ -292,6 +294,27 @@ static void cancelled(void)
     free(out);
 }
 
+/* A frame whose proximity cone (the whole 300 x 160 background area) runs more than 65,535
+ * steps along its rows: one pass in one invocation would stop there on llvmpipe. */
+static void larger_frame(void)
+{
+    W = 300;
+    H = 160;
+    float *color = alloc_f((size_t)W * H * CH), *coc = alloc_f((size_t)W * H);
+    ddof_params p;
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.kernel = DDOF_KERNEL_HEAT;
+    p.coc_signed = 1;
+    scene(color, coc, 1);
+    compare("300x160, near spread + background", p, color, coc, NULL,
+            DDOF_EFFECT_NEAR_SPREAD | DDOF_EFFECT_BACKGROUND);
+    free(color);
+    free(coc);
+    W = 83;
+    H = 61;
+}
+
 int main(int argc, char **argv)
 {
     verbose = verbose_test();
@@ -305,6 +328,7 @@ int main(int argc, char **argv)
     layouts(3, 1);
     layouts(1, 0);
     cancelled();
+    larger_frame();
     ddof_context_free(cpu);
     ddof_context_free(gl);
     return test_report("test_gl_frame");
