@@ -220,8 +220,13 @@ static int simple_step(frame *f, gl_program_id id, adi_box area)
     return prog != 0;
 }
 
+/* Loop steps one invocation of cone_dilate.comp may run: llvmpipe stops a shader's loops
+ * after 65,535 iterations (measured: they then end silently), so a band of rows stays well
+ * below that; each row is its width of steps plus its share of the row links. */
+#define CONE_BAND_STEPS 32768u
+
 /* cone_dilate.c on a map: the box at `base` (floats), rows `stride` apart; both passes, one
- * dispatch per row (cone_dilate.comp). */
+ * dispatch per band of rows (cone_dilate.comp). */
 static int cone_dilate(frame *f, gl_buffer_slot map, uint32_t base, uint32_t width,
                        uint32_t height, uint32_t stride, float slope)
 {
@@ -231,21 +236,21 @@ static int cone_dilate(frame *f, gl_buffer_slot map, uint32_t base, uint32_t wid
     if (!prog)
         return 0;
     gl_bind(gl, 2, slot(f, map));
+    gl_uniform_u(gl, prog, "u_base", base);
+    gl_uniform_u(gl, prog, "u_stride", stride);
+    gl_uniform_u(gl, prog, "u_height", height);
     gl_uniform_u(gl, prog, "u_width", width);
     gl_uniform_f(gl, prog, "u_axial", slope);
     gl_uniform_f(gl, prog, "u_diagonal", slope * 1.41421356f);
-    const GLint row = gl->GetUniformLocation(prog, "u_row");
-    const GLint prev = gl->GetUniformLocation(prog, "u_prev");
-    const GLint has_prev = gl->GetUniformLocation(prog, "u_has_prev");
-    const GLint backward = gl->GetUniformLocation(prog, "u_backward");
+    const uint32_t band = width + 2 < CONE_BAND_STEPS ? CONE_BAND_STEPS / (width + 2) : 1;
+    const GLint first = gl->GetUniformLocation(prog, "u_first");
+    const GLint count = gl->GetUniformLocation(prog, "u_count");
     gl->UseProgram(prog);
     for (uint32_t pass = 0; pass < 2; pass++) {
-        gl->ProgramUniform1ui(prog, backward, pass);
-        for (uint32_t i = 0; i < height; i++) {
-            const uint32_t y = pass ? height - 1 - i : i;
-            gl->ProgramUniform1ui(prog, row, base + y * stride);
-            gl->ProgramUniform1ui(prog, prev, base + (pass ? y + 1 : y - 1) * stride);
-            gl->ProgramUniform1ui(prog, has_prev, i > 0);
+        gl_uniform_u(gl, prog, "u_backward", pass);
+        for (uint32_t i = 0; i < height; i += band) {
+            gl->ProgramUniform1ui(prog, first, i);
+            gl->ProgramUniform1ui(prog, count, height - i < band ? height - i : band);
             gl->DispatchCompute(1, 1, 1);
             gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
         }
