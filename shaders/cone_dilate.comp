@@ -9,7 +9,9 @@
 // other. gl_layers.c dispatches one work group per band of rows, in pass order: a whole pass
 // in one invocation would exceed llvmpipe's loop limit (65,535 iterations, after which it
 // silently stops), so a band runs at most CONE_BAND_STEPS steps.
-layout(local_size_x = 256) in;
+// 8 invocations: llvmpipe runs them as one 8-lane vector, so the two barriers a row are no
+// coroutine switches; the run along a row is serial whatever the group's size.
+layout(local_size_x = 8) in;
 
 layout(std430, binding = 2) coherent buffer Map { float map[]; };
 

@@ -16,14 +16,32 @@ uint ordered(float f)
     return (b & 0x80000000u) != 0u ? ~b : b | 0x80000000u;
 }
 
+shared uint lo_keys[256][4];
+shared uint hi_keys[256][4];
+
+// Each work group reduces its pixels in shared memory and makes one atomic per channel: one
+// per pixel would serialise every invocation of the frame on the same 8 words.
 void main()
 {
-    uint p = global_id();
-    if (p >= u_pixels)
-        return;
-    vec4 v = values[p];
-    for (uint c = 0u; c < u_channels; c++) {
-        atomicMin(range[c], ordered(v[c]));
-        atomicMax(range[4u + c], ordered(v[c]));
+    uint p = global_id(), i = gl_LocalInvocationID.x;
+    vec4 v = p < u_pixels ? values[p] : vec4(0.0);
+    for (uint c = 0u; c < 4u; c++) {
+        bool used = p < u_pixels && c < u_channels;
+        lo_keys[i][c] = used ? ordered(v[c]) : 0xffffffffu;
+        hi_keys[i][c] = used ? ordered(v[c]) : 0u;
     }
+    barrier();
+    for (uint half_size = 128u; half_size > 0u; half_size /= 2u) {
+        if (i < half_size)
+            for (uint c = 0u; c < 4u; c++) {
+                lo_keys[i][c] = min(lo_keys[i][c], lo_keys[i + half_size][c]);
+                hi_keys[i][c] = max(hi_keys[i][c], hi_keys[i + half_size][c]);
+            }
+        barrier();
+    }
+    if (i == 0u)
+        for (uint c = 0u; c < u_channels; c++) {
+            atomicMin(range[c], lo_keys[0][c]);
+            atomicMax(range[4u + c], hi_keys[0][c]);
+        }
 }

@@ -242,7 +242,8 @@ static int cone_dilate(frame *f, gl_buffer_slot map, uint32_t base, uint32_t wid
     gl_uniform_u(gl, prog, "u_width", width);
     gl_uniform_f(gl, prog, "u_axial", slope);
     gl_uniform_f(gl, prog, "u_diagonal", slope * 1.41421356f);
-    const uint32_t band = width + 2 < CONE_BAND_STEPS ? CONE_BAND_STEPS / (width + 2) : 1;
+    const uint32_t row_steps = width + width / 8 + 2; /* the run and the links, 8 lanes */
+    const uint32_t band = row_steps < CONE_BAND_STEPS ? CONE_BAND_STEPS / row_steps : 1;
     const GLint first = gl->GetUniformLocation(prog, "u_first");
     const GLint count = gl->GetUniformLocation(prog, "u_count");
     gl->UseProgram(prog);
