@@ -3,7 +3,9 @@
  *
  * The core (libddof/src) decides *what* to simulate: it validates the caller's images, plans
  * the frame, builds the layers and issues one diffusion request at a time. A backend decides
- * *how* to run one request. The CPU runs them in the core itself; the GL backends live in the
+ * *how* to run one request; a backend with run_layers (ABI 3) takes the whole planned layered
+ * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
+ * upload and one read-back). The CPU runs them in the core itself; the GL backends live in the
  * plugin library libddof_gl, which the core loads with dlopen(RTLD_LOCAL) and asks for one
  * table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be mixed up on
  * disk, so the table carries an ABI number and its size, both checked before use.
