@@ -15,12 +15,16 @@ layout(std430, binding = 7) readonly buffer RawHeat { float raw_heat[]; };
 uniform uint u_width;
 uniform uint u_height;
 uniform uint u_channels;
+uniform uint u_color_offset;  // floats before the first pixel (device-resident images)
 uniform uint u_color_stride;  // floats
 uniform uint u_has_coc;       // 0: every pixel has u_uniform_coc
 uniform float u_uniform_coc;
+uniform uint u_coc_offset;
 uniform uint u_coc_stride;
 uniform uint u_coc_channels;
+uniform float u_in_focus;     // a |CoC| below this conducts as 0 (never a uniform CoC)
 uniform uint u_has_gamma;
+uniform uint u_gamma_offset;
 uniform uint u_gamma_stride;
 uniform uint u_gamma_channels;
 
@@ -30,14 +34,20 @@ void main()
     if (p >= u_width * u_height)
         return;
     uint x = p % u_width, y = p / u_width;
-    float g = u_has_gamma != 0u ? raw_heat[y * u_gamma_stride + x * u_gamma_channels] : 1.0;
+    float g = u_has_gamma != 0u
+                  ? raw_heat[u_gamma_offset + y * u_gamma_stride + x * u_gamma_channels]
+                  : 1.0;
     vec4 v = vec4(0.0);
     if (g > 0.0)
         for (uint c = 0u; c < u_channels; c++)
-            v[c] = raw_color[y * u_color_stride + x * u_channels + c];
+            v[c] = raw_color[u_color_offset + y * u_color_stride + x * u_channels + c];
     value_out[p] = v;
-    coc_out[p] = u_has_coc != 0u ? abs(raw_coc[y * u_coc_stride + x * u_coc_channels])
-                                 : abs(u_uniform_coc);
+    float d = abs(u_uniform_coc);
+    if (u_has_coc != 0u) {
+        d = abs(raw_coc[u_coc_offset + y * u_coc_stride + x * u_coc_channels]);
+        d = d >= u_in_focus ? d : 0.0;
+    }
+    coc_out[p] = d;
     if (u_has_gamma != 0u)
         heat_out[p] = g;
 }

@@ -9,6 +9,7 @@ layout(std430, binding = 7) writeonly buffer RawOut { float raw_out[]; };
 uniform uint u_width;
 uniform uint u_height;
 uniform uint u_channels;
+uniform uint u_out_offset; // floats before the first pixel (device-resident images)
 uniform uint u_out_stride; // floats
 
 void main()
@@ -19,5 +20,5 @@ void main()
     uint x = p % u_width, y = p / u_width;
     vec4 v = values[p];
     for (uint c = 0u; c < u_channels; c++)
-        raw_out[y * u_out_stride + x * u_channels + c] = v[c];
+        raw_out[u_out_offset + y * u_out_stride + x * u_channels + c] = v[c];
 }

@@ -205,6 +205,8 @@ class Stats(ctypes.Structure):
                 # version 0.4
                 ("kernel", ctypes.c_uint32),
                 # version 0.5
+                ("device_uploads", ctypes.c_uint32),
+                ("device_readbacks", ctypes.c_uint32),
                 ("seconds_highlights", ctypes.c_double)]
 
 

@@ -468,6 +468,8 @@ typedef struct ddof_stats {
                                /* counts each of a disc's complex solves, on any backend      */
 
     /* --- version 0.5 of this struct ------------------------------------------------------- */
+    uint32_t device_uploads;   /* GL backends: host-to-device transfers of image data the     */
+    uint32_t device_readbacks; /* call made, and device-to-host ones (0 on the CPU)           */
     double seconds_highlights; /* the highlight pass: finding, taking out, drawing the discs */
 } ddof_stats;
 

@@ -3,7 +3,9 @@
  *
  * The core (libddof/src) decides *what* to simulate: it validates the caller's images, plans
  * the frame, builds the layers and issues one diffusion request at a time. A backend decides
- * *how* to run one request. The CPU runs them in the core itself; the GL backends live in the
+ * *how* to run one request; a backend with run_layers (ABI 3) takes the whole planned layered
+ * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
+ * upload and one read-back). The CPU runs them in the core itself; the GL backends live in the
  * plugin library libddof_gl, which the core loads with dlopen(RTLD_LOCAL) and asks for one
  * table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be mixed up on
  * disk, so the table carries an ABI number and its size, both checked before use.
@@ -85,12 +87,54 @@ typedef struct adi_report {
     double seconds_rows;
     double seconds_columns;
     uint64_t device_bytes; /* GL: peak GPU memory of the call; 0 on the CPU */
+    /* ABI 3. Host <-> device transfers of image data (colour, CoC, gamma, result; not the few
+     * bytes of counters an analysis reads): uploads are writes into device buffers from host
+     * memory, read-backs reads or maps of a device buffer into host memory. 0 on the CPU. */
+    uint32_t uploads;
+    uint32_t readbacks;
 } adi_report;
+
+/* ---- one layered frame (run_layers) ------------------------------------------------------ */
+
+/* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1 or y0 >= y1. */
+typedef struct adi_box {
+    uint32_t x0, y0, x1, y1;
+} adi_box;
+
+/* A validated, planned layered frame (libddof/src/layers.c's pipeline, docs/design.md section
+ * 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then what the
+ * plan switched on. The core has decided what runs and where the near spread and foreground
+ * work; the background's area depends on the midground's largest CoC, so the backend grows
+ * background_edges by the kernel's reach itself, as layers.c does. */
+typedef struct adi_layers_request {
+    adi_request base;         /* colour, CoC, out, solver settings; progress for the frame  */
+    uint32_t near_spread;     /* 1: dilate the near CoC and conduct the midground with it   */
+    float near_slope;         /* px of CoC lost per px of distance                          */
+    adi_box near_dilate;      /* where the dilation runs (empty: nowhere)                   */
+    uint32_t background_levels; /* 0: no background layer                                   */
+    float background_threshold_px;
+    float background_ramp_start_px;
+    adi_box background_edges; /* where far CoC meets in-focus pixels (whole frame if forced) */
+    const float *fg_color;    /* NULL: no foreground element; else RGBA, alpha > 0 somewhere */
+    size_t fg_color_stride;   /* floats                                                      */
+    const float *fg_coc;
+    size_t fg_coc_stride;
+    uint32_t fg_coc_channels;
+    uint32_t fg_premultiplied;
+    float fg_max_coc;         /* largest |CoC| where alpha > 0                               */
+    adi_box fg_area;          /* where the element's blur can reach                          */
+} adi_layers_request;
+
+typedef struct adi_layers_report {
+    adi_report adi;           /* summed over every diffusion (maxima for max_coc, bytes)     */
+    double seconds_background;
+    double seconds_foreground; /* the foreground element or the near spread                  */
+} adi_layers_report;
 
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 2
+#define DDOF_BACKEND_ABI 3
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */
@@ -126,12 +170,19 @@ typedef struct ddof_backend_table {
     ddof_status (*run)(ddof_device *device, const adi_request *request, adi_report *report,
                        char *message, size_t message_size);
 
-    /* Appended within ABI 2; a table whose table_size ends before a field lacks it.
+    /* Appended fields: a table whose table_size ends before a field lacks it.
      * Whether run() takes requests with `disc` set (DDOF_SOLVER_THOMAS, float). */
     int (*supports_disc)(const ddof_device *device);
+
+    /* ABI 3. The whole layered frame on the device (one upload of the images, one read-back
+     * of the result), with run()'s contract: the same answer as the core's pipeline within
+     * float rounding, out untouched on failure unless cancelled. NULL: the core runs the
+     * layers itself, one run() per diffusion. */
+    ddof_status (*run_layers)(ddof_device *device, const adi_layers_request *request,
+                              adi_layers_report *report, char *message, size_t message_size);
 } ddof_backend_table;
 
-/* The smallest table of ABI 2: the fields up to run(). */
+/* The smallest table of this ABI: the fields up to run(). */
 #define DDOF_BACKEND_TABLE_MIN_SIZE offsetof(ddof_backend_table, supports_disc)
 
 /* The plugin's one exported function. */

@@ -273,3 +273,25 @@ ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_
         report->max_coc = max_coc;
     return DDOF_OK;
 }
+
+int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
+{
+    const ddof_backend_state *b = &context->backend;
+    const ddof_backend_table *t = b->table;
+    return b->device && r->solver != DDOF_SOLVER_REFERENCE_F64 && r->coc &&
+           t->table_size >= offsetof(ddof_backend_table, run_layers) + sizeof t->run_layers &&
+           t->run_layers && (!r->disc || device_runs_disc(b));
+}
+
+ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
+                                      adi_layers_report *report)
+{
+    ddof_backend_state *b = &context->backend;
+    char why[512] = "";
+    memset(report, 0, sizeof *report);
+    ddof_status status = b->table->run_layers(b->device, request, report, why, sizeof why);
+    if (status != DDOF_OK)
+        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+                         why[0] ? why : ddof_status_string(status));
+    return DDOF_OK;
+}

@@ -25,6 +25,14 @@ int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver);
 ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
                                         ddof_precision precision);
 
+/* Whether the context's device runs whole layered frames (run_layers) for this request: a
+ * device whose table has the entry, a solver it runs, the disc kernel only where it runs it. */
+int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
+
+/* The whole layered frame on the device; a failure is recorded in the context. */
+ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
+                                      adi_layers_report *report);
+
 /* Releases the loaded plugin and device (context teardown). */
 void ddof_backend_release(ddof_context *context);
 

@@ -63,6 +63,8 @@ static ddof_stats stats_from(const ddof_context *context, const adi_report *repo
         .kernel = (uint32_t)kernel,
         .device_bytes = report->device_bytes,
         .host_bytes = host_bytes(context),
+        .device_uploads = report->uploads,
+        .device_readbacks = report->readbacks,
     };
 }
 

@@ -82,6 +82,8 @@ static ddof_status diffuse(ddof_context *context, adi_request *r, stages *st,
     report->adi.lines_skipped += a.lines_skipped;
     report->adi.seconds_rows += a.seconds_rows;
     report->adi.seconds_columns += a.seconds_columns;
+    report->adi.uploads += a.uploads;
+    report->adi.readbacks += a.readbacks;
     report->adi.threads = a.threads;
     report->adi.max_coc = ddof_maxf(report->adi.max_coc, a.max_coc);
     if (a.device_bytes > report->adi.device_bytes)
@@ -509,33 +511,88 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
     return DDOF_OK;
 }
 
+/* Draws the highlights the pass took out into the result (before the foreground element,
+ * which covers them). */
+static void draw_highlights(ddof_context *context, const layers_request *q,
+                            const highlight_set *set, layers_report *report)
+{
+    if (!set->count)
+        return;
+    const double t0 = ddof_seconds();
+    ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, set,
+                            (float *)highlights_base(context, &q->base));
+    report->effects |= DDOF_EFFECT_HIGHLIGHTS;
+    report->seconds_highlights += ddof_seconds() - t0;
+}
+
+/* ---- the whole frame on a device ---------------------------------------------------------- */
+
+static adi_box seam_box(pixel_box b)
+{
+    return (adi_box){b.x0, b.y0, b.x1, b.y1};
+}
+
+/* The plan and the areas this file would use, handed to the device's run_layers, which runs
+ * the same steps there (plugin/gl/gl_layers.c): one upload, one read-back. The background's
+ * area depends on the midground's largest CoC, so the device grows its edges itself. */
+static ddof_status device_layers(ddof_context *context, const layers_request *q,
+                                 const frame_plan *plan, float max_near_coc,
+                                 layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    adi_layers_request d = {.base = *r, .near_spread = (uint32_t)plan->near_spread,
+                            .near_slope = NEAR_SPREAD_SLOPE};
+    if (plan->near_spread) {
+        const uint32_t reach = (uint32_t)ceilf(max_near_coc / NEAR_SPREAD_SLOPE) + 1;
+        d.near_dilate = seam_box(box_grow(q->near_box, reach, r->width, r->height));
+    }
+    if (plan->background) {
+        d.background_levels = p->background_levels;
+        d.background_threshold_px = p->background_threshold_px;
+        d.background_ramp_start_px = p->background_ramp_start_px;
+        const pixel_box edges = q->background_box;
+        d.background_edges = seam_box(box_is_empty(edges) ? (pixel_box){0, 0, r->width, r->height}
+                                                          : edges);
+    }
+    if (plan->foreground) {
+        d.fg_color = q->fg_color;
+        d.fg_color_stride = q->fg_color_stride;
+        d.fg_coc = q->fg_coc;
+        d.fg_coc_stride = q->fg_coc_stride;
+        d.fg_coc_channels = q->fg_coc_channels;
+        d.fg_premultiplied = (uint32_t)q->fg_premultiplied;
+        d.fg_max_coc = q->fg_max_coc;
+        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
+        d.fg_area = seam_box(box_grow(q->fg_box, reach, r->width, r->height));
+    }
+    adi_layers_report a;
+    const ddof_status status = ddof_run_layers_on_device(context, &d, &a);
+    if (status != DDOF_OK)
+        return status;
+    report->adi = a.adi;
+    report->seconds_background = a.seconds_background;
+    report->seconds_foreground = a.seconds_foreground;
+    report->effects = DDOF_EFFECT_MIDGROUND |
+                      (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
+                      (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
+                      (plan->foreground ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
+    return DDOF_OK;
+}
+
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, float max_near_coc, layers_report *report)
 {
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
     memset(report, 0, sizeof *report);
-    stages st = {r->progress, r->progress_user, 0,
-                 1 + 2 * (plan->background ? p->background_levels : 0) +
-                     3 * (uint32_t)plan->foreground};
     ddof_status status = DDOF_OK;
 
-    /* Diffusing in place overwrites the colour the background layer still needs. */
+    /* The highlight pass takes the highlights out of the colour every layer diffuses (on the
+     * CPU or on a device) and draws them into the result afterwards. */
+    highlight_set highlights = {0};
     const float *color = r->color;
     size_t color_stride = r->color_stride;
-    if (plan->background && r->out == r->color) {
-        const size_t row = (size_t)r->width * r->channels;
-        float *copy = scratch(context, SLOT_COLOR_COPY, row * r->height, &status);
-        if (status != DDOF_OK)
-            return status;
-        for (uint32_t y = 0; y < r->height; y++)
-            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
-        color = copy;
-        color_stride = row;
-    }
-
-    /* The highlight pass takes the highlights out of the colour every layer diffuses. */
-    highlight_set highlights = {0};
     if (plan->highlights) {
         const double t0 = ddof_seconds();
         if ((status = find_highlights(context, q, &highlights, report)) != DDOF_OK)
@@ -545,6 +602,34 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
             color_stride = (size_t)r->width * r->channels;
         }
         report->seconds_highlights += ddof_seconds() - t0;
+    }
+
+    /* The device runs the whole plan, the element's composite included, and the highlights
+     * go under the element: a frame with both runs here, one diffusion at a time. */
+    if (ddof_backend_runs_layers(context, r) && !(highlights.count && plan->foreground)) {
+        layers_request on_device = *q;
+        on_device.base.color = color;
+        on_device.base.color_stride = color_stride;
+        if ((status = device_layers(context, &on_device, plan, max_near_coc, report)) != DDOF_OK)
+            return status;
+        draw_highlights(context, q, &highlights, report);
+        return DDOF_OK;
+    }
+    stages st = {r->progress, r->progress_user, 0,
+                 1 + 2 * (plan->background ? p->background_levels : 0) +
+                     3 * (uint32_t)plan->foreground};
+
+    /* Diffusing in place overwrites the colour the background layer still needs (the
+     * highlight pass's base is a copy already). */
+    if (plan->background && r->out == r->color && color == r->color) {
+        const size_t row = (size_t)r->width * r->channels;
+        float *copy = scratch(context, SLOT_COLOR_COPY, row * r->height, &status);
+        if (status != DDOF_OK)
+            return status;
+        for (uint32_t y = 0; y < r->height; y++)
+            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
+        color = copy;
+        color_stride = row;
     }
 
     adi_request mid = *r;
@@ -599,13 +684,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         report->seconds_background = ddof_seconds() - t0;
     }
 
-    if (highlights.count) {
-        const double t0 = ddof_seconds();
-        ddof_scatter_highlights(context, r, (int)p->coc_signed, &highlights,
-                                (float *)highlights_base(context, r));
-        report->effects |= DDOF_EFFECT_HIGHLIGHTS;
-        report->seconds_highlights += ddof_seconds() - t0;
-    }
+    draw_highlights(context, q, &highlights, report);
 
     if (plan->foreground) {
         const double t0 = ddof_seconds();

@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* backend_table.c - the plugin's one exported symbol: the table libddof/src/backend.c loads
- * (open, close, describe, supports, run, supports_disc), and run() itself: upload, ADI (heat or
- * disc kernel), read back, with the device's context current only for the call. */
+ * (open, close, describe, supports, run, supports_disc, run_layers), and run() itself: upload,
+ * ADI (heat or disc kernel), read back, with the device's context current only for the call;
+ * run_layers the same bracket around gl_layers.c. */
 #include "gl_io.h"
+#include "gl_layers.h"
 
 #include <stdio.h>
 #include <string.h>
@@ -51,6 +53,7 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
     while (gl->GetError() != GL_NO_ERROR) { /* the host's errors are not ours */
     }
     gl_buffers_begin(&device->buffers);
+    device->uploads = device->readbacks = 0;
     gl_diffusion d = {r->width, r->height, r->channels, r->solver, r->precision,
                       r->substeps, r->jacobi_iterations, r->beta_scale, r->pixel_aspect,
                       r->gamma != NULL, r->progress, r->progress_user, r->disc, {0}, {0}};
@@ -71,6 +74,44 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
         status = DDOF_ERROR_BACKEND_FAILED;
     }
     report->device_bytes = gl_buffers_used(&device->buffers);
+    report->uploads = device->uploads;
+    report->readbacks = device->readbacks;
+    gl_device_end(device);
+    if (status == DDOF_OK && r->progress)
+        r->progress(r->progress_user, 1.0f);
+    return status;
+}
+
+/* The whole layered frame (gl_layers.c), bracketed as run() is. */
+static ddof_status table_run_layers(ddof_device *device, const adi_layers_request *q,
+                                    adi_layers_report *report, char *message, size_t size)
+{
+    const adi_request *r = &q->base;
+    if (!gl_solver_supported(r->solver, r->precision)) {
+        snprintf(message, size, "solver %d is not available on the GPU", (int)r->solver);
+        return DDOF_ERROR_UNSUPPORTED;
+    }
+    if (r->disc && (r->solver != DDOF_SOLVER_THOMAS || r->precision != DDOF_PRECISION_FLOAT)) {
+        snprintf(message, size, "the disc kernel runs with the Thomas solver only");
+        return DDOF_ERROR_UNSUPPORTED;
+    }
+    if (!gl_device_begin(device, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    const gl_functions *gl = &device->gl;
+    while (gl->GetError() != GL_NO_ERROR) { /* the host's errors are not ours */
+    }
+    gl_buffers_begin(&device->buffers);
+    device->uploads = device->readbacks = 0;
+    ddof_status status = gl_layers_run(device, q, report, message, size);
+    const GLenum error = gl->GetError();
+    if (status == DDOF_OK && error != GL_NO_ERROR) {
+        snprintf(message, size, error == GL_OUT_OF_MEMORY ? "out of GPU memory"
+                                                          : "GL error 0x%x", (unsigned)error);
+        status = DDOF_ERROR_BACKEND_FAILED;
+    }
+    report->adi.device_bytes = gl_buffers_used(&device->buffers);
+    report->adi.uploads = device->uploads;
+    report->adi.readbacks = device->readbacks;
     gl_device_end(device);
     if (status == DDOF_OK && r->progress)
         r->progress(r->progress_user, 1.0f);
@@ -79,7 +120,7 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
 
 static const ddof_backend_table table = {
     DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
-    table_supports, table_run, table_supports_disc,
+    table_supports, table_run, table_supports_disc, table_run_layers,
 };
 
 DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);

@@ -9,9 +9,8 @@
 #include <stdint.h>
 
 typedef enum gl_buffer_slot {
-    GL_BUF_RAW_COLOR, /* the caller's colour as it lies; reused for the read-back */
-    GL_BUF_RAW_COC,
-    GL_BUF_RAW_GAMMA,
+    GL_BUF_RAW_COLOR, /* the caller's colour, CoC and gamma as they lie, one after the */
+                      /* other (one upload); reused for the read-back                 */
     GL_BUF_COC,       /* |CoC| per pixel                       */
     GL_BUF_GAMMA,     /* gamma per pixel                       */
     GL_BUF_FLAGS,     /* singular-run marks per pixel          */
@@ -23,6 +22,15 @@ typedef enum gl_buffer_slot {
     GL_BUF_PYRAMID,   /* reduced levels (CR, hybrid, Gruen)    */
     GL_BUF_COUNTERS,  /* active rows, columns, max CoC         */
     GL_BUF_DUMMY,     /* bound where a kernel reads nothing    */
+    GL_BUF_RANGE,     /* the disc's clamp range (8 uint keys)  */
+    GL_BUF_FRAME,     /* a layered frame's one upload          */
+    GL_BUF_OUT,       /* its result, read back at the end      */
+    GL_BUF_MAP_A,     /* its maps (layers.c's scratch slots)   */
+    GL_BUF_MAP_B,
+    GL_BUF_MAP_C,
+    GL_BUF_CAPACITY,
+    GL_BUF_SPREAD,
+    GL_BUF_LAYER,
     GL_BUF_COUNT
 } gl_buffer_slot;
 

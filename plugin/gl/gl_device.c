@@ -36,6 +36,9 @@ static int inspect(ddof_device *d, char *message, size_t size)
     GLint64 block = 0;
     gl->GetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &block);
     d->max_buffer_bytes = block > 0 ? (uint64_t)block : 0;
+    GLint align = 0;
+    gl->GetIntegerv(GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT, &align);
+    d->buffer_alignment = align > 0 ? (uint64_t)align : 256;
     return 1;
 }
 

@@ -17,6 +17,10 @@ struct ddof_device {
     gl_buffers buffers;
     ddof_device_info info;
     uint64_t max_buffer_bytes; /* GL_MAX_SHADER_STORAGE_BLOCK_SIZE */
+    uint64_t buffer_alignment; /* GL_SHADER_STORAGE_BUFFER_OFFSET_ALIGNMENT: bound ranges */
+    /* Host <-> device image transfers of the current call (adi_report's uploads and
+     * readbacks): counted where they happen (gl_io.c), so no path can transfer uncounted. */
+    uint32_t uploads, readbacks;
 };
 
 /* Opens a device on a new (or, for HOST_GL, the current) context; the context is released

@@ -40,6 +40,7 @@
     X(PFNGLBUFFERDATAPROC, BufferData)                                                     \
     X(PFNGLBUFFERSUBDATAPROC, BufferSubData)                                               \
     X(PFNGLBINDBUFFERBASEPROC, BindBufferBase)                                             \
+    X(PFNGLBINDBUFFERRANGEPROC, BindBufferRange)                                           \
     X(PFNGLMAPBUFFERRANGEPROC, MapBufferRange)                                             \
     X(PFNGLUNMAPBUFFERPROC, UnmapBuffer)                                                   \
     X(PFNGLGETBUFFERSUBDATAPROC, GetBufferSubData)                                         \

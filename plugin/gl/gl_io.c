@@ -2,8 +2,8 @@
 /* gl_io.c - an adi_request's images in host memory to the GPU and the result back.
  *
  * The caller's images are uploaded as they lie (strided rows, 1..4 channels, CoC and gamma as
- * the first of several channels: one copy each, no reformatting on the CPU) and pack.comp turns
- * them into the working layout; unpack.comp writes the result in the caller's layout into the
+ * the first of several channels: one copy each, no reformatting on the CPU), one after the
+ * other in one mapped write, and pack.comp turns them into the working layout; unpack.comp writes the result in the caller's layout into the
  * raw buffer, which is mapped and copied row by row (the padding between rows is the caller's
  * and is never written). */
 #include "gl_io.h"
@@ -20,12 +20,6 @@ static uint64_t span_floats(uint32_t width, uint32_t height, size_t stride, uint
     return (uint64_t)(height - 1) * stride + (uint64_t)(width - 1) * step + used;
 }
 
-static void upload(const gl_functions *gl, GLuint buffer, const float *data, uint64_t floats)
-{
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
-    gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(floats * sizeof(float)), data);
-}
-
 int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_t size)
 {
     const gl_functions *gl = &device->gl;
@@ -33,44 +27,65 @@ int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_
     const uint64_t pixels = (uint64_t)w * h;
     const uint64_t color_span = span_floats(w, h, r->color_stride, C, C);
     const uint64_t out_span = span_floats(w, h, r->out_stride, C, C);
-    const uint64_t raw_floats = color_span > out_span ? color_span : out_span;
+    const uint64_t coc_span = r->coc ? span_floats(w, h, r->coc_stride, r->coc_channels, 1) : 0;
+    const uint64_t gamma_span =
+        r->gamma ? span_floats(w, h, r->gamma_stride, r->gamma_channels, 1) : 0;
+    /* One buffer, one mapped write: colour, CoC and gamma one after the other; the result
+     * comes back through the same buffer. */
+    const uint64_t in_floats = color_span + coc_span + gamma_span;
+    const uint64_t raw_floats = in_floats > out_span ? in_floats : out_span;
+    if (raw_floats > UINT32_MAX) {
+        snprintf(message, size, "the request's images exceed 2^32 floats");
+        return 0;
+    }
+    const GLuint coc_at = (GLuint)color_span, gamma_at = (GLuint)(color_span + coc_span);
 
     GLuint raw = gl_need(device, GL_BUF_RAW_COLOR, raw_floats * 4, message, size);
     GLuint dummy = gl_need(device, GL_BUF_DUMMY, 16, message, size);
     GLuint image = gl_need(device, GL_BUF_IMAGE_A, pixels * 16, message, size);
     GLuint coc = gl_need(device, GL_BUF_COC, pixels * 4, message, size);
     GLuint gamma = r->gamma ? gl_need(device, GL_BUF_GAMMA, pixels * 4, message, size) : dummy;
-    const uint64_t coc_span = r->coc ? span_floats(w, h, r->coc_stride, r->coc_channels, 1) : 0;
-    const uint64_t gamma_span =
-        r->gamma ? span_floats(w, h, r->gamma_stride, r->gamma_channels, 1) : 0;
-    GLuint raw_coc = r->coc ? gl_need(device, GL_BUF_RAW_COC, coc_span * 4, message, size)
-                            : dummy;
-    GLuint raw_gamma =
-        r->gamma ? gl_need(device, GL_BUF_RAW_GAMMA, gamma_span * 4, message, size) : dummy;
     GLuint pack = gl_programs_get(gl, &device->programs, GL_PROG_PACK, message, size);
-    if (!raw || !dummy || !image || !coc || !gamma || !raw_coc || !raw_gamma || !pack)
+    if (!raw || !dummy || !image || !coc || !gamma || !pack)
         return 0;
 
-    upload(gl, raw, r->color, color_span);
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, raw);
+    float *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0,
+                                       (GLsizeiptr)(in_floats * sizeof(float)),
+                                       GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_RANGE_BIT);
+    if (!mapped) {
+        snprintf(message, size, "the upload buffer could not be mapped for writing");
+        return 0;
+    }
+    device->uploads++;
+    memcpy(mapped, r->color, color_span * sizeof(float));
     if (r->coc)
-        upload(gl, raw_coc, r->coc, coc_span);
+        memcpy(mapped + coc_at, r->coc, coc_span * sizeof(float));
     if (r->gamma)
-        upload(gl, raw_gamma, r->gamma, gamma_span);
+        memcpy(mapped + gamma_at, r->gamma, gamma_span * sizeof(float));
+    if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
+        snprintf(message, size, "the upload was lost (buffer unmapped)");
+        return 0;
+    }
 
     gl_bind(gl, 0, coc);
     gl_bind(gl, 1, gamma);
     gl_bind(gl, 4, image);
     gl_bind(gl, 5, raw);
-    gl_bind(gl, 6, raw_coc);
-    gl_bind(gl, 7, raw_gamma);
+    gl_bind(gl, 6, r->coc ? raw : dummy);
+    gl_bind(gl, 7, r->gamma ? raw : dummy);
     gl_uniform_u(gl, pack, "u_width", w);
     gl_uniform_u(gl, pack, "u_height", h);
     gl_uniform_u(gl, pack, "u_channels", C);
+    gl_uniform_u(gl, pack, "u_color_offset", 0);
+    gl_uniform_u(gl, pack, "u_coc_offset", coc_at);
+    gl_uniform_u(gl, pack, "u_gamma_offset", gamma_at);
     gl_uniform_u(gl, pack, "u_color_stride", (GLuint)r->color_stride);
     gl_uniform_u(gl, pack, "u_has_coc", r->coc != NULL);
     gl_uniform_f(gl, pack, "u_uniform_coc", r->uniform_coc);
     gl_uniform_u(gl, pack, "u_coc_stride", (GLuint)r->coc_stride);
     gl_uniform_u(gl, pack, "u_coc_channels", r->coc_channels);
+    gl_uniform_f(gl, pack, "u_in_focus", r->in_focus_px);
     gl_uniform_u(gl, pack, "u_has_gamma", r->gamma != NULL);
     gl_uniform_u(gl, pack, "u_gamma_stride", (GLuint)r->gamma_stride);
     gl_uniform_u(gl, pack, "u_gamma_channels", r->gamma_channels);
@@ -93,6 +108,7 @@ int gl_io_download(ddof_device *device, const adi_request *r, char *message, siz
     gl_uniform_u(gl, unpack, "u_width", w);
     gl_uniform_u(gl, unpack, "u_height", h);
     gl_uniform_u(gl, unpack, "u_channels", C);
+    gl_uniform_u(gl, unpack, "u_out_offset", 0);
     gl_uniform_u(gl, unpack, "u_out_stride", (GLuint)r->out_stride);
     gl->UseProgram(unpack);
     gl_dispatch(gl, (uint64_t)w * h, 256);
@@ -106,6 +122,7 @@ int gl_io_download(ddof_device *device, const adi_request *r, char *message, siz
         snprintf(message, size, "the result buffer could not be mapped for reading");
         return 0;
     }
+    device->readbacks++;
     for (uint32_t y = 0; y < h; y++)
         memcpy(r->out + (size_t)y * r->out_stride, mapped + (size_t)y * r->out_stride,
                (size_t)w * C * sizeof(float));

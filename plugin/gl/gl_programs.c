@@ -54,6 +54,16 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_HOST_UNPACK_RGBA16F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba16f\n"},
     [GL_PROG_LENS_ANALYSE] = {"analyse.comp", PART_LINE, LENS_DEFINES},
     [GL_PROG_LENS_THOMAS] = {"lens_thomas.comp", PART_LINE, LENS_DEFINES},
+    [GL_PROG_RANGE] = {"range.comp", 0, ""},
+    [GL_PROG_CONE_DILATE] = {"cone_dilate.comp", 0, ""},
+    [GL_PROG_LAYER_NEAR_MAP] = {"layers.comp", 0, "#define STEP_NEAR_MAP 1\n"},
+    [GL_PROG_LAYER_SPREAD] = {"layers.comp", 0, "#define STEP_SPREAD 1\n"},
+    [GL_PROG_LAYER_MATTE] = {"layers.comp", 0, "#define STEP_MATTE 1\n"},
+    [GL_PROG_LAYER_INSULATOR] = {"layers.comp", 0, "#define STEP_INSULATOR 1\n"},
+    [GL_PROG_LAYER_BLEND] = {"layers.comp", 0, "#define STEP_BLEND 1\n"},
+    [GL_PROG_LAYER_FG_PREPARE] = {"layers.comp", 0, "#define STEP_FG_PREPARE 1\n"},
+    [GL_PROG_LAYER_HOLDS_VALUE] = {"layers.comp", 0, "#define STEP_HOLDS_VALUE 1\n"},
+    [GL_PROG_LAYER_COMPOSITE] = {"layers.comp", 0, "#define STEP_COMPOSITE 1\n"},
 };
 
 static const char *source_of(const char *name)

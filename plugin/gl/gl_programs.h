@@ -30,6 +30,16 @@ typedef enum gl_program_id {
     GL_PROG_HOST_UNPACK_RGBA16F,
     GL_PROG_LENS_ANALYSE,       /* analyse.comp with the disc kernel's links */
     GL_PROG_LENS_THOMAS,
+    GL_PROG_RANGE,              /* the disc's clamp range of a device-resident input */
+    GL_PROG_CONE_DILATE,        /* the layers (gl_layers.c, layers.comp)             */
+    GL_PROG_LAYER_NEAR_MAP,
+    GL_PROG_LAYER_SPREAD,
+    GL_PROG_LAYER_MATTE,
+    GL_PROG_LAYER_INSULATOR,
+    GL_PROG_LAYER_BLEND,
+    GL_PROG_LAYER_FG_PREPARE,
+    GL_PROG_LAYER_HOLDS_VALUE,
+    GL_PROG_LAYER_COMPOSITE,
     GL_PROG_COUNT
 } gl_program_id;
 

@@ -69,7 +69,8 @@ int main(void)
     F(ddof_stats, effects); F(ddof_stats, seconds_plan); F(ddof_stats, seconds_background);
     F(ddof_stats, seconds_foreground); F(ddof_stats, plan); F(ddof_stats, backend);
     F(ddof_stats, method); F(ddof_stats, device_bytes); F(ddof_stats, host_bytes);
-    F(ddof_stats, kernel); F(ddof_stats, seconds_highlights);
+    F(ddof_stats, kernel); F(ddof_stats, device_uploads); F(ddof_stats, device_readbacks);
+    F(ddof_stats, seconds_highlights);
     END();
     BEGIN(ddof_foreground);
     F(ddof_foreground, struct_size); F(ddof_foreground, color); F(ddof_foreground, coc);

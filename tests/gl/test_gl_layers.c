@@ -3,8 +3,9 @@
  * background layer (forced on: heat capacity = matte, CoC filled into the holes, singular
  * runs where no background reaches), the near-field spread (signed CoC), and a foreground
  * element (gamma = its alpha, CoC filled outwards). Each against the same call with the
- * double-precision reference solver, which always runs on the CPU. The per-pixel mattes and
- * blends stay on the CPU either way; only the diffusions move. Argument: "osmesa" or "egl".
+ * double-precision reference solver, which always runs on the CPU, while every GPU solver runs
+ * the whole frame on the device (run_layers: mattes, blends and dilations too; test_gl_frame
+ * compares it with the CPU's Thomas frame). Argument: "osmesa" or "egl".
  * DDOF_TEST_VERBOSE=1 prints the measured errors. */
 #include "gl_test.h"
 

@@ -1,0 +1,507 @@
+/* SPDX-License-Identifier: MIT */
+/* gl_layers.c - the seam's run_layers: libddof/src/layers.c's pipeline with every step on the
+ * device. The colour, the CoC and the foreground element go up in one mapped write (FRAME, in
+ * the caller's layouts), the result comes back in one mapped read (OUT), and in between each
+ * step is the CPU's: the per-pixel steps are layers.comp, the cone dilation cone_dilate.comp,
+ * and the diffusions gl_resident.c's on the device's maps, in the CPU's order and on the
+ * CPU's areas (the crops are offsets into the maps), so that the device's frame differs from
+ * the CPU's only by the diffusions' float rounding. */
+#include "gl_layers.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- boxes (layers.c's arithmetic; the core passes the boxes it can compute up front) ---- */
+
+static int box_empty(adi_box b)
+{
+    return b.x0 >= b.x1 || b.y0 >= b.y1;
+}
+
+static adi_box box_grow(adi_box b, uint32_t margin, uint32_t width, uint32_t height)
+{
+    if (box_empty(b))
+        return b;
+    adi_box g = {b.x0 > margin ? b.x0 - margin : 0, b.y0 > margin ? b.y0 - margin : 0,
+                 width - b.x1 > margin ? b.x1 + margin : width,
+                 height - b.y1 > margin ? b.y1 + margin : height};
+    return g;
+}
+
+/* libddof/src/disc_kernel.c's ddof_kernel_reach_px: how far a kernel carries a CoC. */
+static uint32_t kernel_reach_px(const disc_kernel *disc, float beta_scale, float coc)
+{
+    const float per_px = disc ? disc->reach : 12.0f * sqrtf(beta_scale);
+    return (uint32_t)ceilf(per_px * coc) + 2;
+}
+
+/* ---- the frame's state -------------------------------------------------------------------- */
+
+/* The images of the one upload, each a section of FRAME. */
+enum { IN_COLOR, IN_COC, IN_FG, IN_FG_COC, IN_COUNT };
+
+typedef struct frame {
+    ddof_device *device;
+    const adi_layers_request *q;
+    uint32_t w, h, c;
+    uint64_t at[IN_COUNT], bytes[IN_COUNT]; /* each image's section of FRAME */
+    adi_layers_report *report;
+    uint32_t stage, stages;            /* progress: the diffusion running, of how many */
+    char *message;
+    size_t size;
+} frame;
+
+/* Floats from the first to the last one read of a strided image (gl_io.c's span_floats). */
+static uint64_t span_floats(uint32_t width, uint32_t height, size_t stride, uint32_t step,
+                            uint32_t used)
+{
+    return (uint64_t)(height - 1) * stride + (uint64_t)(width - 1) * step + used;
+}
+
+static GLuint slot(const frame *f, gl_buffer_slot s)
+{
+    const gl_buffers *b = &f->device->buffers;
+    return b->name[s] ? b->name[s] : b->name[GL_BUF_DUMMY];
+}
+
+/* Image `offset` floats into section `in` of the upload. */
+static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride, uint32_t step)
+{
+    return (gl_image_ref){f->device->buffers.name[GL_BUF_FRAME], offset, (uint32_t)stride, step,
+                          f->at[in], f->bytes[in]};
+}
+
+static GLuint need(frame *f, gl_buffer_slot s, uint64_t floats)
+{
+    return gl_need(f->device, s, floats * sizeof(float), f->message, f->size);
+}
+
+/* The one upload: every image the frame reads, each as it lies, into its section of FRAME
+ * (sections start at the renderer's binding alignment and are bound one at a time, so each
+ * must fit the storage-block limit, not the whole). */
+static int upload(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc};
+    uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
+                                 span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1), 0,
+                                 0};
+    if (q->fg_color) {
+        floats[IN_FG] = span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
+        floats[IN_FG_COC] = span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
+    }
+    const uint64_t align = f->device->buffer_alignment;
+    uint64_t total = 0;
+    for (int i = 0; i < IN_COUNT; i++) {
+        f->at[i] = (total + align - 1) / align * align;
+        f->bytes[i] = floats[i] * sizeof(float);
+        total = f->at[i] + f->bytes[i];
+        if (f->bytes[i] > f->device->max_buffer_bytes || floats[i] > UINT32_MAX) {
+            snprintf(f->message, f->size,
+                     "an image needs a %llu-byte buffer, more than this renderer's "
+                     "GL_MAX_SHADER_STORAGE_BLOCK_SIZE (%llu)",
+                     (unsigned long long)f->bytes[i],
+                     (unsigned long long)f->device->max_buffer_bytes);
+            return 0;
+        }
+    }
+    const gl_functions *gl = &f->device->gl;
+    GLuint buffer = gl_buffers_get(gl, &f->device->buffers, GL_BUF_FRAME, total);
+    if (!buffer) {
+        snprintf(f->message, f->size, "out of GPU memory (%llu-byte buffer)",
+                 (unsigned long long)total);
+        return 0;
+    }
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
+    unsigned char *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)total,
+                                               GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    if (!mapped) {
+        snprintf(f->message, f->size, "the frame's buffer could not be mapped for writing");
+        return 0;
+    }
+    f->device->uploads++;
+    for (int i = 0; i < IN_COUNT; i++)
+        if (f->bytes[i])
+            memcpy(mapped + f->at[i], source[i], f->bytes[i]);
+    if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
+        snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
+        return 0;
+    }
+    return 1;
+}
+
+/* The one read-back: OUT (w x c floats a row) into the caller's out. */
+static int download(frame *f)
+{
+    const adi_request *r = &f->q->base;
+    const gl_functions *gl = &f->device->gl;
+    const size_t row = (size_t)f->w * f->c;
+    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT | GL_CLIENT_MAPPED_BUFFER_BARRIER_BIT);
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, f->device->buffers.name[GL_BUF_OUT]);
+    const float *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0,
+                                             (GLsizeiptr)(row * f->h * sizeof(float)),
+                                             GL_MAP_READ_BIT);
+    if (!mapped) {
+        snprintf(f->message, f->size, "the result buffer could not be mapped for reading");
+        return 0;
+    }
+    f->device->readbacks++;
+    for (uint32_t y = 0; y < f->h; y++)
+        memcpy(r->out + (size_t)y * r->out_stride, mapped + (size_t)y * row,
+               row * sizeof(float));
+    gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER);
+    return 1;
+}
+
+/* ---- per-pixel steps ---------------------------------------------------------------------- */
+
+/* A layers.comp program over `area` (frame pixels) with the uniforms every step shares set;
+ * the caller sets its own and calls run_step. 0 with a sentence on failure. */
+static GLuint step_program(frame *f, gl_program_id id, adi_box area)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    const gl_functions *gl = &f->device->gl;
+    GLuint prog = gl_programs_get(gl, &f->device->programs, id, f->message, f->size);
+    if (!prog)
+        return 0;
+    static const gl_buffer_slot bound[8] = {GL_BUF_FRAME, GL_BUF_OUT,      GL_BUF_MAP_A,
+                                            GL_BUF_MAP_B, GL_BUF_MAP_C,    GL_BUF_CAPACITY,
+                                            GL_BUF_SPREAD, GL_BUF_LAYER};
+    for (GLuint i = 0; i < 8; i++)
+        gl_bind(gl, i, slot(f, bound[i]));
+    /* Binding 0: the CoC's section; the element's step reads the element's sections at 1 and
+     * 6 instead of OUT and SPREAD (layers.comp). */
+    const gl_image_ref coc = input(f, IN_COC, 0, 0, 0);
+    gl_bind_ref(gl, 0, &coc, 0);
+    if (id == GL_PROG_LAYER_FG_PREPARE) {
+        const gl_image_ref fg = input(f, IN_FG, 0, 0, 0), fg_coc = input(f, IN_FG_COC, 0, 0, 0);
+        gl_bind_ref(gl, 1, &fg, 0);
+        gl_bind_ref(gl, 6, &fg_coc, 0);
+    }
+    const uint32_t x0 = area.x0, y0 = area.y0;
+    gl_uniform_u(gl, prog, "u_width", area.x1 - x0);
+    gl_uniform_u(gl, prog, "u_height", area.y1 - y0);
+    gl_uniform_u(gl, prog, "u_channels", f->c);
+    gl_uniform_u(gl, prog, "u_coc_base", (GLuint)(y0 * r->coc_stride + x0 * r->coc_channels));
+    gl_uniform_u(gl, prog, "u_coc_stride", (GLuint)r->coc_stride);
+    gl_uniform_u(gl, prog, "u_coc_step", r->coc_channels);
+    gl_uniform_u(gl, prog, "u_out_base", (y0 * f->w + x0) * f->c);
+    gl_uniform_u(gl, prog, "u_out_stride", f->w * f->c);
+    gl_uniform_u(gl, prog, "u_spread_base", y0 * f->w + x0);
+    gl_uniform_u(gl, prog, "u_spread_stride", f->w);
+    gl_uniform_u(gl, prog, "u_has_spread", q->near_spread);
+    if (q->fg_color) {
+        gl_uniform_u(gl, prog, "u_fg_base", (GLuint)(y0 * q->fg_color_stride + x0 * 4));
+        gl_uniform_u(gl, prog, "u_fg_stride", (GLuint)q->fg_color_stride);
+        gl_uniform_u(gl, prog, "u_fg_coc_base",
+                     (GLuint)(y0 * q->fg_coc_stride + x0 * q->fg_coc_channels));
+        gl_uniform_u(gl, prog, "u_fg_coc_stride", (GLuint)q->fg_coc_stride);
+        gl_uniform_u(gl, prog, "u_fg_coc_step", q->fg_coc_channels);
+        gl_uniform_u(gl, prog, "u_premultiplied", q->fg_premultiplied);
+    }
+    return prog;
+}
+
+static void run_step(frame *f, GLuint prog, adi_box area)
+{
+    f->device->gl.UseProgram(prog);
+    gl_dispatch(&f->device->gl, (uint64_t)(area.x1 - area.x0) * (area.y1 - area.y0), 256);
+}
+
+/* One of the simple steps (no uniforms of its own); 0 on failure. */
+static int simple_step(frame *f, gl_program_id id, adi_box area)
+{
+    GLuint prog = step_program(f, id, area);
+    if (prog)
+        run_step(f, prog, area);
+    return prog != 0;
+}
+
+/* Loop steps one invocation of cone_dilate.comp may run: llvmpipe stops a shader's loops
+ * after 65,535 iterations (measured: they then end silently), so a band of rows stays well
+ * below that; each row is its width of steps plus its share of the row links. */
+#define CONE_BAND_STEPS 32768u
+
+/* cone_dilate.c on a map: the box at `base` (floats), rows `stride` apart; both passes, one
+ * dispatch per band of rows (cone_dilate.comp). */
+static int cone_dilate(frame *f, gl_buffer_slot map, uint32_t base, uint32_t width,
+                       uint32_t height, uint32_t stride, float slope)
+{
+    const gl_functions *gl = &f->device->gl;
+    GLuint prog = gl_programs_get(gl, &f->device->programs, GL_PROG_CONE_DILATE, f->message,
+                                  f->size);
+    if (!prog)
+        return 0;
+    gl_bind(gl, 2, slot(f, map));
+    gl_uniform_u(gl, prog, "u_base", base);
+    gl_uniform_u(gl, prog, "u_stride", stride);
+    gl_uniform_u(gl, prog, "u_height", height);
+    gl_uniform_u(gl, prog, "u_width", width);
+    gl_uniform_f(gl, prog, "u_axial", slope);
+    gl_uniform_f(gl, prog, "u_diagonal", slope * 1.41421356f);
+    const uint32_t row_steps = width + width / 8 + 2; /* the run and the links, 8 lanes */
+    const uint32_t band = row_steps < CONE_BAND_STEPS ? CONE_BAND_STEPS / row_steps : 1;
+    const GLint first = gl->GetUniformLocation(prog, "u_first");
+    const GLint count = gl->GetUniformLocation(prog, "u_count");
+    gl->UseProgram(prog);
+    for (uint32_t pass = 0; pass < 2; pass++) {
+        gl_uniform_u(gl, prog, "u_backward", pass);
+        for (uint32_t i = 0; i < height; i += band) {
+            gl->ProgramUniform1ui(prog, first, i);
+            gl->ProgramUniform1ui(prog, count, height - i < band ? height - i : band);
+            gl->DispatchCompute(1, 1, 1);
+            gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
+        }
+    }
+    return 1;
+}
+
+/* ---- diffusions --------------------------------------------------------------------------- */
+
+/* Maps one diffusion's progress into the frame's (layers.c's stage_progress). */
+static int stage_progress(void *user, float fraction)
+{
+    const frame *f = user;
+    const adi_request *r = &f->q->base;
+    return r->progress(r->progress_user, ((float)f->stage + fraction) / (float)f->stages);
+}
+
+static gl_image_ref map_ref(const frame *f, gl_buffer_slot s, uint32_t width, uint32_t step)
+{
+    return (gl_image_ref){f->device->buffers.name[s], 0, width * step, step, 0, 0};
+}
+
+/* One diffusion; its figures are added to the report as layers.c's diffuse() adds them. */
+static ddof_status diffuse(frame *f, gl_resident *d)
+{
+    const adi_request *r = &f->q->base;
+    if (r->progress) {
+        d->progress = stage_progress;
+        d->progress_user = f;
+    }
+    adi_report a = {0};
+    ddof_status status = gl_resident_diffuse(f->device, r, d, &a, f->message, f->size);
+    f->stage++;
+    if (status != DDOF_OK)
+        return status;
+    adi_report *sum = &f->report->adi;
+    sum->lines_solved += a.lines_solved;
+    sum->lines_skipped += a.lines_skipped;
+    sum->seconds_rows += a.seconds_rows;
+    sum->seconds_columns += a.seconds_columns;
+    sum->threads = a.threads;
+    sum->max_coc = a.max_coc > sum->max_coc ? a.max_coc : sum->max_coc;
+    if (a.substeps_run > sum->substeps_run)
+        sum->substeps_run = a.substeps_run;
+    return DDOF_OK;
+}
+
+/* A request for an area-sized image with the frame's solver settings (layers.c's derived). */
+static gl_resident derived(const frame *f, adi_box area, gl_image_ref color, uint32_t channels,
+                           gl_image_ref out)
+{
+    const adi_request *r = &f->q->base;
+    return (gl_resident){.width = area.x1 - area.x0, .height = area.y1 - area.y0,
+                         .channels = channels, .color = color, .out = out,
+                         .uniform_coc = r->uniform_coc, .substeps = r->substeps,
+                         .disc = r->disc};
+}
+
+/* ---- the effects -------------------------------------------------------------------------- */
+
+static adi_box whole(const frame *f)
+{
+    return (adi_box){0, 0, f->w, f->h};
+}
+
+/* SPREAD = max(|CoC|, the cone-dilated near CoC). */
+static int near_spread(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    if (!need(f, GL_BUF_SPREAD, (uint64_t)f->w * f->h))
+        return 0;
+    /* layers.comp's map_a is binding 2; the spread map takes its place for these steps. */
+    GLuint prog = step_program(f, GL_PROG_LAYER_NEAR_MAP, whole(f));
+    if (!prog)
+        return 0;
+    gl_bind(&f->device->gl, 2, slot(f, GL_BUF_SPREAD));
+    run_step(f, prog, whole(f));
+    const adi_box b = q->near_dilate;
+    if (!box_empty(b) && !cone_dilate(f, GL_BUF_SPREAD, b.y0 * f->w + b.x0, b.x1 - b.x0,
+                                      b.y1 - b.y0, f->w, q->near_slope))
+        return 0;
+    if (!(prog = step_program(f, GL_PROG_LAYER_SPREAD, whole(f))))
+        return 0;
+    gl_bind(&f->device->gl, 2, slot(f, GL_BUF_SPREAD));
+    run_step(f, prog, whole(f));
+    return 1;
+}
+
+static ddof_status midground(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    gl_resident mid = derived(f, whole(f), input(f, IN_COLOR, 0, r->color_stride, f->c), f->c,
+                              map_ref(f, GL_BUF_OUT, f->w, f->c));
+    mid.coc = q->near_spread ? map_ref(f, GL_BUF_SPREAD, f->w, 1)
+                             : input(f, IN_COC, 0, r->coc_stride, r->coc_channels);
+    return diffuse(f, &mid);
+}
+
+/* One background level with matte ramp [ramp_start, threshold] over `area`, blended into OUT
+ * within `blend` (frame pixels). */
+static ddof_status background_level(frame *f, adi_box area, adi_box blend, float ramp_start,
+                                    float threshold, float blend_from)
+{
+    const adi_request *r = &f->q->base;
+    const gl_functions *gl = &f->device->gl;
+    const uint32_t aw = area.x1 - area.x0, ah = area.y1 - area.y0;
+    const uint64_t pixels = (uint64_t)aw * ah;
+    if (!need(f, GL_BUF_MAP_A, pixels) || !need(f, GL_BUF_MAP_B, pixels) ||
+        !need(f, GL_BUF_MAP_C, pixels) || !need(f, GL_BUF_CAPACITY, pixels) ||
+        !need(f, GL_BUF_LAYER, pixels * f->c))
+        return DDOF_ERROR_BACKEND_FAILED;
+    GLuint prog = step_program(f, GL_PROG_LAYER_MATTE, area);
+    if (!prog)
+        return DDOF_ERROR_BACKEND_FAILED;
+    gl_uniform_f(gl, prog, "u_t0", ramp_start);
+    gl_uniform_f(gl, prog, "u_inv_ramp", 1.0f / (threshold - ramp_start));
+    run_step(f, prog, area);
+
+    /* The CoC flows into the holes, every link at the threshold, by plain heat. */
+    gl_resident fill = derived(f, area, map_ref(f, GL_BUF_MAP_B, aw, 1), 1,
+                               map_ref(f, GL_BUF_MAP_C, aw, 1));
+    fill.uniform_coc = threshold;
+    fill.substeps = 1;
+    fill.disc = NULL;
+    fill.gamma = map_ref(f, GL_BUF_CAPACITY, aw, 1);
+    ddof_status status = diffuse(f, &fill);
+    if (status != DDOF_OK)
+        return status;
+
+    /* The colour, with the holes holding no heat of their own. */
+    const uint32_t color_at = (uint32_t)(area.y0 * r->color_stride) + area.x0 * f->c;
+    gl_resident bg = derived(f, area, input(f, IN_COLOR, color_at, r->color_stride, f->c), f->c,
+                             map_ref(f, GL_BUF_LAYER, aw, f->c));
+    bg.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
+    bg.gamma = map_ref(f, GL_BUF_CAPACITY, aw, 1);
+    if ((status = diffuse(f, &bg)) != DDOF_OK)
+        return status;
+
+    /* The filled CoC is spent: its buffer becomes the proximity map. */
+    if (!(prog = step_program(f, GL_PROG_LAYER_INSULATOR, area)))
+        return DDOF_ERROR_BACKEND_FAILED;
+    gl_uniform_f(gl, prog, "u_t0", ramp_start);
+    run_step(f, prog, area);
+    if (!cone_dilate(f, GL_BUF_MAP_C, 0, aw, ah, aw, 1.0f))
+        return DDOF_ERROR_BACKEND_FAILED;
+    if (!(prog = step_program(f, GL_PROG_LAYER_BLEND, area)))
+        return DDOF_ERROR_BACKEND_FAILED;
+    gl_uniform_f(gl, prog, "u_blend_from", blend_from);
+    gl_uniform_u(gl, prog, "u_blend_x0", blend.x0 - area.x0);
+    gl_uniform_u(gl, prog, "u_blend_y0", blend.y0 - area.y0);
+    gl_uniform_u(gl, prog, "u_blend_x1", blend.x1 - area.x0);
+    gl_uniform_u(gl, prog, "u_blend_y1", blend.y1 - area.y0);
+    run_step(f, prog, area);
+    return DDOF_OK;
+}
+
+/* layers.c's background: the area around the edges the layer can change, level by level. */
+static ddof_status background(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    const float t = q->background_threshold_px;
+    const float top = t * (float)(1u << (q->background_levels - 1));
+    const float largest = f->report->adi.max_coc > top ? f->report->adi.max_coc : top;
+    const uint32_t reach = kernel_reach_px(r->disc, r->beta_scale, largest);
+    const adi_box area = box_grow(q->background_edges, 2 * reach, f->w, f->h);
+    const adi_box blend = box_grow(q->background_edges, reach, f->w, f->h);
+    for (uint32_t level = 0; level < q->background_levels; level++) {
+        const float threshold = t * (float)(1u << level);
+        const float ramp_start = level ? 0.5f * threshold : q->background_ramp_start_px;
+        const ddof_status status = background_level(f, area, blend, ramp_start, threshold,
+                                                    level ? threshold : -INFINITY);
+        if (status != DDOF_OK)
+            return status;
+    }
+    return DDOF_OK;
+}
+
+/* layers.c's foreground: the element's CoC filled outwards in two steps, its premultiplied
+ * colour and alpha diffused with it, composited over. */
+static ddof_status foreground(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_box area = q->fg_area;
+    const uint32_t aw = area.x1 - area.x0;
+    const uint64_t pixels = (uint64_t)aw * (area.y1 - area.y0);
+    if (!need(f, GL_BUF_LAYER, pixels * 4) || !need(f, GL_BUF_MAP_B, pixels) ||
+        !need(f, GL_BUF_MAP_C, pixels))
+        return DDOF_ERROR_BACKEND_FAILED;
+    if (!simple_step(f, GL_PROG_LAYER_FG_PREPARE, area))
+        return DDOF_ERROR_BACKEND_FAILED;
+
+    gl_resident fill = derived(f, area, map_ref(f, GL_BUF_MAP_B, aw, 1), 1,
+                               map_ref(f, GL_BUF_MAP_C, aw, 1));
+    fill.uniform_coc = q->fg_max_coc; /* the CPU's map_max of b: the same value */
+    fill.substeps = 1;
+    fill.disc = NULL;
+    fill.gamma = (gl_image_ref){slot(f, GL_BUF_LAYER), 3, aw * 4, 4, 0, 0};
+    ddof_status status = diffuse(f, &fill);
+    if (status != DDOF_OK)
+        return status;
+    if (!simple_step(f, GL_PROG_LAYER_HOLDS_VALUE, area))
+        return DDOF_ERROR_BACKEND_FAILED;
+    gl_resident spread = fill;
+    spread.color = map_ref(f, GL_BUF_MAP_C, aw, 1);
+    spread.out = spread.color; /* in place */
+    spread.gamma = map_ref(f, GL_BUF_MAP_B, aw, 1);
+    if ((status = diffuse(f, &spread)) != DDOF_OK)
+        return status;
+
+    gl_resident blur = derived(f, area, map_ref(f, GL_BUF_LAYER, aw, 4), 4,
+                               map_ref(f, GL_BUF_LAYER, aw, 4));
+    blur.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
+    if ((status = diffuse(f, &blur)) != DDOF_OK)
+        return status;
+    return simple_step(f, GL_PROG_LAYER_COMPOSITE, area) ? DDOF_OK : DDOF_ERROR_BACKEND_FAILED;
+}
+
+ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
+                          adi_layers_report *report, char *message, size_t size)
+{
+    const adi_request *r = &q->base;
+    frame f = {.device = device, .q = q, .w = r->width, .h = r->height, .c = r->channels,
+               .report = report, .message = message, .size = size};
+    f.stages = 1 + 2 * q->background_levels + (q->fg_color ? 3u : 0u);
+    if (!need(&f, GL_BUF_DUMMY, 4) || !upload(&f) ||
+        !need(&f, GL_BUF_OUT, (uint64_t)f.w * f.h * f.c))
+        return DDOF_ERROR_BACKEND_FAILED;
+    ddof_status status = DDOF_OK;
+    double t0 = gl_seconds();
+    if (q->near_spread && !near_spread(&f))
+        return DDOF_ERROR_BACKEND_FAILED;
+    report->seconds_foreground += gl_seconds() - t0;
+    status = midground(&f);
+    if (status == DDOF_OK && q->background_levels) {
+        t0 = gl_seconds();
+        status = background(&f);
+        device->gl.Finish();
+        report->seconds_background = gl_seconds() - t0;
+    }
+    if (status == DDOF_OK && q->fg_color) {
+        t0 = gl_seconds();
+        status = foreground(&f);
+        device->gl.Finish();
+        report->seconds_foreground += gl_seconds() - t0;
+    }
+    /* Cancelled: OUT holds the midground (or its last finished substep) and what was blended
+     * into it so far, all finite. */
+    if ((status == DDOF_OK || status == DDOF_ERROR_CANCELLED) && !download(&f))
+        status = DDOF_ERROR_BACKEND_FAILED;
+    return status;
+}
