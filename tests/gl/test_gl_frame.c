@@ -2,10 +2,9 @@
 /* test_gl_frame.c - whole layered frames on a GL backend against the same frames on the CPU
  * (Thomas on both, float): the midground alone, the background layer with 1 and 3 levels, the
  * near spread, a foreground element, HDR highlights, each with the heat kernel and with a disc
- * kernel. The GL
- * result must match the CPU's within TOL_FRAME, leave every pixel the CPU leaves untouched bit
- * for bit, report the same effects, and make the host <-> device transfers expect_uploads /
- * expect_readbacks say (ddof_stats.device_uploads, device_readbacks). Argument: "osmesa" or
+ * kernel. The GL result must match the CPU's within TOL_FRAME, leave every pixel the CPU leaves
+ * untouched bit for bit, report the same effects, and make the host <-> device transfers
+ * expect_uploads / expect_readbacks say (ddof_stats.device_uploads, device_readbacks). Argument: "osmesa" or
  * "egl". DDOF_TEST_VERBOSE=1 prints the measured differences and counts. */
 #include "gl_test.h"
 
