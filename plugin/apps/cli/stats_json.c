@@ -235,6 +235,8 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddStringToObject(s, "backend_note", r->backend.note);
         cJSON_AddStringToObject(s, "method", stats_method_name(r->stats.method));
         cJSON_AddNumberToObject(s, "device_bytes", (double)r->stats.device_bytes);
+        cJSON_AddNumberToObject(s, "device_uploads", r->stats.device_uploads);
+        cJSON_AddNumberToObject(s, "device_readbacks", r->stats.device_readbacks);
         cJSON_AddNumberToObject(s, "host_bytes", (double)r->stats.host_bytes);
         cJSON_AddStringToObject(s, "kernel", ddof_kernel_name((ddof_kernel)r->stats.kernel));
         cJSON_AddStringToObject(s, "solver", ddof_solver_name((ddof_solver)r->stats.solver));
