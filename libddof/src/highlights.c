@@ -14,7 +14,7 @@
 
 typedef struct class_count {
     uint32_t count[CLASSES];
-    double area[CLASSES];
+    double cost[CLASSES];
 } class_count;
 
 typedef struct find_job {
@@ -69,7 +69,7 @@ static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const int k = highlight_class(job, row + (size_t)x * r->channels, coc);
             if (k >= 0) {
                 c->count[k]++;
-                c->area[k] += disc_cost(coc, r->pixel_aspect);
+                c->cost[k] += disc_cost(coc, r->pixel_aspect);
             }
         }
     }
@@ -364,20 +364,20 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
     ddof_parallel_rows(context, r->height, count_rows, &job);
 
     /* The brightest classes that fit the budget. */
-    double area[CLASSES] = {0};
+    double cost[CLASSES] = {0};
     uint64_t count[CLASSES] = {0};
     for (uint32_t c = 0; c < chunks; c++)
         for (int k = 0; k < CLASSES; k++) {
-            area[k] += counts[c].area[k];
+            cost[k] += counts[c].cost[k];
             count[k] += counts[c].count[k];
         }
     const double budget = DDOF_HIGHLIGHT_BUDGET * (double)r->width * r->height;
-    double kept_area = 0.0;
+    double kept_cost = 0.0;
     uint64_t kept = 0;
     int first = CLASSES;
-    while (first > 0 && kept_area + area[first - 1] <= budget) {
+    while (first > 0 && kept_cost + cost[first - 1] <= budget) {
         first--;
-        kept_area += area[first];
+        kept_cost += cost[first];
         kept += count[first];
     }
     if (kept == 0) {
@@ -410,7 +410,7 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
     ddof_parallel_rows(context, r->height, fill_rows, &job);
     *set = (highlight_set){items, (uint32_t)kept,
                            threshold * exp2f((float)first / CLASSES_PER_OCTAVE),
-                           (uint64_t)kept_area, 0, (float *)(items + 2 * kept),
+                           (uint64_t)kept_cost, 0, (float *)(items + 2 * kept),
                            (uint32_t *)((float *)(items + 2 * kept) + kept)};
     return DDOF_OK;
 }
