@@ -218,6 +218,8 @@ def session_for(threads, backend):
         close_session()
     if _session is None:
         _session = lib.session(threads, backend)
+        log("a ddof context for this render (%s backend, %s threads), kept for its frames"
+            % (backend, threads or "all"))
     return _session
 
 

@@ -106,6 +106,9 @@ lines = [l for l in log.splitlines() if "Diffusion DOF" in l or "Error" in l or 
 print("\n".join(lines))
 checks.check(proc.returncode == 0, "blender -a exited with %d" % proc.returncode)
 checks.check("Traceback" not in log, "a traceback in the animation render's output")
+contexts = sum("a ddof context for this render" in l for l in lines)
+checks.check(contexts == 1, "%d ddof contexts for a %d-frame render (one, kept, expected)"
+             % (contexts, len(FRAMES)))
 
 ref = {name: u.detail(pinhole, masks[name], w) for name, *_ in CARDS}
 montage = [pinhole]
