@@ -622,9 +622,10 @@ extern "C" {
 /* The CPU path is in libddof itself. The GL backends live in the plugin library libddof_gl
  * (built when GL support is on), which the context loads at run time with dlopen(RTLD_LOCAL):
  * from `plugin_path`, else from the file the DDOF_GL_PLUGIN environment variable names (either
- * one named is the only file tried), else next to libddof, else from the loader's search path. GL itself is loaded the same way (libEGL / libOSMesa), so linking
- * other GL libraries into the process does not interfere. Missing GL is a status, never a
- * crash; the context then keeps running on the CPU. */
+ * one named is the only file tried), else next to libddof, else from the loader's search path.
+ * GL itself is loaded the same way (libEGL / libOSMesa), so linking other GL libraries into the
+ * process does not interfere. Missing GL is a status, never a crash; the context then keeps
+ * running on the CPU. */
 typedef enum ddof_backend_kind {
     DDOF_BACKEND_CPU = 0,     /* the default: libddof's threads                                 */
     DDOF_BACKEND_AUTO = 1,    /* a hardware GPU through EGL when one is found, else the CPU     */
