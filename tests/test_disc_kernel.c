@@ -24,6 +24,8 @@ static int verbose;
 /* The fitted kernels reach at least this against the disc at CoC 12, 32 and 80 (measured in
  * study/lens/fit_disc_kernel.py and printed by ddof-bench). */
 #define DISC_MIN_SNR_DB 11.0
+/* What the default preset draws of an HDR point (the highlight pass): a disc. */
+#define BRIGHT_MIN_SNR_DB 30.0
 
 static ddof_params disc_params(ddof_kernel kernel, ddof_solver solver)
 {
@@ -83,6 +85,22 @@ static void test_point_spread(ddof_context *ctx)
         CHECK_MSG(lowest == 0.0, "negative output %g next to an HDR highlight", lowest);
         CHECK_MSG(energy / 1000.0 >= 1.0 && energy / 1000.0 <= 1.1, "energy %g x", energy / 1e3);
         image_free(&im);
+    }
+
+    /* An HDR highlight through the frame call: the highlight pass draws it as the disc (the
+     * diffusion kernel alone stays near 12 dB, above). */
+    for (size_t i = 0; i < sizeof sizes / sizeof sizes[0]; i++) {
+        const point_spread ps = point_spread_measure_bright(ctx, &def, sizes[i], 100.0f);
+        CHECK_EQ_INT(ps.status, DDOF_OK);
+        if (verbose)
+            printf("default, RGB point of 100, CoC %g: %.2f dB, energy %.6f, ring %.4f\n",
+                   (double)sizes[i], ps.snr_db, ps.energy, ps.ring);
+        CHECK_MSG(ps.snr_db >= BRIGHT_MIN_SNR_DB, "bright point at CoC %g: %.2f dB",
+                  (double)sizes[i], ps.snr_db);
+        CHECK_MSG(fabs(ps.energy - 1.0) <= 0.01, "bright point at CoC %g: energy %g",
+                  (double)sizes[i], ps.energy);
+        CHECK_MSG(ps.ring >= -0.02, "bright point at CoC %g: ring %.4f", (double)sizes[i],
+                  ps.ring);
     }
 
     /* The heat kernel, for the record: far from a disc. */

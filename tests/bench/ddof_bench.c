@@ -14,12 +14,14 @@
  * took, per megapixel); thread ratios are skipped (the GPU does not use the context's threads).
  * --solver disc: the disc kernels (on the backend): time vs memcpy and vs one heat step, CoC 200 / 2,
  * threads, the layered frame, and the point spread at CoC 12, 32 and 80 px (kernel SNR
- * against a uniform disc, energy, the most negative value over the disc's height).
+ * against a uniform disc, energy, the most negative value over the disc's height), and what the
+ * default preset's frame call draws of an RGB point of 100 (the highlight pass) at those sizes.
  * --solver speed: the speed issue's figures (speed_*): one heat step and the default preset's
  * kernel vs memcpy and each other, CoC 200 / 2 and 2 threads / 1 for both, and a sub-pixel
- * frame (largest CoC 0.18 px: a copy) vs memcpy; `all` prints them first.
- * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is found as
- * ddof_context_set_backend says (DDOF_GL_PLUGIN, beside libddof.so, ...) unless --plugin names it.
+ * frame (largest CoC 0.18 px: a copy) vs memcpy, and on the CPU backend the whole default frame
+ * on each GL backend that loads (EGL, OSMesa) vs the CPU; `all` prints them first.
+ * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is
+ * this build's (the benchmark links the static library) unless --plugin names another.
  */
 #include "ddof.h"
 #include "point_spread.h"
@@ -80,9 +82,11 @@ typedef struct run_config {
     ddof_layer_mode background;
     int foreground;
     ddof_kernel kernel;
+    int whole_preset; /* the default preset as it is (its kernel and sub-steps), layered */
 } run_config;
 
-static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT};
+static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0};
+static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1};
 
 /* Median seconds of one call; exits on error (a benchmark has nothing to hide). */
 static double time_config(const bench *b, ddof_context *context, ddof_solver solver,
@@ -93,11 +97,13 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
     /* One ADI step of the heat kernel, the unit every figure here is about (a preset's
      * sub-steps multiply it), so the figures stay comparable when the study changes the
      * presets; the disc figures name their kernel. */
-    params.substeps = 1;
-    params.kernel = config.kernel;
+    if (!config.whole_preset) {
+        params.substeps = 1;
+        params.kernel = config.kernel;
+        params.background = config.background;
+    }
     params.solver = solver;
     params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
-    params.background = config.background;
     ddof_image_in color = {b->color, b->width, b->height, 4, 0};
     ddof_image_in coc_image = {coc, b->width, b->height, 1, 0};
     ddof_image out = {b->out, b->width, b->height, 4, 0};
@@ -203,7 +209,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
     ddof_params defaults;
     ddof_params_init(&defaults);
     const run_config heat = single_layer;
-    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel};
+    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0};
     const run_config kernels[2] = {heat, disc};
     const char *names[2] = {"heat", "disc_default"};
     double scene[2];
@@ -223,13 +229,42 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
         fflush(stdout);
     }
     printf("speed_disc_default_vs_heat %.3f\n", scene[1] / scene[0]);
-    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel};
+    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0};
     const double sub_layers = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, planned);
     const double sub_single = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, disc);
     printf("speed_sub_pixel_layers_ms %.3f\n", 1e3 * sub_layers);
     printf("speed_sub_pixel_layers_vs_memcpy %.3f\n", sub_layers / memcpy_s);
     printf("speed_sub_pixel_single_vs_memcpy %.3f\n", sub_single / memcpy_s);
     fflush(stdout);
+}
+
+/* The whole default frame (the default preset as it is, layers planned) on each GL backend
+ * that loads here against the same frame on the CPU, all threads, in this run. A backend that
+ * does not load prints why and no ratio. */
+static void bench_gl_frames(const bench *b, ddof_context *cpu, const char *plugin)
+{
+    const double on_cpu = time_config(b, cpu, DDOF_SOLVER_THOMAS, b->coc_scene, default_frame);
+    printf("speed_default_frame_cpu_ms %.3f\n", 1e3 * on_cpu);
+    const ddof_backend_kind kinds[] = {DDOF_BACKEND_EGL, DDOF_BACKEND_OSMESA};
+    for (size_t k = 0; k < sizeof kinds / sizeof kinds[0]; k++) {
+        const char *name = ddof_backend_name(kinds[k]);
+        ddof_context *gl = make_context(0);
+        if (ddof_context_set_backend(gl, kinds[k], plugin) != DDOF_OK) {
+            printf("speed_gl_%s_unavailable %s\n", name, ddof_context_last_error(gl));
+            ddof_context_free(gl);
+            continue;
+        }
+        ddof_backend_info info = {.struct_size = sizeof info};
+        ddof_context_backend_info(gl, &info);
+        const double on_gl = time_config(b, gl, DDOF_SOLVER_THOMAS, b->coc_scene, default_frame);
+        printf("speed_gl_%s_renderer %s\n", name, info.renderer);
+        printf("speed_gl_%s_default_frame_ms %.3f\n", name, 1e3 * on_gl);
+        printf("speed_gl_%s_default_frame_vs_cpu %.3f\n", name, on_gl / on_cpu);
+        printf("speed_gl_%s_device_bytes_per_mp %.0f\n", name,
+               (double)last_device_bytes / ((double)b->width * b->height / 1e6));
+        fflush(stdout);
+        ddof_context_free(gl);
+    }
 }
 
 /* The disc kernels (CPU Thomas): their cost against memcpy and the heat step, CoC 200 / 2,
@@ -239,8 +274,8 @@ static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddo
 {
     const double heat = time_diffuse(b, all, DDOF_SOLVER_THOMAS, b->coc_scene);
     for (int k = 1; k < DDOF_KERNEL_COUNT_; k++) {
-        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k};
-        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k};
+        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0};
+        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0};
         char name[32];
         snprintf(name, sizeof name, "%s", ddof_kernel_name((ddof_kernel)k));
         name[4] = '_'; /* disc_2x2: one token */
@@ -272,6 +307,17 @@ static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddo
         }
         fflush(stdout);
     }
+    /* An HDR highlight (a point of 100) as the default preset's frame call draws it. */
+    ddof_params defaults;
+    ddof_params_init(&defaults);
+    const float bright_sizes[] = {12.0f, 32.0f, 80.0f};
+    for (int i = 0; i < 3; i++) {
+        const point_spread ps = point_spread_measure_bright(all, &defaults, bright_sizes[i], 100.0f);
+        printf("default_bright_psf_coc%.0f_snr_db %.2f\n", (double)bright_sizes[i], ps.snr_db);
+        printf("default_bright_psf_coc%.0f_energy %.6f\n", (double)bright_sizes[i], ps.energy);
+        printf("default_bright_psf_coc%.0f_most_negative %.4f\n", (double)bright_sizes[i],
+               ps.ring);
+    }
     ddof_params heat_params;
     ddof_params_init(&heat_params);
     heat_params.kernel = DDOF_KERNEL_HEAT;
@@ -296,7 +342,11 @@ int main(int argc, char **argv)
 {
     bench b = {.width = 1920, .height = 1080, .reps = 9};
     const char *only = "all";
+#ifdef DDOF_BENCH_GL_PLUGIN
+    const char *plugin = DDOF_BENCH_GL_PLUGIN;
+#else
     const char *plugin = NULL;
+#endif
     ddof_backend_kind backend = DDOF_BACKEND_CPU;
     for (int i = 1; i < argc; i++) {
         if (!strcmp(argv[i], "--size") && i + 1 < argc && parse_size(argv[i + 1], &b.width, &b.height))
@@ -353,8 +403,11 @@ int main(int argc, char **argv)
     printf("threads_default %u\n", ddof_context_thread_count(all));
     const double memcpy_s = time_memcpy(&b);
     printf("memcpy_ms %.3f\n", 1e3 * memcpy_s);
-    if (!strcmp(only, "all") || !strcmp(only, "speed"))
+    if (!strcmp(only, "all") || !strcmp(only, "speed")) {
         bench_speed(&b, one, two, all, memcpy_s, on_gl);
+        if (!on_gl)
+            bench_gl_frames(&b, all, plugin);
+    }
 
     for (int s = 0; s < DDOF_SOLVER_COUNT_; s++) {
         const char *name = ddof_solver_name((ddof_solver)s);
@@ -389,9 +442,9 @@ int main(int argc, char **argv)
     }
     if (!strcmp(only, "all") || !strcmp(only, "layers")) {
         /* Layers and the planner, Thomas, all threads. */
-        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT};
-        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT};
-        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT};
+        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0};
+        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0};
+        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0};
         const double single = time_diffuse(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene);
         const double bg = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, background);
         const double layers3 = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, three);

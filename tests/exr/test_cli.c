@@ -559,14 +559,25 @@ static int case_window(void)
                    "--focus", "1", NULL) == 1);
         CHECK(err_contains("mismatched layer sizes"));
         CHECK(!test_file_exists(test_path(dir, "df2.exr")));
+        /* A Blender multilayer depth file beside a plain RGB colour (a lens truth or a
+         * composite): its one <layer>.Depth.Z is the depth, whatever the layer's name. */
+        static const char *const blender_z[1] = {"RenderLayer.Depth.Z"};
+        CHECK(test_write_exr(test_path(dir, "depth_blender.exr"), &data, &display, 1, blender_z,
+                             types, zplane, EXRIO_COMPRESSION_ZIP) == 0);
+        CHECK(ddof(in, "-o", test_path(dir, "df3.exr"), "--depth-file",
+                   test_path(dir, "depth_blender.exr"), "--focal-length", "50", "--fstop", "1.4",
+                   "--focus", "1", "--substeps", "2", "--pixel-type", "float", NULL) == 0);
     }
     {
         uint32_t w, h;
         float *a = test_read_channel(test_path(dir, "df.exr"), "G", &w, &h);
         float *b = test_read_channel(test_path(dir, "out.exr"), "G", &w, &h);
+        float *c = test_read_channel(test_path(dir, "df3.exr"), "G", &w, &h);
         CHECK(a && b && memcmp(a, b, DW * DH * sizeof(float)) == 0);
+        CHECK(a && c && memcmp(a, c, DW * DH * sizeof(float)) == 0);
         free(a);
         free(b);
+        free(c);
     }
     return test_finish("test_cli window");
 }

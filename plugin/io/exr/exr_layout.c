@@ -148,11 +148,33 @@ static int find_depth(const exrio_image *image, const char *prefix, int part)
     return -1;
 }
 
+/* The one channel named "<layer>.Depth.Z" in the file, or -1 (none, or several layers). */
+static int only_layer_depth(const exrio_image *image)
+{
+    static const char suffix[] = ".Depth.Z";
+    const size_t s = sizeof suffix - 1;
+    int found = -1;
+    for (int i = 0; i < image->channel_count; i++) {
+        const char *name = image->channels[i].name;
+        const size_t n = strlen(name);
+        if (n > s && !strcmp(name + n - s, suffix)) {
+            if (found >= 0)
+                return -1;
+            found = i;
+        }
+    }
+    return found;
+}
+
 int exrio_find_depth(const exrio_image *image, const char *color_prefix, const char *name)
 {
     if (name)
         return exrio_find_channel(image, name, -1);
-    return find_depth(image, color_prefix ? color_prefix : "", -1);
+    const int idx = find_depth(image, color_prefix ? color_prefix : "", -1);
+    /* A separate depth file need not share the colour's layer names: a Blender multilayer
+     * file beside a plain RGB image (a composite, a lens truth) holds its depth as
+     * "<layer>.Depth.Z"; with one such layer there is no doubt which it is. */
+    return idx >= 0 ? idx : only_layer_depth(image);
 }
 
 /* Collects the automatic colour candidates: "" (plain R, G, B) and every "*.Combined" or

@@ -48,7 +48,8 @@ exrio_layout_status exrio_find_layout(const exrio_image *image,
 
 /* The depth channel that goes with colour prefix `color_prefix` ("" for plain R, G, B): the
  * channel called `name` when given, else "<layer>.Depth.Z", "<layer>.Z", then the plain names
- * (Z, Depth.Z, depth.Z, depth, ...), looked for in any part. -1 when there is none. Used for
+ * (Z, Depth.Z, depth.Z, depth, ...), then the one "<layer>.Depth.Z" of a file with one such
+ * layer, looked for in any part. -1 when there is none. Used for
  * depth that comes from a separate file. */
 int exrio_find_depth(const exrio_image *image, const char *color_prefix, const char *name);
 
