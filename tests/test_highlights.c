@@ -2,7 +2,8 @@
 /* test_highlights.c - the highlight pass (libddof/src/highlights.h): an HDR highlight comes out
  * as a flat disc of its CoC with its energy kept and no dark rim (the disc kernel alone leaves
  * one, its ring clamped to the input's range), nothing lands on in-focus or nearer pixels, a near highlight spreads over what is
- * behind it, alpha is the diffusion's, the budget holds, and the parameters are checked. */
+ * behind it, a light's anti-aliased rim goes with the light's CoC, alpha is the diffusion's, the
+ * budget holds, and the parameters are checked. */
 #include "test_util.h"
 
 #include <ddof.h>
@@ -153,6 +154,57 @@ static void test_near_spreads(void)
     CHECK(f.out[(cy * W + cx + 12) * 4] == 0.1f); /* beyond its radius 8: untouched */
 }
 
+/* A small near light (a 4 x 4 block of 6 at CoC -8) over a far background (CoC 20) whose
+ * anti-aliased rim (a ring of 2, as a pinhole render's coverage gives) carries the
+ * background's depth, as a render's depth pass does. The rim's light is the light's: it comes
+ * out inside the light's own disc (radius 4 around the block), not as a halo of the
+ * background's size (radius 10). */
+static void test_rim_takes_the_lights_coc(void)
+{
+    static frame f, bg;
+    flat(&f, 20.0f);
+    flat(&bg, 20.0f);
+    const int cx = 48, cy = 40; /* the block: [cx - 2, cx + 2) x [cy - 2, cy + 2) */
+    double light = 0.0;
+    for (int y = cy - 3; y < cy + 3; y++)
+        for (int x = cx - 3; x < cx + 3; x++) {
+            const int inner = x >= cx - 2 && x < cx + 2 && y >= cy - 2 && y < cy + 2;
+            for (int c = 0; c < 3; c++)
+                f.color[(y * W + x) * 4 + c] = inner ? 6.0f : 2.0f;
+            f.coc[y * W + x] = inner ? -8.0f : 20.0f;
+            light += (inner ? 6.0 : 2.0) - 0.1;
+        }
+    CHECK(run(&f, DDOF_LAYER_AUTO, NULL) == DDOF_OK);
+    CHECK(run(&bg, DDOF_LAYER_AUTO, NULL) == DDOF_OK);
+    double outside = 0.0; /* the light beyond 7 px of the block's centre */
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const double dx = x + 0.5 - cx, dy = y + 0.5 - cy;
+            if (dx * dx + dy * dy > 49.0)
+                outside += f.out[(y * W + x) * 4] - bg.out[(y * W + x) * 4];
+        }
+    CHECK_MSG(outside < 0.05 * light, "%.1f%% of the light drawn as a halo beyond the disc",
+              100.0 * outside / light);
+}
+
+/* A bright in-focus pixel beside a brighter blurred one is not taken from, whichever CoC the
+ * brighter one's light is drawn with. */
+static void test_in_focus_beside_a_highlight(void)
+{
+    static frame f;
+    flat(&f, 10.0f);
+    const int x = 40, y = 40;
+    f.coc[y * W + x] = 0.0f;
+    for (int c = 0; c < 3; c++) {
+        f.color[(y * W + x) * 4 + c] = 3.0f;
+        f.color[(y * W + x + 1) * 4 + c] = 50.0f;
+    }
+    CHECK(run(&f, DDOF_LAYER_AUTO, NULL) == DDOF_OK);
+    for (int c = 0; c < 4; c++)
+        CHECK_MSG(f.out[(y * W + x) * 4 + c] == f.color[(y * W + x) * 4 + c],
+                  "in-focus pixel changed: channel %d %g", c, (double)f.out[(y * W + x) * 4 + c]);
+}
+
 /* 300 bright pixels of CoC 60 (2 to 4096, as many in each octave) would cost 17 operations
  * per frame pixel: the brightest are drawn within the budget of 8, the threshold raised; all
  * pixels about equally bright (a sky): none. */
@@ -199,7 +251,7 @@ static void test_params(void)
     ddof_params p;
     ddof_params_init(&p);
     CHECK_EQ_INT(p.highlights, DDOF_LAYER_AUTO);
-    CHECK_NEAR(p.highlight_threshold, 1.0, 0.0);
+    CHECK_NEAR(p.highlight_threshold, 0.25, 0.0);
     p.highlight_threshold = 0.0f;
     CHECK_EQ_INT(ddof_params_check(ctx, &p), DDOF_ERROR_BAD_PARAMETER);
     p.highlight_threshold = NAN;
@@ -234,6 +286,8 @@ int main(void)
     test_one_highlight();
     test_occlusion();
     test_near_spreads();
+    test_rim_takes_the_lights_coc();
+    test_in_focus_beside_a_highlight();
     test_budget();
     test_params();
     ddof_context_free(ctx);

@@ -565,6 +565,7 @@ static void test_half_sharp(void)
             coc[(size_t)y * W + x] = y < H / 2 ? 0.0f : 6.0f;
     ddof_params p;
     heat_params_init(&p);
+    p.highlights = DDOF_LAYER_OFF; /* the texture is above the highlight threshold */
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("half sharp", &st);
@@ -679,6 +680,7 @@ static void test_near(void)
     disc_coc(coc, -20.0f, 0.0f);
     ddof_params p;
     heat_params_init(&p);
+    p.highlights = DDOF_LAYER_OFF; /* the texture is above the highlight threshold */
     p.coc_signed = 1;
     ddof_stats st, st_off;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
@@ -722,6 +724,7 @@ static void test_near(void)
     /* The same object, unsigned (a far object over an in-focus background): the background
      * layer's case, not the near spread. */
     heat_params_init(&p);
+    p.highlights = DDOF_LAYER_OFF; /* the texture is above the highlight threshold */
     CHECK_EQ_INT(layers(&p, color, abs_coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("far disc", &st);
     CHECK_MSG(st.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_BACKGROUND),

@@ -408,15 +408,17 @@ typedef struct ddof_params {
     ddof_layer_mode highlights;  /* the highlight pass: the part of a pixel brighter than      */
                                /* highlight_threshold (its largest colour channel) with |CoC|  */
                                /* >= 4 px is taken out before the diffusion and drawn as a    */
-                               /* uniform disc of its CoC afterwards (on the pixels at or    */
-                               /* behind its depth), so HDR highlights come out as the crisp  */
-                               /* discs a lens draws, without a disc kernel's dark rim. A    */
+                               /* uniform disc afterwards (of the CoC of the brightest pixel */
+                               /* of its 3x3: a light's anti-aliased rim goes with the light; */
+                               /* on the pixels at or behind its depth), so HDR highlights    */
+                               /* come out as the crisp discs a lens draws, without a disc    */
+                               /* kernel's dark rim. A                                        */
                                /* disc costs its rows and rim, not its area, and the pass at  */
                                /* most 8 operations per frame pixel: the brightest first (the */
                                /* threshold rises in quarter octaves until they fit).        */
                                /* Colour with 3 or 4 channels only. Default AUTO: on when     */
                                /* such a pixel exists; ON is AUTO's rule too.                */
-    float highlight_threshold; /* default 1 (scene-linear); > 0, finite                       */
+    float highlight_threshold; /* default 0.25 (scene-linear); > 0, finite                    */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */

@@ -69,7 +69,7 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
         .kernel = s->kernel,
         .in_focus_threshold_px = 0.5f,
         .highlights = DDOF_LAYER_AUTO,
-        .highlight_threshold = 1.0f,
+        .highlight_threshold = 0.25f, /* measured: docs/disc-kernel.md, the highlight pass */
     };
     return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
 }

@@ -38,6 +38,31 @@ static float brightness(const float *px)
     return fmaxf(px[0], fmaxf(px[1], px[2]));
 }
 
+/* The CoC a highlight's light is drawn with: that of the brightest pixel of its 3 x 3
+ * neighbourhood (itself on a tie). A pinhole render's depth is not anti-aliased: the rim pixels
+ * of a small bright object carry much of its light (coverage times its brightness) but the
+ * depth of what lies behind it, and drawn with that CoC they ring the object's disc with a
+ * halo of the background's size (the highlights scene's near lights; an in-focus light gets a
+ * blurred ring). Their light is the object's, so it goes with the object's CoC. */
+static float highlight_coc(const adi_request *r, uint32_t x, uint32_t y)
+{
+    const uint32_t x0 = x > 0 ? x - 1 : 0, x1 = x + 1 < r->width ? x + 1 : x;
+    const uint32_t y0 = y > 0 ? y - 1 : 0, y1 = y + 1 < r->height ? y + 1 : y;
+    uint32_t bx = x, by = y;
+    float best = brightness(r->color + (size_t)y * r->color_stride + (size_t)x * r->channels);
+    for (uint32_t v = y0; v <= y1; v++)
+        for (uint32_t u = x0; u <= x1; u++) {
+            const float l = brightness(r->color + (size_t)v * r->color_stride +
+                                       (size_t)u * r->channels);
+            if (l > best) {
+                best = l;
+                bx = u;
+                by = v;
+            }
+        }
+    return coc_at(r, bx, by);
+}
+
 /* What drawing a disc of this CoC costs, in pixel operations: its rows, and its rim pixels
  * (about twice its circumference) for the weights and the scatter. */
 static double disc_cost(float coc, float aspect)
@@ -46,11 +71,17 @@ static double disc_cost(float coc, float aspect)
     return 2.0 * r * (double)aspect + 1.0 + 4.0 * 3.14159265358979 * r;
 }
 
-/* The class of a pixel, or -1 when it is no highlight. */
-static int highlight_class(const find_job *job, const float *px, float coc)
+/* The class of pixel (x, y) of colour px, or -1 when it is no highlight; *coc gets the CoC its
+ * light is drawn with. */
+static int highlight_class(const find_job *job, const float *px, uint32_t x, uint32_t y,
+                           float *coc)
 {
     const float l = brightness(px);
-    if (!(l > job->threshold) || !(fabsf(coc) >= DDOF_HIGHLIGHT_MIN_COC_PX))
+    /* Its own CoC too: a pixel the diffusion leaves in focus is never taken from. */
+    if (!(l > job->threshold) || !(fabsf(coc_at(job->r, x, y)) >= DDOF_HIGHLIGHT_MIN_COC_PX))
+        return -1;
+    *coc = highlight_coc(job->r, x, y);
+    if (!(fabsf(*coc) >= DDOF_HIGHLIGHT_MIN_COC_PX))
         return -1;
     const int k = (int)floorf(CLASSES_PER_OCTAVE * log2f(l / job->threshold));
     return k < 0 ? 0 : k >= CLASSES ? CLASSES - 1 : k;
@@ -65,8 +96,8 @@ static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = r->color + (size_t)y * r->color_stride;
         for (uint32_t x = 0; x < r->width; x++) {
-            const float coc = coc_at(r, x, y);
-            const int k = highlight_class(job, row + (size_t)x * r->channels, coc);
+            float coc;
+            const int k = highlight_class(job, row + (size_t)x * r->channels, x, y, &coc);
             if (k >= 0) {
                 c->count[k]++;
                 c->cost[k] += disc_cost(coc, r->pixel_aspect);
@@ -87,9 +118,9 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         float *out = job->base + (size_t)y * r->width * r->channels;
         memcpy(out, row, (size_t)r->width * r->channels * sizeof *out);
         for (uint32_t x = 0; x < r->width; x++) {
-            const float coc = coc_at(r, x, y);
             float *px = out + (size_t)x * r->channels;
-            const int k = highlight_class(job, px, coc);
+            float coc;
+            const int k = highlight_class(job, px, x, y, &coc);
             if (k < (int)job->first_class)
                 continue;
             /* The part above the kept threshold, hue kept: px * (1 - t / L). */

@@ -30,7 +30,7 @@
 
 typedef struct highlight {
     uint32_t x, y;
-    float coc;       /* signed CoC of the pixel                                       */
+    float coc;       /* signed CoC its light is drawn with (highlights.c: highlight_coc) */
     float excess[3]; /* colour above the threshold, taken out before the diffusion    */
 } highlight;
 

@@ -217,7 +217,7 @@ const cli_option cli_option_table[] = {
      .help = "the brightest blurred pixels drawn as crisp discs (HDR bokeh)"},
     {"--highlight-threshold", LAYERS, FLOAT(highlight_threshold, "VALUE", CLI_POSITIVE),
      PARAMS(highlight_threshold), .setting = "highlight_threshold",
-     .help = "brightness above which a pixel is a highlight (default 1)"},
+     .help = "brightness above which a pixel is a highlight (default 0.25)"},
     {"--coc-signed", LAYERS, FLAG(coc_signed),
      .help = "the --coc-channel is negative in front of the focus plane"},
     {"--foreground", LAYERS, STRING(foreground, "FILE.exr"),
