@@ -273,6 +273,23 @@ def beats_baseline(c, study):
     return all(not math.isnan(base.psnr[s]) and c.psnr[s] >= base.psnr[s] for s in study.blurred)
 
 
+def time_against_node(study, d):
+    """The default preset's time per scene as a fraction of the Defocus node's (1080p)."""
+    node = study.by_id.get("defocus")
+    if node is None:
+        return []
+    cells = []
+    for sc in study.blurred:
+        a, b = d.per.get(sc, {}).get("ms_large"), node.per.get(sc, {}).get("ms_large")
+        if a and b and not math.isnan(num(a)) and not math.isnan(num(b)):
+            cells.append("%s 1/%.0f (%.0f ms against %.0f ms)" % (sc, num(b) / num(a), num(a),
+                                                                  num(b)))
+    if not cells:
+        return []
+    return ["The default preset's time at 1920x1080 as a fraction of the Defocus node's, per "
+            "scene with blur, in this run: " + "; ".join(cells) + ".", ""]
+
+
 def choose_presets(study):
     cands = [c for c in study.configs if c.eligible()]
     if not cands:
@@ -1029,6 +1046,7 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
                     cells.append("%s / %s" % (fmt(c.psnr[sc]), fmt(c.band[sc])))
             L.append("| %s | %s |" % (sc, " | ".join(cells)))
         L.append("")
+        L += time_against_node(study, chosen["default"])
     L += findings(study)
 
     # --- plots

@@ -205,6 +205,52 @@ static void test_in_focus_beside_a_highlight(void)
                   "in-focus pixel changed: channel %d %g", c, (double)f.out[(y * W + x) * 4 + c]);
 }
 
+/* A bright pixel in a foreground element (alpha 1, CoC 24) over a sharp background: the
+ * element's own highlights are drawn as the flat disc too, not the disc kernel's uneven one. */
+static void test_element_highlight(void)
+{
+    static frame f;
+    static float fg_color[N * 4], fg_coc[N];
+    flat(&f, 0.0f);
+    const int cx = 48, cy = 40;
+    memset(fg_color, 0, sizeof fg_color);
+    for (int i = 0; i < N; i++)
+        fg_coc[i] = 24.0f;
+    for (int c = 0; c < 3; c++)
+        fg_color[(cy * W + cx) * 4 + c] = 200.0f;
+    fg_color[(cy * W + cx) * 4 + 3] = 1.0f;
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
+    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
+    double spread[2];
+    for (int pass = 0; pass < 2; pass++) {
+        ddof_params p;
+        ddof_params_init(&p);
+        p.highlights = pass ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
+        ddof_stats st = {.struct_size = sizeof st};
+        CHECK(ddof_diffuse_layers(ctx, &p, &(ddof_image_in){f.color, W, H, 4, 0},
+                                  &(ddof_image_in){f.coc, W, H, 1, 0}, &fg,
+                                  &(ddof_image){f.out, W, H, 4, 0}, &st) == DDOF_OK);
+        CHECK(!pass || (st.effects & DDOF_EFFECT_HIGHLIGHTS));
+        float lo = INFINITY, hi = 0.0f;
+        for (int y = cy - 8; y <= cy + 8; y++)
+            for (int x = cx - 8; x <= cx + 8; x++)
+                if ((x - cx) * (x - cx) + (y - cy) * (y - cy) <= 64) {
+                    lo = fminf(lo, f.out[(y * W + x) * 4]);
+                    hi = fmaxf(hi, f.out[(y * W + x) * 4]);
+                }
+        const double level = 200.0 / (3.14159265 * 12.0 * 12.0);
+        spread[pass] = (hi - lo) / level;
+        if (pass)
+            CHECK_NEAR(channel_sum(f.out, 0) - 0.1 * N, 200.0, 200.0 * 0.01);
+    }
+    CHECK_MSG(spread[1] < 0.05, "the element's highlight is not flat: %.3f of its level",
+              spread[1]);
+    CHECK_MSG(spread[0] > 0.2, "the disc kernel alone was flat already (%.3f): the test shows "
+              "nothing", spread[0]);
+}
+
 /* 300 bright pixels of CoC 60 (2 to 4096, as many in each octave) would cost 17 operations
  * per frame pixel: the brightest are drawn within the budget of 8, the threshold raised; all
  * pixels about equally bright (a sky): none. */
@@ -288,6 +334,7 @@ int main(void)
     test_near_spreads();
     test_rim_takes_the_lights_coc();
     test_in_focus_beside_a_highlight();
+    test_element_highlight();
     test_budget();
     test_params();
     ddof_context_free(ctx);

@@ -19,7 +19,8 @@
  * over in-focus or nearer pixels, and its weights are renormalised over the pixels it lands
  * on, so the light is kept as the diffusion keeps it at an insulator. A near highlight spreads
  * over everything behind it. Colour channels only: alpha (channel 3 of 4) is left to the
- * diffusion. */
+ * diffusion. A foreground element gets the same pass on its own premultiplied colour
+ * (layers.c), its discs drawn into it before the composite. */
 #ifndef DDOF_HIGHLIGHTS_H
 #define DDOF_HIGHLIGHTS_H
 

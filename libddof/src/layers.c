@@ -412,6 +412,13 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     return DDOF_OK;
 }
 
+/* The colour with the highlights taken out (ddof_find_highlights wrote it). */
+static const float *highlights_base(ddof_context *context, const adi_request *r)
+{
+    return ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_BASE,
+                            (size_t)r->width * r->height * r->channels * sizeof(float));
+}
+
 static ddof_status foreground(ddof_context *context, const layers_request *q, stages *st,
                               layers_report *report)
 {
@@ -425,6 +432,29 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
         return status;
     pixel_job job = {.q = q, .a = premultiplied, .b = coc_abs};
     ddof_parallel_rows(context, r->height, foreground_rows, &job);
+
+    /* The element's own highlights (a near light is usually in it): taken out of its
+     * premultiplied colour here, drawn into it after its blur. */
+    highlight_set lights = {0};
+    const float *element = premultiplied;
+    if (q->params->highlights != DDOF_LAYER_OFF) {
+        const double t0 = ddof_seconds();
+        adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
+        er.coc = q->fg_coc;
+        er.coc_stride = q->fg_coc_stride;
+        er.coc_channels = q->fg_coc_channels;
+        float *base = (float *)highlights_base(context, &er);
+        if (!base)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the highlight pass's %ux%u image", r->width,
+                             r->height);
+        if ((status = ddof_find_highlights(context, &er, q->params->highlight_threshold, 0, base,
+                                           &lights)) != DDOF_OK)
+            return status;
+        if (lights.count)
+            element = base;
+        report->seconds_highlights += ddof_seconds() - t0;
+    }
 
     /* Its CoC flows outwards into the transparent pixels, at its own largest size. One ADI
      * step reaches only the pixels that share a row or a column with the element (each pass
@@ -454,22 +484,25 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
         return status;
 
     /* Premultiplied colour and alpha spread together (in place): coverage falls below 1. */
-    adi_request blur = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
+    adi_request blur = derived(r, element, (size_t)r->width * 4, 4, premultiplied);
     blur.coc = filled;
     blur.coc_stride = r->width;
     blur.coc_channels = 1;
     if ((status = diffuse(context, &blur, st, report)) != DDOF_OK)
         return status;
+    if (lights.count) {
+        /* Light added to the element's colour, over whatever lies behind it; it lands where
+         * the element's spread CoC reaches (|CoC| at least half the disc's: the element's
+         * blur, never the sharp pixels beside it). */
+        const double t0 = ddof_seconds();
+        ddof_scatter_highlights(context, &blur, 0, &lights,
+                                (float *)highlights_base(context, &blur));
+        report->effects |= DDOF_EFFECT_HIGHLIGHTS;
+        report->seconds_highlights += ddof_seconds() - t0;
+    }
 
     ddof_parallel_rows(context, r->height, composite_foreground_rows, &job);
     return DDOF_OK;
-}
-
-/* The colour with the highlights taken out (ddof_find_highlights wrote it). */
-static const float *highlights_base(ddof_context *context, const adi_request *r)
-{
-    return ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_BASE,
-                            (size_t)r->width * r->height * r->channels * sizeof(float));
 }
 
 /* Finds the frame's highlights (colour with 3 or 4 channels) into `set` and the base colour,
@@ -580,6 +613,39 @@ static ddof_status device_layers(ddof_context *context, const layers_request *q,
     return DDOF_OK;
 }
 
+/* Whether the foreground element holds a pixel the highlight pass would take (bright enough,
+ * covered, blurred enough): only then does it need the CPU's pass. */
+static int element_is_bright(const layers_request *q)
+{
+    const float threshold = q->params->highlight_threshold;
+    for (uint32_t y = q->fg_box.y0; y < q->fg_box.y1; y++) {
+        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
+        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
+        for (uint32_t x = q->fg_box.x0; x < q->fg_box.x1; x++) {
+            const float *px = fg + (size_t)x * 4;
+            const float alpha = q->fg_premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
+            const float l = ddof_maxf(px[0], ddof_maxf(px[1], px[2])) * alpha;
+            if (px[3] > 0.0f && l > threshold &&
+                fabsf(coc[(size_t)x * q->fg_coc_channels]) >= DDOF_HIGHLIGHT_MIN_COC_PX)
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether the device runs the whole plan. It does, the element's composite included, but the
+ * highlights (the frame's, which go under the element, and the element's own, in it) are the
+ * CPU's: a frame with an element and highlights runs on the CPU's layers, one diffusion at a
+ * time. */
+static int device_runs_frame(ddof_context *context, const layers_request *q,
+                             const frame_plan *plan, uint32_t frame_highlights)
+{
+    if (!ddof_backend_runs_layers(context, &q->base))
+        return 0;
+    const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
+    return !(element_lights && (frame_highlights || element_is_bright(q)));
+}
+
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, float max_near_coc, layers_report *report)
 {
@@ -604,9 +670,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         report->seconds_highlights += ddof_seconds() - t0;
     }
 
-    /* The device runs the whole plan, the element's composite included, and the highlights
-     * go under the element: a frame with both runs here, one diffusion at a time. */
-    if (ddof_backend_runs_layers(context, r) && !(highlights.count && plan->foreground)) {
+    if (device_runs_frame(context, q, plan, highlights.count)) {
         layers_request on_device = *q;
         on_device.base.color = color;
         on_device.base.color_stride = color_stride;

@@ -175,6 +175,9 @@ static void frames(ddof_kernel kernel)
     ddof_params_init(&p);
     p.solver = DDOF_SOLVER_THOMAS;
     p.kernel = kernel;
+    /* The element (0.9 red) is above the highlight threshold: its highlights are the CPU's
+     * and take the frame off the device (highlights(), below); here the device runs it all. */
+    p.highlights = DDOF_LAYER_OFF;
     scene(color, coc, 0);
     compare("foreground element + background", p, color, coc, &fg,
             DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
@@ -190,8 +193,8 @@ static void frames(ddof_kernel kernel)
 
 /* HDR highlights (the highlight pass, ddof_params.highlights): taken out before the device runs
  * the frame and drawn on the CPU into its one read-back, so still 1 upload and 1 read-back.
- * With a foreground element as well (the discs go under it) the frame runs one diffusion at a
- * time, and still matches the CPU. */
+ * With a foreground element as well (the discs go under it), or with highlights in the element
+ * itself, the frame runs one diffusion at a time, and still matches the CPU. */
 static void highlights(ddof_kernel kernel)
 {
     const size_t n = (size_t)W * H * CH;
@@ -225,6 +228,22 @@ static void highlights(ddof_kernel kernel)
     CHECK_EQ_INT(sg.effects, sc.effects);
     CHECK_MSG(sg.device_uploads > 1, "highlights + element: %u uploads (one request at a time "
               "expected)", sg.device_uploads);
+
+    /* The element's own highlights alone (the rest dimmed below the threshold): drawn into
+     * the element on the CPU, so again one request at a time, as the CPU. */
+    for (size_t i = 0; i < n; i++)
+        color[i] *= 0.1f;
+    sc = stats_init();
+    sg = stats_init();
+    CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, &fg, ref, W, H, CH, &sc), DDOF_OK);
+    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, &fg, out, W, H, CH, &sg), DDOF_OK);
+    const double e2 = max_diff(out, ref, n);
+    CHECK_MSG(e2 <= TOL_FRAME, "element's highlights %s: GL vs CPU %.3g",
+              ddof_kernel_name(kernel), e2);
+    CHECK_MSG(sc.effects & DDOF_EFFECT_HIGHLIGHTS, "element's highlights: effects %u (%s)",
+              sc.effects, sc.plan);
+    CHECK_EQ_INT(sg.effects, sc.effects);
+    CHECK(sg.device_uploads > 1);
     free(ref);
     free(out);
     free(fg_color);
@@ -260,6 +279,7 @@ static void layouts(uint32_t ch, int with_element)
     p.solver = DDOF_SOLVER_THOMAS;
     p.coc_signed = 1;
     p.background_levels = 2;
+    p.highlights = DDOF_LAYER_OFF; /* on the device throughout (the element is bright) */
     ddof_foreground fg;
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
