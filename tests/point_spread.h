@@ -121,7 +121,7 @@ static inline point_spread point_spread_measure(ddof_context *ctx, const ddof_pa
     return point_spread_run(ctx, params, d, 1, 1.0f, 0);
 }
 
-/* What the frame call draws of a bright RGB point (`value` times the pedestal's scale, above
+/* What the frame call draws of a bright RGB point (`value` above the pedestal, above
  * the highlight threshold): the highlight pass's disc over the diffused rest. */
 static inline point_spread point_spread_measure_bright(ddof_context *ctx,
                                                        const ddof_params *params, float d,
