@@ -78,11 +78,9 @@ static inline point_spread point_spread_run(ddof_context *ctx, const ddof_params
                        : ddof_diffuse(ctx, params, &ci, &zi, &oi, NULL);
     if (r.status != DDOF_OK)
         goto done;
-    /* The first channel, as a kernel of unit weight. */
+    /* The first channel, as a kernel of unit weight (in place: i * channels >= i). */
     for (size_t i = 0; i < n; i++)
-        disc[i] = ((double)out[i * channels] - POINT_SPREAD_PEDESTAL) / value;
-    for (size_t i = 0; i < n; i++)
-        out[i] = (float)disc[i];
+        out[i] = (float)(((double)out[i * channels] - POINT_SPREAD_PEDESTAL) / value);
     double disc_sum = 0, height = 0;
     for (uint32_t y = 0; y < w; y++)
         for (uint32_t x = 0; x < w; x++) {

@@ -35,7 +35,7 @@ static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
 
 static float brightness(const float *px)
 {
-    return fmaxf(px[0], fmaxf(px[1], px[2]));
+    return ddof_highlight_brightness(px);
 }
 
 /* The CoC a highlight's light is drawn with: that of the brightest pixel of its 3 x 3
@@ -78,7 +78,7 @@ static int highlight_class(const find_job *job, const float *px, uint32_t x, uin
 {
     const float l = brightness(px);
     /* Its own CoC too: a pixel the diffusion leaves in focus is never taken from. */
-    if (!(l > job->threshold) || !(fabsf(coc_at(job->r, x, y)) >= DDOF_HIGHLIGHT_MIN_COC_PX))
+    if (!ddof_is_highlight(l, coc_at(job->r, x, y), job->threshold))
         return -1;
     *coc = highlight_coc(job->r, x, y);
     if (!(fabsf(*coc) >= DDOF_HIGHLIGHT_MIN_COC_PX))

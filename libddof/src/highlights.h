@@ -26,8 +26,22 @@
 
 #include "adi.h"
 
+#include <math.h>
+
 #define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
 #define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel   */
+
+/* A pixel's brightness for the pass: its largest colour channel. */
+static inline float ddof_highlight_brightness(const float *rgb)
+{
+    return fmaxf(rgb[0], fmaxf(rgb[1], rgb[2]));
+}
+
+/* Whether a pixel of this brightness and CoC is a highlight (before the budget). */
+static inline int ddof_is_highlight(float brightness, float coc, float threshold)
+{
+    return brightness > threshold && fabsf(coc) >= DDOF_HIGHLIGHT_MIN_COC_PX;
+}
 
 typedef struct highlight {
     uint32_t x, y;

@@ -623,10 +623,11 @@ static int element_is_bright(const layers_request *q)
         const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
         for (uint32_t x = q->fg_box.x0; x < q->fg_box.x1; x++) {
             const float *px = fg + (size_t)x * 4;
-            const float alpha = q->fg_premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
-            const float l = ddof_maxf(px[0], ddof_maxf(px[1], px[2])) * alpha;
-            if (px[3] > 0.0f && l > threshold &&
-                fabsf(coc[(size_t)x * q->fg_coc_channels]) >= DDOF_HIGHLIGHT_MIN_COC_PX)
+            /* foreground_rows' premultiplication */
+            const float scale = q->fg_premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
+            if (px[3] > 0.0f && ddof_is_highlight(ddof_highlight_brightness(px) * scale,
+                                                  coc[(size_t)x * q->fg_coc_channels],
+                                                  threshold))
                 return 1;
         }
     }
