@@ -175,6 +175,37 @@ static void test_huge_coc(ddof_context *ctx)
         image_free(&row);
         image_free(&col);
     }
+    /* Thomas keeps a batch's running value in float while its memory is short (beta <= 65536
+     * times the smallest positive gamma: 256 px) and in double beyond. Both sides of the
+     * switch on 4096-px lines, beta 255^2 (float) and 257^2 (double), with random data and a
+     * step: measured <= 6e-7 on the float side. The double side's step is 4.4e-6 from the
+     * reference, and so it is with the running value in float or in double: that error is
+     * the float weights' rounding, which no running precision removes, so its bound is 1e-5.
+     * (The CoC 1e4 lines above fail with the running value in float at every length: 1.2e-5.) */
+    {
+        const uint32_t n = 4096;
+        test_image row = image_alloc(n, 1, 1), col = image_alloc(1, n, 1);
+        const float cocs[2] = {255.0f, 257.0f};
+        for (int side = 0; side < 2; side++)
+            for (int fill = 0; fill < 2; fill++) {
+                fill_const(row.coc, n, cocs[side]);
+                fill_const(col.coc, n, cocs[side]);
+                if (fill == 0)
+                    fill_uniform(row.color, n, &rng, 0.0, 1.0);
+                else
+                    for (uint32_t i = 0; i < n; i++)
+                        row.color[i] = i < n / 2 ? 1.0f : 0.0f;
+                memcpy(col.color, row.color, n * sizeof(float));
+                const double tol = side == 0 ? TOL_FLOAT_VS_F64_LONG : 1e-5;
+                char name[64];
+                snprintf(name, sizeof name, "4096x1 #%d CoC %g, k=1", fill, (double)cocs[side]);
+                check_case_tol(ctx, name, &row, 1.0f, 1, 1.0, tol);
+                snprintf(name, sizeof name, "1x4096 #%d CoC %g, k=1", fill, (double)cocs[side]);
+                check_case_tol(ctx, name, &col, 1.0f, 1, 1.0, tol);
+            }
+        image_free(&row);
+        image_free(&col);
+    }
     /* Huge uniform CoC on a single row: the row's mean, up to O(n^2 / beta). */
     {
         const uint32_t n = 100;

@@ -115,7 +115,31 @@ static void solve_batch(const pass_job *job, thread_state *ts, const line_batch 
 
 /* ---- rows: lanes are neighbouring rows, unknowns run along x ---------------------------- */
 
-static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+/* The links of a row batch from its CoC gathered as coc[i][lane]: beta[i][lane] between
+ * elements i and i + 1 (0 past the last), which lanes conduct anywhere, and each lane's
+ * largest |CoC|. */
+static DDOF_ALWAYS_INLINE void links_from_gathered(float *restrict beta,
+                                                   const float *restrict coc, uint32_t n,
+                                                   float scale, float in_focus, int *active,
+                                                   float *max_coc)
+{
+    float conducts[L] = {0};
+    for (uint32_t i = 0; i < n; i++) {
+        const float *restrict here = coc + (size_t)i * L;
+        float *restrict b = beta + (size_t)i * L;
+        for (uint32_t l = 0; l < L; l++) {
+            /* The last element's link reads its own CoC twice and is then cut to 0. */
+            const float next = here[i + 1 < n ? L + l : l];
+            b[l] = link_beta(scale, in_focus, here[l], next) * (float)(i + 1 < n);
+            conducts[l] = ddof_maxf(conducts[l], b[l]);
+            max_coc[l] = ddof_maxf(max_coc[l], fabsf(here[l]));
+        }
+    }
+    for (uint32_t l = 0; l < L; l++)
+        active[l] = conducts[l] > 0.0f;
+}
+
+DDOF_MULTIVERSION static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const pass_job *job = user;
     const adi_request *r = job->request;
@@ -134,14 +158,25 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
         coc[l] = r->coc ? r->coc + (size_t)(y0 + (l < lanes ? l : 0)) * r->coc_stride
                         : &r->uniform_coc;
     float max_coc[L] = {0};
-    for (uint32_t i = 0; i < n; i++) {
-        float *beta = ts->beta + (size_t)i * L;
-        for (uint32_t l = 0; l < L; l++) {
-            const float here = coc[l][(size_t)i * cc];
-            const float next = i + 1 < n ? coc[l][(size_t)(i + 1) * cc] : 0.0f;
-            beta[l] = l < lanes ? link_beta(job->beta_scale, in_focus, here, next) : 0.0f;
-            active[l] |= beta[l] > 0.0f;
-            max_coc[l] = ddof_maxf(max_coc[l], fabsf(here));
+    if (cc == 1) {
+        /* A one-channel CoC: its rows are first moved into the [i][lane] order the links are
+         * stored in, by the colour's chunked gather (x is free until the colour's gather), so
+         * that the links' loop reads and writes whole vectors instead of sixteen scalars. */
+        const float *coc_rows[L];
+        for (uint32_t l = 0; l < L; l++)
+            coc_rows[l] = l < lanes ? coc[l] : NULL; /* padding lanes: CoC 0, no links */
+        rows_in(ts->x, coc_rows, n, 1);
+        links_from_gathered(ts->beta, ts->x, n, job->beta_scale, in_focus, active, max_coc);
+    } else {
+        for (uint32_t i = 0; i < n; i++) {
+            float *beta = ts->beta + (size_t)i * L;
+            for (uint32_t l = 0; l < L; l++) {
+                const float here = coc[l][(size_t)i * cc];
+                const float next = i + 1 < n ? coc[l][(size_t)(i + 1) * cc] : 0.0f;
+                beta[l] = l < lanes ? link_beta(job->beta_scale, in_focus, here, next) : 0.0f;
+                active[l] |= beta[l] > 0.0f;
+                max_coc[l] = ddof_maxf(max_coc[l], fabsf(here));
+            }
         }
     }
     if (r->gamma)
@@ -183,7 +218,7 @@ static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 
 /* ---- columns: lanes are neighbouring columns, unknowns run along y; in place on dst ------ */
 
-static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+DDOF_MULTIVERSION static void column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const pass_job *job = user;
     const adi_request *r = job->request;

@@ -84,7 +84,7 @@ static DDOF_ALWAYS_INLINE void rows_out_c(float *const *rows, const float *restr
 }
 
 /* rows[l] is lane l's image row, or NULL for a lane that is not solved (zeros in, not out). */
-static inline void rows_in(float *x, const float *const *rows, uint32_t n, uint32_t C)
+static DDOF_ALWAYS_INLINE void rows_in(float *x, const float *const *rows, uint32_t n, uint32_t C)
 {
     switch (C) {
     case 1: rows_in_c(x, rows, n, 1); break;
@@ -94,7 +94,7 @@ static inline void rows_in(float *x, const float *const *rows, uint32_t n, uint3
     }
 }
 
-static inline void rows_out(float *const *rows, const float *x, uint32_t n, uint32_t C)
+static DDOF_ALWAYS_INLINE void rows_out(float *const *rows, const float *x, uint32_t n, uint32_t C)
 {
     switch (C) {
     case 1: rows_out_c(rows, x, n, 1); break;

@@ -15,10 +15,16 @@
  * error can build up along the line. Behind an insulating link s = 0, and at beta = 0 w = 0, so a
  * CoC-0 pixel keeps its input bit for bit.
  *
- * The running value (D going forward, y coming back) is carried in double and rounded to float
- * only when stored. With huge beta each sweep is a moving average whose memory is longer than
- * the line, and rounding it to float at every step compounds: 1.8e-5 on a 4096-pixel line at
- * CoC 1e4 against 6.6e-7 in double (tests/test_hard_cases.c), for ~10% more time.
+ * The running value (D going forward, y coming back) is a moving average whose memory is about
+ * sqrt(beta / gamma) pixels. Rounded to float at every step its error grows with that memory:
+ * 1.2e-5 on a 4096-pixel line at CoC 1e4 and beta_scale 1 (tests/test_hard_cases.c), against
+ * 6.6e-7 when it is carried in double and rounded only when stored. Double costs about half as
+ * much again as the whole float step, since every value is widened and narrowed and every weight
+ * is spread over the channels in double lanes. So a batch whose memory is short (largest
+ * beta / smallest positive gamma <= THOMAS_FLOAT_MAX_MEMORY, a memory of 256 pixels) runs in
+ * float, where the error stays at the level of the double path (test_hard_cases measures both
+ * sides of the switch), and only longer ones pay for double. The switch depends on the CoC and
+ * the heat capacities alone, never on the colour.
  *
  * Where gamma = 0 and nothing conducts in from the left, e = 0: s = 0 (D takes x as a
  * placeholder) and w = 1 (the pixel takes its right neighbour), which is the exact solution when
@@ -30,9 +36,41 @@
 #define L DDOF_LANES
 
 /* a + k (b - a): exactly a for k = 0 and (b - a being exact in double) b for k = 1. */
-static inline double lerp(double a, double b, float k)
+static inline double lerp_double(double a, double b, float k)
 {
     return a + (double)k * (b - a);
+}
+
+/* The same in float: exactly a for k = 0 (a CoC-0 pixel keeps its value bit for bit). */
+static inline float lerp_float(float a, float b, float k)
+{
+    return a + k * (b - a);
+}
+
+/* beta / gamma up to which a batch's running values stay in float: a memory of 256 pixels. */
+#define THOMAS_FLOAT_MAX_MEMORY 65536.0f
+
+/* Whether every line of the batch has a short memory: largest beta <= the bound times the
+ * smallest positive gamma (gamma 0 holds no heat: its pixels pass the running value on). */
+static DDOF_ALWAYS_INLINE int short_memory(const line_batch *batch)
+{
+    /* Per lane, element-wise (a loop the compiler vectorises; a float min reduction it would
+     * not), and the gamma-0 pixels lifted out of the minimum by adding FLT_MAX to them. */
+    float beta_max[L] = {0}, gamma_min[L];
+    for (uint32_t l = 0; l < L; l++)
+        gamma_min[l] = FLT_MAX;
+    for (uint32_t i = 0; i < batch->n; i++) {
+        const float *restrict b = batch->beta + (size_t)i * L;
+        const float *restrict g = batch->gamma + (size_t)i * L;
+        for (uint32_t l = 0; l < L; l++) {
+            beta_max[l] = ddof_maxf(beta_max[l], b[l]);
+            gamma_min[l] = ddof_minf(gamma_min[l], g[l] + (float)(g[l] <= 0.0f) * FLT_MAX);
+        }
+    }
+    int all = 1;
+    for (uint32_t l = 0; l < L; l++)
+        all &= beta_max[l] <= THOMAS_FLOAT_MAX_MEMORY * gamma_min[l];
+    return all;
 }
 
 static size_t thomas_scratch_floats(uint32_t n, uint32_t channels)
@@ -41,8 +79,30 @@ static size_t thomas_scratch_floats(uint32_t n, uint32_t channels)
     return (size_t)n * L; /* the back-substitution weights w */
 }
 
-/* Instantiated once per channel count so the inner loops have constant trip counts. */
-static DDOF_ALWAYS_INLINE void thomas_solve_channels(const line_batch *batch, const uint32_t C)
+/* One lerp of a line's values: x[k] <- its running value's lerp towards x[k] with weight 1 - k
+ * (see the header), the running value kept in double when `wide`, else in float. */
+static DDOF_ALWAYS_INLINE void lerp_values(float *restrict xi, double *restrict run_d,
+                                           float *restrict run_f, const float *restrict k,
+                                           const uint32_t C, const int wide)
+{
+    for (uint32_t l = 0; l < L; l++)
+        for (uint32_t c = 0; c < C; c++) {
+            if (wide) {
+                const double v = lerp_double(xi[l * C + c], run_d[l * C + c], k[l]);
+                run_d[l * C + c] = v;
+                xi[l * C + c] = (float)v;
+            } else {
+                const float v = lerp_float(xi[l * C + c], run_f[l * C + c], k[l]);
+                run_f[l * C + c] = v;
+                xi[l * C + c] = v;
+            }
+        }
+}
+
+/* Instantiated once per channel count so the inner loops have constant trip counts, and once
+ * per running precision. */
+static DDOF_ALWAYS_INLINE void thomas_solve_channels(const line_batch *batch, const uint32_t C,
+                                                     const int wide)
 {
     const uint32_t n = batch->n;
     const size_t xs = batch_x_stride(batch);
@@ -56,9 +116,14 @@ static DDOF_ALWAYS_INLINE void thomas_solve_channels(const line_batch *batch, co
     const int strided = xs > (size_t)L * C;
     enum { ahead = 8 };
     float q[L] = {0}; /* nothing comes in from the left of element 0 */
-    double run[L * 4];
-    for (uint32_t k = 0; k < L * C; k++)
-        run[k] = x[k]; /* D_0 = x_0 */
+    double run_d[L * 4];
+    float run_f[L * 4];
+    for (uint32_t k = 0; k < L * C; k++) {
+        if (wide)
+            run_d[k] = x[k]; /* D_0 = x_0 */
+        else
+            run_f[k] = x[k];
+    }
 
     for (uint32_t i = 0; i < n; i++) {
         const float *restrict bi = beta + (size_t)i * L;
@@ -75,39 +140,34 @@ static DDOF_ALWAYS_INLINE void thomas_solve_channels(const line_batch *batch, co
         if (strided && i + ahead < n)
             for (uint32_t k = 0; k < L * C; k += 16)
                 DDOF_PREFETCH(x + (size_t)(i + ahead) * xs + k, 1);
-        if (i == 0)
-            continue;
-        float *restrict xi = x + (size_t)i * xs;
-        for (uint32_t l = 0; l < L; l++)
-            for (uint32_t c = 0; c < C; c++) {
-                const double d = lerp(xi[l * C + c], run[l * C + c], s[l]);
-                run[l * C + c] = d;
-                xi[l * C + c] = (float)d;
-            }
+        if (i > 0)
+            lerp_values(x + (size_t)i * xs, run_d, run_f, s, C, wide);
     }
-    /* run now holds D_{n-1} = y_{n-1} unrounded. */
+    /* The running value now holds D_{n-1} = y_{n-1}. */
     for (uint32_t i = n - 1; i-- > 0;) {
         if (strided && i >= ahead) /* what the forward sweep read may have left the caches */
             for (uint32_t k = 0; k < L * C; k += 16)
                 DDOF_PREFETCH(x + (size_t)(i - ahead) * xs + k, 1);
-        float *restrict xi = x + (size_t)i * xs;
-        const float *restrict wi = w_all + (size_t)i * L;
-        for (uint32_t l = 0; l < L; l++)
-            for (uint32_t c = 0; c < C; c++) {
-                const double y = lerp(xi[l * C + c], run[l * C + c], wi[l]);
-                run[l * C + c] = y;
-                xi[l * C + c] = (float)y;
-            }
+        lerp_values(x + (size_t)i * xs, run_d, run_f, w_all + (size_t)i * L, C, wide);
     }
 }
 
 DDOF_MULTIVERSION static void thomas_solve(const line_batch *batch)
 {
-    switch (batch->channels) {
-    case 1: thomas_solve_channels(batch, 1); break;
-    case 2: thomas_solve_channels(batch, 2); break;
-    case 3: thomas_solve_channels(batch, 3); break;
-    default: thomas_solve_channels(batch, 4); break;
+    if (short_memory(batch)) {
+        switch (batch->channels) {
+        case 1: thomas_solve_channels(batch, 1, 0); break;
+        case 2: thomas_solve_channels(batch, 2, 0); break;
+        case 3: thomas_solve_channels(batch, 3, 0); break;
+        default: thomas_solve_channels(batch, 4, 0); break;
+        }
+    } else {
+        switch (batch->channels) {
+        case 1: thomas_solve_channels(batch, 1, 1); break;
+        case 2: thomas_solve_channels(batch, 2, 1); break;
+        case 3: thomas_solve_channels(batch, 3, 1); break;
+        default: thomas_solve_channels(batch, 4, 1); break;
+        }
     }
 }
 
