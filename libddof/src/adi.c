@@ -71,6 +71,7 @@ typedef struct pass_job {
     size_t dst_stride;
     float beta_scale;
     thread_state *threads;
+    uint32_t first_block; /* columns: the width of block 0 (L, or less to align the rest) */
 } pass_job;
 
 /* A run of pixels joined by links whose heat capacities are all 0 is singular: nothing in it
@@ -223,8 +224,10 @@ DDOF_MULTIVERSION static void column_batch(void *user, uint32_t batch_index, uin
     const pass_job *job = user;
     const adi_request *r = job->request;
     thread_state *ts = &job->threads[thread_index];
-    const uint32_t n = r->height, C = r->channels, x0 = batch_index * L;
-    const uint32_t lanes = r->width - x0 < L ? r->width - x0 : L;
+    const uint32_t n = r->height, C = r->channels;
+    const uint32_t x0 = batch_index ? job->first_block + (batch_index - 1) * L : 0;
+    const uint32_t width = batch_index ? L : job->first_block;
+    const uint32_t lanes = r->width - x0 < width ? r->width - x0 : width;
     const uint32_t cc = r->coc ? r->coc_channels : 0;
     const size_t coc_stride = r->coc ? r->coc_stride : 0;
     const float in_focus = r->coc ? r->in_focus_px : 0.0f;
@@ -300,6 +303,22 @@ DDOF_MULTIVERSION static void column_batch(void *user, uint32_t batch_index, uin
 
 /* ---- the run ------------------------------------------------------------------------------ */
 
+/* The width of the first column block: fewer than L columns when that puts every other block's
+ * rows on 64-byte boundaries. A block solved in place reads and writes L * C floats a row;
+ * unaligned (malloc gives 16-byte alignment) each of its vector loads and stores spans two
+ * cache lines and each row touches one line more (the column pass measured 20% slower). */
+static uint32_t first_column_block(const adi_request *r)
+{
+    const size_t pixel_bytes = (size_t)r->channels * sizeof(float);
+    const uintptr_t address = (uintptr_t)r->out;
+    if ((r->out_stride * sizeof(float)) % 64 || r->width <= L)
+        return L; /* rows differently aligned, or one block anyway */
+    for (uint32_t shift = 0; shift < L; shift++)
+        if ((address + shift * pixel_bytes) % 64 == 0)
+            return shift ? shift : L;
+    return L;
+}
+
 static uint64_t total_solved(const thread_state *threads, uint32_t count)
 {
     uint64_t sum = 0;
@@ -350,7 +369,8 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
     const float row_scale = r->beta_scale / (float)r->substeps;
     const float column_scale = row_scale * r->pixel_aspect * r->pixel_aspect;
     const uint32_t row_batches = (r->height + L - 1) / L;
-    const uint32_t column_batches = (r->width + L - 1) / L;
+    const uint32_t first_block = first_column_block(r) < r->width ? first_column_block(r) : r->width;
+    const uint32_t column_batches = 1 + (r->width - first_block + L - 1) / L;
     pass_progress_state progress = {r, 0, 2 * r->substeps};
     thread_progress_fn progress_fn = r->progress ? pass_progress : NULL;
     ddof_status status = DDOF_OK;
@@ -360,7 +380,7 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
         uint64_t solved_before = total_solved(threads, thread_count);
         pass_job rows = {r, solver, step == 0 ? r->color : r->out,
                          step == 0 ? r->color_stride : r->out_stride,
-                         r->out, r->out_stride, row_scale, threads};
+                         r->out, r->out_stride, row_scale, threads, L};
         progress.pass = 2 * step;
         if (thread_pool_run(context->pool, row_batches, row_batch, &rows, progress_fn,
                             &progress)) {
@@ -370,7 +390,7 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
         uint64_t rows_solved = total_solved(threads, thread_count) - solved_before;
         double t1 = ddof_seconds();
         pass_job columns = {r, solver, r->out, r->out_stride, r->out, r->out_stride,
-                            column_scale, threads};
+                            column_scale, threads, first_block};
         progress.pass = 2 * step + 1;
         if (thread_pool_run(context->pool, column_batches, column_batch, &columns, progress_fn,
                             &progress)) {
