@@ -101,7 +101,7 @@ static void solve_chain(const lens_job *job, lens_thread *ts, uint32_t n, const 
 
 /* ---- rows: the input (real) into the component's complex image -------------------------- */
 
-static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const lens_job *job = user;
     const adi_request *r = job->r;
@@ -112,19 +112,45 @@ static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_ind
     float max_coc = 0.0f;
     const float in_focus = in_focus_of(r);
 
-    for (uint32_t l = 0; l < L; l++) {
-        const uint32_t y = y0 + (l < lanes ? l : 0);
+    if (r->coc && r->coc_channels == 1) {
+        /* A one-channel CoC: its rows moved into [i][lane] order by the colour's chunked
+         * gather (x is free until the colour's), so the links' loop runs on whole vectors. */
+        const float *coc_rows[L];
+        for (uint32_t l = 0; l < L; l++) /* padding lanes: CoC 0, no links */
+            coc_rows[l] = l < lanes ? r->coc + (size_t)(y0 + l) * r->coc_stride : NULL;
+        rows_in(ts->x, coc_rows, n, 1);
+        float conducts[L] = {0}, lane_max[L] = {0};
         for (uint32_t i = 0; i < n; i++) {
-            const float here = coc_at(r, i, y);
-            const float b = l < lanes && i + 1 < n ? lens_link(here, coc_at(r, i + 1, y), 1.0f,
-                                                               in_focus)
-                                                   : 0.0f;
-            ts->b[(size_t)i * L + l] = b;
-            active[l] |= b > 0.0f;
-            if (l < lanes)
-                max_coc = ddof_maxf(max_coc, fabsf(here));
+            const float *restrict here = ts->x + (size_t)i * L;
+            float *restrict b = ts->b + (size_t)i * L;
+            for (uint32_t l = 0; l < L; l++) {
+                /* The last element's link reads its own CoC twice and is then cut to 0. */
+                const float next = here[i + 1 < n ? L + l : l];
+                b[l] = lens_link(here[l], next, 1.0f, in_focus) * (float)(i + 1 < n);
+                conducts[l] = ddof_maxf(conducts[l], b[l]);
+                lane_max[l] = ddof_maxf(lane_max[l], fabsf(here[l]));
+            }
         }
-        any_active |= active[l];
+        for (uint32_t l = 0; l < L; l++) {
+            active[l] = conducts[l] > 0.0f;
+            any_active |= active[l];
+            max_coc = ddof_maxf(max_coc, lane_max[l]);
+        }
+    } else {
+        for (uint32_t l = 0; l < L; l++) {
+            const uint32_t y = y0 + (l < lanes ? l : 0);
+            for (uint32_t i = 0; i < n; i++) {
+                const float here = coc_at(r, i, y);
+                const float b = l < lanes && i + 1 < n
+                                    ? lens_link(here, coc_at(r, i + 1, y), 1.0f, in_focus)
+                                    : 0.0f;
+                ts->b[(size_t)i * L + l] = b;
+                active[l] |= b > 0.0f;
+                if (l < lanes)
+                    max_coc = ddof_maxf(max_coc, fabsf(here));
+            }
+            any_active |= active[l];
+        }
     }
     ts->max_coc = ddof_maxf(ts->max_coc, max_coc);
     if (r->gamma)
@@ -170,7 +196,7 @@ static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_ind
 
 /* ---- columns: in place on the complex image, then folded into the output ----------------- */
 
-static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const lens_job *job = user;
     const adi_request *r = job->r;
