@@ -196,6 +196,62 @@ DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index, u
 
 /* ---- columns: in place on the complex image, then folded into the output ----------------- */
 
+/* One row of a full block folded into the output (the loop below for a full block without heat
+ * capacities): each lane's choice of chain result or row-pass value is a product with 1 or 0,
+ * exact for finite values, so the loop runs over whole vectors. */
+static DDOF_ALWAYS_INLINE void fold_row(float *restrict out, const float *restrict src,
+                                        const float *restrict zr, const float *restrict zi,
+                                        const float *restrict ar, const float *restrict ai,
+                                        const float *restrict solved, const float *restrict lo,
+                                        const float *restrict hi, uint32_t count, float mr,
+                                        float mi, const int first, const int last)
+{
+    for (uint32_t k = 0; k < count; k++) {
+        const float x = src[k];
+        const float dr = solved[k] * ar[k] + (1.0f - solved[k]) * zr[k] - x;
+        const float di = solved[k] * ai[k] + (1.0f - solved[k]) * zi[k];
+        const float change = mr * dr - mi * di;
+        const float v = first ? x + change : out[k] + change;
+        out[k] = last ? ddof_minf(ddof_maxf(v, lo[k]), hi[k]) : v;
+    }
+}
+
+static DDOF_ALWAYS_INLINE void fold_full_block(const lens_job *job, const lens_thread *ts,
+                                               uint32_t x0, const int *active, float mr, float mi,
+                                               int first, int last)
+{
+    const adi_request *r = job->r;
+    const uint32_t n = r->height, C = r->channels, count = L * C;
+    enum { ahead = 8 };
+    float solved[L * 4], lo[L * 4], hi[L * 4]; /* per value: its lane's and channel's */
+    for (uint32_t k = 0; k < count; k++) {
+        solved[k] = (float)active[k / C];
+        lo[k] = job->lo[k % C];
+        hi[k] = job->hi[k % C];
+    }
+    const float *t_re = job->t_re + (size_t)x0 * C, *t_im = job->t_im + (size_t)x0 * C;
+    for (uint32_t i = 0; i < n; i++) {
+        const float *src = job->src + (size_t)i * job->src_stride + (size_t)x0 * C;
+        float *out = r->out + (size_t)i * r->out_stride + (size_t)x0 * C;
+        if (i + ahead < n)
+            for (uint32_t k = 0; k < count; k += 16) {
+                DDOF_PREFETCH(src + (size_t)ahead * job->src_stride + k, 0);
+                DDOF_PREFETCH(out + (size_t)ahead * r->out_stride + k, 1);
+            }
+        const float *zr = t_re + (size_t)i * job->t_stride, *zi = t_im + (size_t)i * job->t_stride;
+        const float *ar = ts->acc_re + (size_t)i * count, *ai = ts->acc_im + (size_t)i * count;
+        /* Four instances, so that neither choice is made per value. */
+        if (first && last)
+            fold_row(out, src, zr, zi, ar, ai, solved, lo, hi, count, mr, mi, 1, 1);
+        else if (first)
+            fold_row(out, src, zr, zi, ar, ai, solved, lo, hi, count, mr, mi, 1, 0);
+        else if (last)
+            fold_row(out, src, zr, zi, ar, ai, solved, lo, hi, count, mr, mi, 0, 1);
+        else
+            fold_row(out, src, zr, zi, ar, ai, solved, lo, hi, count, mr, mi, 0, 0);
+    }
+}
+
 DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const lens_job *job = user;
@@ -249,6 +305,12 @@ DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index
 
     const float mr = job->k->mix[job->component][0], mi = job->k->mix[job->component][1];
     const int first = job->component == 0, last = job->component + 1 == job->k->components;
+    if (lanes == L && !r->gamma) {
+        fold_full_block(job, ts, x0, active, mr, mi, first, last);
+        for (uint32_t l = 0; l < L; l++)
+            ts->lines_solved += (uint64_t)active[l] * job->k->steps;
+        return;
+    }
     for (uint32_t i = 0; i < n; i++) {
         if (i + ahead < n) {
             const size_t row = (size_t)(i + ahead);
