@@ -1090,8 +1090,8 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
     L.append("- **sub-steps n**: n ADI steps of beta/n each; the kernel goes from a diamond-"
              "shaped exponential (n = 1) towards a Gaussian, at linear cost.")
     L.append("- **precision**: float (all CPU solvers; Thomas keeps its running value in "
-             "double), double (the reference solver, one thread), packed half (GL Gruen: a, b, "
-             "c and x in one RGBA32UI texel).")
+             "double where beta exceeds 65,536 gamma), double (the reference solver, one "
+             "thread), packed half (GL Gruen: a, b, c and x in one RGBA32UI texel).")
     L.append("- **k** in beta = k d^2: the calibration of the blur size; k = 1/32 matches the "
              "second moments of a uniform disk of diameter d.")
     L.append("- **layers**: " + "; ".join("*%s*: %s" % (k, v) for k, v in LAYERS_TEXT.items())

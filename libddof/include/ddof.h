@@ -315,7 +315,8 @@ typedef enum ddof_kernel {
 DDOF_API const char *ddof_kernel_name(ddof_kernel kernel);
 
 /* Arithmetic of the GL solvers. The CPU solvers compute in float (Thomas carries its running
- * value in double); DDOF_SOLVER_REFERENCE_F64 is double throughout. */
+ * value in double on lines whose beta exceeds 65,536 times gamma); DDOF_SOLVER_REFERENCE_F64
+ * is double throughout. */
 typedef enum ddof_precision {
     DDOF_PRECISION_FLOAT = 0,      /* 32-bit float everywhere                                   */
     DDOF_PRECISION_PACKED_HALF = 1 /* GL Gruen solver only: a, b, c and x packed into one      */
