@@ -651,8 +651,8 @@ static void test_strides_and_channels(ddof_context *ctx)
  * boundary of the output (a narrower first block takes the columns before it). Lines are
  * solved independently, so the result must not depend on where the output lies: the output at
  * every float offset within a cache line, rows 64-byte multiples apart (the case that shifts
- * the blocks), equals the tightly packed result bit for bit, for every CPU solver and channel
- * count, on a width that spans several blocks and narrow ends. */
+ * the blocks), equals the tightly packed result bit for bit, for every CPU solver, the disc
+ * kernel and every channel count, on a width that spans several blocks and narrow ends. */
 static void test_output_alignment(ddof_context *ctx)
 {
     test_rng rng = {91};
@@ -685,6 +685,22 @@ static void test_output_alignment(ddof_context *ctx)
             CHECK_MSG(worst == 0, "%s, %u channels: %zu rows differ with the output moved",
                       ddof_solver_name((ddof_solver)solver), ch, worst);
         }
+        /* The disc kernel's driver too (its blocks lie in its own complex image). */
+        ddof_params p = params_for(DDOF_SOLVER_THOMAS, 1);
+        p.kernel = DDOF_KERNEL_DISC_2X2;
+        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, tight, w, h, ch, NULL), DDOF_OK);
+        size_t worst = 0;
+        for (uint32_t offset = 0; offset < 16; offset++) {
+            ddof_image_in ci = {color, w, h, ch, 0};
+            ddof_image_in zi = {coc, w, h, 1, 0};
+            ddof_image oi = {block + offset, w, h, ch, stride};
+            CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &oi, NULL), DDOF_OK);
+            const size_t differ = padded_rows_differ(block + offset, stride / sizeof(float),
+                                                     tight, (size_t)w * ch, h);
+            worst = differ > worst ? differ : worst;
+        }
+        CHECK_MSG(worst == 0, "disc-2x2, %u channels: %zu rows differ with the output moved", ch,
+                  worst);
         free(color);
         free(tight);
         free(block);
