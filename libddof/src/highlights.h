@@ -31,10 +31,12 @@
 #define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
 #define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel   */
 
-/* A pixel's brightness for the pass: its largest colour channel. */
+/* A pixel's brightness for the pass: its largest colour channel (colour is checked finite
+ * before any pass runs, so a plain compare does; fmaxf is a library call that orders NaNs, and
+ * the pass's count takes it for nine neighbours of every candidate pixel). */
 static inline float ddof_highlight_brightness(const float *rgb)
 {
-    return fmaxf(rgb[0], fmaxf(rgb[1], rgb[2]));
+    return ddof_maxf(rgb[0], ddof_maxf(rgb[1], rgb[2]));
 }
 
 /* Whether a pixel of this brightness and CoC is a highlight (before the budget). */
