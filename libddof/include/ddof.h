@@ -275,6 +275,9 @@ DDOF_API const char *ddof_solver_name(ddof_solver solver);
 #define DDOF_MOMENT_BETA_SCALE (1.0f / 32.0f)
 #define DDOF_DEFAULT_BETA_SCALE DDOF_MOMENT_BETA_SCALE /* 0.2's default k; kept for its callers */
 
+/* ddof_params_init's in_focus_threshold_px (a CoC diameter in pixels). */
+#define DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX 0.5f
+
 /* How a call computes the blur. */
 typedef enum ddof_method {
     DDOF_METHOD_DIFFUSION = 0,    /* the heat-diffusion solve (with layers as planned)         */

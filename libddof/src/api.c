@@ -67,7 +67,7 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
         .near_spread_threshold_px = 4.0f,
         .precision = DDOF_PRECISION_FLOAT,
         .kernel = s->kernel,
-        .in_focus_threshold_px = 0.5f,
+        .in_focus_threshold_px = DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX,
         .highlights = DDOF_LAYER_AUTO,
         .highlight_threshold = 0.25f, /* measured: docs/disc-kernel.md, the highlight pass */
     };

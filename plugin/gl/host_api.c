@@ -78,6 +78,16 @@ static void restore_state(const gl_functions *gl, const saved_state *s)
     gl->UseProgram((GLuint)s->program);
 }
 
+/* The in-focus threshold as ddof_diffuse applies it; a caller's struct from before the field
+ * gets the default. */
+static float in_focus_of(const ddof_params *p)
+{
+    return p->struct_size >= offsetof(ddof_params, in_focus_threshold_px) +
+                                 sizeof p->in_focus_threshold_px
+               ? p->in_focus_threshold_px
+               : DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX;
+}
+
 static ddof_status check_params(const ddof_params *p, char *message, size_t size)
 {
     if (p->struct_size < offsetof(ddof_params, coc_signed) || p->substeps < 1 ||
@@ -85,6 +95,12 @@ static ddof_status check_params(const ddof_params *p, char *message, size_t size
         (p->solver == DDOF_SOLVER_JACOBI && p->jacobi_iterations < 1)) {
         snprintf(message, size, "params: not initialised with ddof_params_init, or substeps, "
                                 "beta_scale, pixel_aspect or jacobi_iterations out of range");
+        return DDOF_ERROR_BAD_PARAMETER;
+    }
+    const float in_focus = in_focus_of(p);
+    if (!(in_focus >= 0.0f && in_focus <= DDOF_MAX_COC_PX)) {
+        snprintf(message, size, "params.in_focus_threshold_px %.9g must be within 0..%g",
+                 (double)in_focus, (double)DDOF_MAX_COC_PX);
         return DDOF_ERROR_BAD_PARAMETER;
     }
     const ddof_precision precision =
@@ -99,9 +115,9 @@ static ddof_status check_params(const ddof_params *p, char *message, size_t size
     return DDOF_OK;
 }
 
-static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, GLuint color,
-                               GLuint coc, GLuint out, GLint out_format, adi_report *report,
-                               char *message, size_t size)
+static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, float in_focus,
+                               GLuint color, GLuint coc, GLuint out, GLint out_format,
+                               adi_report *report, char *message, size_t size)
 {
     const gl_functions *gl = &device->gl;
     const uint64_t pixels = (uint64_t)d->width * d->height;
@@ -122,6 +138,7 @@ static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, GLuin
     gl_bind(gl, 4, image);
     gl_uniform_u(gl, pack, "u_width", d->width);
     gl_uniform_u(gl, pack, "u_height", d->height);
+    gl_uniform_f(gl, pack, "u_in_focus", in_focus);
     gl->UseProgram(pack);
     gl->DispatchCompute((d->width + 15) / 16, (d->height + 15) / 16, 1);
     gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
@@ -200,8 +217,8 @@ ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
                                 params->jacobi_iterations, params->beta_scale,
                                 params->pixel_aspect, 0, params->progress,
                                 params->progress_user, NULL /* the heat kernel */, {0}, {0}};
-        status = host_stages(device, &d, color_texture, coc_texture, out_texture, format[2],
-                             &report, message, size);
+        status = host_stages(device, &d, in_focus_of(params), color_texture, coc_texture, out_texture,
+                             format[2], &report, message, size);
         const GLenum error = gl->GetError();
         if (status == DDOF_OK && error != GL_NO_ERROR) {
             snprintf(message, size, "GL error 0x%x", (unsigned)error);

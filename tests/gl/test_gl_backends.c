@@ -15,9 +15,8 @@
 enum { W = 53, H = 37, CH = 4 };
 
 static float color[W * H * CH], coc[W * H], ref[W * H * CH];
-/* The same without the in-focus threshold: the plugin's host-texture entry point
- * (ddof_gl_host_diffuse) takes the CoC texture as it is and does not apply
- * params.in_focus_threshold_px yet (the GL part of issue 15 brings it to the device). */
+/* The same without the in-focus threshold (in_focus_threshold_px 0), which the host-texture
+ * entry point (ddof_gl_host_diffuse) must follow too. */
 static float ref_no_threshold[W * H * CH];
 
 static void make_images(void)
@@ -237,10 +236,26 @@ static void test_host_context(void)
         memset(out, 0, sizeof out);
         bind_texture(GL_TEXTURE_2D, tex[2]);
         get_tex_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
-        const double e = max_diff(out, ref_no_threshold, W * H * CH);
+        const double e = max_diff(out, ref, W * H * CH);
         CHECK_MSG(e <= 1e-5, "host %s: max error %.3g", ddof_solver_name(solvers[k]), e);
         CHECK(st.device_bytes > 0);
+        /* Threshold 0: every CoC above 0 conducts, as ddof_diffuse does then. */
+        p.in_focus_threshold_px = 0.0f;
+        CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, NULL), DDOF_OK);
+        memset(out, 0, sizeof out);
+        get_tex_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
+        const double e0 = max_diff(out, ref_no_threshold, W * H * CH);
+        CHECK_MSG(e0 <= 1e-5, "host %s, threshold 0: max error %.3g",
+                  ddof_solver_name(solvers[k]), e0);
     }
+    /* A threshold outside 0..DDOF_MAX_COC_PX is refused, as by ddof_diffuse. */
+    p.in_focus_threshold_px = -1.0f;
+    CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, NULL),
+                 DDOF_ERROR_BAD_PARAMETER);
+    p.in_focus_threshold_px = NAN;
+    CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, NULL),
+                 DDOF_ERROR_BAD_PARAMETER);
+    p.in_focus_threshold_px = DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX;
     /* A wrong texture is a status, not a crash. */
     CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], 987654u, W, H, NULL),
                  DDOF_ERROR_BAD_PARAMETER);

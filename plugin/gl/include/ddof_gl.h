@@ -44,7 +44,8 @@ DDOF_GL_API const char *ddof_gl_host_last_error(const ddof_gl_host *host);
  * in pixels in the first channel of coc_texture (same size; the sign is ignored) into
  * out_texture (GL_TEXTURE_2D of the same size, GL_RGBA32F or GL_RGBA16F; it may not be
  * color_texture). params: ddof_params_init'ed; solver (not REFERENCE_F64), precision,
- * substeps, beta_scale, pixel_aspect and jacobi_iterations are used. stats may be NULL.
+ * substeps, beta_scale, pixel_aspect, jacobi_iterations and in_focus_threshold_px (a |CoC|
+ * below it conducts as 0, as in ddof_diffuse) are used. stats may be NULL.
  * Returns DDOF_ERROR_BAD_PARAMETER / _BAD_SIZE / _UNSUPPORTED for bad arguments,
  * DDOF_ERROR_BACKEND_UNAVAILABLE for a host that adopted no context and
  * DDOF_ERROR_BACKEND_FAILED for GL failures; ddof_gl_host_last_error says why. */
