@@ -1,22 +1,16 @@
 /* SPDX-License-Identifier: MIT */
 /* coc.c - circle of confusion from a camera and depth, or from the artist curve.
  *
- * Both lens models reduce to d = K * |1 - S1/Z| pixels, which is 0 at the focus plane and K for
- * the sky (Z = +inf) without special cases:
- *   Cycles:    c = f^2 / (N S1)       * |Z - S1| / Z   (fixed pinhole projection, planar focus)
- *   thin lens: c = f^2 / (N (S1 - f)) * |Z - S1| / Z   (larger by S1 / (S1 - f))
- * Everything is computed in millimetres and double precision, then stored as float pixels. */
+ * A camera's CoC is d = k_px * |1 - S1/Z| pixels for either lens model (ddof_camera_terms.h,
+ * shared with the GL plugin's device pass), computed in double and stored as float pixels. */
 #include "coc.h"
+
+#include "ddof_camera_terms.h"
 
 #include "parallel_rows.h"
 
 #include <math.h>
 #include <stddef.h>
-
-static int positive_finite(double v)
-{
-    return isfinite(v) && v > 0.0;
-}
 
 ddof_status ddof_read_camera(ddof_context *context, const ddof_camera *caller,
                              ddof_camera *camera)
@@ -26,48 +20,9 @@ ddof_status ddof_read_camera(ddof_context *context, const ddof_camera *caller,
                                           camera, sizeof *camera, "camera");
     if (status != DDOF_OK)
         return status;
-    if ((unsigned)camera->lens_model > DDOF_LENS_THIN_LENS ||
-        (unsigned)camera->depth_kind > DDOF_DEPTH_RADIAL ||
-        (unsigned)camera->sensor_fit > DDOF_SENSOR_FIT_VERTICAL)
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
-                         "camera lens_model, depth_kind or sensor_fit is not a known value");
-    if (!positive_finite(camera->fstop))
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA, "camera f-number %g must be > 0",
-                         camera->fstop);
-    if (!positive_finite(camera->focal_length_mm))
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA, "camera focal length %g mm must be > 0",
-                         camera->focal_length_mm);
-    if (!positive_finite(camera->sensor_width_mm))
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA, "camera sensor width %g mm must be > 0",
-                         camera->sensor_width_mm);
-    if (!positive_finite(camera->pixel_aspect))
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA, "camera pixel aspect %g must be > 0",
-                         camera->pixel_aspect);
-    if (!positive_finite(camera->depth_unit_m))
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA, "camera depth unit %g m must be > 0",
-                         camera->depth_unit_m);
-    if (!isfinite(camera->focus_distance_m) ||
-        camera->focus_distance_m * 1000.0 <= camera->focal_length_mm)
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
-                         "camera focus distance %g m must be beyond the focal length (%g mm)",
-                         camera->focus_distance_m, camera->focal_length_mm);
-    if ((camera->frame_width == 0) != (camera->frame_height == 0) ||
-        camera->frame_width > DDOF_MAX_DIMENSION || camera->frame_height > DDOF_MAX_DIMENSION)
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
-                         "camera frame %ux%u: both sides must be 0 (the image is the frame) or "
-                         "1..%u", camera->frame_width, camera->frame_height, DDOF_MAX_DIMENSION);
-    if (camera->frame_width == 0 && (camera->window_x != 0 || camera->window_y != 0))
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
-                         "camera window (%d, %d) needs the full frame's size (frame_width, "
-                         "frame_height)", (int)camera->window_x, (int)camera->window_y);
-    if (camera->window_x < -(int32_t)DDOF_MAX_DIMENSION ||
-        camera->window_x > (int32_t)DDOF_MAX_DIMENSION ||
-        camera->window_y < -(int32_t)DDOF_MAX_DIMENSION ||
-        camera->window_y > (int32_t)DDOF_MAX_DIMENSION)
-        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
-                         "camera window (%d, %d) must be within -%u..%u",
-                         (int)camera->window_x, (int)camera->window_y, DDOF_MAX_DIMENSION,
-                         DDOF_MAX_DIMENSION);
+    char problem[256];
+    if (ddof_camera_problem(camera, problem, sizeof problem))
+        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA, "%s", problem);
     return DDOF_OK;
 }
 
@@ -93,57 +48,37 @@ ddof_status ddof_read_curve(ddof_context *context, const ddof_curve *caller, ddo
     return DDOF_OK;
 }
 
-void ddof_camera_pixel_size(const ddof_camera *camera, uint32_t width, uint32_t height,
-                            double *pixel_width_mm, double *pixel_height_mm)
-{
-    int horizontal = camera->sensor_fit == DDOF_SENSOR_FIT_HORIZONTAL ||
-                     (camera->sensor_fit == DDOF_SENSOR_FIT_AUTO &&
-                      (double)width * camera->pixel_aspect >= (double)height);
-    if (horizontal) {
-        *pixel_width_mm = camera->sensor_width_mm / width;
-        *pixel_height_mm = *pixel_width_mm / camera->pixel_aspect;
-    } else {
-        *pixel_height_mm = camera->sensor_width_mm / height;
-        *pixel_width_mm = *pixel_height_mm * camera->pixel_aspect;
-    }
-}
-
 typedef struct camera_job {
     const float *depth;
     size_t depth_stride;
     uint32_t depth_channels, width, height;
     float *coc;
     size_t coc_stride;
-    double frame_width, frame_height; /* the full frame (the image unless cropped)  */
-    double window_x, window_y;        /* the image's top-left pixel in the frame     */
-    double k_px;          /* CoC in pixels of an object at infinity        */
-    double focus_units;   /* S1 in depth units                             */
-    int radial;
-    int signed_coc;       /* near points (Z < S1) negative                */
-    double pixel_w_over_f, pixel_h_over_f; /* for the radial -> planar factor */
+    ddof_camera_terms t;
 } camera_job;
 
 static void camera_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const camera_job *job = user;
+    const ddof_camera_terms *t = &job->t;
     for (uint32_t y = y0; y < y1; y++) {
         const float *depth = job->depth + (size_t)y * job->depth_stride;
         float *coc = job->coc + (size_t)y * job->coc_stride;
         /* (double)y + window_y is the frame's row exactly: a crop's values are the frame's. */
         const double ys =
-            ((double)y + job->window_y + 0.5 - 0.5 * job->frame_height) * job->pixel_h_over_f;
+            ((double)y + t->window_y + 0.5 - 0.5 * t->frame_height) * t->pixel_h_over_f;
         for (uint32_t x = 0; x < job->width; x++) {
             double z = depth[(size_t)x * job->depth_channels];
-            if (job->radial) {
+            if (t->radial) {
                 /* Planar Z of a point at distance r seen through this pixel's centre. */
-                const double xs = ((double)x + job->window_x + 0.5 - 0.5 * job->frame_width) *
-                                  job->pixel_w_over_f;
+                const double xs = ((double)x + t->window_x + 0.5 - 0.5 * t->frame_width) *
+                                  t->pixel_w_over_f;
                 z /= sqrt(1.0 + xs * xs + ys * ys);
             }
-            const double d = job->k_px * fabs(1.0 - job->focus_units / z);
+            const double d = t->k_px * fabs(1.0 - t->focus_units / z);
             const float clamped = d < DDOF_MAX_COC_PX ? (float)d : DDOF_MAX_COC_PX;
-            coc[x] = job->signed_coc && z < job->focus_units ? -clamped : clamped;
+            coc[x] = t->signed_coc && z < t->focus_units ? -clamped : clamped;
         }
     }
 }
@@ -159,25 +94,10 @@ ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *ca
                          "depth at pixel (%u, %u) is %g; it must be > 0 (+inf for the sky)",
                          bad.x, bad.y, (double)bad.value);
 
-    /* The sensor spans the full frame, a crop is a part of it. */
-    const uint32_t frame_w = camera->frame_width ? camera->frame_width : depth->width;
-    const uint32_t frame_h = camera->frame_height ? camera->frame_height : depth->height;
-    double pixel_w, pixel_h;
-    ddof_camera_pixel_size(camera, frame_w, frame_h, &pixel_w, &pixel_h);
-    const double f = camera->focal_length_mm;
-    const double s1_mm = camera->focus_distance_m * 1000.0;
-    const double lens_distance = camera->lens_model == DDOF_LENS_CYCLES ? s1_mm : s1_mm - f;
-    const double k_mm = f * f / (camera->fstop * lens_distance);
     camera_job job = {
         .depth = depth->pixels, .depth_stride = depth_stride, .depth_channels = depth->channels,
         .width = depth->width, .height = depth->height, .coc = coc, .coc_stride = coc_stride,
-        .frame_width = frame_w, .frame_height = frame_h,
-        .window_x = camera->window_x, .window_y = camera->window_y,
-        .k_px = k_mm / pixel_w,
-        .focus_units = camera->focus_distance_m / camera->depth_unit_m,
-        .radial = camera->depth_kind == DDOF_DEPTH_RADIAL,
-        .signed_coc = camera->signed_coc != 0,
-        .pixel_w_over_f = pixel_w / f, .pixel_h_over_f = pixel_h / f,
+        .t = ddof_camera_terms_of(camera, depth->width, depth->height),
     };
     ddof_parallel_rows(context, depth->height, camera_rows, &job);
     return DDOF_OK;

@@ -10,10 +10,6 @@ ddof_status ddof_read_camera(ddof_context *context, const ddof_camera *caller,
                              ddof_camera *camera);
 ddof_status ddof_read_curve(ddof_context *context, const ddof_curve *caller, ddof_curve *curve);
 
-/* Size of one pixel on the sensor, in mm, for the camera's sensor fit and pixel aspect. */
-void ddof_camera_pixel_size(const ddof_camera *camera, uint32_t width, uint32_t height,
-                            double *pixel_width_mm, double *pixel_height_mm);
-
 /* Validate the depth values (first channel), then write CoC diameters in horizontal pixels to
  * `coc` (width x height floats, rows coc_stride floats apart). The image descriptions must
  * already be valid; strides are in floats. On a bad depth nothing is written. */

@@ -31,6 +31,7 @@ typedef enum gl_buffer_slot {
     GL_BUF_CAPACITY,
     GL_BUF_SPREAD,
     GL_BUF_LAYER,
+    GL_BUF_CHECK,     /* a host texture's first bad pixel     */
     GL_BUF_COUNT
 } gl_buffer_slot;
 

@@ -50,6 +50,9 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_JACOBI_INIT] = {"jacobi_init.comp", PART_LINE, ""},
     [GL_PROG_JACOBI_SWEEP] = {"jacobi_sweep.comp", PART_LINE, ""},
     [GL_PROG_HOST_PACK] = {"host_pack.comp", 0, ""},
+    [GL_PROG_HOST_PACK_DEPTH] = {"host_pack.comp", 0,
+                                 "#define FROM_DEPTH 1\n"
+                                 "#define MAX_COC " GL_STRING(DDOF_MAX_COC_PX) "\n"},
     [GL_PROG_HOST_UNPACK_RGBA32F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba32f\n"},
     [GL_PROG_HOST_UNPACK_RGBA16F] = {"host_unpack.comp", 0, "#define OUT_FORMAT rgba16f\n"},
     [GL_PROG_LENS_ANALYSE] = {"analyse.comp", PART_LINE, LENS_DEFINES},

@@ -26,6 +26,7 @@ typedef enum gl_program_id {
     GL_PROG_JACOBI_INIT,
     GL_PROG_JACOBI_SWEEP,
     GL_PROG_HOST_PACK,
+    GL_PROG_HOST_PACK_DEPTH,
     GL_PROG_HOST_UNPACK_RGBA32F,
     GL_PROG_HOST_UNPACK_RGBA16F,
     GL_PROG_LENS_ANALYSE,       /* analyse.comp with the disc kernel's links */

@@ -1,13 +1,17 @@
 /* SPDX-License-Identifier: MIT */
 /* host_api.c - ddof_gl.h: the single-layer diffusion on a host application's textures, through
  * the same ADI driver as every other call, with texture-reading and image-writing stages
- * (host_pack.comp, host_unpack.comp) in place of the host-memory upload and read-back. */
+ * (host_pack.comp, host_unpack.comp) in place of the host-memory upload and read-back. From a
+ * depth texture the CoC is computed on the device too, from the camera's terms
+ * (ddof_camera_terms.h, the formula the CPU uses). */
 #include "ddof_gl.h"
+#include "ddof_camera_terms.h"
 #include "gl_solve.h"
 
 #include <stddef.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <string.h>
 #include <time.h>
 
 struct ddof_gl_host {
@@ -115,13 +119,54 @@ static ddof_status check_params(const ddof_params *p, char *message, size_t size
     return DDOF_OK;
 }
 
+/* The CoC from depth: the camera's terms as uniforms, and the first bad pixel's buffer reset. */
+static int set_depth_terms(ddof_device *device, GLuint pack, const ddof_camera_terms *t,
+                           char *message, size_t size)
+{
+    const gl_functions *gl = &device->gl;
+    GLuint check = gl_need(device, GL_BUF_CHECK, sizeof(GLuint), message, size);
+    if (!check)
+        return 0;
+    const GLuint none = 0xFFFFFFFFu;
+    gl_bind(gl, 1, check);
+    gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof none, &none);
+    gl_uniform_f(gl, pack, "u_k_px", (GLfloat)t->k_px);
+    gl_uniform_f(gl, pack, "u_focus", (GLfloat)t->focus_units);
+    gl_uniform_u(gl, pack, "u_radial", (GLuint)t->radial);
+    gl_uniform_f(gl, pack, "u_centre_x", (GLfloat)(0.5 * t->frame_width - t->window_x));
+    gl_uniform_f(gl, pack, "u_centre_y", (GLfloat)(0.5 * t->frame_height - t->window_y));
+    gl_uniform_f(gl, pack, "u_pixel_w_over_f", (GLfloat)t->pixel_w_over_f);
+    gl_uniform_f(gl, pack, "u_pixel_h_over_f", (GLfloat)t->pixel_h_over_f);
+    return 1;
+}
+
+/* After the depth pack: DDOF_ERROR_BAD_DEPTH naming the first bad pixel (row-major), before
+ * anything is written to the host's output. One uint read back. */
+static ddof_status check_depth(ddof_device *device, uint32_t width, char *message, size_t size)
+{
+    const gl_functions *gl = &device->gl;
+    GLuint first_bad = 0xFFFFFFFFu;
+    gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
+    gl_bind(gl, 1, gl_need(device, GL_BUF_CHECK, sizeof(GLuint), message, size));
+    gl->GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof first_bad, &first_bad);
+    if (first_bad == 0xFFFFFFFFu)
+        return DDOF_OK;
+    snprintf(message, size,
+             "depth at pixel (%u, %u) is NaN, zero or negative; it must be > 0 (+inf for the sky)",
+             first_bad % width, first_bad / width);
+    return DDOF_ERROR_BAD_DEPTH;
+}
+
 static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, float in_focus,
-                               GLuint color, GLuint coc, GLuint out, GLint out_format,
-                               adi_report *report, char *message, size_t size)
+                               const ddof_camera_terms *depth_terms, GLuint color, GLuint coc,
+                               GLuint out, GLint out_format, adi_report *report, char *message,
+                               size_t size)
 {
     const gl_functions *gl = &device->gl;
     const uint64_t pixels = (uint64_t)d->width * d->height;
-    GLuint pack = gl_programs_get(gl, &device->programs, GL_PROG_HOST_PACK, message, size);
+    GLuint pack = gl_programs_get(gl, &device->programs,
+                                  depth_terms ? GL_PROG_HOST_PACK_DEPTH : GL_PROG_HOST_PACK,
+                                  message, size);
     GLuint unpack = gl_programs_get(gl, &device->programs,
                                     out_format == GL_RGBA32F ? GL_PROG_HOST_UNPACK_RGBA32F
                                                              : GL_PROG_HOST_UNPACK_RGBA16F,
@@ -139,11 +184,15 @@ static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, float
     gl_uniform_u(gl, pack, "u_width", d->width);
     gl_uniform_u(gl, pack, "u_height", d->height);
     gl_uniform_f(gl, pack, "u_in_focus", in_focus);
+    if (depth_terms && !set_depth_terms(device, pack, depth_terms, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
     gl->UseProgram(pack);
     gl->DispatchCompute((d->width + 15) / 16, (d->height + 15) / 16, 1);
     gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 
-    ddof_status status = gl_diffuse(device, d, report, message, size);
+    ddof_status status = depth_terms ? check_depth(device, d->width, message, size) : DDOF_OK;
+    if (status == DDOF_OK)
+        status = gl_diffuse(device, d, report, message, size);
     if (status != DDOF_OK)
         return status;
     gl_bind(gl, 3, image);
@@ -157,10 +206,33 @@ static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, float
     return DDOF_OK;
 }
 
-ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
-                                 unsigned color_texture, unsigned coc_texture,
-                                 unsigned out_texture, uint32_t width, uint32_t height,
-                                 ddof_stats *stats)
+/* The caller's camera over the defaults (fields past an older struct are 0, as
+ * ddof_camera_init sets them), then ddof_camera_check's rules. */
+static ddof_status read_camera(const ddof_camera *caller, ddof_camera *camera, char *message,
+                               size_t size)
+{
+    if (!caller) {
+        snprintf(message, size, "camera is NULL");
+        return DDOF_ERROR_NULL_POINTER;
+    }
+    const size_t needed = offsetof(ddof_camera, signed_coc) + sizeof caller->signed_coc;
+    if (caller->struct_size < needed) {
+        snprintf(message, size, "camera.struct_size is %u, expected at least %zu (call "
+                                "ddof_camera_init)", caller->struct_size, needed);
+        return DDOF_ERROR_BAD_PARAMETER;
+    }
+    memset(camera, 0, sizeof *camera);
+    memcpy(camera, caller, caller->struct_size < sizeof *camera ? caller->struct_size
+                                                                : sizeof *camera);
+    camera->struct_size = sizeof *camera;
+    return ddof_camera_problem(camera, message, size) ? DDOF_ERROR_BAD_CAMERA : DDOF_OK;
+}
+
+/* Both entry points: the CoC from map_texture as it is (camera NULL) or from it as depth. */
+static ddof_status host_run(ddof_gl_host *host, const ddof_params *params,
+                            const ddof_camera *camera, unsigned color_texture,
+                            unsigned coc_texture, unsigned out_texture, uint32_t width,
+                            uint32_t height, ddof_stats *stats)
 {
     if (!host)
         return DDOF_ERROR_NULL_POINTER;
@@ -174,6 +246,9 @@ ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
         return DDOF_ERROR_NULL_POINTER;
     }
     ddof_status status = check_params(params, message, size);
+    ddof_camera full_camera;
+    if (status == DDOF_OK && camera)
+        status = read_camera(camera, &full_camera, message, size);
     if (status != DDOF_OK)
         return status;
     if (width == 0 || height == 0 || width > DDOF_MAX_DIMENSION ||
@@ -217,7 +292,10 @@ ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
                                 params->jacobi_iterations, params->beta_scale,
                                 params->pixel_aspect, 0, params->progress,
                                 params->progress_user, NULL /* the heat kernel */, {0}, {0}};
-        status = host_stages(device, &d, in_focus_of(params), color_texture, coc_texture, out_texture,
+        const ddof_camera_terms terms =
+            camera ? ddof_camera_terms_of(&full_camera, width, height) : (ddof_camera_terms){0};
+        status = host_stages(device, &d, in_focus_of(params), camera ? &terms : NULL,
+                             color_texture, coc_texture, out_texture,
                              format[2], &report, message, size);
         const GLenum error = gl->GetError();
         if (status == DDOF_OK && error != GL_NO_ERROR) {
@@ -238,7 +316,8 @@ ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
         stats->lines_solved = report.lines_solved;
         stats->lines_skipped = report.lines_skipped;
         stats->max_coc_px = report.max_coc;
-        stats->seconds_total = (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
+        stats->seconds_total =
+            (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
         stats->seconds_rows = report.seconds_rows;
         stats->seconds_columns = report.seconds_columns;
         stats->effects = report.substeps_run ? DDOF_EFFECT_MIDGROUND : 0;
@@ -246,4 +325,26 @@ ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
         stats->device_bytes = gl_buffers_used(&device->buffers);
     }
     return status;
+}
+
+ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_params *params,
+                                 unsigned color_texture, unsigned coc_texture,
+                                 unsigned out_texture, uint32_t width, uint32_t height,
+                                 ddof_stats *stats)
+{
+    return host_run(host, params, NULL, color_texture, coc_texture, out_texture, width, height,
+                    stats);
+}
+
+ddof_status ddof_gl_host_diffuse_depth(ddof_gl_host *host, const ddof_params *params,
+                                       const ddof_camera *camera, unsigned color_texture,
+                                       unsigned depth_texture, unsigned out_texture,
+                                       uint32_t width, uint32_t height, ddof_stats *stats)
+{
+    if (host && host->device && !camera) {
+        snprintf(host->last_error, sizeof host->last_error, "camera is NULL");
+        return DDOF_ERROR_NULL_POINTER;
+    }
+    return host_run(host, params, camera, color_texture, depth_texture, out_texture, width,
+                    height, stats);
 }

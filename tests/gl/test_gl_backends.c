@@ -158,6 +158,19 @@ typedef const char *(*host_last_error_fn)(const ddof_gl_host *);
 typedef ddof_status (*host_diffuse_fn)(ddof_gl_host *, const ddof_params *, unsigned, unsigned,
                                        unsigned, uint32_t, uint32_t, ddof_stats *);
 typedef void (*host_free_fn)(ddof_gl_host *);
+typedef ddof_status (*host_diffuse_depth_fn)(ddof_gl_host *, const ddof_params *,
+                                             const ddof_camera *, unsigned, unsigned, unsigned,
+                                             uint32_t, uint32_t, ddof_stats *);
+
+/* The host context's texture calls the tests use. */
+typedef struct texture_calls {
+    gen_textures_fn gen;
+    bind_texture_fn bind;
+    tex_storage_fn storage;
+    tex_sub_image_fn sub_image;
+    get_tex_image_fn get_image;
+    delete_textures_fn del;
+} texture_calls;
 
 static void *symbol(void *lib, const char *name)
 {
@@ -170,6 +183,102 @@ static void *symbol(void *lib, const char *name)
         void *s_ = symbol(lib, name);                                                      \
         memcpy(&var, &s_, sizeof var);                                                     \
     } while (0)
+
+/* The CoC computed on the device from a depth texture (ddof_gl_host_diffuse_depth) against the
+ * CPU's: ddof_coc_from_camera on the same depth, then the double-precision reference. Depths
+ * from a set whose CoC lies far from the in-focus threshold (the device computes in float, the
+ * CPU in double), for planar depth with the Cycles model and radial depth with the thin lens
+ * in a crop of a larger frame; then a NaN depth and a bad camera, each a status with the
+ * output texture untouched. */
+static void test_host_depth(void *plugin, ddof_gl_host *gl_host, const texture_calls *t)
+{
+    LOOKUP(host_diffuse_depth_fn, host_depth, plugin, "ddof_gl_host_diffuse_depth");
+    LOOKUP(host_last_error_fn, host_last_error, plugin, "ddof_gl_host_last_error");
+    CHECK(host_depth && host_last_error);
+    if (!host_depth || !host_last_error)
+        return;
+    static float depth[W * H], cpu_coc[W * H], expect[W * H * CH], out[W * H * CH];
+    static float sentinel[W * H * CH];
+    const float planar_set[] = {0.5f, 1.0f, 1.5f, 2.0f, 4.0f, 8.0f, INFINITY};
+    const float radial_set[] = {0.5f, 1.0f, 4.0f, 8.0f, INFINITY}; /* none near the focus */
+    test_rng rng = {23};
+    GLuint tex[3];
+    t->gen(3, tex);
+    const GLenum formats[3] = {GL_RGBA32F, GL_R32F, GL_RGBA32F};
+    for (int i = 0; i < 3; i++) {
+        t->bind(GL_TEXTURE_2D, tex[i]);
+        t->storage(GL_TEXTURE_2D, 1, formats[i], W, H);
+    }
+    t->bind(GL_TEXTURE_2D, tex[0]);
+    t->sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, color);
+    ddof_context *cpu = make_context(1);
+    for (int radial = 0; radial < 2; radial++) {
+        ddof_camera camera;
+        ddof_camera_init(&camera);
+        camera.focal_length_mm = 100.0; /* a 5.3 px CoC at infinity on a 53-px frame */
+        camera.fstop = 1.4;
+        camera.focus_distance_m = 2.0;
+        if (radial) {
+            camera.lens_model = DDOF_LENS_THIN_LENS;
+            camera.depth_kind = DDOF_DEPTH_RADIAL;
+            camera.frame_width = 200;
+            camera.frame_height = 100;
+            camera.window_x = 20;
+            camera.window_y = 10;
+        }
+        for (int i = 0; i < W * H; i++)
+            depth[i] = radial ? radial_set[(int)(test_uniform(&rng) * 5) % 5]
+                              : planar_set[(int)(test_uniform(&rng) * 7) % 7];
+        ddof_image_in depth_in = {depth, W, H, 1, 0};
+        ddof_image coc_image = {cpu_coc, W, H, 1, 0};
+        CHECK_EQ_INT(ddof_coc_from_camera(cpu, &camera, &depth_in, &coc_image), DDOF_OK);
+        ddof_params p = params_for(DDOF_SOLVER_REFERENCE_F64, 1);
+        CHECK_EQ_INT(diffuse(cpu, &p, color, cpu_coc, expect, W, H, CH, NULL), DDOF_OK);
+        t->bind(GL_TEXTURE_2D, tex[1]);
+        t->sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED, GL_FLOAT, depth);
+        p = params_for(DDOF_SOLVER_THOMAS, 1);
+        ddof_stats st = stats_init();
+        ddof_status s = host_depth(gl_host, &p, &camera, tex[0], tex[1], tex[2], W, H, &st);
+        CHECK_MSG(s == DDOF_OK, "host depth (radial %d): %d %s", radial, (int)s,
+                  host_last_error(gl_host));
+        t->bind(GL_TEXTURE_2D, tex[2]);
+        t->get_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
+        const double e = max_diff(out, expect, W * H * CH);
+        CHECK_MSG(e <= 1e-5, "host depth (radial %d) vs the CPU: %.3g", radial, e);
+        printf("host texture, CoC from %s depth on the device vs the CPU: %.3g\n",
+               radial ? "radial" : "planar", e);
+        CHECK(st.max_coc_px > 5.0f); /* the CoC did reach the solver */
+    }
+    /* A NaN depth: a status naming the pixel, and the output texture as it was. */
+    fill_const(sentinel, W * H * CH, 0.25f);
+    t->bind(GL_TEXTURE_2D, tex[2]);
+    t->sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RGBA, GL_FLOAT, sentinel);
+    depth[3 * W + 7] = NAN;
+    depth[9 * W + 2] = -1.0f;
+    t->bind(GL_TEXTURE_2D, tex[1]);
+    t->sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED, GL_FLOAT, depth);
+    ddof_camera camera;
+    ddof_camera_init(&camera);
+    ddof_params p = params_for(DDOF_SOLVER_THOMAS, 1);
+    CHECK_EQ_INT(host_depth(gl_host, &p, &camera, tex[0], tex[1], tex[2], W, H, NULL),
+                 DDOF_ERROR_BAD_DEPTH);
+    CHECK_MSG(strstr(host_last_error(gl_host), "(7, 3)") != NULL, "%s",
+              host_last_error(gl_host));
+    t->bind(GL_TEXTURE_2D, tex[2]);
+    t->get_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
+    CHECK(max_diff(out, sentinel, W * H * CH) == 0.0);
+    /* A bad camera and none: statuses, as ddof_camera_check and a NULL argument give. */
+    camera.fstop = 0.0;
+    CHECK_EQ_INT(host_depth(gl_host, &p, &camera, tex[0], tex[1], tex[2], W, H, NULL),
+                 DDOF_ERROR_BAD_CAMERA);
+    CHECK(strstr(host_last_error(gl_host), "f-number") != NULL);
+    CHECK_EQ_INT(host_depth(gl_host, &p, NULL, tex[0], tex[1], tex[2], W, H, NULL),
+                 DDOF_ERROR_NULL_POINTER);
+    t->get_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
+    CHECK(max_diff(out, sentinel, W * H * CH) == 0.0);
+    ddof_context_free(cpu);
+    t->del(3, tex);
+}
 
 static void test_host_context(void)
 {
@@ -260,6 +369,10 @@ static void test_host_context(void)
     CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], 987654u, W, H, NULL),
                  DDOF_ERROR_BAD_PARAMETER);
     CHECK(strstr(host_last_error(gl_host), "987654") != NULL);
+    const texture_calls calls = {gen_textures, bind_texture,  tex_storage,
+                                 tex_sub_image, get_tex_image, delete_textures};
+    if (gl_host)
+        test_host_depth(plugin, gl_host, &calls);
     host_free(gl_host);
     delete_textures(3, tex);
     ddof_context_free(ctx);

@@ -54,6 +54,21 @@ DDOF_GL_API ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_para
                                              unsigned out_texture, uint32_t width,
                                              uint32_t height, ddof_stats *stats);
 
+/* The same from a depth texture: the CoC is computed on the device from the first channel of
+ * depth_texture (planar or radial depth in depth units, +inf for the sky) and the camera, by
+ * ddof_coc_from_camera's formula (lens model, sensor fit, pixel aspect, crop window), in float
+ * where the CPU uses double (they agree to about 1e-6 of the CoC). The camera is checked as
+ * ddof_camera_check does: DDOF_ERROR_BAD_CAMERA. A depth that is NaN, zero or negative is
+ * DDOF_ERROR_BAD_DEPTH naming the first such pixel, found before anything is written:
+ * out_texture is left as it was. That check reads one uint back from the device. */
+DDOF_GL_API ddof_status ddof_gl_host_diffuse_depth(ddof_gl_host *host,
+                                                   const ddof_params *params,
+                                                   const ddof_camera *camera,
+                                                   unsigned color_texture,
+                                                   unsigned depth_texture,
+                                                   unsigned out_texture, uint32_t width,
+                                                   uint32_t height, ddof_stats *stats);
+
 /* Accepts NULL. */
 DDOF_GL_API void ddof_gl_host_free(ddof_gl_host *host);
 
