@@ -32,12 +32,7 @@ float ddof_link_beta(float scale, float coc_a, float coc_b)
  * of its pixels counts as in focus, so one compare cuts both (ddof_conducting_coc). */
 static inline float link_beta(float scale, float in_focus_px, float coc_a, float coc_b)
 {
-    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
-    const float beta = scale * m * m;
-    /* A product with 0 or 1 rather than a select: GCC does not if-convert a float select
-     * under -ftrapping-math, and the column links' loop then stays scalar (beta is finite, so
-     * the product is exactly beta or 0). */
-    return beta * (float)((beta >= FLT_MIN) & (m >= in_focus_px));
+    return link_conductance(scale, in_focus_px, coc_a, coc_b, 0);
 }
 
 static const solver_ops *float_solver(ddof_solver solver)
@@ -116,30 +111,6 @@ static void solve_batch(const pass_job *job, thread_state *ts, const line_batch 
 
 /* ---- rows: lanes are neighbouring rows, unknowns run along x ---------------------------- */
 
-/* The links of a row batch from its CoC gathered as coc[i][lane]: beta[i][lane] between
- * elements i and i + 1 (0 past the last), which lanes conduct anywhere, and each lane's
- * largest |CoC|. */
-static DDOF_ALWAYS_INLINE void links_from_gathered(float *restrict beta,
-                                                   const float *restrict coc, uint32_t n,
-                                                   float scale, float in_focus, int *active,
-                                                   float *max_coc)
-{
-    float conducts[L] = {0};
-    for (uint32_t i = 0; i < n; i++) {
-        const float *restrict here = coc + (size_t)i * L;
-        float *restrict b = beta + (size_t)i * L;
-        for (uint32_t l = 0; l < L; l++) {
-            /* The last element's link reads its own CoC twice and is then cut to 0. */
-            const float next = here[i + 1 < n ? L + l : l];
-            b[l] = link_beta(scale, in_focus, here[l], next) * (float)(i + 1 < n);
-            conducts[l] = ddof_maxf(conducts[l], b[l]);
-            max_coc[l] = ddof_maxf(max_coc[l], fabsf(here[l]));
-        }
-    }
-    for (uint32_t l = 0; l < L; l++)
-        active[l] = conducts[l] > 0.0f;
-}
-
 DDOF_MULTIVERSION static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const pass_job *job = user;
@@ -167,7 +138,7 @@ DDOF_MULTIVERSION static void row_batch(void *user, uint32_t batch_index, uint32
         for (uint32_t l = 0; l < L; l++)
             coc_rows[l] = l < lanes ? coc[l] : NULL; /* padding lanes: CoC 0, no links */
         rows_in(ts->x, coc_rows, n, 1);
-        links_from_gathered(ts->beta, ts->x, n, job->beta_scale, in_focus, active, max_coc);
+        links_from_gathered(ts->beta, ts->x, n, job->beta_scale, in_focus, 0, active, max_coc);
     } else {
         for (uint32_t i = 0; i < n; i++) {
             float *beta = ts->beta + (size_t)i * L;
@@ -369,7 +340,8 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
     const float row_scale = r->beta_scale / (float)r->substeps;
     const float column_scale = row_scale * r->pixel_aspect * r->pixel_aspect;
     const uint32_t row_batches = (r->height + L - 1) / L;
-    const uint32_t first_block = first_column_block(r) < r->width ? first_column_block(r) : r->width;
+    const uint32_t aligned_block = first_column_block(r);
+    const uint32_t first_block = aligned_block < r->width ? aligned_block : r->width;
     const uint32_t column_batches = 1 + (r->width - first_block + L - 1) / L;
     pass_progress_state progress = {r, 0, 2 * r->substeps};
     thread_progress_fn progress_fn = r->progress ? pass_progress : NULL;

@@ -54,11 +54,7 @@ typedef struct lens_job {
 /* The real conductance of a link: the smaller |CoC| squared, or 0 below the solver's floor. */
 static inline float lens_link(float coc_a, float coc_b, float scale, float in_focus_px)
 {
-    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
-    const float b = m * m * scale;
-    /* A product with 0 or 1, not a float select, which GCC does not if-convert under
-     * -ftrapping-math: the column links' loop vectorises (b is finite). */
-    return b * (float)((b >= DDOF_LENS_MIN_LINK) & (m >= in_focus_px));
+    return link_conductance(scale, in_focus_px, coc_a, coc_b, 1);
 }
 
 /* The in-focus threshold applies to CoC images only (a uniform CoC is a layer's own fill). */
@@ -119,20 +115,9 @@ DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index, u
         for (uint32_t l = 0; l < L; l++) /* padding lanes: CoC 0, no links */
             coc_rows[l] = l < lanes ? r->coc + (size_t)(y0 + l) * r->coc_stride : NULL;
         rows_in(ts->x, coc_rows, n, 1);
-        float conducts[L] = {0}, lane_max[L] = {0};
-        for (uint32_t i = 0; i < n; i++) {
-            const float *restrict here = ts->x + (size_t)i * L;
-            float *restrict b = ts->b + (size_t)i * L;
-            for (uint32_t l = 0; l < L; l++) {
-                /* The last element's link reads its own CoC twice and is then cut to 0. */
-                const float next = here[i + 1 < n ? L + l : l];
-                b[l] = lens_link(here[l], next, 1.0f, in_focus) * (float)(i + 1 < n);
-                conducts[l] = ddof_maxf(conducts[l], b[l]);
-                lane_max[l] = ddof_maxf(lane_max[l], fabsf(here[l]));
-            }
-        }
+        float lane_max[L] = {0};
+        links_from_gathered(ts->b, ts->x, n, 1.0f, in_focus, 1, active, lane_max);
         for (uint32_t l = 0; l < L; l++) {
-            active[l] = conducts[l] > 0.0f;
             any_active |= active[l];
             max_coc = ddof_maxf(max_coc, lane_max[l]);
         }

@@ -7,6 +7,7 @@
 #include "adi.h"
 #include "solver.h"
 
+#include <math.h>
 #include <string.h>
 
 #define L DDOF_LANES
@@ -28,6 +29,49 @@ static inline int pass_progress(void *user, uint32_t done, uint32_t total)
     const pass_progress_state *p = user;
     const float fraction = ((float)p->pass + (float)done / (float)total) / (float)p->passes;
     return p->request->progress(p->request->progress_user, fraction);
+}
+
+/* ---- links ------------------------------------------------------------------------------- */
+
+/* The conductance of the link between two pixels: scale * min(|d_a|, |d_b|)^2, 0 below the
+ * kernel's floor (FLT_MIN for the heat kernel, DDOF_LENS_MIN_LINK for the disc kernel: one
+ * meaning of "no link" for its solver) and 0 where the smaller |CoC| is below the in-focus
+ * threshold, i.e. where one of the two pixels counts as in focus. Each kernel multiplies in
+ * its own order, which the GL shaders repeat (shaders/line.glsl), so both sides agree bit for
+ * bit. A product with 0 or 1 rather than a select: GCC does not if-convert a float select under
+ * -ftrapping-math, and the links' loops would stay scalar. */
+static inline float link_conductance(float scale, float in_focus_px, float coc_a, float coc_b,
+                                     const int disc)
+{
+    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
+    const float beta = disc ? (m * m) * scale : (scale * m) * m;
+    const float least = disc ? DDOF_LENS_MIN_LINK : FLT_MIN;
+    return beta * (float)((beta >= least) & (m >= in_focus_px));
+}
+
+/* The links of a row batch from its CoC gathered as coc[i][lane] (rows_in with one channel):
+ * beta[i][lane] between elements i and i + 1 (0 past the last), which lanes conduct anywhere,
+ * and each lane's largest |CoC|. Whole vectors, where reading the sixteen rows element by
+ * element was sixteen scalar loads an element. */
+static DDOF_ALWAYS_INLINE void links_from_gathered(float *restrict beta,
+                                                   const float *restrict coc, uint32_t n,
+                                                   float scale, float in_focus, const int disc,
+                                                   int *active, float *max_coc)
+{
+    float conducts[L] = {0};
+    for (uint32_t i = 0; i < n; i++) {
+        const float *restrict here = coc + (size_t)i * L;
+        float *restrict b = beta + (size_t)i * L;
+        for (uint32_t l = 0; l < L; l++) {
+            /* The last element's link reads its own CoC twice and is then cut to 0. */
+            const float next = here[i + 1 < n ? L + l : l];
+            b[l] = link_conductance(scale, in_focus, here[l], next, disc) * (float)(i + 1 < n);
+            conducts[l] = ddof_maxf(conducts[l], b[l]);
+            max_coc[l] = ddof_maxf(max_coc[l], fabsf(here[l]));
+        }
+    }
+    for (uint32_t l = 0; l < L; l++)
+        active[l] = conducts[l] > 0.0f;
 }
 
 /* ---- moving pixels between an image line and a batch lane -------------------------------- */

@@ -79,8 +79,8 @@ static size_t thomas_scratch_floats(uint32_t n, uint32_t channels)
     return (size_t)n * L; /* the back-substitution weights w */
 }
 
-/* One lerp of a line's values: x[k] <- its running value's lerp towards x[k] with weight 1 - k
- * (see the header), the running value kept in double when `wide`, else in float. */
+/* One element of the sweeps: each value becomes x + k (run - x) with its lane's weight k, and
+ * the running value follows it; the running value is kept in double when `wide`, else float. */
 static DDOF_ALWAYS_INLINE void lerp_values(float *restrict xi, double *restrict run_d,
                                            float *restrict run_f, const float *restrict k,
                                            const uint32_t C, const int wide)
