@@ -321,6 +321,27 @@ static void test_params(void)
                               &(ddof_image){out, W, H, 1, 0}, &st) == DDOF_OK);
     CHECK_MSG(strstr(st.plan, "highlights: off: 1 colour channel") != NULL, "%s", st.plan);
     CHECK(!(st.effects & DDOF_EFFECT_HIGHLIGHTS));
+    /* A pixel so bright that brightness / threshold overflows to +inf (1e38 / 0.25), among
+     * pixels of 1 too many to draw (their discs are over the budget). Its class was the int of
+     * +inf: undefined (clang's UBSan stops on it; x86 gave INT_MIN, i.e. the dimmest class), so
+     * the budget dropped it with the rest and the pass went off. It is the brightest class: it
+     * alone is drawn, its light kept. */
+    flat(&f, 10.0f);
+    for (int i = 0; i < N; i++)
+        for (int c = 0; c < 3; c++)
+            f.color[i * 4 + c] = 1.0f;
+    f.color[(40 * W + 48) * 4 + 0] = 1e38f;
+    ddof_params_init(&p);
+    p.background = DDOF_LAYER_OFF;
+    p.near_spread = DDOF_LAYER_OFF;
+    st = (ddof_stats){.struct_size = sizeof st};
+    CHECK_EQ_INT(ddof_diffuse_layers(ctx, &p, &(ddof_image_in){f.color, W, H, 4, 0},
+                                     &(ddof_image_in){f.coc, W, H, 1, 0}, NULL,
+                                     &(ddof_image){f.out, W, H, 4, 0}, &st),
+                 DDOF_OK);
+    CHECK_MSG(st.effects & DDOF_EFFECT_HIGHLIGHTS, "%s", st.plan);
+    const double red = channel_sum(f.out, 0), red_in = channel_sum(f.color, 0);
+    CHECK_MSG(isfinite(red) && fabs(red / red_in - 1.0) < 1e-3, "red %.6g of %.6g", red, red_in);
 }
 
 int main(void)

@@ -83,8 +83,13 @@ static int highlight_class(const find_job *job, const float *px, uint32_t x, uin
     *coc = highlight_coc(job->r, x, y);
     if (!(fabsf(*coc) >= DDOF_HIGHLIGHT_MIN_COC_PX))
         return -1;
-    const int k = (int)floorf(CLASSES_PER_OCTAVE * log2f(l / job->threshold));
-    return k < 0 ? 0 : k >= CLASSES ? CLASSES - 1 : k;
+    /* Over a tiny threshold l / threshold overflows to +inf: the top class, decided before
+     * any conversion to int (undefined for inf; libFuzzer found it under UBSan). */
+    const float octaves = CLASSES_PER_OCTAVE * log2f(l / job->threshold);
+    if (!(octaves < (float)CLASSES))
+        return CLASSES - 1;
+    const int k = (int)floorf(octaves);
+    return k < 0 ? 0 : k;
 }
 
 static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
