@@ -206,15 +206,11 @@ static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, float
     return DDOF_OK;
 }
 
-/* The caller's camera over the defaults (fields past an older struct are 0, as
+/* The caller's camera (not NULL) over the defaults (fields past an older struct are 0, as
  * ddof_camera_init sets them), then ddof_camera_check's rules. */
 static ddof_status read_camera(const ddof_camera *caller, ddof_camera *camera, char *message,
                                size_t size)
 {
-    if (!caller) {
-        snprintf(message, size, "camera is NULL");
-        return DDOF_ERROR_NULL_POINTER;
-    }
     const size_t needed = offsetof(ddof_camera, signed_coc) + sizeof caller->signed_coc;
     if (caller->struct_size < needed) {
         snprintf(message, size, "camera.struct_size is %u, expected at least %zu (call "
