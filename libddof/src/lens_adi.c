@@ -97,7 +97,8 @@ static void solve_chain(const lens_job *job, lens_thread *ts, uint32_t n, const 
 
 /* ---- rows: the input (real) into the component's complex image -------------------------- */
 
-DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index,
+                                             uint32_t thread_index)
 {
     const lens_job *job = user;
     const adi_request *r = job->r;
@@ -183,7 +184,9 @@ DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index, u
 
 /* One row of a full block folded into the output (the loop below for a full block without heat
  * capacities): each lane's choice of chain result or row-pass value is a product with 1 or 0,
- * exact for finite values, so the loop runs over whole vectors. */
+ * exact for finite values, so the loop runs over whole vectors. Both sides must be finite: a
+ * block whose chain did not run hands in the row pass's values for both (its chain results
+ * are whatever the scratch held). */
 static DDOF_ALWAYS_INLINE void fold_row(float *restrict out, const float *restrict src,
                                         const float *restrict zr, const float *restrict zi,
                                         const float *restrict ar, const float *restrict ai,
@@ -202,8 +205,8 @@ static DDOF_ALWAYS_INLINE void fold_row(float *restrict out, const float *restri
 }
 
 static DDOF_ALWAYS_INLINE void fold_full_block(const lens_job *job, const lens_thread *ts,
-                                               uint32_t x0, const int *active, float mr, float mi,
-                                               int first, int last)
+                                               uint32_t x0, const int *active, int any_active,
+                                               float mr, float mi, int first, int last)
 {
     const adi_request *r = job->r;
     const uint32_t n = r->height, C = r->channels, count = L * C;
@@ -224,7 +227,8 @@ static DDOF_ALWAYS_INLINE void fold_full_block(const lens_job *job, const lens_t
                 DDOF_PREFETCH(out + (size_t)ahead * r->out_stride + k, 1);
             }
         const float *zr = t_re + (size_t)i * job->t_stride, *zi = t_im + (size_t)i * job->t_stride;
-        const float *ar = ts->acc_re + (size_t)i * count, *ai = ts->acc_im + (size_t)i * count;
+        const float *ar = any_active ? ts->acc_re + (size_t)i * count : zr;
+        const float *ai = any_active ? ts->acc_im + (size_t)i * count : zi;
         /* Four instances, so that neither choice is made per value. */
         if (first && last)
             fold_row(out, src, zr, zi, ar, ai, solved, lo, hi, count, mr, mi, 1, 1);
@@ -237,7 +241,8 @@ static DDOF_ALWAYS_INLINE void fold_full_block(const lens_job *job, const lens_t
     }
 }
 
-DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index, uint32_t thread_index)
+DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index,
+                                                uint32_t thread_index)
 {
     const lens_job *job = user;
     const adi_request *r = job->r;
@@ -291,7 +296,7 @@ DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index
     const float mr = job->k->mix[job->component][0], mi = job->k->mix[job->component][1];
     const int first = job->component == 0, last = job->component + 1 == job->k->components;
     if (lanes == L && !r->gamma) {
-        fold_full_block(job, ts, x0, active, mr, mi, first, last);
+        fold_full_block(job, ts, x0, active, any_active, mr, mi, first, last);
         for (uint32_t l = 0; l < L; l++)
             ts->lines_solved += (uint64_t)active[l] * job->k->steps;
         return;
