@@ -701,6 +701,69 @@ static void test_output_alignment(ddof_context *ctx)
         }
         CHECK_MSG(worst == 0, "disc-2x2, %u channels: %zu rows differ with the output moved", ch,
                   worst);
+        /* The layered frame of the default preset with the background layer on: its CoC
+         * fill and colour diffusions carry heat capacities (a matte), so Thomas may keep some
+         * lines' running values in double; which ones must not depend on where the column
+         * blocks fall. A CoC of 0 to 4000 px across the width (beta over the switch's bound
+         * in some columns only) in bands, with in-focus bars for the background to fill. */
+        float *wide_coc = alloc_f(px), *layered = alloc_f(n);
+        for (uint32_t y = 0; y < h; y++)
+            for (uint32_t x = 0; x < w; x++)
+                wide_coc[(size_t)y * w + x] = (x % 9 == 4) ? 0.0f : 4000.0f * (float)x / w;
+        ddof_params lp;
+        ddof_params_init(&lp);
+        lp.background = DDOF_LAYER_ON;
+        lp.kernel = ch % 2 ? DDOF_KERNEL_HEAT : lp.kernel; /* the colour through Thomas too */
+        ddof_image_in li = {color, w, h, ch, 0};
+        ddof_image_in lz = {wide_coc, w, h, 1, 0};
+        CHECK_EQ_INT(ddof_diffuse_layers(ctx, &lp, &li, &lz, NULL,
+                                         &(ddof_image){layered, w, h, ch, 0}, NULL),
+                     DDOF_OK);
+        worst = 0;
+        for (uint32_t offset = 0; offset < 16; offset++) {
+            ddof_image oi = {block + offset, w, h, ch, stride};
+            CHECK_EQ_INT(ddof_diffuse_layers(ctx, &lp, &li, &lz, NULL, &oi, NULL), DDOF_OK);
+            const size_t differ = padded_rows_differ(block + offset, stride / sizeof(float),
+                                                     layered, (size_t)w * ch, h);
+            worst = differ > worst ? differ : worst;
+        }
+        CHECK_MSG(worst == 0, "layered, %u channels: %zu rows differ with the output moved", ch,
+                  worst);
+        free(wide_coc);
+        free(layered);
+        /* Thomas's precision switch on the column pass: a CoC of 0 to 4000 px across the
+         * width puts the switch's bound (CoC 1254 px) inside a block. Chosen per block, a
+         * line's precision followed where the blocks fell (14 of 15 offsets differed); it is
+         * chosen for the whole pass. Columns of 64 px, so that float and double differ. */
+        {
+            const uint32_t tall = 64;
+            const size_t tall_px = (size_t)w * tall, tall_n = tall_px * ch;
+            float *tc = alloc_f(tall_n), *tz = alloc_f(tall_px), *tref = alloc_f(tall_n);
+            float *tblock = aligned_alloc(64, stride * tall + 64);
+            fill_uniform(tc, tall_n, &rng, 0.0, 1.0);
+            for (uint32_t y = 0; y < tall; y++)
+                for (uint32_t x = 0; x < w; x++)
+                    tz[(size_t)y * w + x] = 4000.0f * (float)x / (float)w;
+            ddof_params hp = params_for(DDOF_SOLVER_THOMAS, 1);
+            CHECK_EQ_INT(diffuse(ctx, &hp, tc, tz, tref, w, tall, ch, NULL), DDOF_OK);
+            worst = 0;
+            for (uint32_t offset = 0; offset < 16; offset++) {
+                ddof_image_in ti = {tc, w, tall, ch, 0};
+                ddof_image_in tzi = {tz, w, tall, 1, 0};
+                ddof_image oi = {tblock + offset, w, tall, ch, stride};
+                CHECK_EQ_INT(ddof_diffuse(ctx, &hp, &ti, &tzi, &oi, NULL), DDOF_OK);
+                const size_t differ = padded_rows_differ(tblock + offset, stride / sizeof(float),
+                                                         tref, (size_t)w * ch, tall);
+                worst = differ > worst ? differ : worst;
+            }
+            CHECK_MSG(worst == 0,
+                      "CoC to 4000 px, %u channels: %zu rows differ with the output moved", ch,
+                      worst);
+            free(tc);
+            free(tz);
+            free(tref);
+            free(tblock);
+        }
         free(color);
         free(tight);
         free(block);

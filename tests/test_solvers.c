@@ -217,7 +217,8 @@ static float *run_solver(const solver_ops *s, const problem *p, uint32_t iterati
     for (size_t k = 0; k < floats; k++) scratch[k] = NAN;
     for (size_t k = floats; k < floats + guard; k++) scratch[k] = 12345.0f;
     memcpy(y, p->x, nx * sizeof(float));
-    const line_batch batch = {p->n, p->ch, p->beta, p->gamma, y, scratch, iterations, 0};
+    const line_batch batch = {p->n, p->ch, p->beta, p->gamma, y, scratch, iterations, 0,
+                              LINE_RUNNING_BY_BATCH};
     s->solve(&batch);
     int guard_ok = 1;
     for (size_t k = floats; k < floats + guard; k++) guard_ok &= scratch[k] == 12345.0f;

@@ -55,6 +55,7 @@ typedef struct thread_state {
     unsigned char *singular; /* [n_max][L] (layers only) */
     uint64_t lines_solved;
     float max_coc;
+    float gamma_min;  /* smallest positive heat capacity the row pass read (layers) */
 } thread_state;
 
 typedef struct pass_job {
@@ -67,6 +68,7 @@ typedef struct pass_job {
     float beta_scale;
     thread_state *threads;
     uint32_t first_block; /* columns: the width of block 0 (L, or less to align the rest) */
+    line_running running; /* Thomas's precision: by batch (rows), for the pass (columns) */
 } pass_job;
 
 /* A run of pixels joined by links whose heat capacities are all 0 is singular: nothing in it
@@ -111,6 +113,22 @@ static void solve_batch(const pass_job *job, thread_state *ts, const line_batch 
 
 /* ---- rows: lanes are neighbouring rows, unknowns run along x ---------------------------- */
 
+/* The smallest positive value of count floats (FLT_MAX when none): element-wise per lane so
+ * that it vectorises, the zeros lifted out by adding FLT_MAX to them. */
+static DDOF_ALWAYS_INLINE float smallest_positive(const float *restrict v, size_t count)
+{
+    float lane_min[L];
+    for (uint32_t l = 0; l < L; l++)
+        lane_min[l] = FLT_MAX;
+    for (size_t i = 0; i + L <= count; i += L)
+        for (uint32_t l = 0; l < L; l++)
+            lane_min[l] = ddof_minf(lane_min[l], v[i + l] + (float)(v[i + l] <= 0.0f) * FLT_MAX);
+    float m = FLT_MAX;
+    for (uint32_t l = 0; l < L; l++)
+        m = ddof_minf(m, lane_min[l]);
+    return m;
+}
+
 DDOF_MULTIVERSION static void row_batch(void *user, uint32_t batch_index, uint32_t thread_index)
 {
     const pass_job *job = user;
@@ -151,8 +169,10 @@ DDOF_MULTIVERSION static void row_batch(void *user, uint32_t batch_index, uint32
             }
         }
     }
-    if (r->gamma)
+    if (r->gamma) {
         gather_row_gamma(ts->gamma, r, y0, lanes, n);
+        ts->gamma_min = ddof_minf(ts->gamma_min, smallest_positive(ts->gamma, (size_t)n * L));
+    }
     for (uint32_t l = 0; l < lanes; l++) {
         ts->max_coc = ddof_maxf(ts->max_coc, max_coc[l]);
         any_active |= active[l];
@@ -183,7 +203,8 @@ DDOF_MULTIVERSION static void row_batch(void *user, uint32_t batch_index, uint32
     rows_in(ts->x, src_rows, n, C);
     if (r->gamma && job->src == r->color) /* the input: values without capacity are unread */
         mask_batch(ts->x, ts->gamma, n, L * C, C);
-    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0};
+    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0,
+                        job->running};
     solve_batch(job, ts, &batch);
     rows_out(dst_rows, ts->x, n, C);
 }
@@ -246,7 +267,8 @@ DDOF_MULTIVERSION static void column_batch(void *user, uint32_t batch_index, uin
     if (r->gamma)
         gather_column_gamma(ts->gamma, r, x0, lanes, n);
 
-    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0};
+    line_batch batch = {n, C, ts->beta, ts->gamma, ts->x, ts->scratch, r->jacobi_iterations, 0,
+                        job->running};
     if (lanes == L) {
         /* A full block is solved where it lies: element i is row i of the image, and idle lanes
          * come back bit-identical (beta 0 leaves x exact). The column pass works in place, so
@@ -290,6 +312,23 @@ static uint32_t first_column_block(const adi_request *r)
     return L;
 }
 
+/* Thomas's precision for a whole column pass, from what the row pass saw of the image: the
+ * largest |CoC| bounds every column link's beta, and the smallest positive heat capacity is
+ * the image's. Float where the memory is short everywhere, as a row batch decides for itself
+ * (the row batches are the same lines in every call; the column blocks are not). */
+static line_running column_running(const thread_state *threads, uint32_t count, float scale)
+{
+    float max_coc = 0.0f, gamma_min = FLT_MAX;
+    for (uint32_t t = 0; t < count; t++) {
+        max_coc = ddof_maxf(max_coc, threads[t].max_coc);
+        gamma_min = ddof_minf(gamma_min, threads[t].gamma_min);
+    }
+    const float beta_max = scale * max_coc * max_coc;
+    const float gamma = gamma_min < FLT_MAX ? gamma_min : 1.0f; /* none read: plain diffusion */
+    return beta_max <= DDOF_FLOAT_RUNNING_MAX_MEMORY * gamma ? LINE_RUNNING_FLOAT
+                                                             : LINE_RUNNING_DOUBLE;
+}
+
 static uint64_t total_solved(const thread_state *threads, uint32_t count)
 {
     uint64_t sum = 0;
@@ -329,7 +368,7 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
         threads[t] = (thread_state){.x = base, .beta = base + x_floats,
                                     .gamma = base + x_floats + coef_floats,
                                     .scratch = base + x_floats + 2 * coef_floats,
-                                    .saved = after_scratch,
+                                    .saved = after_scratch, .gamma_min = FLT_MAX,
                                     .singular = (unsigned char *)(after_scratch + saved_floats)};
         if (!r->gamma) /* plain diffusion; layers gather theirs per batch */
             for (size_t i = 0; i < (size_t)n_max * L; i++)
@@ -352,7 +391,8 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
         uint64_t solved_before = total_solved(threads, thread_count);
         pass_job rows = {r, solver, step == 0 ? r->color : r->out,
                          step == 0 ? r->color_stride : r->out_stride,
-                         r->out, r->out_stride, row_scale, threads, L};
+                         r->out, r->out_stride, row_scale, threads, L,
+                         LINE_RUNNING_BY_BATCH};
         progress.pass = 2 * step;
         if (thread_pool_run(context->pool, row_batches, row_batch, &rows, progress_fn,
                             &progress)) {
@@ -362,7 +402,8 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
         uint64_t rows_solved = total_solved(threads, thread_count) - solved_before;
         double t1 = ddof_seconds();
         pass_job columns = {r, solver, r->out, r->out_stride, r->out, r->out_stride,
-                            column_scale, threads, first_block};
+                            column_scale, threads, first_block,
+                            column_running(threads, thread_count, column_scale)};
         progress.pass = 2 * step + 1;
         if (thread_pool_run(context->pool, column_batches, column_batch, &columns, progress_fn,
                             &progress)) {

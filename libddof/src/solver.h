@@ -34,6 +34,19 @@
 /* Lines solved together. 16 floats = one AVX-512 register, two AVX2 registers. */
 #define DDOF_LANES 16
 
+/* beta / gamma up to which Thomas's running values stay in float (solver_thomas.c). */
+#define DDOF_FLOAT_RUNNING_MAX_MEMORY 65536.0f
+
+/* Thomas's running values: chosen by the batch's own memory (a partition of lines that does not
+ * change between calls, the row pass's), or given for a whole pass (the column pass, whose
+ * blocks follow the output's alignment: a per-batch choice would make a line's result depend
+ * on where the caller's buffer lies). */
+typedef enum line_running {
+    LINE_RUNNING_BY_BATCH = 0,
+    LINE_RUNNING_FLOAT,
+    LINE_RUNNING_DOUBLE
+} line_running;
+
 typedef struct line_batch {
     uint32_t n;          /* unknowns per line, >= 1                                            */
     uint32_t channels;   /* values per unknown, 1..4                                           */
@@ -43,6 +56,7 @@ typedef struct line_batch {
     float *scratch;      /* scratch_floats(n, channels) floats, 64-byte aligned, uninitialised */
     uint32_t iterations; /* Jacobi sweeps (>= 1); ignored by exact solvers                     */
     size_t x_stride;     /* floats from element i to i + 1; 0 means packed (LANES * channels)  */
+    line_running running; /* Thomas: its running values' precision (solver_thomas.c)         */
 } line_batch;
 
 /* The distance between consecutive elements of x. */

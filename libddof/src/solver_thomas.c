@@ -18,9 +18,9 @@
  * The running value (D going forward, y coming back) is a moving average whose memory is about
  * sqrt(beta / gamma) pixels. Rounded to float at every step its error grows with that memory:
  * 1.2e-5 on a 4096-pixel line at CoC 1e4 and beta_scale 1 (tests/test_hard_cases.c), against
- * 6.6e-7 when it is carried in double and rounded only when stored. Double costs about half as
- * much again as the whole float step, since every value is widened and narrowed and every weight
- * is spread over the channels in double lanes. So a batch whose memory is short (largest
+ * 6.6e-7 when it is carried in double and rounded only when stored. Double cost the whole 1080p
+ * step 18.4 ms against 12.8 ms in float, since every value is widened and narrowed and every
+ * weight is spread over the channels in double lanes. So a batch whose memory is short (largest
  * beta / smallest positive gamma <= THOMAS_FLOAT_MAX_MEMORY, a memory of 256 pixels) runs in
  * float, where the error stays at the level of the double path (test_hard_cases measures both
  * sides of the switch), and only longer ones pay for double. The switch depends on the CoC and
@@ -47,8 +47,9 @@ static inline float lerp_float(float a, float b, float k)
     return a + k * (b - a);
 }
 
-/* beta / gamma up to which a batch's running values stay in float: a memory of 256 pixels. */
-#define THOMAS_FLOAT_MAX_MEMORY 65536.0f
+/* beta / gamma up to which a batch's running values stay in float: a memory of 256 pixels
+ * (DDOF_FLOAT_RUNNING_MAX_MEMORY, solver.h, which the column pass's choice uses too). */
+#define THOMAS_FLOAT_MAX_MEMORY DDOF_FLOAT_RUNNING_MAX_MEMORY
 
 /* Whether every line of the batch has a short memory: largest beta <= the bound times the
  * smallest positive gamma (gamma 0 holds no heat: its pixels pass the running value on). */
@@ -154,7 +155,10 @@ static DDOF_ALWAYS_INLINE void thomas_solve_channels(const line_batch *batch, co
 
 DDOF_MULTIVERSION static void thomas_solve(const line_batch *batch)
 {
-    if (short_memory(batch)) {
+    const int in_float = batch->running == LINE_RUNNING_BY_BATCH
+                             ? short_memory(batch)
+                             : batch->running == LINE_RUNNING_FLOAT;
+    if (in_float) {
         switch (batch->channels) {
         case 1: thomas_solve_channels(batch, 1, 0); break;
         case 2: thomas_solve_channels(batch, 2, 0); break;

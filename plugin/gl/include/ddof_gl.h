@@ -57,10 +57,11 @@ DDOF_GL_API ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_para
 /* The same from a depth texture: the CoC is computed on the device from the first channel of
  * depth_texture (planar or radial depth in depth units, +inf for the sky) and the camera, by
  * ddof_coc_from_camera's formula (lens model, sensor fit, pixel aspect, crop window), in float
- * where the CPU uses double (they agree to about 1e-6 of the CoC). The camera is checked as
- * ddof_camera_check does: DDOF_ERROR_BAD_CAMERA. A depth that is NaN, zero or negative is
- * DDOF_ERROR_BAD_DEPTH naming the first such pixel, found before anything is written:
- * out_texture is left as it was. That check reads one uint back from the device. */
+ * where the CPU uses double (results within 1.2e-7 of the CPU's in the tests; a CoC within
+ * float rounding of in_focus_threshold_px may fall on the other side of it). The camera is
+ * checked as ddof_camera_check does: DDOF_ERROR_BAD_CAMERA. A depth that is NaN, zero or
+ * negative is DDOF_ERROR_BAD_DEPTH naming the first such pixel, found before anything is
+ * written: out_texture is left as it was. That check reads one uint back from the device. */
 DDOF_GL_API ddof_status ddof_gl_host_diffuse_depth(ddof_gl_host *host,
                                                    const ddof_params *params,
                                                    const ddof_camera *camera,
