@@ -647,128 +647,93 @@ static void test_strides_and_channels(ddof_context *ctx)
     free(coc);
 }
 
+/* One call (ddof_diffuse, or ddof_diffuse_layers when `layered`) with the output tightly packed,
+ * then at every float offset within a cache line with rows 64-byte multiples apart (the case
+ * that moves the column blocks): the most rows of any offset that differ from the packed
+ * result, bit for bit. */
+static size_t rows_differing_when_moved(ddof_context *ctx, const ddof_params *p, int layered,
+                                        const float *color, const float *coc, uint32_t w,
+                                        uint32_t h, uint32_t ch)
+{
+    const size_t row = (size_t)w * ch, stride = (row * sizeof(float) + 63) / 64 * 64;
+    float *tight = alloc_f(row * h), *block = aligned_alloc(64, stride * h + 64);
+    const ddof_image_in ci = {color, w, h, ch, 0}, zi = {coc, w, h, 1, 0};
+    size_t worst = 0;
+    for (int offset = -1; offset < 16; offset++) {
+        const ddof_image oi = offset < 0 ? (ddof_image){tight, w, h, ch, 0}
+                                         : (ddof_image){block + offset, w, h, ch, stride};
+        const ddof_status s = layered ? ddof_diffuse_layers(ctx, p, &ci, &zi, NULL, &oi, NULL)
+                                      : ddof_diffuse(ctx, p, &ci, &zi, &oi, NULL);
+        CHECK_EQ_INT(s, DDOF_OK);
+        if (offset >= 0) {
+            const size_t differ =
+                padded_rows_differ(block + offset, stride / sizeof(float), tight, row, h);
+            worst = differ > worst ? differ : worst;
+        }
+    }
+    free(tight);
+    free(block);
+    return worst;
+}
+
 /* The column pass moves its block boundaries so that every full block's rows start on a 64-byte
  * boundary of the output (a narrower first block takes the columns before it). Lines are
- * solved independently, so the result must not depend on where the output lies: the output at
- * every float offset within a cache line, rows 64-byte multiples apart (the case that shifts
- * the blocks), equals the tightly packed result bit for bit, for every CPU solver, the disc
- * kernel and every channel count, on a width that spans several blocks and narrow ends. */
+ * solved independently, so the result must not depend on where the output lies, for every CPU
+ * solver, the disc kernel and every channel count, on a width that spans several blocks and
+ * narrow ends. */
 static void test_output_alignment(ddof_context *ctx)
 {
     test_rng rng = {91};
-    const uint32_t w = 70, h = 13;
-    const size_t px = (size_t)w * h;
-    float *coc = alloc_f(px);
-    fill_coc(coc, px, &rng, 20.0, 0.2);
+    const uint32_t w = 70, h = 13, tall = 64;
+    float *coc = alloc_f((size_t)w * h), *wide_coc = alloc_f((size_t)w * h);
+    float *ramp_coc = alloc_f((size_t)w * tall), *color = alloc_f((size_t)w * tall * 4);
+    fill_coc(coc, (size_t)w * h, &rng, 20.0, 0.2);
+    /* 0 to 4000 px across the width: Thomas's switch to double (CoC 1254 px at the default k)
+     * falls inside a block; the wide CoC also has in-focus bars for the background to fill. */
+    for (uint32_t y = 0; y < tall; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            const float ramp = 4000.0f * (float)x / (float)w;
+            ramp_coc[(size_t)y * w + x] = ramp;
+            if (y < h)
+                wide_coc[(size_t)y * w + x] = (x % 9 == 4) ? 0.0f : ramp;
+        }
     for (uint32_t ch = 1; ch <= 4; ch++) {
-        const size_t n = px * ch;
-        const size_t stride = ((size_t)w * ch * sizeof(float) + 63) / 64 * 64;
-        float *color = alloc_f(n), *tight = alloc_f(n);
-        float *block = aligned_alloc(64, stride * h + 64);
-        fill_uniform(color, n, &rng, 0.0, 1.0);
+        fill_uniform(color, (size_t)w * tall * ch, &rng, 0.0, 1.0);
+        size_t worst;
         for (int solver = 0; solver < TEST_CPU_SOLVER_COUNT; solver++) {
             if (solver == DDOF_SOLVER_REFERENCE_F64)
                 continue; /* whole lines in double, no blocks */
             ddof_params p = params_for((ddof_solver)solver, 2);
-            CHECK_EQ_INT(diffuse(ctx, &p, color, coc, tight, w, h, ch, NULL), DDOF_OK);
-            size_t worst = 0;
-            for (uint32_t offset = 0; offset < 16; offset++) {
-                float *out = block + offset;
-                ddof_image_in ci = {color, w, h, ch, 0};
-                ddof_image_in zi = {coc, w, h, 1, 0};
-                ddof_image oi = {out, w, h, ch, stride};
-                CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &oi, NULL), DDOF_OK);
-                const size_t differ =
-                    padded_rows_differ(out, stride / sizeof(float), tight, (size_t)w * ch, h);
-                worst = differ > worst ? differ : worst;
-            }
+            worst = rows_differing_when_moved(ctx, &p, 0, color, coc, w, h, ch);
             CHECK_MSG(worst == 0, "%s, %u channels: %zu rows differ with the output moved",
                       ddof_solver_name((ddof_solver)solver), ch, worst);
         }
         /* The disc kernel's driver too (its blocks lie in its own complex image). */
         ddof_params p = params_for(DDOF_SOLVER_THOMAS, 1);
         p.kernel = DDOF_KERNEL_DISC_2X2;
-        CHECK_EQ_INT(diffuse(ctx, &p, color, coc, tight, w, h, ch, NULL), DDOF_OK);
-        size_t worst = 0;
-        for (uint32_t offset = 0; offset < 16; offset++) {
-            ddof_image_in ci = {color, w, h, ch, 0};
-            ddof_image_in zi = {coc, w, h, 1, 0};
-            ddof_image oi = {block + offset, w, h, ch, stride};
-            CHECK_EQ_INT(ddof_diffuse(ctx, &p, &ci, &zi, &oi, NULL), DDOF_OK);
-            const size_t differ = padded_rows_differ(block + offset, stride / sizeof(float),
-                                                     tight, (size_t)w * ch, h);
-            worst = differ > worst ? differ : worst;
-        }
+        worst = rows_differing_when_moved(ctx, &p, 0, color, coc, w, h, ch);
         CHECK_MSG(worst == 0, "disc-2x2, %u channels: %zu rows differ with the output moved", ch,
                   worst);
-        /* The layered frame of the default preset with the background layer on: its CoC
-         * fill and colour diffusions carry heat capacities (a matte), so Thomas may keep some
-         * lines' running values in double; which ones must not depend on where the column
-         * blocks fall. A CoC of 0 to 4000 px across the width (beta over the switch's bound
-         * in some columns only) in bands, with in-focus bars for the background to fill. */
-        float *wide_coc = alloc_f(px), *layered = alloc_f(n);
-        for (uint32_t y = 0; y < h; y++)
-            for (uint32_t x = 0; x < w; x++)
-                wide_coc[(size_t)y * w + x] = (x % 9 == 4) ? 0.0f : 4000.0f * (float)x / w;
-        ddof_params lp;
-        ddof_params_init(&lp);
-        lp.background = DDOF_LAYER_ON;
-        lp.kernel = ch % 2 ? DDOF_KERNEL_HEAT : lp.kernel; /* the colour through Thomas too */
-        ddof_image_in li = {color, w, h, ch, 0};
-        ddof_image_in lz = {wide_coc, w, h, 1, 0};
-        CHECK_EQ_INT(ddof_diffuse_layers(ctx, &lp, &li, &lz, NULL,
-                                         &(ddof_image){layered, w, h, ch, 0}, NULL),
-                     DDOF_OK);
-        worst = 0;
-        for (uint32_t offset = 0; offset < 16; offset++) {
-            ddof_image oi = {block + offset, w, h, ch, stride};
-            CHECK_EQ_INT(ddof_diffuse_layers(ctx, &lp, &li, &lz, NULL, &oi, NULL), DDOF_OK);
-            const size_t differ = padded_rows_differ(block + offset, stride / sizeof(float),
-                                                     layered, (size_t)w * ch, h);
-            worst = differ > worst ? differ : worst;
-        }
+        /* A layered frame with the background layer on: its CoC fill and colour diffusions
+         * carry heat capacities (a matte), which Thomas's precision choice reads too. */
+        ddof_params_init(&p);
+        p.background = DDOF_LAYER_ON;
+        p.kernel = ch % 2 ? DDOF_KERNEL_HEAT : p.kernel; /* the colour through Thomas too */
+        worst = rows_differing_when_moved(ctx, &p, 1, color, wide_coc, w, h, ch);
         CHECK_MSG(worst == 0, "layered, %u channels: %zu rows differ with the output moved", ch,
                   worst);
-        free(wide_coc);
-        free(layered);
-        /* Thomas's precision switch on the column pass: a CoC of 0 to 4000 px across the
-         * width puts the switch's bound (CoC 1254 px) inside a block. Chosen per block, a
-         * line's precision followed where the blocks fell (14 of 15 offsets differed); it is
-         * chosen for the whole pass. Columns of 64 px, so that float and double differ. */
-        {
-            const uint32_t tall = 64;
-            const size_t tall_px = (size_t)w * tall, tall_n = tall_px * ch;
-            float *tc = alloc_f(tall_n), *tz = alloc_f(tall_px), *tref = alloc_f(tall_n);
-            float *tblock = aligned_alloc(64, stride * tall + 64);
-            fill_uniform(tc, tall_n, &rng, 0.0, 1.0);
-            for (uint32_t y = 0; y < tall; y++)
-                for (uint32_t x = 0; x < w; x++)
-                    tz[(size_t)y * w + x] = 4000.0f * (float)x / (float)w;
-            ddof_params hp = params_for(DDOF_SOLVER_THOMAS, 1);
-            CHECK_EQ_INT(diffuse(ctx, &hp, tc, tz, tref, w, tall, ch, NULL), DDOF_OK);
-            worst = 0;
-            for (uint32_t offset = 0; offset < 16; offset++) {
-                ddof_image_in ti = {tc, w, tall, ch, 0};
-                ddof_image_in tzi = {tz, w, tall, 1, 0};
-                ddof_image oi = {tblock + offset, w, tall, ch, stride};
-                CHECK_EQ_INT(ddof_diffuse(ctx, &hp, &ti, &tzi, &oi, NULL), DDOF_OK);
-                const size_t differ = padded_rows_differ(tblock + offset, stride / sizeof(float),
-                                                         tref, (size_t)w * ch, tall);
-                worst = differ > worst ? differ : worst;
-            }
-            CHECK_MSG(worst == 0,
-                      "CoC to 4000 px, %u channels: %zu rows differ with the output moved", ch,
-                      worst);
-            free(tc);
-            free(tz);
-            free(tref);
-            free(tblock);
-        }
-        free(color);
-        free(tight);
-        free(block);
+        /* Thomas's precision on the column pass across the switch. Chosen per block, a line's
+         * precision followed where the blocks fell (14 of 15 offsets differed); it is chosen
+         * for the whole pass. Columns of 64 px, so that float and double differ. */
+        p = params_for(DDOF_SOLVER_THOMAS, 1);
+        worst = rows_differing_when_moved(ctx, &p, 0, color, ramp_coc, w, tall, ch);
+        CHECK_MSG(worst == 0, "CoC to 4000 px, %u channels: %zu rows differ with the output moved",
+                  ch, worst);
     }
     free(coc);
+    free(wide_coc);
+    free(ramp_coc);
+    free(color);
 }
 
 typedef struct progress_log {

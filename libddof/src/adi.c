@@ -21,15 +21,10 @@
 
 #define L DDOF_LANES
 
-float ddof_link_beta(float scale, float coc_a, float coc_b)
-{
-    const float m = ddof_minf(fabsf(coc_a), fabsf(coc_b));
-    const float beta = scale * m * m;
-    return beta >= FLT_MIN ? beta : 0.0f;
-}
-
-/* The same with the in-focus threshold: the link's smaller |CoC| is below it exactly when one
- * of its pixels counts as in focus, so one compare cuts both (ddof_conducting_coc). */
+/* The heat kernel's link (line_gather.h): k * min(|d_a|, |d_b|)^2, a negative, near-field CoC
+ * conducting by its size, flushed to 0 below FLT_MIN so that "no conductive link" has one
+ * meaning everywhere, and 0 where the smaller |CoC| is below the in-focus threshold, i.e. where
+ * one of the two pixels counts as in focus (ddof_conducting_coc). */
 static inline float link_beta(float scale, float in_focus_px, float coc_a, float coc_b)
 {
     return link_conductance(scale, in_focus_px, coc_a, coc_b, 0);

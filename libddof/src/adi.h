@@ -8,11 +8,6 @@
 
 #include <math.h>
 
-/* Conductance of the link between two pixels: k * min(|d_a|, |d_b|)^2 (a negative, near-field
- * CoC conducts by its size), flushed to 0 below FLT_MIN so that "no conductive link" has one
- * meaning everywhere (and no denormals reach a solver). */
-float ddof_link_beta(float scale, float coc_a, float coc_b);
-
 /* The float solvers (Thomas, CR, PCR, Jacobi), multi-threaded. */
 ddof_status ddof_adi_run(ddof_context *context, const adi_request *request, adi_report *report);
 
