@@ -109,7 +109,7 @@ static void solve_batch(const pass_job *job, thread_state *ts, const line_batch 
 /* ---- rows: lanes are neighbouring rows, unknowns run along x ---------------------------- */
 
 /* The smallest positive value of count floats (FLT_MAX when none): element-wise per lane so
- * that it vectorises, the zeros lifted out by adding FLT_MAX to them. */
+ * that it vectorises. */
 static DDOF_ALWAYS_INLINE float smallest_positive(const float *restrict v, size_t count)
 {
     float lane_min[L];
@@ -117,7 +117,7 @@ static DDOF_ALWAYS_INLINE float smallest_positive(const float *restrict v, size_
         lane_min[l] = FLT_MAX;
     for (size_t i = 0; i + L <= count; i += L)
         for (uint32_t l = 0; l < L; l++)
-            lane_min[l] = ddof_minf(lane_min[l], v[i + l] + (float)(v[i + l] <= 0.0f) * FLT_MAX);
+            lane_min[l] = ddof_minf(lane_min[l], ddof_positive_or_lifted(v[i + l]));
     float m = FLT_MAX;
     for (uint32_t l = 0; l < L; l++)
         m = ddof_minf(m, lane_min[l]);
@@ -321,8 +321,8 @@ static line_running column_running(const thread_state *threads, uint32_t count, 
     }
     const float beta_max = scale * max_coc * max_coc;
     const float gamma = gamma_min < FLT_MAX ? gamma_min : 1.0f; /* none read: plain diffusion */
-    return beta_max <= DDOF_FLOAT_RUNNING_MAX_MEMORY * gamma ? LINE_RUNNING_FLOAT
-                                                             : LINE_RUNNING_DOUBLE;
+    return ddof_float_running_suffices(beta_max, gamma) ? LINE_RUNNING_FLOAT
+                                                        : LINE_RUNNING_DOUBLE;
 }
 
 static uint64_t total_solved(const thread_state *threads, uint32_t count)

@@ -34,8 +34,23 @@
 /* Lines solved together. 16 floats = one AVX-512 register, two AVX2 registers. */
 #define DDOF_LANES 16
 
-/* beta / gamma up to which Thomas's running values stay in float (solver_thomas.c). */
+/* beta / gamma up to which Thomas's running values stay in float: a memory of 256 pixels
+ * (solver_thomas.c says why). */
 #define DDOF_FLOAT_RUNNING_MAX_MEMORY 65536.0f
+
+/* Whether lines whose largest link is beta_max and smallest positive heat capacity gamma_min
+ * keep Thomas's running values in float: the one rule for a row batch and a column pass. */
+static inline int ddof_float_running_suffices(float beta_max, float gamma_min)
+{
+    return beta_max <= DDOF_FLOAT_RUNNING_MAX_MEMORY * gamma_min;
+}
+
+/* A heat capacity as the smallest positive one is looked for: 0 (no heat held) lifted out of
+ * the minimum by adding FLT_MAX, branch-free so that the loops vectorise. */
+static inline float ddof_positive_or_lifted(float gamma)
+{
+    return gamma + (float)(gamma <= 0.0f) * FLT_MAX;
+}
 
 /* Thomas's running values: chosen by the batch's own memory (a partition of lines that does not
  * change between calls, the row pass's), or given for a whole pass (the column pass, whose

@@ -21,7 +21,7 @@
  * 6.6e-7 when it is carried in double and rounded only when stored. Double cost the whole 1080p
  * step 18.4 ms against 12.8 ms in float, since every value is widened and narrowed and every
  * weight is spread over the channels in double lanes. So a batch whose memory is short (largest
- * beta / smallest positive gamma <= THOMAS_FLOAT_MAX_MEMORY, a memory of 256 pixels) runs in
+ * beta / smallest positive gamma <= DDOF_FLOAT_RUNNING_MAX_MEMORY, a memory of 256 pixels) runs in
  * float, where the error stays at the level of the double path (test_hard_cases measures both
  * sides of the switch), and only longer ones pay for double. The switch depends on the CoC and
  * the heat capacities alone, never on the colour.
@@ -47,16 +47,12 @@ static inline float lerp_float(float a, float b, float k)
     return a + k * (b - a);
 }
 
-/* beta / gamma up to which a batch's running values stay in float: a memory of 256 pixels
- * (DDOF_FLOAT_RUNNING_MAX_MEMORY, solver.h, which the column pass's choice uses too). */
-#define THOMAS_FLOAT_MAX_MEMORY DDOF_FLOAT_RUNNING_MAX_MEMORY
-
 /* Whether every line of the batch has a short memory: largest beta <= the bound times the
  * smallest positive gamma (gamma 0 holds no heat: its pixels pass the running value on). */
 static DDOF_ALWAYS_INLINE int short_memory(const line_batch *batch)
 {
     /* Per lane, element-wise (a loop the compiler vectorises; a float min reduction it would
-     * not), and the gamma-0 pixels lifted out of the minimum by adding FLT_MAX to them. */
+     * not). */
     float beta_max[L] = {0}, gamma_min[L];
     for (uint32_t l = 0; l < L; l++)
         gamma_min[l] = FLT_MAX;
@@ -65,12 +61,12 @@ static DDOF_ALWAYS_INLINE int short_memory(const line_batch *batch)
         const float *restrict g = batch->gamma + (size_t)i * L;
         for (uint32_t l = 0; l < L; l++) {
             beta_max[l] = ddof_maxf(beta_max[l], b[l]);
-            gamma_min[l] = ddof_minf(gamma_min[l], g[l] + (float)(g[l] <= 0.0f) * FLT_MAX);
+            gamma_min[l] = ddof_minf(gamma_min[l], ddof_positive_or_lifted(g[l]));
         }
     }
     int all = 1;
     for (uint32_t l = 0; l < L; l++)
-        all &= beta_max[l] <= THOMAS_FLOAT_MAX_MEMORY * gamma_min[l];
+        all &= ddof_float_running_suffices(beta_max[l], gamma_min[l]);
     return all;
 }
 
