@@ -394,8 +394,10 @@ static void test_near_error(void)
     ddof_params p;
     heat_params_init(&p);
     CHECK_EQ_INT(single(&p, img, objcoc, one, CH), DDOF_OK);
-    /* (b) one image, signed CoC: the near spread (AUTO). */
+    /* (b) one image, signed CoC: the near spread (AUTO; the near layer, which would take its
+     * place, has its own tests in test_near_layer.c). */
     p.coc_signed = 1;
+    p.near_layer = DDOF_LAYER_OFF;
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, img, coc, NULL, spread, CH, &st), DDOF_OK);
     CHECK_MSG(st.effects & DDOF_EFFECT_NEAR_SPREAD, "near object: effects 0x%x", st.effects);
@@ -1208,9 +1210,11 @@ static void test_depth_of_field_near(void)
     if (verbose)
         printf("depth of field, near disc: effects 0x%x, max CoC %g, plan:\n%s\n", st.effects,
                (double)st.max_coc_px, st.plan);
-    CHECK_MSG(st.effects & DDOF_EFFECT_NEAR_SPREAD, "ddof_depth_of_field, near object: effects 0x%x",
+    /* The near layer (AUTO) takes the near field: the spread does not run. */
+    CHECK_MSG(st.effects & DDOF_EFFECT_NEAR_LAYER, "ddof_depth_of_field, near object: effects 0x%x",
               st.effects);
-    CHECK(!(st.effects & DDOF_EFFECT_FOREGROUND));
+    CHECK(st.effects & DDOF_EFFECT_FOREGROUND);
+    CHECK(!(st.effects & DDOF_EFFECT_NEAR_SPREAD));
     CHECK(st.max_coc_px >= 4.0f);
     CHECK(all_finite(out, n));
 
@@ -1256,6 +1260,7 @@ static void test_small_near_light(void)
     ddof_params p;
     heat_params_init(&p);
     p.coc_signed = 1;
+    p.near_layer = DDOF_LAYER_OFF; /* the near spread's test (the near layer: test_near_layer.c) */
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, img, coc, NULL, out, CH, &st), DDOF_OK);
     CHECK_MSG(st.effects & DDOF_EFFECT_NEAR_SPREAD, "small near light: effects 0x%x", st.effects);

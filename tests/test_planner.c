@@ -682,12 +682,14 @@ static void test_near(void)
     heat_params_init(&p);
     p.highlights = DDOF_LAYER_OFF; /* the texture is above the highlight threshold */
     p.coc_signed = 1;
+    p.near_layer = DDOF_LAYER_OFF; /* the near spread's plan (the near layer's: below) */
     ddof_stats st, st_off;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("near auto", &st);
     CHECK_MSG(st.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_NEAR_SPREAD),
               "near object: effects 0x%x, want midground + near spread", st.effects);
-    CHECK_MSG(plan_says(&st, "near", "on"), "near: plan \"%.*s\"", 511, st.plan);
+    CHECK_MSG(plan_says(&st, "near spread", "on"), "near: plan \"%.*s\"", 511, st.plan);
+    CHECK_MSG(plan_says(&st, "near layer", "off"), "near: plan \"%.*s\"", 511, st.plan);
     CHECK_MSG(plan_line(&st, "background", &(size_t){0}) != NULL, "near: plan \"%.*s\"", 511,
               st.plan);
     CHECK_NEAR(st.max_coc_px, 20.0, 0);
@@ -701,7 +703,8 @@ static void test_near(void)
     dump_plan("near off", &st_off);
     CHECK_MSG(st_off.effects == DDOF_EFFECT_MIDGROUND, "near spread off: effects 0x%x",
               st_off.effects);
-    CHECK_MSG(plan_says(&st_off, "near", "off"), "near off: plan \"%.*s\"", 511, st_off.plan);
+    CHECK_MSG(plan_says(&st_off, "near spread", "off"), "near off: plan \"%.*s\"", 511,
+              st_off.plan);
     check_timings("near off", &st_off, 0, 0);
     float *abs_coc = alloc_f(npx);
     for (size_t i = 0; i < npx; i++)
@@ -745,8 +748,65 @@ static void test_near(void)
     dump_plan("near forced on", &st);
     CHECK_MSG(st.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_NEAR_SPREAD),
               "near spread forced on: effects 0x%x", st.effects);
-    CHECK_MSG(plan_says(&st, "near", "on"), "near forced: plan \"%.*s\"", 511, st.plan);
+    CHECK_MSG(plan_says(&st, "near spread", "on"), "near forced: plan \"%.*s\"", 511, st.plan);
     free(abs_coc);
+}
+
+/* The near layer: AUTO runs it for a blurred near silhouette (and then the element path, not
+ * the spread), with its own plan line and time; forced on it runs on a frame with nothing near
+ * (an empty element: no foreground), forced off it says so. */
+static void test_near_layer(void)
+{
+    texture(color, CH, 6);
+    disc_coc(coc, -20.0f, 0.0f);
+    ddof_params p;
+    heat_params_init(&p);
+    p.highlights = DDOF_LAYER_OFF;
+    p.coc_signed = 1;
+    ddof_stats st;
+    CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
+    dump_plan("near layer auto", &st);
+    CHECK_MSG(st.effects ==
+                  (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_FOREGROUND),
+              "near layer: effects 0x%x", st.effects);
+    CHECK_MSG(plan_says(&st, "near layer", "on") && plan_says(&st, "foreground", "on") &&
+                  plan_says(&st, "near spread", "off"),
+              "near layer: plan \"%.*s\"", 511, st.plan);
+    CHECK_MSG(st.seconds_near_layer > 0 && st.seconds_near_layer <= st.seconds_total,
+              "near layer: %g s of %g", st.seconds_near_layer, st.seconds_total);
+    check_timings("near layer auto", &st, 0, 1);
+    CHECK(plan_well_formed(&st));
+
+    /* A threshold above every near CoC: AUTO finds no silhouette to split. */
+    p.near_layer_threshold_px = 25.0f;
+    CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
+    CHECK_MSG(!(st.effects & DDOF_EFFECT_NEAR_LAYER) && plan_says(&st, "near layer", "off") &&
+                  plan_says(&st, "near spread", "on"),
+              "near layer threshold 25: effects 0x%x, plan \"%.*s\"", st.effects, 511, st.plan);
+    CHECK(st.seconds_near_layer == 0.0);
+    p.near_layer_threshold_px = 8.0f;
+
+    /* Forced on with nothing near: it looks, finds no element, the midground alone runs. */
+    fill(coc, npx, 10.0f);
+    p.near_layer = DDOF_LAYER_ON;
+    CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
+    dump_plan("near layer forced on, nothing near", &st);
+    CHECK_MSG(st.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_NEAR_LAYER),
+              "near layer forced on, nothing near: effects 0x%x", st.effects);
+    float *plain = alloc_f(n);
+    ddof_params p1;
+    heat_params_init(&p1);
+    CHECK_EQ_INT(single(&p1, color, coc, plain, CH, NULL), DDOF_OK);
+    CHECK_MSG(max_abs_diff_ff(out, plain, n) == 0.0, "empty near layer changes the result by %g",
+              max_abs_diff_ff(out, plain, n));
+    free(plain);
+
+    /* Forced off: said. */
+    disc_coc(coc, -20.0f, 0.0f);
+    p.near_layer = DDOF_LAYER_OFF;
+    CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
+    CHECK_MSG(plan_says(&st, "near layer", "forced") && !(st.effects & DDOF_EFFECT_NEAR_LAYER),
+              "near layer off: plan \"%.*s\"", 511, st.plan);
 }
 
 static void test_foreground(void)
@@ -871,6 +931,7 @@ int main(void)
     test_bars();
     test_force_background_on();
     test_near();
+    test_near_layer();
     test_foreground();
     test_old_structs();
 

@@ -349,6 +349,7 @@ typedef enum ddof_layer_mode {
 #define DDOF_EFFECT_FOREGROUND 4u  /* a separate foreground element blurred on top (3.2)       */
 #define DDOF_EFFECT_NEAR_SPREAD 8u /* one image: near-CoC dilation (GPU Gems 3 ch. 28)         */
 #define DDOF_EFFECT_HIGHLIGHTS 16u /* the highlight pass: the brightest pixels drawn as discs   */
+#define DDOF_EFFECT_NEAR_LAYER 32u /* one image: the near field split off as an element          */
 
 typedef struct ddof_params {
     uint32_t struct_size;      /* sizeof(ddof_params)                                         */
@@ -423,6 +424,21 @@ typedef struct ddof_params {
                                /* Colour with 3 or 4 channels only. Default AUTO: on when     */
                                /* such a pixel exists; ON is AUTO's rule too.                */
     float highlight_threshold; /* default 0.25 (scene-linear); > 0, finite                    */
+
+    /* --- version 0.6 of this struct ------------------------------------------------------- */
+    ddof_layer_mode near_layer; /* one image: near pixels blurred more than the threshold are  */
+                               /* split off into a foreground element (premultiplied by a     */
+                               /* soft matte from their CoC), what they hid is filled in from */
+                               /* the rest of the frame (the far side preferred), and the     */
+                               /* element is blurred over the filled rest as a separately     */
+                               /* rendered one would be: a very blurred near object turns     */
+                               /* see-through. Needs signed CoC, colour with 3 or 4 channels  */
+                               /* and no foreground element; replaces the near spread where   */
+                               /* it runs. Default AUTO: on when a near CoC >= the threshold  */
+                               /* borders a pixel with less than half its CoC.                */
+    float near_layer_threshold_px; /* |CoC| at which a near pixel is wholly in the element   */
+                               /* (matte 1; linear from half of it). Default 8; > 0, at most  */
+                               /* DDOF_MAX_COC_PX.                                            */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
@@ -477,6 +493,10 @@ typedef struct ddof_stats {
     uint32_t device_uploads;   /* GL backends: host-to-device transfers of image data the     */
     uint32_t device_readbacks; /* call made, and device-to-host ones (0 on the CPU)           */
     double seconds_highlights; /* the highlight pass: finding, taking out, drawing the discs */
+
+    /* --- version 0.6 of this struct ------------------------------------------------------- */
+    double seconds_near_layer; /* splitting the near layer off and filling what it hid (its  */
+                               /* blur and composite count as seconds_foreground)            */
 } ddof_stats;
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels

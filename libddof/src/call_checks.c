@@ -110,6 +110,16 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
                          "params.highlights %u is not a known value, or highlight_threshold %.9g "
                          "is not > 0 and finite",
                          (unsigned)p->highlights, (double)p->highlight_threshold);
+    if ((unsigned)p->near_layer > DDOF_LAYER_ON || !coc_size_ok(p->near_layer_threshold_px, 0))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.near_layer %u is not a known value, or near_layer_threshold_px "
+                         "%.9g is not > 0 and at most %g px",
+                         (unsigned)p->near_layer, (double)p->near_layer_threshold_px,
+                         (double)DDOF_MAX_COC_PX);
+    if (p->near_layer == DDOF_LAYER_ON && p->near_spread == DDOF_LAYER_ON)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.near_layer and near_spread are both forced on: where the near "
+                         "layer runs it takes the near field, and the spread has none left");
     if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
                          (unsigned)p->kernel);
@@ -132,6 +142,21 @@ ddof_status ddof_check_near_spread(ddof_context *context, const ddof_params *p)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_spread is forced on, but the CoC is unsigned: without "
                          "coc_signed = 1 the near field is unknown");
+    if (p->near_layer == DDOF_LAYER_ON && !p->coc_signed)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.near_layer is forced on, but the CoC is unsigned: without "
+                         "coc_signed = 1 the near field is unknown");
+    return DDOF_OK;
+}
+
+ddof_status ddof_check_element_near(ddof_context *context, const ddof_params *p)
+{
+    if (p->near_spread == DDOF_LAYER_ON || p->near_layer == DDOF_LAYER_ON)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.%s is forced on, but a foreground element is given: the "
+                         "element is the near field, and the %s works on one image only",
+                         p->near_spread == DDOF_LAYER_ON ? "near_spread" : "near_layer",
+                         p->near_spread == DDOF_LAYER_ON ? "near spread" : "near layer");
     return DDOF_OK;
 }
 

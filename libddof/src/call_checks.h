@@ -12,8 +12,13 @@
  * becomes the heat kernel where the solver has no disc form). */
 ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, ddof_params *p);
 
-/* A forced near spread needs signed CoC: judged once the call knows the CoC's sign. */
+/* A forced near spread or near layer needs signed CoC: judged once the call knows the CoC's
+ * sign. */
 ddof_status ddof_check_near_spread(ddof_context *context, const ddof_params *p);
+
+/* A separately rendered foreground element is the near field: neither one-image near effect
+ * may be forced on beside it. */
+ddof_status ddof_check_element_near(ddof_context *context, const ddof_params *p);
 
 /* A camera's pixel aspect within what the diffusion accepts (as params.pixel_aspect). */
 ddof_status ddof_check_camera_aspect(ddof_context *context, const ddof_camera *camera);

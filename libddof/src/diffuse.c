@@ -5,6 +5,7 @@
 
 #include "backend.h"
 #include "layers.h"
+#include "near_layer.h"
 #include "parallel_rows.h"
 #include "planner.h"
 #include "preview_cod4.h"
@@ -123,6 +124,42 @@ static ddof_status run_single(ddof_context *context, const adi_request *r, const
     return DDOF_OK;
 }
 
+/* The near layer: the frame's near field becomes the foreground element and the rest, with
+ * what it hid filled in, the image the other layers blur (near_layer.h). The element's CoC is
+ * the frame's own (the layers read its |CoC| where the element's alpha is above 0); the
+ * background layer's area grows by the edges the fill made. */
+static ddof_status split_near_layer(ddof_context *context, layers_request *q,
+                                    coc_analysis *analysis, frame_plan *plan)
+{
+    adi_request *r = &q->base;
+    near_split split;
+    ddof_status status =
+        ddof_split_near(context, r, q->params->near_layer_threshold_px, &split);
+    if (status != DDOF_OK)
+        return status;
+    q->fg_color = split.element;
+    q->fg_color_stride = (size_t)r->width * 4;
+    q->fg_coc = r->coc;
+    q->fg_coc_stride = r->coc_stride;
+    q->fg_coc_channels = r->coc_channels;
+    q->fg_premultiplied = 1;
+    q->fg_carried_alpha = split.carried_alpha;
+    q->fg_carried_stride = r->width;
+    q->fg_box = split.box;
+    q->fg_max_coc = split.max_coc;
+    plan->foreground = split.element_pixels > 0;
+    r->color = split.rest;
+    r->color_stride = (size_t)r->width * r->channels;
+    r->coc = split.rest_coc;
+    r->coc_stride = r->width;
+    r->coc_channels = 1;
+    coc_analysis rest;
+    ddof_analyse_coc(context, r->coc, r->coc_stride, 1, r->width, r->height, q->params, &rest);
+    analysis->background_box = box_union(analysis->background_box, rest.background_box);
+    analysis->near_box = rest.near_box;
+    return DDOF_OK;
+}
+
 /* Plans the frame, runs what the plan says, reports it. */
 ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_given,
                              int fg_visible, float known_max_coc, ddof_stats *stats,
@@ -138,8 +175,17 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
         ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
                          q->params, &analysis);
     frame_plan plan;
-    ddof_plan_frame(&analysis, q->params, fg_given, fg_visible, &plan);
+    ddof_plan_frame(&analysis, q->params, r->channels, fg_given, fg_visible, &plan);
     const double seconds_plan = ddof_seconds() - t_plan;
+    double seconds_near_layer = 0.0;
+    if (plan.near_layer && !plan.copy_only) {
+        const double t0 = ddof_seconds();
+        ddof_status status = split_near_layer(context, q, &analysis, &plan);
+        if (status != DDOF_OK)
+            return status;
+        fg_visible = plan.foreground;
+        seconds_near_layer = ddof_seconds() - t0;
+    }
 
     layers_report report = {.adi = {.threads = context->thread_count,
                                     .lines_skipped = (uint64_t)r->width + r->height}};
@@ -161,6 +207,9 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
     full.seconds_background = report.seconds_background;
     full.seconds_foreground = report.seconds_foreground;
     full.seconds_highlights = report.seconds_highlights;
+    full.seconds_near_layer = seconds_near_layer;
+    if (plan.near_layer)
+        full.effects |= DDOF_EFFECT_NEAR_LAYER;
     memcpy(full.plan, plan.text, sizeof full.plan);
     if (report.highlights_line[0]) {
         const size_t used = strlen(full.plan);
@@ -231,11 +280,8 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
     if (status == DDOF_OK && foreground && p.method == DDOF_METHOD_COD4_PREVIEW)
         status = ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
                            "the CoD4 preview takes no foreground element");
-    if (status == DDOF_OK && foreground && p.near_spread == DDOF_LAYER_ON)
-        status = ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                           "params.near_spread is forced on, but a foreground element is given: "
-                           "the element is the near field, and the near spread works on one "
-                           "image only");
+    if (status == DDOF_OK && foreground)
+        status = ddof_check_element_near(context, &p);
     if (status == DDOF_OK && foreground)
         status = ddof_read_foreground(context, foreground, &q, &fg_visible);
     if (status != DDOF_OK)

@@ -81,11 +81,9 @@ static ddof_status check_foreground(ddof_context *context, frame_setup *s, const
     if (p->method == DDOF_METHOD_COD4_PREVIEW)
         return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
                          "the CoD4 preview blurs one image and takes no foreground element");
-    if (p->near_spread == DDOF_LAYER_ON)
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.near_spread is forced on, but a foreground element is given: "
-                         "the element is the near field, and the near spread works on one "
-                         "image only");
+    ddof_status near = ddof_check_element_near(context, p);
+    if (near != DDOF_OK)
+        return near;
     const int wants_coc = s->source == SOURCE_GIVEN;
     if (wants_coc ? !coc_given || depth_given : !depth_given || coc_given)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,

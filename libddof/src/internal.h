@@ -33,6 +33,10 @@ enum {
     DDOF_SCRATCH_HIGHLIGHT_COUNTS, /* highlights.c: per-chunk counts                    */
     DDOF_SCRATCH_HIGHLIGHTS,       /* highlights.c: the highlights found                 */
     DDOF_SCRATCH_HIGHLIGHT_BASE,   /* the colour with the highlights taken out           */
+    DDOF_SCRATCH_NEAR_REST,        /* near_layer.c: the colour with the near field filled */
+    DDOF_SCRATCH_NEAR_REST_COC,    /* near_layer.c: its CoC                              */
+    DDOF_SCRATCH_NEAR_ELEMENT,     /* near_layer.c: the near field as premultiplied RGBA */
+    DDOF_SCRATCH_NEAR_PYRAMID,     /* near_layer.c: the fill's pull-push levels          */
     DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
     DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };

@@ -270,7 +270,8 @@ static void holds_value_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chun
         j->a[i] = j->rgba[i * 4 + 3] > 0.0f || j->b[i] > 0.0f ? 1.0f : 0.0f;
 }
 
-/* out = F + (1 - F.a) out on the colour channels (and alpha, with 4 channels). */
+/* out = F + (1 - F.a) out on the colour channels; with 4 channels the alpha channel likewise,
+ * the element's part of it being its coverage F.a, or the blurred carried alpha in b. */
 static void composite_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
@@ -280,6 +281,7 @@ static void composite_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint
     for (uint32_t y = y0; y < y1; y++) {
         float *out = r->out + (size_t)y * r->out_stride;
         const float *f = j->a + (size_t)y * r->width * 4;
+        const float *carried = j->b ? j->b + (size_t)y * r->width : NULL;
         for (uint32_t x = 0; x < r->width; x++) {
             const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, f[x * 4 + 3]));
             if (alpha <= 0.0f)
@@ -287,7 +289,7 @@ static void composite_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint
             for (uint32_t c = 0; c < 3; c++)
                 out[x * C + c] = f[x * 4 + c] + (1.0f - alpha) * out[x * C + c];
             if (C == 4)
-                out[x * 4 + 3] = alpha + (1.0f - alpha) * out[x * 4 + 3];
+                out[x * 4 + 3] = (carried ? carried[x] : alpha) + (1.0f - alpha) * out[x * 4 + 3];
         }
     }
 }
@@ -317,6 +319,8 @@ static layers_request crop(const layers_request *q, pixel_box b)
         c.fg_color += (size_t)b.y0 * c.fg_color_stride + (size_t)b.x0 * 4;
         c.fg_coc += (size_t)b.y0 * c.fg_coc_stride + (size_t)b.x0 * c.fg_coc_channels;
     }
+    if (c.fg_carried_alpha)
+        c.fg_carried_alpha += (size_t)b.y0 * c.fg_carried_stride + b.x0;
     r->width = b.x1 - b.x0;
     r->height = b.y1 - b.y0;
     return c;
@@ -501,6 +505,20 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
         report->seconds_highlights += ddof_seconds() - t0;
     }
 
+    job.b = NULL;
+    if (q->fg_carried_alpha && r->channels == 4) {
+        /* The element's part of the frame's alpha channel, blurred as its colour is. */
+        float *carried = scratch(context, SLOT_MAP_A, pixels, &status);
+        if (status != DDOF_OK)
+            return status;
+        adi_request alpha = derived(r, q->fg_carried_alpha, q->fg_carried_stride, 1, carried);
+        alpha.coc = filled;
+        alpha.coc_stride = r->width;
+        alpha.coc_channels = 1;
+        if ((status = diffuse(context, &alpha, st, report)) != DDOF_OK)
+            return status;
+        job.b = carried;
+    }
     ddof_parallel_rows(context, r->height, composite_foreground_rows, &job);
     return DDOF_OK;
 }
@@ -641,7 +659,7 @@ static int element_is_bright(const layers_request *q)
 static int device_runs_frame(ddof_context *context, const layers_request *q,
                              const frame_plan *plan, uint32_t frame_highlights)
 {
-    if (!ddof_backend_runs_layers(context, &q->base))
+    if (!ddof_backend_runs_layers(context, &q->base) || q->fg_carried_alpha)
         return 0;
     const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
     return !(element_lights && (frame_highlights || element_is_bright(q)));
@@ -682,7 +700,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     }
     stages st = {r->progress, r->progress_user, 0,
                  1 + 2 * (plan->background ? p->background_levels : 0) +
-                     3 * (uint32_t)plan->foreground};
+                     (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
 
     /* Diffusing in place overwrites the colour the background layer still needs (the
      * highlight pass's base is a copy already). */

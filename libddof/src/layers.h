@@ -16,6 +16,12 @@ typedef struct layers_request {
     size_t fg_coc_stride;
     uint32_t fg_coc_channels;
     int fg_premultiplied;
+    const float *fg_carried_alpha; /* NULL: the output's alpha channel is composited by the
+                                      element's coverage (alpha); else the element's part of
+                                      the frame's alpha channel (w x h, stride fg_carried_stride),
+                                      blurred like its colour and composited as colour is: the
+                                      near layer of a frame whose alpha is not 1 where it splits */
+    size_t fg_carried_stride;
     pixel_box fg_box;          /* where the element's alpha > 0                              */
     float fg_max_coc;          /* its largest |CoC| there                                    */
     pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */

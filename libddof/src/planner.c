@@ -25,7 +25,7 @@ typedef struct analysis_job {
     const float *coc;
     size_t stride;
     uint32_t channels, width, height;
-    float bg_threshold, bg_insulator, near_threshold;
+    float bg_threshold, bg_insulator, near_threshold, near_layer_threshold;
     coc_analysis *chunks; /* one per row chunk */
 } analysis_job;
 
@@ -68,8 +68,11 @@ static void analyse_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
                 a.background_edges++;
                 box_add(&a.background_box, x, y);
             }
-            if (c < 0.0f && d >= job->near_threshold && min_neighbour(job, x, y) < 0.5f * d)
-                a.near_edges++;
+            if (c < 0.0f && d >= ddof_minf(job->near_threshold, job->near_layer_threshold)) {
+                const float m = min_neighbour(job, x, y);
+                a.near_edges += d >= job->near_threshold && m < 0.5f * d;
+                a.near_layer_edges += d >= job->near_layer_threshold && m < 0.5f * d;
+            }
         }
     }
     job->chunks[chunk] = a;
@@ -84,7 +87,8 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
     coc_analysis chunks[max_chunks];
     analysis_job job = {coc, coc_stride, coc_channels, width, height,
                         params->background_threshold_px, params->background_ramp_start_px,
-                        params->near_spread_threshold_px, chunks};
+                        params->near_spread_threshold_px, params->near_layer_threshold_px,
+                        chunks};
     ddof_parallel_rows(context, height, analyse_rows, &job);
     *analysis = none;
     analysis->background_box = box_empty();
@@ -96,6 +100,7 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
         analysis->max_near_coc = ddof_maxf(analysis->max_near_coc, chunks[c].max_near_coc);
         analysis->background_edges += chunks[c].background_edges;
         analysis->near_edges += chunks[c].near_edges;
+        analysis->near_layer_edges += chunks[c].near_layer_edges;
     }
 }
 
@@ -122,8 +127,33 @@ static const char *forced(ddof_layer_mode mode)
     return mode == DDOF_LAYER_ON ? "forced on" : "forced off";
 }
 
-void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground_given,
-                     int foreground_visible, frame_plan *plan)
+/* The near layer's decision (one image, signed CoC, no element). */
+static void plan_near_layer(const coc_analysis *a, const ddof_params *p, uint32_t channels,
+                            frame_plan *plan)
+{
+    if (p->near_layer == DDOF_LAYER_OFF) {
+        say(plan, "near layer: %s", forced(p->near_layer));
+    } else if (channels < 3) {
+        say(plan, "near layer: off: %u colour channel%s (the layer needs RGB)", channels,
+            channels == 1 ? "" : "s");
+    } else if (p->near_layer == DDOF_LAYER_ON) {
+        plan->near_layer = 1;
+        say(plan, "near layer: %s", forced(p->near_layer));
+    } else if (p->near_spread == DDOF_LAYER_ON) {
+        say(plan, "near layer: off: the near spread is forced on");
+    } else if (a->near_layer_edges > 0) {
+        plan->near_layer = 1;
+        say(plan, "near layer: on: %llu near pixels with CoC >= %.3g px at a silhouette",
+            (unsigned long long)a->near_layer_edges, (double)p->near_layer_threshold_px);
+    } else {
+        say(plan, "near layer: off: no blurred near silhouette with CoC >= %.3g px (largest "
+                  "near CoC %.3g px)",
+            (double)p->near_layer_threshold_px, (double)a->max_near_coc);
+    }
+}
+
+void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color_channels,
+                     int foreground_given, int foreground_visible, frame_plan *plan)
 {
     const int has_foreground = foreground_given && foreground_visible;
     const char *no_foreground = foreground_given
@@ -139,6 +169,7 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground
             (double)a->max_coc, (double)p->in_focus_threshold_px);
         say(plan, "background: off: nothing is out of focus");
         say(plan, "near spread: off: nothing is out of focus");
+        say(plan, "near layer: off: nothing is out of focus");
         say(plan, "%s", no_foreground);
         say(plan, "highlights: off: nothing is out of focus");
         return;
@@ -163,10 +194,22 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, int foreground
         plan->foreground = 1;
         say(plan, "foreground: on: a foreground element was given");
         say(plan, "near spread: off: the foreground element covers the near field");
+        say(plan, "near layer: off: the foreground element covers the near field");
     } else {
-        say(plan, "%s", no_foreground);
+        if (!p->coc_signed) {
+            say(plan, "near layer: off: the CoC is unsigned (near and far unknown)");
+            say(plan, "%s", no_foreground);
+        } else {
+            plan_near_layer(a, p, color_channels, plan);
+            if (plan->near_layer)
+                say(plan, "foreground: on: the near layer");
+            else
+                say(plan, "%s", no_foreground);
+        }
         if (!p->coc_signed) {
             say(plan, "near spread: off: the CoC is unsigned (near and far unknown)");
+        } else if (plan->near_layer) {
+            say(plan, "near spread: off: the near layer takes the near field");
         } else if (p->near_spread != DDOF_LAYER_AUTO) {
             plan->near_spread = p->near_spread == DDOF_LAYER_ON;
             say(plan, "near spread: %s", forced(p->near_spread));

@@ -12,6 +12,7 @@ typedef struct coc_analysis {
     uint64_t background_edges;/* far pixels, CoC >= threshold, next to |CoC| < ramp start  */
     uint64_t near_edges;      /* near pixels with |CoC| >= near threshold next to a pixel  */
                               /* with less than half their |CoC|                           */
+    uint64_t near_layer_edges;/* the same with the near layer's threshold                  */
     pixel_box background_box; /* where the background edges are                            */
     pixel_box near_box;       /* where the near-field pixels are (CoC < 0)                  */
 } coc_analysis;
@@ -20,6 +21,7 @@ typedef struct frame_plan {
     int copy_only;     /* nothing out of focus and no foreground: output = input       */
     int background;    /* run the background layer(s)                                  */
     int near_spread;   /* spread the near-field CoC before the midground diffusion     */
+    int near_layer;    /* split the near field off as the foreground element           */
     int foreground;    /* blur the foreground element and composite it over            */
     int highlights;    /* look for highlights (the pass says what it found: layers.c) */
     char text[512];    /* the decisions and their reasons, one line each               */
@@ -30,9 +32,10 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
                       uint32_t coc_channels, uint32_t width, uint32_t height,
                       const ddof_params *params, coc_analysis *analysis);
 
-/* Decisions from the analysis, the parameters' AUTO/ON/OFF and the foreground element: whether
- * one was given, and whether any of its alpha is above 0. */
+/* Decisions from the analysis, the parameters' AUTO/ON/OFF, the colour's channels and the
+ * foreground element: whether one was given, and whether any of its alpha is above 0. */
 void ddof_plan_frame(const coc_analysis *analysis, const ddof_params *params,
-                     int foreground_given, int foreground_visible, frame_plan *plan);
+                     uint32_t color_channels, int foreground_given, int foreground_visible,
+                     frame_plan *plan);
 
 #endif

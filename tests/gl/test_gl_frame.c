@@ -83,6 +83,7 @@ static float *midground_alone(ddof_params p, const float *color, const float *co
     float *mid = alloc_f((size_t)W * H * CH);
     p.background = DDOF_LAYER_OFF;
     p.near_spread = DDOF_LAYER_OFF;
+    p.near_layer = DDOF_LAYER_OFF;
     CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, NULL, mid, W, H, CH, NULL), DDOF_OK);
     return mid;
 }
@@ -161,10 +162,24 @@ static void frames(ddof_kernel kernel)
     p.kernel = kernel;
     scene(color, coc, 1);
     p.coc_signed = 1;
+    p.near_layer = DDOF_LAYER_OFF;
     compare("near spread + background", p, color, coc, NULL,
             DDOF_EFFECT_NEAR_SPREAD | DDOF_EFFECT_BACKGROUND);
     p.background = DDOF_LAYER_OFF;
     compare("near spread alone", p, color, coc, NULL, DDOF_EFFECT_NEAR_SPREAD);
+
+    /* The near layer: split on the CPU, the element and the filled rest uploaded with the
+     * frame, the rest as for an element. Opaque pixels and no highlights: all on the device. */
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        color[i * CH + 3] = 1.0f;
+    p.near_layer = DDOF_LAYER_AUTO;
+    p.background = DDOF_LAYER_AUTO;
+    p.highlights = DDOF_LAYER_OFF;
+    compare("near layer + background", p, color, coc, NULL,
+            DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
+    p.background = DDOF_LAYER_OFF;
+    compare("near layer alone", p, color, coc, NULL,
+            DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_FOREGROUND);
 
     float *fg_color = alloc_f((size_t)W * H * 4), *fg_coc = alloc_f((size_t)W * H);
     element(fg_color, fg_coc);
@@ -244,6 +259,30 @@ static void highlights(ddof_kernel kernel)
               sc.effects, sc.plan);
     CHECK_EQ_INT(sg.effects, sc.effects);
     CHECK(sg.device_uploads > 1);
+
+    /* The near layer of a frame whose alpha is not 1 under the near field: the element carries
+     * its part of the alpha channel, a fifth channel the device's frame does not have, so one
+     * request at a time again; and with highlights in the near field, as for an element. */
+    scene(color, coc, 1);
+    p.coc_signed = 1;
+    for (int lights = 0; lights < 2; lights++) {
+        p.highlights = lights ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
+        if (lights)
+            for (size_t i = 0; i < (size_t)W * H; i++)
+                color[i * CH + 3] = 1.0f;
+        sc = stats_init();
+        sg = stats_init();
+        CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, NULL, ref, W, H, CH, &sc), DDOF_OK);
+        CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, NULL, out, W, H, CH, &sg), DDOF_OK);
+        const double e3 = max_diff(out, ref, n);
+        CHECK_MSG(e3 <= TOL_FRAME, "near layer, %s %s: GL vs CPU %.3g",
+                  lights ? "highlights" : "alpha not 1", ddof_kernel_name(kernel), e3);
+        CHECK_MSG(sc.effects & DDOF_EFFECT_NEAR_LAYER, "near layer: effects %u (%s)", sc.effects,
+                  sc.plan);
+        CHECK(!lights || sc.effects & DDOF_EFFECT_HIGHLIGHTS);
+        CHECK_EQ_INT(sg.effects, sc.effects);
+        CHECK(sg.device_uploads > 1);
+    }
     free(ref);
     free(out);
     free(fg_color);
@@ -371,6 +410,7 @@ static void larger_frame(void)
     p.solver = DDOF_SOLVER_THOMAS;
     p.kernel = DDOF_KERNEL_HEAT;
     p.coc_signed = 1;
+    p.near_layer = DDOF_LAYER_OFF;
     scene(color, coc, 1);
     compare("300x160, near spread + background", p, color, coc, NULL,
             DDOF_EFFECT_NEAR_SPREAD | DDOF_EFFECT_BACKGROUND);

@@ -212,6 +212,13 @@ const cli_option cli_option_table[] = {
     {"--near-spread-threshold", LAYERS, FLOAT(near_spread_threshold, "PX", CLI_POSITIVE),
      PARAMS(near_spread_threshold_px), .setting = "near_spread_threshold_px",
      .help = "near CoC from which the silhouettes spread (default 4)"},
+    {"--near-layer", LAYERS, CHOICE(near_layer, cli_choices_layer_mode), PARAMS(near_layer),
+     .setting = "near_layer",
+     .help = "blurred near objects turn see-through (one image: the near\n"
+             "field split off, what it hid filled in)"},
+    {"--near-layer-threshold", LAYERS, FLOAT(near_layer_threshold, "PX", CLI_POSITIVE),
+     PARAMS(near_layer_threshold_px), .setting = "near_layer_threshold_px",
+     .help = "near CoC from which a pixel is wholly in the near layer (default 8)"},
     {"--highlights", LAYERS, CHOICE(highlights, cli_choices_layer_mode), PARAMS(highlights),
      .setting = "highlights",
      .help = "the brightest blurred pixels drawn as crisp discs (HDR bokeh)"},

@@ -21,6 +21,7 @@ static void defaults(cli_options *o)
     o->solver = -1;
     o->background = -1;
     o->near_spread = -1;
+    o->near_layer = -1;
     o->highlights = -1;
     o->background_ramp_start = -1.0f;
     o->backend = DDOF_BACKEND_AUTO;
@@ -117,9 +118,10 @@ static int check_combination(const cli_options *o)
                 "blurs one image (use --method diffusion with --foreground)\n");
         return -1;
     }
-    if (o->near_spread == DDOF_LAYER_ON && has_foreground) {
-        fprintf(stderr, "ddof: --near-spread on works on one image: with a foreground element "
-                "the element is the near field (leave out --near-spread on)\n");
+    if ((o->near_spread == DDOF_LAYER_ON || o->near_layer == DDOF_LAYER_ON) && has_foreground) {
+        const char *flag = o->near_spread == DDOF_LAYER_ON ? "--near-spread" : "--near-layer";
+        fprintf(stderr, "ddof: %s on works on one image: with a foreground element the element "
+                "is the near field (leave out %s on)\n", flag, flag);
         return -1;
     }
     if (o->gl_plugin && o->backend == DDOF_BACKEND_CPU) {

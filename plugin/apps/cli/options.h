@@ -83,6 +83,8 @@ typedef struct cli_options {
     uint32_t background_levels;   /* 0: default */
     int near_spread;              /* ddof_layer_mode or -1 */
     float near_spread_threshold;  /* px; 0: default */
+    int near_layer;               /* ddof_layer_mode or -1 */
+    float near_layer_threshold;   /* px; 0: default */
     int highlights;               /* ddof_layer_mode or -1 */
     float highlight_threshold;    /* 0: default */
     int coc_signed;               /* --coc-signed: the CoC channel marks the near field < 0 */

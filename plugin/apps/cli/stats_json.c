@@ -21,6 +21,7 @@ void stats_effects(const ddof_stats *s, char *out, size_t out_size)
     } effects[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
                    {DDOF_EFFECT_BACKGROUND, "background"},
                    {DDOF_EFFECT_NEAR_SPREAD, "near spread"},
+                   {DDOF_EFFECT_NEAR_LAYER, "near layer"},
                    {DDOF_EFFECT_FOREGROUND, "foreground"},
                    {DDOF_EFFECT_HIGHLIGHTS, "highlights"}};
     size_t used = 0, i;
@@ -255,6 +256,7 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
             } names[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
                          {DDOF_EFFECT_BACKGROUND, "background"},
                          {DDOF_EFFECT_NEAR_SPREAD, "near_spread"},
+                         {DDOF_EFFECT_NEAR_LAYER, "near_layer"},
                          {DDOF_EFFECT_FOREGROUND, "foreground"},
                          {DDOF_EFFECT_HIGHLIGHTS, "highlights"}};
             cJSON *effects = cJSON_CreateObject();
@@ -283,6 +285,7 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddNumberToObject(t, "background", r->stats.seconds_background);
         cJSON_AddNumberToObject(t, "foreground", r->stats.seconds_foreground);
         cJSON_AddNumberToObject(t, "highlights", r->stats.seconds_highlights);
+        cJSON_AddNumberToObject(t, "near_layer", r->stats.seconds_near_layer);
         cJSON_AddNumberToObject(t, "library_total", r->stats.seconds_total);
         cJSON_AddNumberToObject(t, "write", r->seconds_write);
         cJSON_AddNumberToObject(t, "preview", r->seconds_preview);

@@ -1,0 +1,415 @@
+/* SPDX-License-Identifier: MIT */
+/* near_layer.c - the near field of one image split off as a foreground element, and the fill of
+ * what it hid (near_layer.h).
+ *
+ * A hole pixel's fill is the mean of two guesses, each a weighted mean of sources (so the fill
+ * is NaN-free, within the sources' range, and a frame without any source says so: split->filled
+ * = 0, and the rest keeps the input there):
+ *  - pull-push (Gortler et al. 1996, "The Lumigraph"): the sources' values averaged down a
+ *    pyramid of halved images, each coarse pixel's weight the sum of its children's clamped to
+ *    1, and pushed back up, each pixel keeping its own value by its weight and taking the rest
+ *    from the coarser level, bilinearly. Fills a hole of any size in time linear in the frame,
+ *    smoothly, but blends everything around a large hole;
+ *  - across the hole: along its row and its column, linear between the sources at the two ends
+ *    of its run, the shorter run dominating (weight 1 / length^2). Across a thin near object
+ *    the two sides it separates are the best guess of what it hides, but a single line
+ *    streaks, so its end values are 2x2 means of sources (the pyramid's first level).
+ * On the study's near_occluder the mean beat each alone (docs/accuracy.md, the near layer). */
+#include "near_layer.h"
+
+#include "parallel_rows.h"
+
+#include <math.h>
+#include <string.h>
+
+/* Colour channels (at most 4) plus the signed CoC. */
+#define MAX_VALUES 5
+
+/* The pyramid level whose means are the line fill's end values (2x2 pixels: one texel of a
+ * textured surface no longer streaks across a run; coarser levels measured no better), and the
+ * share of the pull-push fill in a hole (the line fill keeps the two sides' structure, pull-push
+ * has no streaks; the mean beat either alone). Measured on the study's near_occluder
+ * (docs/accuracy.md, the near layer). */
+#define END_LEVEL 1u
+#define PULL_PUSH_SHARE 0.5f
+
+typedef struct level {
+    uint32_t width, height;
+    float *values; /* `count` values per pixel, the weighted mean of its sources */
+    float *weight; /* in [0, 1]                                                  */
+} level;
+
+enum { MAX_LEVELS = 32 };
+
+typedef struct pyramid {
+    level levels[MAX_LEVELS]; /* levels[0] is the frame itself, read through the request */
+    uint32_t count;           /* levels, the frame included                              */
+    uint32_t values;          /* values per pixel: channels + 1                          */
+} pyramid;
+
+typedef struct split_job {
+    const adi_request *r;
+    float threshold;
+    pyramid *p;
+    uint32_t from; /* pull: the level read; push: the level written */
+    float *rest, *rest_coc, *element;
+    float *carried;     /* the matte times the input's alpha (4 channels)              */
+    float *row_weight;  /* the row interpolation's weight per pixel (0: none)          */
+    near_split *chunks; /* finish: one per row chunk */
+} split_job;
+
+static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
+{
+    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
+}
+
+/* A pixel outside the element is a source of the fill; a near one counts less, the more
+ * blurred it is (what a near object hides is background, not more of the near field). */
+static float source_weight(float c, float threshold)
+{
+    if (ddof_near_matte(c, threshold) > 0.0f)
+        return 0.0f;
+    return c >= 0.0f ? 1.0f : 1.0f + c / threshold; /* > 0.5 on this side of threshold / 2 */
+}
+
+/* The values and weight of pixel (x, y) of level l: level 0 is the request's frame. */
+static float fetch(const split_job *j, uint32_t l, uint32_t x, uint32_t y, float *v)
+{
+    const pyramid *p = j->p;
+    if (l == 0) {
+        const adi_request *r = j->r;
+        const float c = coc_at(r, x, y);
+        const float *px = r->color + (size_t)y * r->color_stride + (size_t)x * r->channels;
+        for (uint32_t k = 0; k < r->channels; k++)
+            v[k] = px[k];
+        v[r->channels] = c;
+        return source_weight(c, j->threshold);
+    }
+    const level *lv = &p->levels[l];
+    const size_t i = (size_t)y * lv->width + x;
+    memcpy(v, lv->values + i * p->values, p->values * sizeof(float));
+    return lv->weight[i];
+}
+
+/* Level from + 1 from level from: each pixel the weighted mean of its (up to 4) children. */
+static void pull_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    const level *fine = &j->p->levels[j->from];
+    const level *coarse = &j->p->levels[j->from + 1];
+    const uint32_t n = j->p->values;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < coarse->width; x++) {
+            float sum[MAX_VALUES] = {0}, v[MAX_VALUES];
+            float total = 0.0f;
+            for (uint32_t dy = 0; dy < 2; dy++)
+                for (uint32_t dx = 0; dx < 2; dx++) {
+                    const uint32_t fx = 2 * x + dx, fy = 2 * y + dy;
+                    if (fx >= fine->width || fy >= fine->height)
+                        continue;
+                    const float w = fetch(j, j->from, fx, fy, v);
+                    if (w <= 0.0f)
+                        continue;
+                    total += w;
+                    for (uint32_t k = 0; k < n; k++)
+                        sum[k] += w * v[k];
+                }
+            const size_t i = (size_t)y * coarse->width + x;
+            for (uint32_t k = 0; k < n; k++)
+                coarse->values[i * n + k] = total > 0.0f ? sum[k] / total : 0.0f;
+            coarse->weight[i] = ddof_minf(1.0f, total);
+        }
+}
+
+/* The coarse level's values at fine pixel (x, y), bilinearly (pixel centres aligned). */
+static void upsample(const level *coarse, uint32_t n, uint32_t x, uint32_t y, float *out)
+{
+    const float u = ddof_maxf(0.0f, 0.5f * (float)x - 0.25f);
+    const float t = ddof_maxf(0.0f, 0.5f * (float)y - 0.25f);
+    uint32_t x0 = (uint32_t)u, y0 = (uint32_t)t;
+    x0 = x0 < coarse->width ? x0 : coarse->width - 1;
+    y0 = y0 < coarse->height ? y0 : coarse->height - 1;
+    const uint32_t x1 = x0 + 1 < coarse->width ? x0 + 1 : x0;
+    const uint32_t y1 = y0 + 1 < coarse->height ? y0 + 1 : y0;
+    const float fx = ddof_minf(1.0f, u - (float)x0), fy = ddof_minf(1.0f, t - (float)y0);
+    const float *a = coarse->values + ((size_t)y0 * coarse->width + x0) * n;
+    const float *b = coarse->values + ((size_t)y0 * coarse->width + x1) * n;
+    const float *c = coarse->values + ((size_t)y1 * coarse->width + x0) * n;
+    const float *d = coarse->values + ((size_t)y1 * coarse->width + x1) * n;
+    for (uint32_t k = 0; k < n; k++) {
+        const float top = a[k] + fx * (b[k] - a[k]);
+        const float bottom = c[k] + fx * (d[k] - c[k]);
+        out[k] = top + fy * (bottom - top);
+    }
+}
+
+/* Level `from` (>= 1) takes what its weight leaves from level from + 1; its weight becomes 1. */
+static void push_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    const level *fine = &j->p->levels[j->from];
+    const level *coarse = &j->p->levels[j->from + 1];
+    const uint32_t n = j->p->values;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < fine->width; x++) {
+            const size_t i = (size_t)y * fine->width + x;
+            const float w = fine->weight[i];
+            if (w >= 1.0f)
+                continue;
+            float up[MAX_VALUES];
+            upsample(coarse, n, x, y, up);
+            float *v = fine->values + i * n;
+            for (uint32_t k = 0; k < n; k++)
+                v[k] = w * v[k] + (1.0f - w) * up[k];
+            fine->weight[i] = 1.0f;
+        }
+}
+
+/* Whether pixel (x, y) of the frame is a source; if so, v = its neighbourhood's mean of
+ * sources (colour, then CoC): a line's end value, smoothed so that one texel of a textured
+ * surface does not streak across the whole run. */
+static int frame_source(const split_job *j, uint32_t x, uint32_t y, float *v)
+{
+    if (fetch(j, 0, x, y, v) <= 0.0f)
+        return 0;
+    const uint32_t l = j->p->count > END_LEVEL ? END_LEVEL : j->p->count - 1;
+    if (l > 0) {
+        const level *lv = &j->p->levels[l];
+        const size_t i = (size_t)(y >> l) * lv->width + (x >> l);
+        memcpy(v, lv->values + i * j->p->values, j->p->values * sizeof(float));
+    }
+    return 1;
+}
+
+/* Interpolation across a run of non-source pixels [a, b) of one line, from its sources at a - 1
+ * and b (either may be missing: the line's end). Writes the value at offset i of the run and
+ * returns its weight, 1 / (run length)^2, so that the shorter of a pixel's row and column runs
+ * dominates: across a thin near object, the two sides it separates are the best guess of what
+ * it hides. A run with a source at one end only is a weaker guess (its length counts twice);
+ * one without any, none. */
+static float across_run(const float *before, const float *after, uint32_t n, uint32_t a,
+                        uint32_t b, uint32_t i, float *out)
+{
+    const float length = (float)(b - a + 1);
+    if (before && after) {
+        const float t = (float)(i - a + 1) / length;
+        for (uint32_t k = 0; k < n; k++)
+            out[k] = before[k] + t * (after[k] - before[k]);
+        return 1.0f / (length * length);
+    }
+    const float *only = before ? before : after;
+    if (!only)
+        return 0.0f;
+    memcpy(out, only, n * sizeof(float));
+    return 0.25f / (length * length);
+}
+
+/* Row interpolation into the rest (colour and CoC) and row_weight, for every non-source pixel. */
+static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    const adi_request *r = j->r;
+    const uint32_t C = r->channels, n = C + 1;
+    for (uint32_t y = y0; y < y1; y++) {
+        float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES];
+        int have_before = 0;
+        uint32_t x = 0;
+        while (x < r->width) {
+            if (frame_source(j, x, y, v)) {
+                memcpy(before, v, sizeof before);
+                have_before = 1;
+                x++;
+                continue;
+            }
+            uint32_t b = x;
+            int have_after = 0;
+            while (b < r->width && !(have_after = frame_source(j, b, y, after)))
+                b++;
+            for (uint32_t i = x; i < b; i++) {
+                const size_t p = (size_t)y * r->width + i;
+                j->row_weight[p] = across_run(have_before ? before : NULL,
+                                              have_after ? after : NULL, n, x, b, i, v);
+                if (j->row_weight[p] > 0.0f) {
+                    memcpy(j->rest + p * C, v, C * sizeof(float));
+                    j->rest_coc[p] = v[C];
+                }
+            }
+            if (have_after)
+                memcpy(before, after, sizeof before);
+            have_before = have_after;
+            x = b + 1;
+        }
+    }
+}
+
+/* Column interpolation, blended with the row interpolation by their weights; where neither
+ * reaches a source, the pull-push fill. Writes only the holes (matte 1); called over column
+ * chunks. */
+static void fill_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    const adi_request *r = j->r;
+    const uint32_t C = r->channels, n = C + 1;
+    for (uint32_t x = x0; x < x1; x++) {
+        float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES], pp[MAX_VALUES];
+        int have_before = 0;
+        uint32_t y = 0;
+        while (y < r->height) {
+            if (frame_source(j, x, y, v)) {
+                memcpy(before, v, sizeof before);
+                have_before = 1;
+                y++;
+                continue;
+            }
+            uint32_t b = y;
+            int have_after = 0;
+            while (b < r->height && !(have_after = frame_source(j, x, b, after)))
+                b++;
+            for (uint32_t i = y; i < b; i++) {
+                if (ddof_near_matte(coc_at(r, x, i), j->threshold) < 1.0f)
+                    continue; /* a ramp pixel keeps its own colour */
+                const size_t p = (size_t)i * r->width + x;
+                const float wv = across_run(have_before ? before : NULL,
+                                            have_after ? after : NULL, n, y, b, i, v);
+                const float wh = j->row_weight[p];
+                float *rest = j->rest + p * C;
+                upsample(&j->p->levels[1], n, x, i, pp);
+                if (wv + wh > 0.0f) {
+                    const float s = wv / (wv + wh);
+                    for (uint32_t k = 0; k < C; k++)
+                        rest[k] += s * (v[k] - rest[k]);
+                    j->rest_coc[p] += s * (v[C] - j->rest_coc[p]);
+                    const float q = PULL_PUSH_SHARE;
+                    for (uint32_t k = 0; k < C; k++)
+                        rest[k] += q * (pp[k] - rest[k]);
+                    j->rest_coc[p] += q * (pp[C] - j->rest_coc[p]);
+                } else {
+                    memcpy(rest, pp, C * sizeof(float));
+                    j->rest_coc[p] = pp[C];
+                }
+            }
+            if (have_after)
+                memcpy(before, after, sizeof before);
+            have_before = have_after;
+            y = b + 1;
+        }
+    }
+}
+
+/* The frame's pixels: the element, and the rest with its holes filled from level 1. */
+static void finish_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    const split_job *j = user;
+    const adi_request *r = j->r;
+    const uint32_t C = r->channels;
+    const int filled = j->p->count > 1;
+    near_split s = {.box = box_empty()};
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *in = r->color + (size_t)y * r->color_stride;
+        float *rest = j->rest + (size_t)y * r->width * C;
+        float *rest_coc = j->rest_coc + (size_t)y * r->width;
+        float *element = j->element + (size_t)y * r->width * 4;
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float c = coc_at(r, x, y);
+            const float m = ddof_near_matte(c, j->threshold);
+            const float *px = in + (size_t)x * C;
+            for (uint32_t k = 0; k < 3; k++)
+                element[x * 4 + k] = m * px[k];
+            element[x * 4 + 3] = m;
+            if (C == 4) {
+                j->carried[(size_t)y * r->width + x] = m * px[3];
+                s.carried_alpha = m > 0.0f && px[3] != 1.0f ? j->carried : s.carried_alpha;
+            }
+            if (m > 0.0f) {
+                s.element_pixels++;
+                box_add(&s.box, x, y);
+                s.max_coc = ddof_maxf(s.max_coc, fabsf(c));
+            }
+            if (m >= 1.0f && filled) {
+                s.holes++; /* filled by fill_rows and fill_columns */
+            } else {
+                memcpy(rest + (size_t)x * C, px, C * sizeof(float));
+                rest_coc[x] = c;
+            }
+        }
+    }
+    j->chunks[chunk] = s;
+}
+
+/* The pyramid's levels 1.. (halved, rounded up, down to 1 x 1) laid out in one block of
+ * scratch memory; returns the floats it needs, and with memory != NULL points the levels
+ * into it. */
+static size_t lay_out(pyramid *p, uint32_t width, uint32_t height, float *memory)
+{
+    size_t used = 0;
+    p->levels[0] = (level){width, height, NULL, NULL};
+    p->count = 1;
+    while ((width > 1 || height > 1) && p->count < MAX_LEVELS) {
+        width = (width + 1) / 2;
+        height = (height + 1) / 2;
+        const size_t pixels = (size_t)width * height;
+        level *l = &p->levels[p->count++];
+        *l = (level){width, height, memory ? memory + used : NULL,
+                     memory ? memory + used + pixels * p->values : NULL};
+        used += pixels * (p->values + 1);
+    }
+    return used;
+}
+
+ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float threshold,
+                            near_split *split)
+{
+    enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
+    const size_t pixels = (size_t)r->width * r->height;
+    pyramid p = {.values = r->channels + 1};
+    const size_t pyramid_floats = lay_out(&p, r->width, r->height, NULL);
+    float *rest = ddof_scratch_get(context, DDOF_SCRATCH_NEAR_REST,
+                                   pixels * r->channels * sizeof(float));
+    float *rest_coc = ddof_scratch_get(context, DDOF_SCRATCH_NEAR_REST_COC, pixels * sizeof(float));
+    float *element = ddof_scratch_get(context, DDOF_SCRATCH_NEAR_ELEMENT,
+                                      pixels * 4 * sizeof(float));
+    float *levels = ddof_scratch_get(context, DDOF_SCRATCH_NEAR_PYRAMID,
+                                     (pyramid_floats + 2 * pixels) * sizeof(float));
+    if (!rest || !rest_coc || !element || !levels)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the near layer's images for %ux%u", r->width,
+                         r->height);
+    lay_out(&p, r->width, r->height, levels);
+
+    near_split chunks[max_chunks];
+    /* After the pyramid: the row fill's weights, then the carried alpha. */
+    split_job job = {r,       threshold, &p,
+                     0,       rest,      rest_coc,
+                     element, levels + pyramid_floats + pixels,
+                     levels + pyramid_floats,
+                     chunks};
+    for (job.from = 0; job.from + 1 < p.count; job.from++)
+        ddof_parallel_rows(context, p.levels[job.from + 1].height, pull_rows, &job);
+    /* No source anywhere (every pixel in the element): nothing to fill the holes with. */
+    const int filled = p.count > 1 && p.levels[p.count - 1].weight[0] > 0.0f;
+    if (!filled)
+        p.count = 1;
+    for (job.from = p.count > 1 ? p.count - 2 : 0; job.from >= 1; job.from--)
+        ddof_parallel_rows(context, p.levels[job.from].height, push_rows, &job);
+    if (filled) {
+        ddof_parallel_rows(context, r->height, fill_rows, &job);
+        ddof_parallel_rows(context, r->width, fill_columns, &job);
+    }
+    ddof_parallel_rows(context, r->height, finish_rows, &job);
+
+    *split = (near_split){.rest = rest, .rest_coc = rest_coc, .element = element,
+                          .box = box_empty(), .filled = filled};
+    for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++) {
+        split->box = box_union(split->box, chunks[c].box);
+        split->max_coc = ddof_maxf(split->max_coc, chunks[c].max_coc);
+        split->element_pixels += chunks[c].element_pixels;
+        split->holes += chunks[c].holes;
+        split->carried_alpha = chunks[c].carried_alpha ? chunks[c].carried_alpha
+                                                       : split->carried_alpha;
+    }
+    return DDOF_OK;
+}
