@@ -14,8 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *const layer_names[LAYERS_COUNT_] = {"single", "bg", "bg2", "bgnear",
-                                                       "auto", "auto2", "fg", "fgpin"};
+static const char *const layer_names[LAYERS_COUNT_] = {"single", "bg",    "bg2",
+                                                       "bgnear", "auto",  "auto2",
+                                                       "fg",     "fgpin", "autospread"};
 
 int study_config_uses_fg(const study_config *cfg, int fg_element)
 {
@@ -335,8 +336,8 @@ static int add_full(study_config_list *list)
             }
 
     /* The disc kernels (CPU Thomas), with each layer setting. */
-    static const study_layers l_disc[] = {LAYERS_SINGLE, LAYERS_BG, LAYERS_BGNEAR, LAYERS_AUTO,
-                                          LAYERS_FG};
+    static const study_layers l_disc[] = {LAYERS_SINGLE, LAYERS_BG,  LAYERS_BGNEAR,
+                                          LAYERS_AUTO,   LAYERS_FG, LAYERS_AUTOSPREAD};
     for (int k = 1; k < DDOF_KERNEL_COUNT_; k++)
         for (size_t l = 0; l < sizeof l_disc / sizeof *l_disc; l++) {
             c = base;
@@ -409,6 +410,7 @@ void study_config_params(const study_config *cfg, int fg_element, ddof_params *p
     p->coc_signed = 1;
     p->pixel_aspect = 1.0f;
     p->background_levels = 1;
+    p->near_layer = DDOF_LAYER_OFF; /* AUTO in the AUTO settings only */
     switch (cfg->layers) {
     case LAYERS_SINGLE:
         p->background = DDOF_LAYER_OFF;
@@ -430,6 +432,11 @@ void study_config_params(const study_config *cfg, int fg_element, ddof_params *p
         /* fall through */
     case LAYERS_AUTO:
     case LAYERS_COUNT_:
+        p->background = DDOF_LAYER_AUTO;
+        p->near_spread = DDOF_LAYER_AUTO;
+        p->near_layer = DDOF_LAYER_AUTO;
+        break;
+    case LAYERS_AUTOSPREAD:
         p->background = DDOF_LAYER_AUTO;
         p->near_spread = DDOF_LAYER_AUTO;
         break;

@@ -54,10 +54,10 @@ PRESET_METHODS = {"preview": {"diffusion", "cod4"}, "default": {"diffusion"},
 PRESETS_BEATING_BASELINE = {"default", "final"}
 BASELINE_TO_BEAT = "defocus"
 # Only settings a preset can hold and the CPU can run: ddof_params_init_preset sets method,
-# solver, substeps, beta_scale, background, background_levels and near_spread (Jacobi keeps its
-# default 50 sweeps); no foreground element (that is an input, not a setting).
+# solver, substeps, beta_scale, background, background_levels, near_spread and near_layer (Jacobi
+# keeps its default 50 sweeps); no foreground element (that is an input, not a setting).
 PRESET_SOLVERS = {"thomas", "cr", "pcr", "reference"}
-PRESET_LAYERS = {"single", "bg", "bg2", "bgnear", "auto", "auto2"}
+PRESET_LAYERS = {"single", "bg", "bg2", "bgnear", "auto", "auto2", "autospread"}
 
 ACCURACY_TEXT = ("the mean of two means over the scenes with blur: the PSNR over the whole image, "
                  "and the PSNR over the band around depth edges (scenes without such edges count "
@@ -78,8 +78,11 @@ LAYERS_TEXT = {
     "bg": "+ background layer (on, 1 level)",
     "bg2": "+ background layer (on, 2 levels)",
     "bgnear": "+ background + near spread (both on)",
-    "auto": "background and near spread as the planner decides (AUTO)",
+    "auto": "background, near layer and near spread as the planner decides (AUTO; the near "
+            "layer takes the near field where it runs)",
     "auto2": "AUTO, 2 background levels",
+    "autospread": "AUTO without the near layer (libddof 0.5's AUTO: a blurred near object "
+                  "stays opaque, its silhouette spread)",
     "fg": "+ background + the scene's separately rendered foreground element (fg.exr: the near "
           "objects alone) composited over rest.exr (the scene without them), the paper's layers, "
           "where it has one; else near spread on",
@@ -229,10 +232,12 @@ class Config:
         f = self.first
         if self.kind == "cod4":
             return ("DDOF_METHOD_COD4_PREVIEW", "DDOF_SOLVER_THOMAS", 1, 1.0 / 32,
-                    "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO", "DDOF_KERNEL_HEAT")
+                    "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO", "DDOF_KERNEL_HEAT",
+                    "DDOF_LAYER_AUTO")
         return ("DDOF_METHOD_DIFFUSION", SOLVER_C[self.solver], int(self.substeps),
                 float(self.k), LAYER_C[f["background"]], int(f["background_levels"]),
-                LAYER_C[f["near_spread"]], KERNEL_C[self.kernel])
+                LAYER_C[f["near_spread"]], KERNEL_C[self.kernel],
+                LAYER_C[f.get("near_layer", "off")])
 
 
 def k_text(k):
@@ -324,7 +329,7 @@ def write_presets(path, chosen, study, smoke):
         " * Regenerate with: bash study/run.sh%s" % ("  (THIS IS A SMOKE RUN)" if smoke else ""),
         " * Fields: method, solver, substeps, beta_scale, background, background_levels, "
         "near_spread,",
-        " * kernel */",
+        " * kernel, near_layer */",
     ]
     for name in PRESET_ORDER:
         s = chosen[name].settings_c()
@@ -336,8 +341,8 @@ def write_presets(path, chosen, study, smoke):
             # A disc ignores sub-steps and k: keep HEAT_FALLBACK's, so that `--kernel heat` on
             # top of the preset is a sensible heat diffusion.
             s = s[:2] + HEAT_FALLBACK + s[4:]
-        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s}, /* %s */"
-                     % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], s[7], name))
+        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s, %s}, /* %s */"
+                     % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], s[7], s[8], name))
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write("\n".join(lines) + "\n")

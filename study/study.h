@@ -29,13 +29,16 @@ typedef enum study_layers {
     LAYERS_BG,         /* background ON, 1 level, near spread OFF                               */
     LAYERS_BG2,        /* background ON, 2 levels, near spread OFF                              */
     LAYERS_BGNEAR,     /* background ON, 1 level, near spread ON                                */
-    LAYERS_AUTO,       /* background AUTO, 1 level, near spread AUTO (the planner decides)      */
-    LAYERS_AUTO2,      /* background AUTO, 2 levels, near spread AUTO                           */
+    LAYERS_AUTO,       /* background AUTO, 1 level, near layer AUTO, near spread AUTO (the      */
+                       /* planner decides; the near layer takes the near field where it runs)  */
+    LAYERS_AUTO2,      /* background AUTO, 2 levels, near layer and near spread AUTO            */
     LAYERS_FG,         /* background ON, 1 level, and the scene's fg.exr as a foreground       */
                        /* element over rest.exr (everything but the near objects: the paper's  */
                        /* separately rendered layers); scenes without one: near spread ON       */
     LAYERS_FGPIN,      /* the same element over pinhole.exr (`ddof pinhole.exr --foreground`):  */
                        /* the near objects are then in the main image too                       */
+    LAYERS_AUTOSPREAD, /* background AUTO, 1 level, near layer OFF, near spread AUTO: libddof  */
+                       /* 0.5's AUTO (a blurred near object stays opaque)                       */
     LAYERS_COUNT_
 } study_layers;
 

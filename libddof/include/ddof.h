@@ -534,8 +534,9 @@ typedef struct ddof_foreground {
 DDOF_API void ddof_foreground_init(ddof_foreground *foreground);
 
 /* ddof_diffuse with the layers: the planner analyses the CoC field and runs the midground
- * diffusion, the background layer(s), the near-field spread and the foreground element as
- * params and the scene call for (ddof_stats.effects and .plan say what ran and why).
+ * diffusion, the background layer(s), the near layer or the near-field spread and the
+ * foreground element as params and the scene call for (ddof_stats.effects and .plan say what
+ * ran and why).
  *  - Background: matte a = 0 below background_ramp_start_px, 1 at the threshold; the CoC is
  *    filled into the holes (where a = 0: diffused with gamma = 0 there and 1 elsewhere,
  *    constant beta of the threshold), then the colour is diffused with the same gamma and the
@@ -552,7 +553,17 @@ DDOF_API void ddof_foreground_init(ddof_foreground *foreground);
  *    4 channels and an element with 4 (else DDOF_ERROR_BAD_CHANNELS); with 4 the output alpha
  *    is composited too. Its CoC is filled in two ADI steps: the first reaches the pixels that
  *    share a row or column with the element, the second all the others, so its halo is round.
- *  - Near spread needs coc_signed = 1 and no foreground element.
+ *  - Near layer (one image, coc_signed = 1, colour with 3 or 4 channels, no element): the
+ *    near matte m = 0 down to |CoC| = near_layer_threshold_px / 2, 1 from the threshold,
+ *    linear between; the element is m times the colour (premultiplied, alpha m), the rest is
+ *    the colour with every pixel of m = 1 replaced by a fill of its surroundings' colour and
+ *    CoC (pixels of m = 0, near ones counting less), and the foreground path above runs with
+ *    them: out = F + (1 - F.a) (the layers of the rest). Where nothing blurs this gives the
+ *    input back. With 4 channels and an alpha other than 1 under the near field, the element
+ *    carries m times that alpha into the output's alpha channel, so the alpha is kept. A frame
+ *    with no pixel outside the element has nothing to fill from: the rest keeps the input.
+ *  - Near spread needs coc_signed = 1 and no foreground element; it does not run where the
+ *    near layer does.
  * Every failure leaves out untouched, as for ddof_diffuse. */
 DDOF_API ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
                                          const ddof_image_in *color, const ddof_image_in *coc,

@@ -26,6 +26,7 @@ typedef struct preset_settings {
     uint32_t background_levels;
     ddof_layer_mode near_spread;
     ddof_kernel kernel;
+    ddof_layer_mode near_layer;
 } preset_settings;
 
 /* Written by the accuracy study from its measured front (docs/accuracy.md). */
@@ -70,7 +71,7 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
         .in_focus_threshold_px = DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX,
         .highlights = DDOF_LAYER_AUTO,
         .highlight_threshold = 0.25f, /* measured: docs/disc-kernel.md, the highlight pass */
-        .near_layer = DDOF_LAYER_AUTO,
+        .near_layer = s->near_layer,
         .near_layer_threshold_px = 8.0f,
     };
     return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;

@@ -22,7 +22,8 @@ For each scene, into DIR/<scene>/:
   camera_1080.json   its sidecar (the same camera, resolution [1920, 1080]);
   render.json        what was rendered with which settings, and how long each render took.
 
-Scenes: thin_bars, near_occluder, receding_plane, highlights, all_sharp (README.md beside this
+Scenes: thin_bars, near_occluder, receding_plane, highlights, all_sharp, near_railing,
+near_border (README.md beside this
 file says what each stresses). Every material is emission-only ("unlit": an albedo texture
 times a fixed fake-Lambert term computed from the shading normal, no light sampling) and the
 renders use no bounces, so the only noise in the truth is that of integrating the lens and the
@@ -46,7 +47,8 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from script_util import parse, quiet, write_json  # noqa: E402
 
 SCRIPT = os.path.abspath(__file__)
-SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp"]
+SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp",
+               "near_railing", "near_border"]
 
 # Truth samples per scene at the default size: chosen so that two truth renders with
 # different seeds are >= 40 dB apart (README.md, "Noise floor").
@@ -56,6 +58,8 @@ TRUTH_SAMPLES = {
     "receding_plane": 2048,
     "highlights": 8192,
     "all_sharp": 512,
+    "near_railing": 2048,
+    "near_border": 2048,
 }
 SENSOR_MM = 36.0
 LIGHT_DIR = (0.42, -0.55, 0.72)  # the fake-Lambert light, world space (normalised below)
@@ -398,6 +402,51 @@ def build_highlights(scene):
     return cam, near
 
 
+def build_near_railing(scene):
+    """A railing 0.5 m from the lens (CoC ~90 px; balusters 2.4 cm, ~50 px, so the lens sees
+    around them) over a chequered Suzanne in focus at 3 m and a hedge-like wall at 12 m."""
+    cam = dict(focal_mm=85.0, fstop=1.8, focus_m=3.0, height=1.1, pitch=0.0)
+    set_world(scene, (0.62, 0.7, 0.82))
+    hedge = unlit("Hedge", multiply(
+        checker((0.2, 0.45, 0.15, 1), (0.35, 0.6, 0.25, 1), 8.0),
+        texture("ShaderNodeTexBrick", [(1.0, 1.0, 1.0, 1), (0.7, 0.8, 0.6, 1)], 1.0,
+                bricks(0.35, 0.12, 0.02, (0.15, 0.25, 0.1, 1.0)))), ambient=0.6, key=0.4)
+    wall("Hedge", hedge, (30.0, 12.0), 12.0, 1.1)
+    skin = unlit("Subject", checker((0.2, 0.35, 0.8, 1), (0.95, 0.9, 0.8, 1), 12.0))
+    monkey("Subject", skin, (0.1, 3.0, 1.05), 0.45)
+    wood = unlit("Wood", multiply(texture("ShaderNodeTexWave", None, 20.0, wave_z),
+                                  (lambda n, l: _rgb(n, (0.55, 0.33, 0.16)))))
+    d = 0.5
+    near = []
+    # The top rail across the lower third, four balusters below it.
+    near.append(rod("Rail", wood, at(cam, -1.3, -0.35, d), at(cam, 1.3, -0.35, d),
+                    0.012).name)
+    for i, u in enumerate([-0.75, -0.25, 0.25, 0.75]):
+        near.append(rod("Baluster%d" % i, wood, at(cam, u, -1.3, d), at(cam, u, -0.35, d),
+                        0.012).name)
+    return cam, near
+
+
+def build_near_border(scene):
+    """A dark door frame at 0.8 m covering the frame's left edge (CoC ~45 px) and a ball at
+    1 m cut by the top edge, over a subject in focus at 4 m and a brick wall at 10 m."""
+    cam = dict(focal_mm=85.0, fstop=1.4, focus_m=4.0, height=1.2, pitch=0.0)
+    set_world(scene, (0.5, 0.62, 0.85))
+    brick = unlit("Wall", texture("ShaderNodeTexBrick", [(0.75, 0.4, 0.2, 1),
+                                                         (0.5, 0.25, 0.12, 1)], 1.0,
+                                  bricks(0.4, 0.2, 0.03, (0.85, 0.82, 0.75, 1.0))))
+    wall("Wall", brick, (20.0, 10.0), 10.0, 1.2)
+    skin = unlit("Subject", checker((0.85, 0.45, 0.08, 1), (0.95, 0.9, 0.75, 1), 12.0))
+    monkey("Subject", skin, (-0.1, 4.0, 1.15), 0.6)
+    paint = unlit("Frame", multiply(checker((0.12, 0.1, 0.1, 1), (0.3, 0.25, 0.22, 1), 30.0),
+                                    (lambda n, l: _rgb(n, (0.9, 0.9, 0.9)))))
+    left = at(cam, -1.25, 0.0, 0.8)
+    door = box("Door", paint, (left[0] + 0.02, 0.8, cam["height"]), (0.12, 0.05, 3.0))
+    ball_mat = unlit("Ball", checker((0.9, 0.85, 0.2, 1), (0.2, 0.45, 0.8, 1), 8.0))
+    ball = sphere("Ball", ball_mat, at(cam, 0.45, 0.95, 1.0), 0.05)
+    return cam, [door.name, ball.name]
+
+
 def build_all_sharp(scene):
     """50 mm f/32 focused at 8 m: objects from 6 m to the sky all have CoC <= 0.13 px (0.52 px
     at 1080p)."""
@@ -428,6 +477,8 @@ BUILDERS = {
     "receding_plane": build_receding_plane,
     "highlights": build_highlights,
     "all_sharp": build_all_sharp,
+    "near_railing": build_near_railing,
+    "near_border": build_near_border,
 }
 
 

@@ -1546,6 +1546,16 @@ static int case_options(void)
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
                "--focus", "3", "--near-spread", "on", "--foreground-layer", "F", NULL) == 2 &&
           err_contains("--near-spread on works on one image"));
+    /* The near layer likewise; forced on beside a forced near spread, refused up front. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-layer", "on", "--near-layer-threshold", "6", NULL) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-layer", "on", "--foreground-layer", "F", NULL) == 2 &&
+          err_contains("--near-layer on works on one image"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--near-layer", "on", "--near-spread", "on", NULL) == 2 &&
+          err_contains("near_layer and near_spread are both forced on"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--near-layer-threshold", "0", NULL) == 2);
     CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
     return test_finish("test_cli options");
 }
