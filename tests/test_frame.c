@@ -124,6 +124,60 @@ static void test_camera_with_foreground(ddof_context *ctx, const scene *s)
     CHECK(!same(dof, got, N * 4)); /* and the element did change the frame */
 }
 
+/* An element rendered over transparent film: its anti-aliased fringe (0 < alpha < 1) holds
+ * the depth of its first sample, the disc's (0.8 m) or "no surface" (1e10, as Blender writes)
+ * or +inf. Those fringe pixels take the CoC of the nearest fully covered pixel, so the frame
+ * equals the same element whose fringe has the disc's depth; a fringe pixel whose depth is
+ * nearer than the covered pixel's keeps its own. */
+static void test_element_fringe(ddof_context *ctx, const scene *s)
+{
+    static float fg_color[N * 4], no_surface[N], covered_depth[N], got[N * 4], want[N * 4];
+    int fringe = 0, missed = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const int i = y * W + x;
+            const float dx = (float)x - 40.0f, dy = (float)y - 25.0f;
+            const float r = sqrtf(dx * dx + dy * dy);
+            const float a = r < 7.0f ? 1.0f : r < 9.0f ? (9.0f - r) / 2.0f : 0.0f;
+            for (int c = 0; c < 3; c++)
+                fg_color[i * 4 + c] = 0.6f * a;
+            fg_color[i * 4 + 3] = a;
+            covered_depth[i] = a > 0.0f ? 0.8f : 1e10f;
+            no_surface[i] = covered_depth[i];
+            if (a > 0.0f && a < 1.0f) {
+                fringe++;
+                if ((x + y) % 2) { /* the first sample missed the disc */
+                    no_surface[i] = (x % 3) ? 1e10f : INFINITY;
+                    missed++;
+                }
+            }
+        }
+    CHECK(fringe > 20 && missed > 10);
+    ddof_camera cam = test_camera();
+    ddof_params p;
+    ddof_params_init(&p);
+    ddof_frame f;
+    ddof_frame_init(&f);
+    f.color = in_image(s->color, 4);
+    f.depth = in_image(s->depth, 1);
+    f.camera = &cam;
+    f.foreground_color = in_image(fg_color, 4);
+    f.foreground_depth = in_image(no_surface, 1);
+    CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){got, W, H, 4, 0}, NULL), DDOF_OK);
+    f.foreground_depth = in_image(covered_depth, 1);
+    CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){want, W, H, 4, 0}, NULL), DDOF_OK);
+    CHECK_MSG(same(got, want, N * 4), "the element's fringe keeps the far CoC of its "
+                                      "missed first samples");
+
+    /* A fringe nearer than the covered pixels keeps its own CoC: the result differs. */
+    for (int i = 0; i < N; i++)
+        if (fg_color[i * 4 + 3] > 0.0f && fg_color[i * 4 + 3] < 1.0f)
+            no_surface[i] = 0.5f;
+    f.foreground_depth = in_image(no_surface, 1);
+    CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){got, W, H, 4, 0}, NULL), DDOF_OK);
+    CHECK(!same(got, want, N * 4));
+}
+
 /* The curve and a given CoC, each with its element. */
 static void test_curve_and_given(ddof_context *ctx, const scene *s)
 {
@@ -356,6 +410,7 @@ int main(void)
     CHECK(ddof_context_create(&co, &ctx) == DDOF_OK);
     test_camera_with_foreground(ctx, &s);
     test_curve_and_given(ctx, &s);
+    test_element_fringe(ctx, &s);
     test_refusals(ctx, &s);
     test_checks(ctx);
     ddof_context_free(ctx);

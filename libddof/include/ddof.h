@@ -588,6 +588,10 @@ typedef struct ddof_frame {
     ddof_image_in coc;              /* the caller's CoC (first channel); instead of depth    */
     /* An optional, separately rendered foreground element (ddof_diffuse_layers): RGBA of the */
     /* colour's size, with its own depth (camera or curve) or its own CoC (a given coc).     */
+    /* With depth, a partly covered pixel of the element (0 < alpha < 0.999) whose depth lies */
+    /* behind the nearest fully covered pixel within 2 px (a first sample that missed: "no    */
+    /* surface", 1e10 in Blender, or +inf) takes that pixel's CoC: the element's part of the  */
+    /* pixel is that surface, not the far field (element_edges.h).                           */
     ddof_image_in foreground_color;
     ddof_image_in foreground_depth;
     ddof_image_in foreground_coc;

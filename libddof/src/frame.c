@@ -4,6 +4,7 @@
  * host runs before it has pixels (ddof_params_check, ddof_camera_check). */
 #include "call_checks.h"
 #include "coc.h"
+#include "element_edges.h"
 
 #include <string.h>
 
@@ -149,6 +150,16 @@ static ddof_status prepare_foreground(ddof_context *context, const frame_setup *
                                          coc, r->width);
         if (status != DDOF_OK)
             return status;
+        /* The edge fix reads the element's alpha; an element that fails its checks is
+         * reported by ddof_read_foreground below. */
+        const ddof_image_in *fc = &f->foreground_color;
+        size_t color_stride = 0;
+        if (fc->width == r->width && fc->height == r->height && fc->channels == 4 &&
+            ddof_check_image(context, "foreground colour", fc->pixels, fc->width, fc->height,
+                             fc->channels, fc->row_stride, &color_stride) == DDOF_OK)
+            ddof_fix_element_edges(context, fc->pixels, color_stride,
+                                   f->foreground_depth.pixels, s->fg_map_stride,
+                                   f->foreground_depth.channels, coc, r->width, r->height);
         element.coc = (ddof_image_in){coc, r->width, r->height, 1, 0};
     }
     return ddof_read_foreground(context, &element, q, visible);
