@@ -55,6 +55,7 @@ typedef struct split_job {
     float *rest, *rest_coc, *element;
     float *carried;     /* the matte times the input's alpha (4 channels)              */
     float *row_weight;  /* the row interpolation's weight per pixel (0: none)          */
+    float *source;      /* each pixel's weight as a source of the fill (0: none)       */
     near_split *chunks; /* finish: one per row chunk */
 } split_job;
 
@@ -72,18 +73,31 @@ static float source_weight(float c, float threshold)
     return c >= 0.0f ? 1.0f : 1.0f + c / threshold; /* > 0.5 on this side of threshold / 2 */
 }
 
+/* source = every pixel's source weight, once for the pull and both line fills. */
+static void source_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    const adi_request *r = j->r;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++)
+            j->source[(size_t)y * r->width + x] = source_weight(coc_at(r, x, y), j->threshold);
+}
+
 /* The values and weight of pixel (x, y) of level l: level 0 is the request's frame. */
 static float fetch(const split_job *j, uint32_t l, uint32_t x, uint32_t y, float *v)
 {
     const pyramid *p = j->p;
     if (l == 0) {
         const adi_request *r = j->r;
-        const float c = coc_at(r, x, y);
+        const size_t i = (size_t)y * r->width + x;
+        if (j->source[i] <= 0.0f)
+            return 0.0f;
         const float *px = r->color + (size_t)y * r->color_stride + (size_t)x * r->channels;
         for (uint32_t k = 0; k < r->channels; k++)
             v[k] = px[k];
-        v[r->channels] = c;
-        return source_weight(c, j->threshold);
+        v[r->channels] = coc_at(r, x, y);
+        return j->source[i];
     }
     const level *lv = &p->levels[l];
     const size_t i = (size_t)y * lv->width + x;
@@ -167,20 +181,19 @@ static void push_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         }
 }
 
-/* Whether pixel (x, y) of the frame is a source; if so, v = its neighbourhood's mean of
- * sources (colour, then CoC): a line's end value, smoothed so that one texel of a textured
- * surface does not streak across the whole run. */
-static int frame_source(const split_job *j, uint32_t x, uint32_t y, float *v)
+static int is_source(const split_job *j, uint32_t x, uint32_t y)
 {
-    if (fetch(j, 0, x, y, v) <= 0.0f)
-        return 0;
-    const uint32_t l = j->p->count > END_LEVEL ? END_LEVEL : j->p->count - 1;
-    if (l > 0) {
-        const level *lv = &j->p->levels[l];
-        const size_t i = (size_t)(y >> l) * lv->width + (x >> l);
-        memcpy(v, lv->values + i * j->p->values, j->p->values * sizeof(float));
-    }
-    return 1;
+    return j->source[(size_t)y * j->r->width + x] > 0.0f;
+}
+
+/* A line's end value at source pixel (x, y): its neighbourhood's mean of sources (colour, then
+ * CoC, from the pyramid), so that one texel of a textured surface does not streak across the
+ * whole run. */
+static void end_value(const split_job *j, uint32_t x, uint32_t y, float *v)
+{
+    const level *lv = &j->p->levels[END_LEVEL];
+    const size_t i = (size_t)(y >> END_LEVEL) * lv->width + (x >> END_LEVEL);
+    memcpy(v, lv->values + i * j->p->values, j->p->values * sizeof(float));
 }
 
 /* Interpolation across a run of non-source pixels [a, b) of one line, from its sources at a - 1
@@ -215,19 +228,21 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     const uint32_t C = r->channels, n = C + 1;
     for (uint32_t y = y0; y < y1; y++) {
         float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES];
-        int have_before = 0;
         uint32_t x = 0;
         while (x < r->width) {
-            if (frame_source(j, x, y, v)) {
-                memcpy(before, v, sizeof before);
-                have_before = 1;
+            if (is_source(j, x, y)) {
                 x++;
                 continue;
             }
+            const int have_before = x > 0;
+            if (have_before)
+                end_value(j, x - 1, y, before);
             uint32_t b = x;
-            int have_after = 0;
-            while (b < r->width && !(have_after = frame_source(j, b, y, after)))
+            while (b < r->width && !is_source(j, b, y))
                 b++;
+            const int have_after = b < r->width;
+            if (have_after)
+                end_value(j, b, y, after);
             for (uint32_t i = x; i < b; i++) {
                 const size_t p = (size_t)y * r->width + i;
                 j->row_weight[p] = across_run(have_before ? before : NULL,
@@ -237,9 +252,6 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
                     j->rest_coc[p] = v[C];
                 }
             }
-            if (have_after)
-                memcpy(before, after, sizeof before);
-            have_before = have_after;
             x = b + 1;
         }
     }
@@ -256,19 +268,21 @@ static void fill_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
     const uint32_t C = r->channels, n = C + 1;
     for (uint32_t x = x0; x < x1; x++) {
         float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES], pp[MAX_VALUES];
-        int have_before = 0;
         uint32_t y = 0;
         while (y < r->height) {
-            if (frame_source(j, x, y, v)) {
-                memcpy(before, v, sizeof before);
-                have_before = 1;
+            if (is_source(j, x, y)) {
                 y++;
                 continue;
             }
+            const int have_before = y > 0;
+            if (have_before)
+                end_value(j, x, y - 1, before);
             uint32_t b = y;
-            int have_after = 0;
-            while (b < r->height && !(have_after = frame_source(j, x, b, after)))
+            while (b < r->height && !is_source(j, x, b))
                 b++;
+            const int have_after = b < r->height;
+            if (have_after)
+                end_value(j, x, b, after);
             for (uint32_t i = y; i < b; i++) {
                 if (ddof_near_matte(coc_at(r, x, i), j->threshold) < 1.0f)
                     continue; /* a ramp pixel keeps its own colour */
@@ -292,9 +306,6 @@ static void fill_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
                     j->rest_coc[p] = pp[C];
                 }
             }
-            if (have_after)
-                memcpy(before, after, sizeof before);
-            have_before = have_after;
             y = b + 1;
         }
     }
@@ -373,7 +384,7 @@ ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float t
     float *element = ddof_scratch_get(context, DDOF_SCRATCH_NEAR_ELEMENT,
                                       pixels * 4 * sizeof(float));
     float *levels = ddof_scratch_get(context, DDOF_SCRATCH_NEAR_PYRAMID,
-                                     (pyramid_floats + 2 * pixels) * sizeof(float));
+                                     (pyramid_floats + 3 * pixels) * sizeof(float));
     if (!rest || !rest_coc || !element || !levels)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the near layer's images for %ux%u", r->width,
@@ -381,12 +392,19 @@ ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float t
     lay_out(&p, r->width, r->height, levels);
 
     near_split chunks[max_chunks];
-    /* After the pyramid: the row fill's weights, then the carried alpha. */
-    split_job job = {r,       threshold, &p,
-                     0,       rest,      rest_coc,
-                     element, levels + pyramid_floats + pixels,
+    /* After the pyramid: the row fill's weights, the carried alpha, the source weights. */
+    split_job job = {r,
+                     threshold,
+                     &p,
+                     0,
+                     rest,
+                     rest_coc,
+                     element,
+                     levels + pyramid_floats + pixels,
                      levels + pyramid_floats,
+                     levels + pyramid_floats + 2 * pixels,
                      chunks};
+    ddof_parallel_rows(context, r->height, source_rows, &job);
     for (job.from = 0; job.from + 1 < p.count; job.from++)
         ddof_parallel_rows(context, p.levels[job.from + 1].height, pull_rows, &job);
     /* No source anywhere (every pixel in the element): nothing to fill the holes with. */
