@@ -219,96 +219,100 @@ static float across_run(const float *before, const float *after, uint32_t n, uin
     return 0.25f / (length * length);
 }
 
-/* Row interpolation into the rest (colour and CoC) and row_weight, for every non-source pixel. */
+/* One line of the frame: `length` pixels from (x, y) in steps of (dx, dy). */
+typedef struct line {
+    uint32_t x, y, dx, dy, length;
+} line;
+
+/* What the walk does with a non-source pixel (x, y): v, its interpolation across the run
+ * (colour, then CoC), and the weight across_run gave it. */
+typedef void (*run_visit)(const split_job *j, uint32_t x, uint32_t y, const float *v, float w);
+
+/* Calls visit for every non-source pixel of the line, with its run's interpolation. */
+static void walk_runs(const split_job *j, line l, run_visit visit)
+{
+    const uint32_t n = j->r->channels + 1;
+    float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES];
+#define AT(k) (l.x + (k) * l.dx), (l.y + (k) * l.dy)
+    uint32_t a = 0;
+    while (a < l.length) {
+        if (is_source(j, AT(a))) {
+            a++;
+            continue;
+        }
+        uint32_t b = a;
+        while (b < l.length && !is_source(j, AT(b)))
+            b++;
+        if (a > 0)
+            end_value(j, AT(a - 1), before);
+        if (b < l.length)
+            end_value(j, AT(b), after);
+        for (uint32_t i = a; i < b; i++) {
+            const float w = across_run(a > 0 ? before : NULL, b < l.length ? after : NULL, n,
+                                       a, b, i, v);
+            visit(j, AT(i), v, w);
+        }
+        a = b + 1;
+    }
+#undef AT
+}
+
+/* The row interpolation into the rest (colour and CoC) and row_weight. */
+static void store_row_fill(const split_job *j, uint32_t x, uint32_t y, const float *v, float w)
+{
+    const uint32_t C = j->r->channels;
+    const size_t p = (size_t)y * j->r->width + x;
+    j->row_weight[p] = w;
+    if (w > 0.0f) {
+        memcpy(j->rest + p * C, v, C * sizeof(float));
+        j->rest_coc[p] = v[C];
+    }
+}
+
+/* A hole's fill: the column interpolation blended with the row's by their weights, then
+ * averaged with pull-push; pull-push alone where neither line reaches a source. A ramp pixel
+ * (0 < matte < 1) keeps its own colour. */
+static void blend_column_fill(const split_job *j, uint32_t x, uint32_t y, const float *v,
+                              float wv)
+{
+    const adi_request *r = j->r;
+    if (ddof_near_matte(coc_at(r, x, y), j->threshold) < 1.0f)
+        return;
+    const uint32_t C = r->channels, n = C + 1;
+    const size_t p = (size_t)y * r->width + x;
+    float *rest = j->rest + p * C, *rest_coc = j->rest_coc + p;
+    const float wh = j->row_weight[p];
+    float pp[MAX_VALUES];
+    upsample(&j->p->levels[1], n, x, y, pp);
+    if (wv + wh > 0.0f) {
+        const float s = wv / (wv + wh), q = PULL_PUSH_SHARE;
+        for (uint32_t k = 0; k < C; k++) {
+            rest[k] += s * (v[k] - rest[k]);
+            rest[k] += q * (pp[k] - rest[k]);
+        }
+        *rest_coc += s * (v[C] - *rest_coc);
+        *rest_coc += q * (pp[C] - *rest_coc);
+    } else {
+        memcpy(rest, pp, C * sizeof(float));
+        *rest_coc = pp[C];
+    }
+}
+
 static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const split_job *j = user;
-    const adi_request *r = j->r;
-    const uint32_t C = r->channels, n = C + 1;
-    for (uint32_t y = y0; y < y1; y++) {
-        float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES];
-        uint32_t x = 0;
-        while (x < r->width) {
-            if (is_source(j, x, y)) {
-                x++;
-                continue;
-            }
-            const int have_before = x > 0;
-            if (have_before)
-                end_value(j, x - 1, y, before);
-            uint32_t b = x;
-            while (b < r->width && !is_source(j, b, y))
-                b++;
-            const int have_after = b < r->width;
-            if (have_after)
-                end_value(j, b, y, after);
-            for (uint32_t i = x; i < b; i++) {
-                const size_t p = (size_t)y * r->width + i;
-                j->row_weight[p] = across_run(have_before ? before : NULL,
-                                              have_after ? after : NULL, n, x, b, i, v);
-                if (j->row_weight[p] > 0.0f) {
-                    memcpy(j->rest + p * C, v, C * sizeof(float));
-                    j->rest_coc[p] = v[C];
-                }
-            }
-            x = b + 1;
-        }
-    }
+    for (uint32_t y = y0; y < y1; y++)
+        walk_runs(j, (line){0, y, 1, 0, j->r->width}, store_row_fill);
 }
 
-/* Column interpolation, blended with the row interpolation by their weights; where neither
- * reaches a source, the pull-push fill. Writes only the holes (matte 1); called over column
- * chunks. */
+/* Called over column chunks (after fill_rows). */
 static void fill_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
 {
     (void)chunk;
     const split_job *j = user;
-    const adi_request *r = j->r;
-    const uint32_t C = r->channels, n = C + 1;
-    for (uint32_t x = x0; x < x1; x++) {
-        float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES], pp[MAX_VALUES];
-        uint32_t y = 0;
-        while (y < r->height) {
-            if (is_source(j, x, y)) {
-                y++;
-                continue;
-            }
-            const int have_before = y > 0;
-            if (have_before)
-                end_value(j, x, y - 1, before);
-            uint32_t b = y;
-            while (b < r->height && !is_source(j, x, b))
-                b++;
-            const int have_after = b < r->height;
-            if (have_after)
-                end_value(j, x, b, after);
-            for (uint32_t i = y; i < b; i++) {
-                if (ddof_near_matte(coc_at(r, x, i), j->threshold) < 1.0f)
-                    continue; /* a ramp pixel keeps its own colour */
-                const size_t p = (size_t)i * r->width + x;
-                const float wv = across_run(have_before ? before : NULL,
-                                            have_after ? after : NULL, n, y, b, i, v);
-                const float wh = j->row_weight[p];
-                float *rest = j->rest + p * C;
-                upsample(&j->p->levels[1], n, x, i, pp);
-                if (wv + wh > 0.0f) {
-                    const float s = wv / (wv + wh);
-                    for (uint32_t k = 0; k < C; k++)
-                        rest[k] += s * (v[k] - rest[k]);
-                    j->rest_coc[p] += s * (v[C] - j->rest_coc[p]);
-                    const float q = PULL_PUSH_SHARE;
-                    for (uint32_t k = 0; k < C; k++)
-                        rest[k] += q * (pp[k] - rest[k]);
-                    j->rest_coc[p] += q * (pp[C] - j->rest_coc[p]);
-                } else {
-                    memcpy(rest, pp, C * sizeof(float));
-                    j->rest_coc[p] = pp[C];
-                }
-            }
-            y = b + 1;
-        }
-    }
+    for (uint32_t x = x0; x < x1; x++)
+        walk_runs(j, (line){x, 0, 0, 1, j->r->height}, blend_column_fill);
 }
 
 /* The frame's pixels: the element, and the rest with its holes filled from level 1. */
