@@ -759,6 +759,27 @@ def cfg_id(n=4, k="0.03125", layers="auto", solver="thomas", backend="cpu", prec
     return "%s/%s/%s/n%d/k%s/%s" % (backend, solver, prec, n, k, layers)
 
 
+def near_layer_findings(study, fg_scenes):
+    """The near layer against the near spread it replaces and the separately rendered element,
+    with the disc-2x2 kernel (the default's), per scene with a near element."""
+    by = study.by_id
+    ids = {name: "cpu/thomas/f32/disc-2x2/%s" % name for name in ("autospread", "auto", "fg")}
+    if not fg_scenes or not all(x in by and by[x].available for x in ids.values()):
+        return []
+    parts = []
+    for sc in fg_scenes:
+        img = [by[ids[n]].psnr.get(sc, math.nan) for n in ("autospread", "auto", "fg")]
+        band = [by[ids[n]].band.get(sc, math.nan) for n in ("autospread", "auto", "fg")]
+        parts.append("%s: near layer off %s / %s dB, on %s / %s dB, separate element %s / %s dB"
+                     % (sc, fmt(img[0]), fmt(band[0]), fmt(img[1]), fmt(band[1]), fmt(img[2]),
+                        fmt(band[2])))
+    cost = [by[ids[n]].cost for n in ("autospread", "auto")]
+    return ["**The near layer** (disc-2x2, image / band PSNR): " + "; ".join(parts) +
+            ". Time per frame at 1920x1080, mean over the scenes with blur: %s ms off, %s ms on "
+            "(the near layer runs only on frames with a blurred near silhouette)."
+            % (fmt_ms(cost[0]), fmt_ms(cost[1]))]
+
+
 def findings(study):
     """Sentences that read the measurements: each states numbers, none a judgement made by
     hand."""
@@ -813,6 +834,8 @@ def findings(study):
                          "%s dB" % (sc, fmt(vals[0]), fmt(vals[1]), fmt(vals[2])))
         items.append("**The foreground element** (image PSNR, n = 4, k = 1/32): " +
                      "; ".join(parts) + ".")
+    # the near layer, on the default kernel
+    items += near_layer_findings(study, fg_scenes)
     # solvers
     exact = [by[x] for x in (cfg_id(), cfg_id(solver="cr"), cfg_id(solver="pcr"))
              if x in by and by[x].available]
@@ -1027,6 +1050,9 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
         d = chosen["default"]
         parts = d.id.split("/")
         fg_id = "/".join(parts[:-1] + ["fg"])  # the layers are the id's last part if d.kind == "diffusion" else None
+        spread_id = "/".join(parts[:-1] + ["autospread"])
+        if d.kind == "diffusion" and parts[-1] == "auto" and spread_id in study.by_id:
+            cols.append((spread_id, "default, near layer off"))
         if fg_id in study.by_id and any(study.scenes[x].get("fg_element")
                                         for x in study.scene_order):
             cols.append((fg_id, "default + fg element"))
@@ -1034,7 +1060,9 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
         cols = [(cid, name) for cid, name in cols if cid in study.by_id]
         L.append("### The presets against the baselines, per scene")
         L.append("")
-        L.append("PSNR against the truth, image / band (dB); *default + fg element*: the default "
+        L.append("PSNR against the truth, image / band (dB); *default, near layer off*: the "
+                 "default preset's settings with the near layer off (libddof 0.5's AUTO: the near "
+                 "spread instead); *default + fg element*: the default "
                  "preset's settings with the scene's separately rendered foreground element over "
                  "the rest of the scene (scenes that have one; the others: near spread on).")
         L.append("")
@@ -1052,6 +1080,19 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
             L.append("| %s | %s |" % (sc, " | ".join(cells)))
         L.append("")
         L += time_against_node(study, chosen["default"])
+        picture = os.path.join(args.images, "near_layer.png")
+        if not args.smoke and os.path.exists(picture):
+            L.append("![The scenes with a blurred near object: the input, ddof without and with "
+                     "the near layer, the separately rendered element, the truth](%s)"
+                     % rel(picture))
+            L.append("")
+            L.append("The scenes with a blurred near object (`scripts/near_layer_image.py`, run "
+                     "by `study/run.sh`): the pinhole input, the default without the near layer "
+                     "(the object opaque, its silhouette spread), the default (the near layer: "
+                     "the object turns see-through over a fill of what it hid), the separately "
+                     "rendered element over the rest (what the layers give when the hidden part "
+                     "is known), Cycles' lens depth of field.")
+            L.append("")
     L += findings(study)
 
     # --- plots

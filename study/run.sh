@@ -185,6 +185,15 @@ if [ "$mode" != report ]; then
     "$exe" run --out "$results" --configs "$configs" "${sweep_args[@]}" "${scene_dirs[@]}"
 fi
 
+# --- the near layer's picture (the scenes with a blurred near object, through `ddof`) --------
+if [ "$mode" = full ] && [ -d build/study ]; then
+    step "the near layer's picture -> docs/images/near_layer.png"
+    if cmake --build build/study -j "$(nproc 2>/dev/null || echo 2)" --target ddof >/dev/null; then
+        "$python" scripts/near_layer_image.py --ddof build/study/plugin/apps/ddof ||
+            echo "warning: scripts/near_layer_image.py failed; the report keeps the old picture" >&2
+    fi
+fi
+
 # --- the report -----------------------------------------------------------------------------
 [ -f "$results/results.jsonl" ] || { echo "study/run.sh: no $results/results.jsonl" >&2; exit 1; }
 step "report -> $md"
