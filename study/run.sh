@@ -188,7 +188,7 @@ fi
 # --- the near layer's picture (the scenes with a blurred near object, through `ddof`) --------
 if [ "$mode" = full ] && [ -d build/study ]; then
     step "the near layer's picture -> docs/images/near_layer.png"
-    if cmake --build build/study -j "$(nproc 2>/dev/null || echo 2)" --target ddof >/dev/null; then
+    if cmake --build build/study -j "$(nproc 2>/dev/null || echo 2)" --target ddof-cli >/dev/null; then
         "$python" scripts/near_layer_image.py --ddof build/study/plugin/apps/ddof ||
             echo "warning: scripts/near_layer_image.py failed; the report keeps the old picture" >&2
     fi

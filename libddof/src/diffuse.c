@@ -125,9 +125,8 @@ static ddof_status run_single(ddof_context *context, const adi_request *r, const
 }
 
 /* The near layer: the frame's near field becomes the foreground element and the rest, with
- * what it hid filled in, the image the other layers blur (near_layer.h). The element's CoC is
- * the frame's own (the layers read its |CoC| where the element's alpha is above 0); the
- * background layer's area grows by the edges the fill made. */
+ * what it hid filled in, the image the other layers blur (near_layer.h); the background
+ * layer's area grows by the edges the fill made. */
 static ddof_status split_near_layer(ddof_context *context, layers_request *q,
                                     coc_analysis *analysis, frame_plan *plan)
 {
@@ -139,9 +138,9 @@ static ddof_status split_near_layer(ddof_context *context, layers_request *q,
         return status;
     q->fg_color = split.element;
     q->fg_color_stride = (size_t)r->width * 4;
-    q->fg_coc = r->coc;
-    q->fg_coc_stride = r->coc_stride;
-    q->fg_coc_channels = r->coc_channels;
+    q->fg_coc = split.element_coc;
+    q->fg_coc_stride = r->width;
+    q->fg_coc_channels = 1;
     q->fg_premultiplied = 1;
     q->fg_carried_alpha = split.carried_alpha;
     q->fg_carried_stride = r->width;

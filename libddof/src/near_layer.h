@@ -11,7 +11,7 @@
 /* The near layer's matte of a pixel of signed CoC c: 0 for in-focus, far or mildly blurred
  * near pixels, 1 for near pixels of |CoC| >= threshold, linear from threshold / 2. A soft
  * matte: a near surface that recedes to the focus plane has no seam where it leaves the
- * layer. */
+ * layer. The split adds the element's 1-px fringe (near_layer.c, matte_rows). */
 static inline float ddof_near_matte(float c, float threshold)
 {
     const float t0 = 0.5f * threshold;
@@ -29,6 +29,9 @@ typedef struct near_split {
                               the matte: the element's share of the pixel, so that the
                               composite F + (1 - m) C gives the pixel back where nothing
                               blurs                                                          */
+    const float *element_coc; /* its |CoC| (w x h): the frame's, and for its fringe (pixels
+                              beside one of matte 1, whose depth is the background's) the
+                              largest near |CoC| beside it                                   */
     const float *carried_alpha; /* with 4 channels, where an element pixel's alpha is not 1:
                               the matte times the input's alpha (w x h), the element's part of
                               the alpha channel (layers_request.fg_carried_alpha); else NULL */
