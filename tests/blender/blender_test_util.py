@@ -307,6 +307,8 @@ def load_file(path):
 
 
 def render_still(scene, path):
+    if os.path.exists(path):  # an earlier run's file must not pass for this render's
+        os.remove(path)
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
     if not os.path.isfile(path):

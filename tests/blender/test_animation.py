@@ -11,6 +11,7 @@ frame: Blender 5.2+ crashed between such frames when the add-on removed an image
 """
 
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -81,6 +82,7 @@ addon.compat.set_file_format(settings, "PNG")
 settings.color_mode = "RGBA"
 settings.color_depth = "16"
 frames_dir = os.path.join(work, "frames")
+shutil.rmtree(frames_dir, ignore_errors=True)  # an earlier run's frames must not pass for these
 scene.render.filepath = os.path.join(frames_dir, "dof_####")
 
 # Reference: the pinhole frame (static scene), through the same PNG path, and the card masks.

@@ -217,10 +217,14 @@ diffusion_dof.unregister()
 checks.check(handler_snapshot() == baseline_handlers, "handlers left after double register")
 
 # The add-on enabled and disabled: the scene renders exactly as before (same samples and seed).
-render_after, _, _, _ = u.render_still(scene, os.path.join(render_dir, "after.exr"))
-checks.check(render_after == render_before, "the render after disabling the add-on differs "
-             "from the one before (largest difference %g)"
-             % max(abs(a - b) for a, b in zip(render_after, render_before)))
+# (With an empty compositor node group, 5.x renders nothing and writes no file.)
+try:
+    render_after, _, _, _ = u.render_still(scene, os.path.join(render_dir, "after.exr"))
+    checks.check(render_after == render_before, "the render after disabling the add-on "
+                 "differs from the one before (largest difference %g)"
+                 % max(abs(a - b) for a, b in zip(render_after, render_before)))
+except RuntimeError as err:
+    checks.check(False, "after disabling the add-on: %s" % err)
 
 # A scene made by a script: its view layer is not synced yet on 5.2+ (layer_collection None).
 fresh = bpy.data.scenes.new("Scripted")
