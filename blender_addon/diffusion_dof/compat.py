@@ -14,6 +14,8 @@ only there: the rest of the add-on has one code path.
   scene["cycles"] up to 4.x; 5.0 no longer exposes them through [], only through RNA.
 - A view layer's collections: 5.2 syncs them lazily, so a scene made with bpy.data.scenes.new
   has view_layers[0].layer_collection None until something syncs it.
+- The File Output node's file names: up to 5.0 they end in ".exr" only while the scene's
+  Output > File Extensions is on; 5.2 always adds it.
 - Removing an ID while an animation renders: 5.2 re-evaluates the render's depsgraph between
   frames and crashes on a removed image (render.py frees images after the render instead).
 """
@@ -146,6 +148,14 @@ def set_file_output_paths(node, paths, socket_types):
 
 def file_output_folder(node):
     return node.directory if hasattr(node, "directory") else node.base_path
+
+
+def file_output_extension(scene):
+    """The ending a File Output node gives its OpenEXR files: up to 5.0 ".exr" only while the
+    scene's Output properties > File Extensions is on; 5.2 always (5.1 not checked)."""
+    if VERSION >= (5, 2, 0) or scene.render.use_file_extension:
+        return ".exr"
+    return ""
 
 
 def set_file_output_folder(node, folder):

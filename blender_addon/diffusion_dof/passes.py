@@ -54,14 +54,47 @@ def temp_dir(scene):
 
 
 def frame_files(scene, frame, foreground=False):
-    """{slot: path} of the files the File Output node writes for a frame."""
+    """{slot: path} of the files the File Output node wrote for a frame (called once they are
+    written). Whether their names end in ".exr" depends on the Blender version and the scene's
+    Output properties > File Extensions (compat.file_output_extension): the name that exists
+    is taken, else the one expected."""
     folder = temp_dir(scene)
     if frame < 0:  # as Blender fills '#' for negative frames: the sign takes one digit
         number = "-%0*d" % (FRAME_DIGITS - 1, -frame)
     else:
         number = "%0*d" % (FRAME_DIGITS, frame)
+    expected = compat.file_output_extension(scene)
     slots = [SLOT_COLOR, SLOT_DEPTH] + ([SLOT_FG_COLOR, SLOT_FG_DEPTH] if foreground else [])
-    return {slot: os.path.join(folder, slot + number + ".exr") for slot in slots}
+    files = {}
+    for slot in slots:
+        stem = os.path.join(folder, slot + number)
+        files[slot] = next((p for p in (stem + expected, stem + ".exr", stem)
+                            if os.path.isfile(p)), stem + expected)
+    return files
+
+
+def missing_pass_reason(scene, settings, path):
+    """Why the pass file `path` is not there, as a phrase: what is not set up, or what the
+    folder holds instead."""
+    if not scene.render.use_compositing:
+        return "Output properties > Post Processing > Compositing is off"
+    problem = missing_setup(scene, settings)
+    if problem:
+        return problem + " (click Set Up Passes)"
+    tree = node_tree(scene)
+    out = tree.nodes.get(OUTPUT_NODE) if tree is not None else None
+    if out is not None and out.mute:
+        return "the managed File Output node '%s' is muted" % OUTPUT_NODE
+    folder = os.path.dirname(path)
+    try:
+        found = sorted(os.listdir(folder))
+    except OSError:
+        found = []
+    if found:
+        shown = ", ".join(found[:4]) + (", ..." if len(found) > 4 else "")
+        return ("there is no %s in %s, which holds %s"
+                % (os.path.basename(path), folder, shown))
+    return "the compositor did not write it to %s (did the compositor run?)" % folder
 
 
 # ---------------------------------------------------------------------------------------------

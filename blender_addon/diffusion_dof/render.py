@@ -379,10 +379,9 @@ def job_steps(job, worker):
                 # Blender refused to render: say why, not that the compositor did not run.
                 camera_mod.camera_settings(scene, settings)  # raises: no active camera
             if color is None:
-                raise SetupError("The Combined pass of frame %d did not reach the add-on: the "
-                                 "compositor did not run. Check Output properties > Post "
-                                 "Processing > Compositing, or click Set Up Passes."
-                                 % job.frame)
+                raise SetupError("The Combined pass of frame %d did not reach the add-on: %s."
+                                 % (job.frame, passes.missing_pass_reason(
+                                     scene, settings, job.files[passes.SLOT_COLOR])))
             depth = read_exr(job.files[passes.SLOT_DEPTH])
             layer = passes.render_view_layer(scene, settings)
             if depth is None or not layer.use_pass_z:
