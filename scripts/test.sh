@@ -4,7 +4,9 @@
 #
 #   bash scripts/test.sh              Release build, all ctest tests (the README's test command),
 #                                     the Blender add-on's included (installs Blender if missing,
-#                                     and bpy 5.0 and 4.2 LTS from PyPI: scripts/bpy_venv.sh)
+#                                     and bpy 5.3, 5.2 LTS, 4.5 LTS and 4.2 LTS from PyPI:
+#                                     scripts/bpy_venv.sh, about 300 MB to download and 1 GB on
+#                                     disk each, once)
 #   bash scripts/test.sh --sanitize   the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   bash scripts/test.sh --valgrind   the unit and EXR tests under valgrind memcheck (reduced sizes)
 #   bash scripts/test.sh --fuzz [S]   the libFuzzer targets (clang, fuzz/): each runs S seconds
@@ -25,9 +27,10 @@ case "$mode" in
     ensure_packages xvfb xauth ||
         echo "warning: could not install xvfb: the add-on's UI test will be skipped" >&2
     ensure_packages python3-numpy python3-matplotlib || echo "warning: could not install numpy/matplotlib: the study smoke test (tests/study) will be skipped" >&2
-    # Blender as a Python module from PyPI (4.2 LTS and 5.x), for the add-on's `bpy` tests
-    # (tests/bpy): cached venvs under ~/.cache/ddof-bpy; one that cannot be installed is a
-    # skipped test that says why.
+    # Blender as a Python module from PyPI (tests/bpy/versions.txt: 4.2 LTS to the newest 5.x),
+    # for the add-on's `bpy` tests (tests/bpy): cached venvs under ~/.cache/ddof-bpy; bpy 5.1+
+    # needs a Python 3.13 (pyenv's is found); one that cannot be installed is a skipped test
+    # that says why.
     ensure_packages python3-venv || echo "warning: could not install python3-venv: the bpy tests will be skipped" >&2
     bash scripts/bpy_venv.sh
     cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DDDOF_WERROR=ON

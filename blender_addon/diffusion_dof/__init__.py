@@ -54,7 +54,11 @@ def unregister():
     except AttributeError:
         scenes = []
     for scene in [s for s in scenes if s.get(passes.OWNER_KEY) is None]:
-        passes.teardown(scene)  # also removes its companion scene, never iterated itself
+        try:
+            passes.teardown(scene)  # also removes its companion scene, never iterated itself
+        except Exception as err:  # the add-on is going: it must still unregister what it can
+            render.log("%s: could not remove the add-on's nodes: %s: %s"
+                       % (scene.name, type(err).__name__, err))
     for module in reversed(_MODULES):
         module.unregister()
     binding.forget_library()

@@ -12,6 +12,12 @@ only there: the rest of the add-on has one code path.
   OPEN_EXR_MULTILAYER a MULTI_LAYER_IMAGE one).
 - Settings groups registered with bpy.props (scene.cycles): readable as ID properties through
   scene["cycles"] up to 4.x; 5.0 no longer exposes them through [], only through RNA.
+- A view layer's collections: 5.2 syncs them lazily, so a scene made with bpy.data.scenes.new
+  has view_layers[0].layer_collection None until something syncs it.
+- The File Output node's file names: up to 5.0 they end in ".exr" only while the scene's
+  Output > File Extensions is on; 5.2 always adds it.
+- Removing an ID while an animation renders: 5.2 re-evaluates the render's depsgraph between
+  frames and crashes on a removed image (render.py frees images after the render instead).
 """
 
 import bpy
@@ -20,6 +26,24 @@ VERSION = tuple(bpy.app.version)
 NODE_GROUP_COMPOSITOR = "compositing_node_group" in bpy.types.Scene.bl_rna.properties  # 5.0+
 COMPOSITOR_TREE_NAME = "Compositing"  # the name Blender 5.0's UI gives a new one too
 BPY_PROPS_AS_ID_PROPERTIES = VERSION < (5, 0, 0)
+# Marks, on the scene, a compositor the add-on made, so that release_compositor_tree undoes just
+# that: the name of the 5.x node group it created and assigned, or (3.x/4.x, where it turned
+# compositing nodes on) the names of the nodes the tree held then.
+MADE_TREE_KEY = "diffusion_dof_made_compositor"
+
+
+def layer_collection(view_layer):
+    """The view layer's root LayerCollection, synced first: on 5.2+ it is None on a new scene's
+    view layer until synced. Reading active_layer_collection syncs it (cheap; ViewLayer.update()
+    would also evaluate the whole scene); update() is the fallback."""
+    root = view_layer.layer_collection
+    if root is None:
+        view_layer.active_layer_collection  # noqa: B018 (read for its sync)
+        root = view_layer.layer_collection
+    if root is None:
+        view_layer.update()
+        root = view_layer.layer_collection
+    return root
 
 
 def compositor_tree(scene, even_off=False):
@@ -38,11 +62,45 @@ def ensure_compositor_tree(scene):
             return tree, False
         tree = bpy.data.node_groups.new(COMPOSITOR_TREE_NAME, "CompositorNodeTree")
         scene.compositing_node_group = tree
+        scene[MADE_TREE_KEY] = tree.name
         return tree, True
     if scene.use_nodes and scene.node_tree is not None:
         return scene.node_tree, False
     scene.use_nodes = True  # a new tree gets Render Layers -> Composite: the same image
+    # The nodes it holds now (a new tree's, or those of a tree the user had switched off).
+    scene[MADE_TREE_KEY] = [n.name for n in scene.node_tree.nodes]
     return scene.node_tree, True
+
+
+# Nodes the add-on may add to a 3.x/4.x tree besides its managed ones (a Composite node when
+# there is none, with a Render Layers node feeding it): they do nothing to the image.
+_PLAIN_NODES = {"CompositorNodeRLayers", "CompositorNodeComposite"}
+
+
+def release_compositor_tree(scene):
+    """Leaves the compositor as it was before ensure_compositor_tree made one, once the add-on's
+    nodes are gone: 5.x unassigns the node group it created (an empty group makes Blender 5.x
+    render nothing) and removes it when nothing else uses it; 3.x/4.x turns compositing nodes
+    off again. A tree the user has since put nodes of their own into is left as it is. Returns
+    what it did, as a sentence, or ''."""
+    made = scene.get(MADE_TREE_KEY)
+    if made is None:
+        return ""
+    del scene[MADE_TREE_KEY]
+    if NODE_GROUP_COMPOSITOR:
+        tree = scene.compositing_node_group
+        if tree is None or tree.name != str(made) or len(tree.nodes):
+            return ""
+        scene.compositing_node_group = None
+        if tree.users == 0:
+            bpy.data.node_groups.remove(tree)
+        return "removed the empty compositor node group it had made"
+    tree = scene.node_tree
+    if not scene.use_nodes or tree is None or \
+            any(n.name not in made and n.bl_idname not in _PLAIN_NODES for n in tree.nodes):
+        return ""
+    scene.use_nodes = False
+    return "turned compositing nodes off again"
 
 
 def needs_composite_node():
@@ -90,6 +148,14 @@ def set_file_output_paths(node, paths, socket_types):
 
 def file_output_folder(node):
     return node.directory if hasattr(node, "directory") else node.base_path
+
+
+def file_output_extension(scene):
+    """The ending a File Output node gives its OpenEXR files: up to 5.0 ".exr" only while the
+    scene's Output properties > File Extensions is on; 5.2 always (5.1 not checked)."""
+    if VERSION >= (5, 2, 0) or scene.render.use_file_extension:
+        return ".exr"
+    return ""
 
 
 def set_file_output_folder(node, folder):

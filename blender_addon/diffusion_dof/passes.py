@@ -13,6 +13,7 @@ just that collection with a transparent film.
 
 import os
 import re
+import traceback
 import zlib
 
 import bpy
@@ -53,14 +54,47 @@ def temp_dir(scene):
 
 
 def frame_files(scene, frame, foreground=False):
-    """{slot: path} of the files the File Output node writes for a frame."""
+    """{slot: path} of the files the File Output node wrote for a frame (called once they are
+    written). Whether their names end in ".exr" depends on the Blender version and the scene's
+    Output properties > File Extensions (compat.file_output_extension): the name that exists
+    is taken, else the one expected."""
     folder = temp_dir(scene)
     if frame < 0:  # as Blender fills '#' for negative frames: the sign takes one digit
         number = "-%0*d" % (FRAME_DIGITS - 1, -frame)
     else:
         number = "%0*d" % (FRAME_DIGITS, frame)
+    expected = compat.file_output_extension(scene)
     slots = [SLOT_COLOR, SLOT_DEPTH] + ([SLOT_FG_COLOR, SLOT_FG_DEPTH] if foreground else [])
-    return {slot: os.path.join(folder, slot + number + ".exr") for slot in slots}
+    files = {}
+    for slot in slots:
+        stem = os.path.join(folder, slot + number)
+        files[slot] = next((p for p in (stem + expected, stem + ".exr", stem)
+                            if os.path.isfile(p)), stem + expected)
+    return files
+
+
+def missing_pass_reason(scene, settings, path):
+    """Why the pass file `path` is not there, as a phrase: what is not set up, or what the
+    folder holds instead."""
+    if not scene.render.use_compositing:
+        return "Output properties > Post Processing > Compositing is off"
+    problem = missing_setup(scene, settings)
+    if problem:
+        return problem + " (click Set Up Passes)"
+    tree = node_tree(scene)
+    out = tree.nodes.get(OUTPUT_NODE) if tree is not None else None
+    if out is not None and out.mute:
+        return "the managed File Output node '%s' is muted" % OUTPUT_NODE
+    folder = os.path.dirname(path)
+    try:
+        found = sorted(os.listdir(folder))
+    except OSError:
+        found = []
+    if found:
+        shown = ", ".join(found[:4]) + (", ..." if len(found) > 4 else "")
+        return ("there is no %s in %s, which holds %s"
+                % (os.path.basename(path), folder, shown))
+    return "the compositor did not write it to %s (did the compositor run?)" % folder
 
 
 # ---------------------------------------------------------------------------------------------
@@ -204,7 +238,22 @@ def _configure_format(fmt):
 
 def ensure_setup(scene):
     """Makes the scene ready for Diffusion DOF renders; returns what it changed, as sentences.
-    Raises SetupError when it cannot (the message says why)."""
+    Raises SetupError when it cannot (the message says why), and nothing else: any other error
+    of a setup step (a Blender API that changed, a bug) becomes a SetupError too, so that no
+    caller (register(), a handler, a property update) lets it through half-way."""
+    try:
+        return _ensure_setup(scene)
+    except SetupError:
+        raise
+    except Exception as err:
+        traceback.print_exc()
+        raise SetupError("Could not set up scene '%s' for Diffusion DOF (an error in the add-on "
+                         "with this Blender %s: %s: %s). Please report it."
+                         % (scene.name, bpy.app.version_string, type(err).__name__, err)) \
+            from err
+
+
+def _ensure_setup(scene):
     settings = settings_mod.get(scene)
     changes = []
     tree = node_tree(scene)
@@ -301,14 +350,17 @@ def _output_node(tree, name, label, location, parent, folder, slots):
 
 
 def teardown(scene):
-    """Removes the managed nodes and the companion scene (the Depth pass stays on)."""
+    """Removes the managed nodes and the companion scene, and a compositor tree the add-on made
+    (so the scene renders as before: the Depth pass stays on). Returns what it changed."""
     tree = compat.compositor_tree(scene, even_off=True)
     if tree is not None:
         for name in MANAGED_NODES:
             node = tree.nodes.get(name)
             if node is not None:
                 tree.nodes.remove(node)
-    remove_companion(scene)
+    changes = remove_companion(scene)
+    released = compat.release_compositor_tree(scene)
+    return changes + ([released] if released else [])
 
 
 # ---------------------------------------------------------------------------------------------
@@ -398,11 +450,11 @@ def ensure_companion(scene, layer, fg_collection):
             loose.objects.unlink(obj)
     fg_layer = companion.view_layers[0]
     fg_layer.use_pass_z = True
-    for lc in fg_layer.layer_collection.children:
+    for lc in compat.layer_collection(fg_layer).children:
         _mark_indirect(lc, fg_collection)
     sync_companion(scene, companion)
     # In the main view layer the foreground objects only light and shadow.
-    main_lc = _find_layer_collection(layer.layer_collection, fg_collection)
+    main_lc = _find_layer_collection(compat.layer_collection(layer), fg_collection)
     if main_lc is not None and not main_lc.indirect_only:
         main_lc.indirect_only = True
         scene[OWNER_KEY + "_indirect"] = fg_collection.name
@@ -425,7 +477,8 @@ def remove_companion(scene):
     if restored:
         collection = bpy.data.collections.get(restored)
         for layer in scene.view_layers:
-            lc = _find_layer_collection(layer.layer_collection, collection) if collection else None
+            lc = (_find_layer_collection(compat.layer_collection(layer), collection)
+                  if collection else None)
             if lc is not None and lc.indirect_only:
                 lc.indirect_only = False
         del scene[OWNER_KEY + "_indirect"]

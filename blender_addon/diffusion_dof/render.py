@@ -105,6 +105,31 @@ def read_image(image):
     return buf, width, height, channels
 
 
+# Images the add-on is done with: their pixels are freed at once, the datablocks once no render
+# runs. Blender 5.2+ re-evaluates an animation's render depsgraph between frames and crashes
+# (deg_check_base_in_depsgraph, from RE_RenderAnim) when an image was removed meanwhile, so
+# nothing is removed from bpy.data while a render runs; free_spent_images does it afterwards.
+SPENT_IMAGE = ".Diffusion DOF spent"  # the leading dot hides them from image lists
+SPENT_KEY = "diffusion_dof_spent"
+_spent = []  # names of spent images (main thread only)
+
+
+def retire_image(image):
+    """Frees an image's pixels now and removes the datablock after the render (main thread)."""
+    image.name = SPENT_IMAGE
+    image[SPENT_KEY] = True
+    image.buffers_free()
+    _spent.append(image.name)
+
+
+def free_spent_images():
+    """Removes the retired images; only when no render runs (main thread)."""
+    while _spent:
+        image = bpy.data.images.get(_spent.pop())
+        if image is not None and image.get(SPENT_KEY):
+            bpy.data.images.remove(image)
+
+
 def read_exr(path):
     """Loads a file the File Output node wrote, raw (no colour transform); None if missing."""
     if not os.path.isfile(path):
@@ -114,7 +139,7 @@ def read_exr(path):
         image.colorspace_settings.is_data = True
         return read_image(image)
     finally:
-        bpy.data.images.remove(image)
+        retire_image(image)
 
 
 def store_result(name, width, height, channels, pixels, data=False):
@@ -354,10 +379,9 @@ def job_steps(job, worker):
                 # Blender refused to render: say why, not that the compositor did not run.
                 camera_mod.camera_settings(scene, settings)  # raises: no active camera
             if color is None:
-                raise SetupError("The Combined pass of frame %d did not reach the add-on: the "
-                                 "compositor did not run. Check Output properties > Post "
-                                 "Processing > Compositing, or click Set Up Passes."
-                                 % job.frame)
+                raise SetupError("The Combined pass of frame %d did not reach the add-on: %s."
+                                 % (job.frame, passes.missing_pass_reason(
+                                     scene, settings, job.files[passes.SLOT_COLOR])))
             depth = read_exr(job.files[passes.SLOT_DEPTH])
             layer = passes.render_view_layer(scene, settings)
             if depth is None or not layer.use_pass_z:
@@ -409,7 +433,7 @@ def job_steps(job, worker):
                 else:
                     for name in (FG_INPUT_IMAGE, FG_DEPTH_IMAGE):
                         if name in bpy.data.images:
-                            bpy.data.images.remove(bpy.data.images[name])
+                            retire_image(bpy.data.images[name])
             path = None
             if job.write and settings.write_frames:
                 try:
@@ -498,6 +522,7 @@ def process_ready():
             process_job(job)
     if idle:
         close_session()
+        free_spent_images()
 
 
 def _start_escape_watch():
@@ -640,6 +665,7 @@ def on_render_cancel(scene, _depsgraph=None):
 @persistent
 def on_load_post(*_args):
     reports.clear()
+    _spent.clear()  # the file they were in is gone
     for scene in bpy.data.scenes:
         if _enabled(scene) is None:
             continue
@@ -709,4 +735,5 @@ def unregister():
     _render_state.clear()
     reports.clear()
     close_session()
+    free_spent_images()
     escape_watch["on"] = False

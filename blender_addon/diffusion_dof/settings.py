@@ -29,7 +29,8 @@ def _on_setup_change(self, context):
             for line in passes.ensure_setup(scene):
                 print("Diffusion DOF:", line)
         else:
-            passes.teardown(scene)
+            for line in passes.teardown(scene):
+                print("Diffusion DOF:", line)
     except passes.SetupError as err:
         print("Diffusion DOF:", err)
 

@@ -151,9 +151,20 @@ def compositor_tree(scene):
     return scene.node_tree
 
 
+def ensure_compositor_tree(scene):
+    """The scene's compositor tree, made (and turned on) when it has none."""
+    if hasattr(scene, "compositing_node_group"):
+        if scene.compositing_node_group is None:
+            scene.compositing_node_group = bpy.data.node_groups.new("Compositing",
+                                                                    "CompositorNodeTree")
+        return scene.compositing_node_group
+    scene.use_nodes = True
+    return scene.node_tree
+
+
 def composite_from(scene, socket):
     """Makes the compositor output `socket` (e.g. the render layers' Depth) as the image."""
-    tree = compositor_tree(scene)
+    tree = ensure_compositor_tree(scene)
     if hasattr(scene, "compositing_node_group"):
         if not any(i.in_out == "OUTPUT" for i in tree.interface.items_tree):
             tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
@@ -168,7 +179,7 @@ def composite_from(scene, socket):
 
 def render_layers_node(scene):
     """The scene's own Render Layers node (not the add-on's), made if there is none."""
-    tree = compositor_tree(scene)
+    tree = ensure_compositor_tree(scene)
     node = next((n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers"
                  and not n.name.startswith("DDOF")), None)
     if node is None:
@@ -296,6 +307,8 @@ def load_file(path):
 
 
 def render_still(scene, path):
+    if os.path.exists(path):  # an earlier run's file must not pass for this render's
+        os.remove(path)
     scene.render.filepath = path
     bpy.ops.render.render(write_still=True)
     if not os.path.isfile(path):

@@ -1,14 +1,17 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""A 3-frame focus pull rendered the way users render animations, `blender -b scene.blend -a`,
+"""A 5-frame focus pull rendered the way users render animations, `blender -b scene.blend -a`,
 with the add-on installed from the zip that build_zip.py makes (so the library is found next to
-the add-on, not through DDOF_LIBRARY): three DOF frames are written in the scene's format (PNG),
+the add-on, not through DDOF_LIBRARY): five DOF frames are written in the scene's format (PNG),
 and in each the card at the focus object's distance is the sharp one.
 
 Three checker cards at 2 m (left), 4 m (middle) and 10 m (right); the camera's focus object is
-an empty that jumps from 2 to 4 to 10 m on frames 1, 2, 3.
+an empty that jumps 2, 4, 10, 4, 2 m on frames 1 to 5. A bar at 1.2 m along the bottom is in a
+foreground collection (rendered by the companion scene, blurred over what is behind it) on every
+frame: Blender 5.2+ crashed between such frames when the add-on removed an image then.
 """
 
 import os
+import shutil
 import subprocess
 import sys
 import time
@@ -21,7 +24,11 @@ import bpy  # noqa: E402
 
 CARDS = (("Near", 2.0, -0.24, 0.2, 44.0), ("Mid", 4.0, 0.0, 0.36, 22.0),
          ("Far", 10.0, 1.2, 0.9, 9.0))  # name, distance, x, size, checker scale (~5 px squares)
-FRAMES = (1, 2, 3)
+FOCUS_ON = ("Near", "Mid", "Far", "Mid", "Near")  # the card in focus, frames 1 to 5
+FRAMES = tuple(range(1, len(FOCUS_ON) + 1))
+BAR_DISTANCE = 1.2  # the foreground bar: nearer than every focus, so always blurred
+BAR_ROWS = 8  # the frame's bottom rows, where the bar is
+BAR_GREEN_MIN = 0.1  # their mean green - blue (PNG values) with the bar; the sky's is negative
 
 checks = u.Checks("test_animation")
 work = u.scratch_dir("animation")
@@ -51,14 +58,22 @@ scene = u.clear_scene()
 for name, dist, x, size, scale in CARDS:
     u.add_plane(scene, name, (size, size), (x, dist, 0.0),
                 u.emission_checker(name + "Mat", (0.9, 0.9, 0.85, 1), (0.1, 0.1, 0.15, 1), scale))
+near_collection = bpy.data.collections.new("Foreground")
+scene.collection.children.link(near_collection)
+# Across the frame's bottom rows, below the cards (they reach 0.5 of the half-height, the bar's
+# top 0.77 of it): ~10 px tall in the frame, green-yellow against the blue sky.
+u.add_plane(scene, "Bar", (1.0, 0.03), (0.0, BAR_DISTANCE, -0.09 * BAR_DISTANCE),
+            u.emission_checker("BarMat", (0.2, 0.8, 0.3, 1), (0.9, 0.9, 0.2, 1), 60.0),
+            collection=near_collection)
 cam = u.add_camera(scene, lens=100.0, fstop=1.4, focus=5.0)
 target = bpy.data.objects.new("FocusTarget", None)
 scene.collection.objects.link(target)
 cam.data.dof.focus_object = target
 # Constant keys (set as new keys' interpolation: 5.0's layered actions have no .fcurves).
 bpy.context.preferences.edit.keyframe_new_interpolation_type = "CONSTANT"
-for frame, (_, dist, _, _, _) in zip(FRAMES, CARDS):
-    target.location = (0.0, dist, 0.0)
+DISTANCE = {name: dist for name, dist, *_ in CARDS}
+for frame, focused in zip(FRAMES, FOCUS_ON):
+    target.location = (0.0, DISTANCE[focused], 0.0)
     target.keyframe_insert("location", frame=frame)
 u.configure(scene, samples=16)
 scene.frame_start, scene.frame_end = FRAMES[0], FRAMES[-1]
@@ -67,6 +82,7 @@ addon.compat.set_file_format(settings, "PNG")
 settings.color_mode = "RGBA"
 settings.color_depth = "16"
 frames_dir = os.path.join(work, "frames")
+shutil.rmtree(frames_dir, ignore_errors=True)  # an earlier run's frames must not pass for these
 scene.render.filepath = os.path.join(frames_dir, "dof_####")
 
 # Reference: the pinhole frame (static scene), through the same PNG path, and the card masks.
@@ -76,6 +92,7 @@ scene.render.filepath = os.path.join(frames_dir, "dof_####")
 scene.diffusion_dof.enabled = True
 scene.diffusion_dof.quality = "PREVIEW"
 scene.diffusion_dof.write_frames = True
+scene.diffusion_dof.foreground_collection = near_collection
 blend = os.path.join(work, "focus_pull.blend")
 bpy.ops.wm.save_as_mainfile(filepath=blend)
 u.unload_addon(addon)
@@ -111,13 +128,18 @@ checks.check(contexts == 1, "%d ddof contexts for a %d-frame render (one, kept, 
              % (contexts, len(FRAMES)))
 
 ref = {name: u.detail(pinhole, masks[name], w) for name, *_ in CARDS}
+pinhole_bar_green = sum(pinhole[4 * i + 1] - pinhole[4 * i + 2]
+                        for i in range(BAR_ROWS * w)) / (BAR_ROWS * w)
 montage = [pinhole]
-for frame, (focused, dist, _, _, _) in zip(FRAMES, CARDS):
+for frame, focused in zip(FRAMES, FOCUS_ON):
+    dist = DISTANCE[focused]
     path = os.path.join(frames_dir, "dof_%04d.png" % frame)
     if not checks.check(os.path.isfile(path), "frame %d not written" % frame):
         continue
     checks.check(any(("frame %d:" % frame) in l and path in l for l in lines),
                  "no Diffusion DOF report for frame %d" % frame)
+    checks.check(any(("frame %d:" % frame) in l and "foreground" in l for l in lines),
+                 "frame %d: the foreground element was not used" % frame)
     checks.check(any(("frame %d:" % frame) in l and ("focus %g m (focus object" % dist) in l
                      for l in lines), "frame %d: focus is not %g m from the focus object"
                  % (frame, dist))
@@ -136,7 +158,14 @@ for frame, (focused, dist, _, _, _) in zip(FRAMES, CARDS):
         else:
             checks.check(ratio < 0.5, "frame %d: card %s is not blurred (%.2f)"
                          % (frame, name, ratio))
+    # The foreground bar is in the frame, blurred: its bottom rows are green more than blue,
+    # where the sky alone (the main render, in which the bar only lights) is blue.
+    bar_green = sum(buf[4 * i + 1] - buf[4 * i + 2] for i in range(BAR_ROWS * w)) / (BAR_ROWS * w)
+    print("frame %d: bottom rows' green - blue %.3f (pinhole %.3f)" % (frame, bar_green,
+                                                                      pinhole_bar_green))
+    checks.check(bar_green > BAR_GREEN_MIN, "frame %d: no foreground bar in the bottom rows "
+                 "(green - blue %.3f)" % (frame, bar_green))
 u.save_montage(montage, w, h, 2, os.path.join(work, "montage.png"), scale=2)
-print("times: animation render (3 frames + start-up) %.1f s, test total %.1f s"
-      % (t_anim, time.time() - t_start))
+print("times: animation render (%d frames + start-up) %.1f s, test total %.1f s"
+      % (len(FRAMES), t_anim, time.time() - t_start))
 checks.finish()

@@ -2,7 +2,13 @@
 """register() / unregister() twice leaves no residue: handlers, timers, classes, the scene
 property, the managed compositor nodes and the foreground companion scene all go, and a second
 register() does not duplicate anything. Also draws every panel into a recording layout, which
-catches a property name that does not exist."""
+catches a property name that does not exist.
+
+Turning Diffusion DOF off, or disabling the add-on, leaves the compositor as it was (5.x: no
+node group, where an empty one made Blender render nothing) and the render exactly as it was
+before. A scene made with bpy.data.scenes.new (its view layer unsynced on 5.2+) sets up a
+foreground collection, and a setup step failing with any error is a message: register() goes
+on."""
 
 import os
 import sys
@@ -32,6 +38,16 @@ def our_types():
 
 def our_ops():
     return sorted(dir(getattr(bpy.ops, "diffusion_dof")))
+
+
+def compositor_state(scene):
+    """What decides whether and how the scene composites: its tree (5.x: node group) and that
+    tree's nodes."""
+    if hasattr(scene, "compositing_node_group"):
+        tree = scene.compositing_node_group
+        return (tree.name, sorted(n.name for n in tree.nodes)) if tree else None
+    return (scene.use_nodes, sorted(n.name for n in scene.node_tree.nodes)
+            if scene.use_nodes and scene.node_tree else None)
 
 
 def managed_nodes(scene):
@@ -77,6 +93,9 @@ u.add_plane(scene, "Post", (0.1, 1.0), (0.0, 1.5, 0.0),
 u.configure(scene, samples=7)
 scenes_before = sorted(s.name for s in bpy.data.scenes)
 collections_before = sorted(c.name for c in bpy.data.collections)
+compositor_before = compositor_state(scene)
+render_dir = u.scratch_dir("register")
+render_before, _, _, _ = u.render_still(scene, os.path.join(render_dir, "before.exr"))
 
 diffusion_dof = u.addon_module()  # imported, not registered
 
@@ -155,6 +174,14 @@ for round_ in (1, 2):
     s.solver = s.background = s.method = "PRESET"
     s.quality = "DEFAULT"
     diffusion_dof.render.reports.clear()
+    # Unticked: the compositor is as it was before (and on again when ticked).
+    s.enabled = False
+    checks.check(compositor_state(scene) == compositor_before,
+                 "round %d: unticked, the compositor is %r, before %r"
+                 % (round_, compositor_state(scene), compositor_before))
+    s.enabled = True
+    checks.check(managed_nodes(scene) == sorted(diffusion_dof.passes.MANAGED_NODES),
+                 "round %d: ticked again: managed nodes %s" % (round_, managed_nodes(scene)))
 
     diffusion_dof.unregister()
     after = handler_snapshot()
@@ -166,6 +193,9 @@ for round_ in (1, 2):
     checks.check(our_ops() == [], "round %d: operators left: %s" % (round_, our_ops()))
     checks.check(managed_nodes(scene) == [], "round %d: nodes left: %s"
                  % (round_, managed_nodes(scene)))
+    checks.check(compositor_state(scene) == compositor_before,
+                 "round %d: disabled, the compositor is %r, before %r"
+                 % (round_, compositor_state(scene), compositor_before))
     checks.check(sorted(x.name for x in bpy.data.scenes) == scenes_before,
                  "round %d: scenes left: %s" % (round_, [x.name for x in bpy.data.scenes]))
     checks.check(sorted(c.name for c in bpy.data.collections) == collections_before,
@@ -185,4 +215,56 @@ counts = {name: sum(1 for h in getattr(bpy.app.handlers, name) if ours(h)) for n
 checks.check(max(counts.values()) == 1, "duplicate handlers: %r" % counts)
 diffusion_dof.unregister()
 checks.check(handler_snapshot() == baseline_handlers, "handlers left after double register")
+
+# The add-on enabled and disabled: the scene renders exactly as before (same samples and seed).
+# (With an empty compositor node group, 5.x renders nothing and writes no file.)
+try:
+    render_after, _, _, _ = u.render_still(scene, os.path.join(render_dir, "after.exr"))
+    checks.check(render_after == render_before, "the render after disabling the add-on "
+                 "differs from the one before (largest difference %g)"
+                 % max(abs(a - b) for a, b in zip(render_after, render_before)))
+except RuntimeError as err:
+    checks.check(False, "after disabling the add-on: %s" % err)
+
+# A scene made by a script: its view layer is not synced yet on 5.2+ (layer_collection None).
+fresh = bpy.data.scenes.new("Scripted")
+fresh.collection.children.link(near)
+diffusion_dof.register()
+fresh.diffusion_dof.enabled = True
+fresh.diffusion_dof.foreground_collection = near
+problem = diffusion_dof.passes.missing_setup(fresh, fresh.diffusion_dof)
+checks.check(problem == "" and diffusion_dof.passes.companion_scene(fresh) is not None,
+             "a scene made by bpy.data.scenes.new is not set up: %s" % problem)
+diffusion_dof.unregister()
+
+# Registering with scenes to set up (Diffusion DOF on, stored): register() sets them up, and a
+# setup step that fails with any error (here a RuntimeError) is a logged setup problem.
+try:
+    diffusion_dof.register()
+    checks.check(diffusion_dof.passes.companion_scene(fresh) is not None,
+                 "register() did not set up the scripted scene's foreground")
+except Exception as err:  # noqa: BLE001 (what must not happen)
+    checks.check(False, "register() raised %s: %s" % (type(err).__name__, err))
+diffusion_dof.unregister()
+logged = []
+real_layer, real_log = diffusion_dof.passes.render_view_layer, diffusion_dof.render.log
+
+
+def failing_step(*_args):
+    raise RuntimeError("a setup step failed")
+
+
+diffusion_dof.passes.render_view_layer = failing_step
+diffusion_dof.render.log = logged.append
+try:
+    diffusion_dof.register()
+    checks.check(hasattr(bpy.types.Scene, "diffusion_dof"), "not registered")
+    checks.check(any("Scripted" in line and "RuntimeError: a setup step failed" in line
+                     for line in logged), "the failed setup step was not reported: %r" % logged)
+except Exception as err:  # noqa: BLE001
+    checks.check(False, "register() let %s through: %s" % (type(err).__name__, err))
+finally:
+    diffusion_dof.passes.render_view_layer, diffusion_dof.render.log = real_layer, real_log
+diffusion_dof.unregister()
+checks.check(handler_snapshot() == baseline_handlers, "handlers left after a failed setup")
 checks.finish()

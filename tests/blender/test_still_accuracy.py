@@ -179,7 +179,7 @@ checks.check(not any(x.name.startswith("DDOF Foreground") for x in bpy.data.scen
 if os.environ.get("DDOF_TEST_DEFOCUS", "0" if u.BPY_MODULE else "1") == "1":
     s.enabled = False
     cam.data.dof.use_dof = False
-    tree = scene.node_tree
+    tree = u.ensure_compositor_tree(scene)  # the add-on turned off the nodes it turned on
     rl = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeRLayers")
     comp = next(n for n in tree.nodes if n.bl_idname == "CompositorNodeComposite")
     defocus = tree.nodes.new("CompositorNodeDefocus")
