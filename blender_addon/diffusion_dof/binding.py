@@ -81,9 +81,10 @@ EFFECT_BACKGROUND = 2
 EFFECT_FOREGROUND = 4
 EFFECT_NEAR_SPREAD = 8
 EFFECT_HIGHLIGHTS = 16
+EFFECT_NEAR_LAYER = 32
 EFFECT_NAMES = ((EFFECT_MIDGROUND, "midground"), (EFFECT_BACKGROUND, "background"),
                 (EFFECT_FOREGROUND, "foreground"), (EFFECT_NEAR_SPREAD, "near spread"),
-                (EFFECT_HIGHLIGHTS, "highlights"))
+                (EFFECT_HIGHLIGHTS, "highlights"), (EFFECT_NEAR_LAYER, "near layer"))
 
 # ---------------------------------------------------------------------------------------------
 # Structures. C enums are int-sized on every platform Blender runs on.
@@ -175,7 +176,10 @@ class Params(ctypes.Structure):
                 # version 0.5
                 ("in_focus_threshold_px", ctypes.c_float),
                 ("highlights", _enum),
-                ("highlight_threshold", ctypes.c_float)]
+                ("highlight_threshold", ctypes.c_float),
+                # version 0.6
+                ("near_layer", _enum),
+                ("near_layer_threshold_px", ctypes.c_float)]
 
 
 class Stats(ctypes.Structure):
@@ -207,7 +211,9 @@ class Stats(ctypes.Structure):
                 # version 0.5
                 ("device_uploads", ctypes.c_uint32),
                 ("device_readbacks", ctypes.c_uint32),
-                ("seconds_highlights", ctypes.c_double)]
+                ("seconds_highlights", ctypes.c_double),
+                # version 0.6
+                ("seconds_near_layer", ctypes.c_double)]
 
 
 class Foreground(ctypes.Structure):

@@ -86,6 +86,10 @@ def draw_main(layout, context):
                     _wrapped(sub, note, icon="INFO")
             for line in stats.get("plan", "").strip().splitlines():
                 sub.label(text=line)
+            if "near layer" in stats.get("effect_names", ()) and not s.foreground_collection:
+                _wrapped(sub, "Blurred near objects were made see-through from the image "
+                         "alone, what they hide guessed from around them. For the exact "
+                         "result put them in a Foreground collection (Expert).", icon="INFO")
 
 
 def draw_camera(layout, context):

@@ -52,7 +52,8 @@ int main(void)
     F(ddof_params, near_spread); F(ddof_params, near_spread_threshold_px);
     F(ddof_params, method); F(ddof_params, precision); F(ddof_params, kernel);
     F(ddof_params, in_focus_threshold_px); F(ddof_params, highlights);
-    F(ddof_params, highlight_threshold);
+    F(ddof_params, highlight_threshold); F(ddof_params, near_layer);
+    F(ddof_params, near_layer_threshold_px);
     END();
     BEGIN(ddof_frame);
     F(ddof_frame, struct_size); F(ddof_frame, color); F(ddof_frame, depth);
@@ -70,7 +71,7 @@ int main(void)
     F(ddof_stats, seconds_foreground); F(ddof_stats, plan); F(ddof_stats, backend);
     F(ddof_stats, method); F(ddof_stats, device_bytes); F(ddof_stats, host_bytes);
     F(ddof_stats, kernel); F(ddof_stats, device_uploads); F(ddof_stats, device_readbacks);
-    F(ddof_stats, seconds_highlights);
+    F(ddof_stats, seconds_highlights); F(ddof_stats, seconds_near_layer);
     END();
     BEGIN(ddof_foreground);
     F(ddof_foreground, struct_size); F(ddof_foreground, color); F(ddof_foreground, coc);
@@ -101,7 +102,7 @@ int main(void)
     E(DDOF_LAYER_AUTO); E(DDOF_LAYER_OFF); E(DDOF_LAYER_ON);
     E(DDOF_EFFECT_MIDGROUND); E(DDOF_EFFECT_BACKGROUND); E(DDOF_EFFECT_FOREGROUND);
     E(DDOF_EFFECT_NEAR_SPREAD);
-    E(DDOF_EFFECT_HIGHLIGHTS);
+    E(DDOF_EFFECT_HIGHLIGHTS); E(DDOF_EFFECT_NEAR_LAYER);
     printf("version %u\n", (unsigned)DDOF_VERSION_NUMBER);
     return 0;
 }

@@ -98,6 +98,7 @@ def main():
         "DDOF_EFFECT_FOREGROUND": b.EFFECT_FOREGROUND,
         "DDOF_EFFECT_NEAR_SPREAD": b.EFFECT_NEAR_SPREAD,
         "DDOF_EFFECT_HIGHLIGHTS": b.EFFECT_HIGHLIGHTS,
+        "DDOF_EFFECT_NEAR_LAYER": b.EFFECT_NEAR_LAYER,
     }
     # Every status by name, in order.
     for value, name in enumerate(b.STATUS_NAMES):
