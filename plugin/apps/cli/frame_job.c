@@ -81,7 +81,7 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
             }
         }
     }
-    for (o = 1; o < 3; o++) {
+    for (o = 1; o < 4; o++) { /* every pair of outputs, the focus map included */
         int p;
         for (p = 0; p < o; p++) {
             if (outputs[o][0] && (strcmp(outputs[o], outputs[p]) == 0 ||
