@@ -648,6 +648,19 @@ static int case_focus_map(void)
         CHECK_MSG(far[2] > far[0] && far[2] > far[1], "far %d %d %d", far[0], far[1], far[2]);
     }
     free(px);
+    /* Never another output: refused before the first frame, so the EXR result (or the
+     * preview) is not replaced by the PNG, in one frame or a batch. */
+    {
+        const char *out = test_path(dir, "fm_twice.exr"), *pv = test_path(dir, "fm_pv.png");
+        CHECK(ddof(in, "-o", out, "--focal-length", "50", "--fstop", "2", "--focus", "1",
+                   "--focus-map", out, NULL) == 1);
+        CHECK(err_contains("the focus map and the output are the same file"));
+        CHECK(!test_file_exists(out));
+        CHECK(ddof(in, "-o", test_path(dir, "fm_pv.exr"), "--focal-length", "50", "--fstop",
+                   "2", "--focus", "1", "--preview", pv, "--focus-map", pv, NULL) == 1);
+        CHECK(err_contains("the focus map and the preview are the same file"));
+        CHECK(!test_file_exists(pv) && !test_file_exists(test_path(dir, "fm_pv.exr")));
+    }
     /* Never the input. */
     CHECK(ddof(in, "-o", test_path(dir, "fm_out2.exr"), "--focal-length", "50", "--fstop", "2",
                "--focus", "1", "--focus-map", in, NULL) == 1);
@@ -1402,6 +1415,16 @@ static int case_sidecar(void)
              " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
              " \"pixel_aspect\": 1, \"fstop\": 8}", "duplicate key \"fstop\" at byte 147 (first at "
              "byte 69)");
+    /* Issue 22: the same key through an escape is the same key (cJSON reads both as
+     * "fstop"; the first used to win silently). */
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"fs\\u0074op\": 8}", "duplicate key \"fstop\" at byte 147 "
+             "(first at byte 69)");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"\\u00e9\\ud83d\\ude00\": 1, \"\xc3\xa9\xf0\x9f\x98\x80\": 2}",
+             "duplicate key");
     {
         /* 1e5 brackets: said to be too deep where they become so, not "invalid at 1000". */
         const size_t n = 100000;
