@@ -5,6 +5,7 @@
 #include "call_checks.h"
 #include "coc.h"
 
+#include <stdint.h>
 #include <string.h>
 
 void ddof_frame_init(ddof_frame *frame)
@@ -97,6 +98,22 @@ static ddof_status check_foreground(ddof_context *context, frame_setup *s, const
                           &s->fg_map_stride);
 }
 
+/* The bytes a validated image spans: [*lo, *hi). */
+static void byte_range(const float *pixels, uint32_t width, uint32_t height, uint32_t channels,
+                       size_t row_stride, const char **lo, const char **hi)
+{
+    const size_t row = (size_t)width * channels * sizeof(float);
+    *lo = (const char *)pixels;
+    *hi = *lo + (size_t)(height - 1) * (row_stride ? row_stride : row) + row;
+}
+
+static int ranges_overlap(const char *a_lo, const char *a_hi, const char *b_lo,
+                          const char *b_hi)
+{
+    /* Pointers into different objects are compared as addresses. */
+    return (uintptr_t)a_lo < (uintptr_t)b_hi && (uintptr_t)b_lo < (uintptr_t)a_hi;
+}
+
 static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const adi_request *r)
 {
     const ddof_image *c = &s->frame.coc_out;
@@ -110,9 +127,33 @@ static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const ad
         return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
                          "coc_out is %ux%u with %u channels; it must be %ux%u with 1 channel",
                          c->width, c->height, c->channels, r->width, r->height);
-    if (c->pixels == r->out || (const float *)c->pixels == r->color)
+    /* By byte range, not base pointer: the colour's alpha (`color + 3` with its stride), an
+     * address inside an input or `out + 1` all overlap. Images are already validated. */
+    const ddof_frame *f = &s->frame;
+    const ddof_image_in *inputs[6] = {&f->color, &f->depth, &f->coc, &f->foreground_color,
+                                      &f->foreground_depth, &f->foreground_coc};
+    static const char *const names[6] = {"colour", "depth", "coc", "foreground colour",
+                                         "foreground depth", "foreground coc"};
+    const char *lo, *hi;
+    byte_range(c->pixels, c->width, c->height, c->channels, c->row_stride, &lo, &hi);
+    for (int i = 0; i < 6; i++) {
+        const char *in_lo, *in_hi;
+        if (!inputs[i]->pixels)
+            continue;
+        byte_range(inputs[i]->pixels, inputs[i]->width, inputs[i]->height,
+                   inputs[i]->channels, inputs[i]->row_stride, &in_lo, &in_hi);
+        if (ranges_overlap(lo, hi, in_lo, in_hi))
+            return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                             "coc_out overlaps the frame's %s in memory; it must not overlap "
+                             "an input or the output", names[i]);
+    }
+    const char *out_lo, *out_hi;
+    byte_range(r->out, r->width, r->height, r->channels, r->out_stride * sizeof(float),
+               &out_lo, &out_hi);
+    if (ranges_overlap(lo, hi, out_lo, out_hi))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "coc_out must not be the colour or the output image");
+                         "coc_out overlaps the output image in memory; it must not overlap an "
+                         "input or the output");
     return DDOF_OK;
 }
 
