@@ -15,7 +15,11 @@
  *  - Images are owned by the caller and described by ddof_image; no pointer is kept past a call.
  *  - Parameter structs carry their size in `struct_size`; fill them with their *_init function
  *    first, then change what you need. Fields are only ever appended.
- *  - One context per thread. The library has no global mutable state.
+ *  - One context per thread. The library has no global mutable state. A call on a context
+ *    that another call is using (another thread, or the progress callback calling back in)
+ *    returns DDOF_ERROR_CONTEXT_BUSY at once and touches nothing: the context is then not
+ *    shared safely, and the caller's design should change, but it gets a status, not a crash
+ *    or wrong pixels. ddof_context_free while a call runs stays undefined.
  *
  * Usage: one frame from a renderer's colour and depth passes
  *
@@ -97,6 +101,9 @@ typedef enum ddof_status {
     DDOF_ERROR_UNSUPPORTED,   /* the context's backend cannot run this solver or precision     */
     DDOF_ERROR_BACKEND_FAILED,/* the GL backend failed mid-call (shader, out of GPU memory);   */
                               /* out is untouched                                             */
+    DDOF_ERROR_CONTEXT_BUSY,  /* another call is running on this context (another thread, or */
+                              /* the progress callback calling back in); nothing was done and */
+                              /* the last error is left to the running call                    */
     DDOF_STATUS_COUNT_        /* not a status: the number of codes                             */
 } ddof_status;
 

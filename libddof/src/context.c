@@ -53,6 +53,7 @@ ddof_status ddof_context_create(const ddof_context_options *options, ddof_contex
         return DDOF_ERROR_OUT_OF_MEMORY;
     *context = (ddof_context){.allocator = allocator, .thread_count = 1,
                               .backend = {.kind = DDOF_BACKEND_CPU}};
+    atomic_init(&context->in_use, 0);
 
     uint32_t threads = options->thread_count ? options->thread_count : online_cores();
     if (threads > 1) {
@@ -77,6 +78,16 @@ void ddof_context_free(ddof_context *context)
     for (int i = 0; i < DDOF_SCRATCH_COUNT; i++)
         ddof_free(&allocator, context->scratch[i].memory);
     ddof_free(&allocator, context);
+}
+
+int ddof_context_enter(ddof_context *context)
+{
+    return atomic_exchange_explicit(&context->in_use, 1, memory_order_acquire) == 0;
+}
+
+void ddof_context_leave(ddof_context *context)
+{
+    atomic_store_explicit(&context->in_use, 0, memory_order_release);
 }
 
 uint32_t ddof_context_thread_count(const ddof_context *context)

@@ -238,12 +238,10 @@ static ddof_status prepare_coc(ddof_context *context, const frame_setup *s, cons
     return status;
 }
 
-ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
-                              const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
+static ddof_status render_frame(ddof_context *context, const ddof_params *params,
+                                const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     frame_setup s = {0};
     ddof_frame_init(&s.frame);
@@ -280,13 +278,17 @@ ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
                             t_start, ddof_seconds() - t_start);
 }
 
-ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
-                                const ddof_camera *camera, const ddof_image_in *color,
-                                const ddof_image_in *depth, const ddof_image *out,
-                                ddof_stats *stats)
+ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
+                              const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context, render_frame(context, params, frame, out, stats));
+}
+
+static ddof_status depth_of_field(ddof_context *context, const ddof_params *params,
+                                  const ddof_camera *camera, const ddof_image_in *color,
+                                  const ddof_image_in *depth, const ddof_image *out,
+                                  ddof_stats *stats)
+{
     if (!camera || !color || !depth) {
         ddof_clear_error(context);
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL",
@@ -297,33 +299,51 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
     frame.color = *color;
     frame.depth = *depth;
     frame.camera = camera;
-    return ddof_render_frame(context, params, &frame, out, stats);
+    return render_frame(context, params, &frame, out, stats);
 }
 
-ddof_status ddof_params_check(ddof_context *context, const ddof_params *params)
+ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
+                                const ddof_camera *camera, const ddof_image_in *color,
+                                const ddof_image_in *depth, const ddof_image *out,
+                                ddof_stats *stats)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context,
+                        depth_of_field(context, params, camera, color, depth, out, stats));
+}
+
+static ddof_status params_check(ddof_context *context, const ddof_params *params)
+{
     ddof_clear_error(context);
     ddof_params p;
     return ddof_read_params(context, params, &p);
 }
 
-ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
+ddof_status ddof_params_check(ddof_context *context, const ddof_params *params)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context, params_check(context, params));
+}
+
+static ddof_status camera_check(ddof_context *context, const ddof_camera *camera)
+{
     ddof_clear_error(context);
     ddof_camera full;
     ddof_status status = ddof_read_camera(context, camera, &full);
     return status == DDOF_OK ? ddof_check_camera_aspect(context, &full) : status;
 }
 
-ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve)
+ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context, camera_check(context, camera));
+}
+
+static ddof_status curve_check(ddof_context *context, const ddof_curve *curve)
+{
     ddof_clear_error(context);
     ddof_curve full;
     return ddof_read_curve(context, curve, &full);
+}
+
+ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve)
+{
+    DDOF_EXCLUSIVE_CALL(context, curve_check(context, curve));
 }
