@@ -310,7 +310,7 @@ static void test_refusals(ddof_context *ctx, scene *s)
     expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_CAMERA, "f/0");
     bad = cam;
     bad.pixel_aspect = 200.0;
-    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "camera pixel aspect 200");
+    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_CAMERA, "camera pixel aspect 200");
     f = base;
     f.struct_size = 8;
     expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "a truncated frame struct");
@@ -354,7 +354,7 @@ static void test_checks(ddof_context *ctx)
     CHECK_EQ_INT(ddof_camera_check(ctx, &bad), DDOF_ERROR_BAD_CAMERA);
     bad = cam;
     bad.pixel_aspect = 0.001;
-    CHECK_EQ_INT(ddof_camera_check(ctx, &bad), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_EQ_INT(ddof_camera_check(ctx, &bad), DDOF_ERROR_BAD_CAMERA);
     CHECK_EQ_INT(ddof_camera_check(ctx, NULL), DDOF_ERROR_NULL_POINTER);
 
     ddof_curve curve;

@@ -91,7 +91,8 @@ typedef enum ddof_status {
     DDOF_ERROR_BAD_COLOR,     /* NaN or infinity in the colour image                           */
     DDOF_ERROR_BAD_DEPTH,     /* NaN, -inf, negative or zero depth (+inf is valid: the sky)    */
     DDOF_ERROR_BAD_COC,       /* NaN, infinite, negative CoC, or above DDOF_MAX_COC_PX         */
-    DDOF_ERROR_BAD_CAMERA,    /* f-number <= 0, focus not beyond the focal length, ...         */
+    DDOF_ERROR_BAD_CAMERA,    /* f-number <= 0, focus not beyond the focal length, pixel      */
+                              /* aspect outside 0.01..100, ...                                 */
     DDOF_ERROR_OUT_OF_MEMORY, /* an allocation failed; nothing was written                     */
     DDOF_ERROR_THREADS,       /* a worker thread could not be started                          */
     DDOF_ERROR_CANCELLED,     /* the progress callback asked to stop                           */

@@ -41,7 +41,9 @@ ddof_status ddof_check_camera_aspect(ddof_context *context, const ddof_camera *c
 {
     if (pixel_aspect_ok(camera->pixel_aspect, 0))
         return DDOF_OK;
-    return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+    /* DDOF_ERROR_BAD_CAMERA, as for a pixel aspect <= 0 (ddof_camera_terms.h): one status
+     * for one field. */
+    return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
                      "camera pixel_aspect %.9g must be within %g..%g for the diffusion",
                      camera->pixel_aspect, DDOF_MIN_PIXEL_ASPECT, DDOF_MAX_PIXEL_ASPECT);
 }

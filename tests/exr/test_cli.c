@@ -1909,6 +1909,81 @@ static int case_backend(void)
     return test_finish("test_cli backend");
 }
 
+/* Issue 22: messages that name what the user set. */
+static int case_messages(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr"), *json = test_path(dir, "cam.json");
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+
+    /* A subnormal pixel aspect is a number, judged against the range it is outside; a value
+     * beyond a double is said to be so. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "5e-324", NULL) == 2);
+    CHECK(err_contains("4.94065646e-324") && err_contains("0.01..100"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "1e-400", NULL) == 2);
+    CHECK(err_contains("--pixel-aspect '1e-400' is closer to 0 than a double can hold"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "1e999",
+               "--focus", "3", NULL) == 2);
+    CHECK(err_contains("--fstop '1e999' is larger than a double can hold"));
+    {
+        const char *big = "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": "
+                          "\"AUTO\", \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, "
+                          "32], \"pixel_aspect\": 1e999}";
+        test_write_file(json, big, strlen(big));
+        CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--camera", json, NULL) == 2);
+        CHECK(err_contains("\"pixel_aspect\" is larger than a double can hold"));
+    }
+    /* The EXR header's pixelAspectRatio is named as such, not as params.pixel_aspect. */
+    {
+        size_t size = 0;
+        char *bytes = test_read_file(in, &size);
+        static const char attr[] = "pixelAspectRatio\0float\0\4\0\0\0";
+        const float wide = 1e5f;
+        size_t at = 0;
+        while (bytes && at + sizeof attr + 4 <= size &&
+               memcmp(bytes + at, attr, sizeof attr - 1) != 0)
+            at++;
+        CHECK(bytes && at + sizeof attr + 4 <= size);
+        if (bytes && at + sizeof attr + 4 <= size) {
+            memcpy(bytes + at + sizeof attr - 1, &wide, 4);
+            test_write_file(test_path(dir, "wide.exr"), bytes, size);
+            CHECK(ddof(test_path(dir, "wide.exr"), "-o", test_path(dir, "o.exr"), "--curve",
+                       "8,0,2,4,12,10", NULL) == 1);
+            CHECK(err_contains("the header's pixelAspectRatio 100000 is outside 0.01..100"));
+            CHECK(ddof(test_path(dir, "wide.exr"), "-o", test_path(dir, "o.exr"),
+                       "--focal-length", "50", "--fstop", "2", "--focus", "3", NULL) == 1);
+            CHECK(err_contains("the header's pixelAspectRatio 100000") &&
+                  err_contains("--pixel-aspect"));
+            CHECK(ddof(test_path(dir, "wide.exr"), "-o", test_path(dir, "o.exr"),
+                       "--focal-length", "50", "--fstop", "2", "--focus", "3", "--pixel-aspect",
+                       "1", NULL) == 0);
+        }
+        free(bytes);
+    }
+    /* --stats whose directory cannot take it: said with its option, before any frame. */
+    CHECK(ddof(in, "-o", test_path(dir, "o2.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--stats", test_path(dir, "in.exr/s.json"), NULL) != 0);
+    CHECK(err_contains("ddof: --stats: "));
+    CHECK(!test_file_exists(test_path(dir, "o2.exr")));
+    /* Standard output closed: the report is lost, so the run is a failure, said on stderr. */
+    {
+        char command[8192];
+        snprintf(command, sizeof command,
+                 "'%s' '%s' -o '%s' --focal-length 50 --fstop 2 --focus 3 >&- 2>'%s'",
+                 ddof_bin, in, test_path(dir, "o3.exr"), test_path(dir, "closed.err"));
+        const int rc = system(command);
+        CHECK_MSG(WIFEXITED(rc) && WEXITSTATUS(rc) == 1, "exit %d", rc);
+        char *e = test_read_file(test_path(dir, "closed.err"), NULL);
+        CHECK_MSG(e && strstr(e, "cannot write the standard output"), "stderr: %s",
+                  e ? e : "");
+        free(e);
+    }
+    return test_finish("test_cli messages");
+}
+
 int main(int argc, char **argv)
 {
     const char *which;
@@ -1936,6 +2011,7 @@ int main(int argc, char **argv)
     if (!strcmp(which, "pipe")) return case_pipe();
     if (!strcmp(which, "resume")) return case_resume();
     if (!strcmp(which, "keep_parts")) return case_keep_parts();
+    if (!strcmp(which, "messages")) return case_messages();
     fprintf(stderr, "test_cli: unknown case %s\n", which);
     return 2;
 }

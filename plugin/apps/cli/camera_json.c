@@ -237,8 +237,19 @@ static int number(const cJSON *root, const char *key, int required, double *out,
         snprintf(error, error_size, "%s: missing \"%s\"", path, key);
         return -1;
     }
-    if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble) || !(item->valuedouble > 0.0)) {
+    if (!cJSON_IsNumber(item)) {
         snprintf(error, error_size, "%s: \"%s\" must be a number > 0", path, key);
+        return -1;
+    }
+    if (!isfinite(item->valuedouble)) { /* cJSON reads 1e999 as infinity */
+        snprintf(error, error_size, "%s: \"%s\" is larger than a double can hold; it must be "
+                 "a finite number > 0", path, key);
+        return -1;
+    }
+    if (!(item->valuedouble > 0.0)) {
+        snprintf(error, error_size, "%s: \"%s\" is %.9g%s; it must be a number > 0", path,
+                 key, item->valuedouble,
+                 item->valuedouble == 0.0 ? " (or closer to 0 than a double can hold)" : "");
         return -1;
     }
     *out = item->valuedouble;
