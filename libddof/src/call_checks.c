@@ -289,8 +289,8 @@ ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *c
 {
     ddof_foreground fg;
     ddof_foreground_init(&fg);
-    ddof_status status = ddof_read_struct(context, caller, sizeof fg, &fg, sizeof fg,
-                                          "foreground");
+    ddof_status status = ddof_read_struct(context, caller, DDOF_FOREGROUND_SIZE_0_5, &fg,
+                                          sizeof fg, "foreground");
     if (status != DDOF_OK)
         return status;
     const adi_request *r = &q->base;

@@ -8,13 +8,24 @@
 #include <stdint.h>
 #include <string.h>
 
-void ddof_frame_init(ddof_frame *frame)
+void (ddof_frame_init)(ddof_frame *frame)
 {
     if (!frame)
         return;
     memset(frame, 0, sizeof *frame);
     frame->struct_size = sizeof *frame;
     frame->foreground_premultiplied = 1;
+}
+
+void ddof_frame_init_sized(ddof_frame *frame, size_t size)
+{
+    ddof_frame full;
+    if (!frame || size < sizeof(uint32_t))
+        return;
+    (ddof_frame_init)(&full);
+    const size_t n = size < sizeof full ? size : sizeof full;
+    memcpy(frame, &full, n);
+    frame->struct_size = (uint32_t)n;
 }
 
 typedef enum coc_source { SOURCE_CAMERA, SOURCE_CURVE, SOURCE_GIVEN } coc_source;
@@ -250,7 +261,7 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
     adi_request *r = &q.base;
     int fg_visible = 0;
     float max_coc = -1.0f;
-    ddof_status status = ddof_read_struct(context, frame, sizeof s.frame, &s.frame,
+    ddof_status status = ddof_read_struct(context, frame, DDOF_FRAME_SIZE_0_5, &s.frame,
                                           sizeof s.frame, "frame");
     if (status == DDOF_OK)
         status = ddof_read_params(context, params, &p);

@@ -96,6 +96,10 @@ void ddof_free(const ddof_allocator *allocator, void *ptr);
 /* Monotonic seconds. */
 double ddof_seconds(void);
 
+/* 1 when the bytes of a caller's struct beyond the library's own size (`known`) up to its
+ * struct_size are all zero (or there are none): a newer caller's fields at their defaults. */
+int ddof_struct_tail_is_zero(const void *caller, size_t known);
+
 /* Validates a struct that starts with `uint32_t struct_size`: non-NULL and at least as large
  * as the first version of the struct, `min_size`. */
 ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min_size,
