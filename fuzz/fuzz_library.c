@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* fuzz_library.c - libddof's entry points on fuzzed sizes, channel counts, row strides, CoC,
  * depth, camera, curve and params: ddof_diffuse, ddof_diffuse_layers (with and without a
- * foreground element), ddof_depth_of_field, ddof_coc_from_camera and ddof_coc_from_curve.
+ * foreground element), ddof_depth_of_field, ddof_coc_from_camera and ddof_coc_from_curve;
+ * params of every size the struct rules allow (ddof_params_init_sized, older and newer).
  *
  * The buffers are always as large as the description handed over says (a caller that lies
  * about its buffers is outside any C API's contract). Checked: a call returns a known status;
@@ -11,6 +12,7 @@
 #include <ddof.h>
 
 #include <math.h>
+#include <stddef.h>
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -186,6 +188,30 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     params.method = (ddof_method)(byte(&r) % 3u);
     params.precision = (ddof_precision)(byte(&r) % 3u);
 
+    /* The params as callers of other versions hand them in (ddof.h's struct rules): today's
+     * size, an older one (from the first version's up), or a newer caller's larger struct
+     * whose unknown tail is zero (read) or set (refused). */
+    struct {
+        ddof_params p;
+        uint8_t tail[16];
+    } sized;
+    memset(&sized, 0, sizeof sized);
+    {
+        const uint8_t how = byte(&r);
+        size_t size = sizeof params;
+        if (how < 32)
+            size = offsetof(ddof_params, coc_signed) +
+                   byte(&r) % (sizeof params - offsetof(ddof_params, coc_signed));
+        else if (how < 64)
+            size = sizeof params + 1u + byte(&r) % sizeof sized.tail;
+        ddof_params_init_sized(&sized.p, size);
+        memcpy(&sized.p, &params, size < sizeof params ? size : sizeof params);
+        sized.p.struct_size = (uint32_t)size;
+        if (how < 64 && size > sizeof params && byte(&r) < 64)
+            sized.tail[byte(&r) % (size - sizeof params)] = 1u + byte(&r) % 255u;
+    }
+    const ddof_params *pp = &sized.p;
+
     {
         const ddof_image_in ci = {color, w, h, cch, byte(&r) < 128 ? 0u : (uint32_t)cstride};
         const ddof_image_in zi = {coc, w, h, zch, byte(&r) < 128 ? 0u : (uint32_t)zstride};
@@ -196,7 +222,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         (void)ci_tight;
         switch (which % 5u) {
         case 0:
-            s = ddof_diffuse(ctx, &params, &ci, &zi, &oi, NULL);
+            s = ddof_diffuse(ctx, pp, &ci, &zi, &oi, NULL);
             check_call(ctx, "ddof_diffuse", s, out, before, ofloats, &oi);
             break;
         case 1: {
@@ -206,7 +232,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fg.color = (ddof_image_in){fg_color, w, h, 4, 0};
             fg.coc = (ddof_image_in){fg_coc, w, h, 1, 0};
             fg.premultiplied = byte(&r) % 3u;
-            s = ddof_diffuse_layers(ctx, &params, &ci, &zi, with_fg ? &fg : NULL, &oi, &stats);
+            s = ddof_diffuse_layers(ctx, pp, &ci, &zi, with_fg ? &fg : NULL, &oi, &stats);
             check_call(ctx, "ddof_diffuse_layers", s, out, before, ofloats, &oi);
             break;
         }
@@ -223,7 +249,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             camera.depth_unit_m = byte(&r) < 200 ? 1.0 : any_double(&r, 1.0);
             camera.lens_model = (ddof_lens_model)(byte(&r) % 3u);
             if (byte(&r) & 1) {
-                s = ddof_depth_of_field(ctx, &params, &camera, &ci, &zi, &oi, NULL);
+                s = ddof_depth_of_field(ctx, pp, &camera, &ci, &zi, &oi, NULL);
                 check_call(ctx, "ddof_depth_of_field", s, out, before, ofloats, &oi);
             } else {
                 s = ddof_coc_from_camera(ctx, &camera, &zi_tight, &co_img);
@@ -252,7 +278,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             fg.coc = (ddof_image_in){fg_coc, fw <= w ? fw : w, h, byte(&r) & 1 ? 1u : 2u, 0};
             if (fg.coc.channels == 2)
                 fg.coc.width = fg.coc.width / 2 ? fg.coc.width / 2 : 1;
-            s = ddof_diffuse_layers(ctx, &params, &ci, &zi, &fg, &oi, NULL);
+            s = ddof_diffuse_layers(ctx, pp, &ci, &zi, &fg, &oi, NULL);
             check_call(ctx, "ddof_diffuse_layers (foreground)", s, out, before, ofloats, &oi);
             break;
         }

@@ -894,13 +894,16 @@ static void test_depth_of_field(void)
     BAD_DOF("dof: depth size", DDOF_ERROR_SIZE_MISMATCH, di.width = W - 1, di.width = W);
     BAD_DOF("dof: substeps 0", DDOF_ERROR_BAD_PARAMETER, p.substeps = 0, p.substeps = 1);
     /* The camera's pixel aspect becomes params.pixel_aspect: the same range, checked on the
-     * double before it is converted (1e-300 would become 0, 1e300 infinity). */
-    BAD_DOF("dof: camera pixel_aspect 1e20", DDOF_ERROR_BAD_PARAMETER, cam.pixel_aspect = 1e20,
+     * double before it is converted (1e-300 would become 0, 1e300 infinity). A bad camera, as
+     * a negative one is (issue 22: it was BAD_PARAMETER for 1e20 and BAD_CAMERA for -1). */
+    BAD_DOF("dof: camera pixel_aspect 1e20", DDOF_ERROR_BAD_CAMERA, cam.pixel_aspect = 1e20,
             cam.pixel_aspect = 1.0);
-    BAD_DOF("dof: camera pixel_aspect 1e-300", DDOF_ERROR_BAD_PARAMETER,
+    BAD_DOF("dof: camera pixel_aspect 1e-300", DDOF_ERROR_BAD_CAMERA,
             cam.pixel_aspect = 1e-300, cam.pixel_aspect = 1.0);
+    BAD_DOF("dof: camera pixel_aspect -1", DDOF_ERROR_BAD_CAMERA, cam.pixel_aspect = -1.0,
+            cam.pixel_aspect = 1.0);
     cam.pixel_aspect = 1e-300;
-    CHECK(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL) == DDOF_ERROR_BAD_PARAMETER);
+    CHECK(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, NULL) == DDOF_ERROR_BAD_CAMERA);
     CHECK_MSG(strstr(ddof_context_last_error(ctx), "pixel_aspect 1e-300 must be within 0.01..100"),
               "%s", ddof_context_last_error(ctx));
     cam.pixel_aspect = 100.0;

@@ -334,6 +334,25 @@ static void test_refusals(ddof_context *ctx, scene *s)
     expect_refused(ctx, &p, &f, DDOF_ERROR_SIZE_MISMATCH, "coc_out with 2 channels");
     f.coc_out = (ddof_image){(float *)s->color, W, H, 1, 0};
     expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "coc_out over the colour");
+    /* Overlap by byte range, not base pointer: the colour's alpha with the colour's stride,
+     * an address inside the colour, the depth, and the output one float on. */
+    f.coc_out = (ddof_image){(float *)s->color + 3, W, H, 1, (size_t)W * 4 * sizeof(float)};
+    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "coc_out on the colour's alpha");
+    f.coc_out = (ddof_image){(float *)s->color + 2 * W * 4, W, H, 1, 0};
+    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "coc_out inside the colour");
+    f.coc_out = (ddof_image){(float *)s->depth, W, H, 1, 0};
+    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "coc_out over the depth");
+    {
+        static float out1[N * 4 + 1];
+        f.coc_out = (ddof_image){out1 + 1, W, H, 1, 0};
+        CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){out1, W, H, 4, 0}, NULL),
+                     DDOF_ERROR_BAD_PARAMETER);
+        CHECK(strstr(ddof_context_last_error(ctx), "overlaps the output") != NULL);
+        int touched = 0;
+        for (int i = 0; i < N * 4 + 1; i++)
+            touched += out1[i] != 0.0f;
+        CHECK_MSG(touched == 0, "coc_out at out + 1: %d values written", touched);
+    }
     f = base;
     const float d = s->depth[9];
     s->depth[9] = -1.0f;
@@ -345,7 +364,7 @@ static void test_refusals(ddof_context *ctx, scene *s)
     expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_CAMERA, "f/0");
     bad = cam;
     bad.pixel_aspect = 200.0;
-    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "camera pixel aspect 200");
+    expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_CAMERA, "camera pixel aspect 200");
     f = base;
     f.struct_size = 8;
     expect_refused(ctx, &p, &f, DDOF_ERROR_BAD_PARAMETER, "a truncated frame struct");
@@ -389,7 +408,7 @@ static void test_checks(ddof_context *ctx)
     CHECK_EQ_INT(ddof_camera_check(ctx, &bad), DDOF_ERROR_BAD_CAMERA);
     bad = cam;
     bad.pixel_aspect = 0.001;
-    CHECK_EQ_INT(ddof_camera_check(ctx, &bad), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_EQ_INT(ddof_camera_check(ctx, &bad), DDOF_ERROR_BAD_CAMERA);
     CHECK_EQ_INT(ddof_camera_check(ctx, NULL), DDOF_ERROR_NULL_POINTER);
 
     ddof_curve curve;

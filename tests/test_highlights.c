@@ -8,6 +8,7 @@
 
 #include <ddof.h>
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -344,6 +345,51 @@ static void test_params(void)
     CHECK_MSG(isfinite(red) && fabs(red / red_in - 1.0) < 1e-3, "red %.6g of %.6g", red, red_in);
 }
 
+/* Colour at the ends of float's range beside a highlight: -FLT_MAX in one channel of a bright
+ * pixel, +FLT_MAX in another's. With the pass on, the disc added to the diffused colour used to
+ * overflow to -inf (DDOF_OK); the output must be finite with every solver and kernel. */
+static void test_extreme_colour(void)
+{
+    static frame f;
+    static const ddof_kernel kernels[2] = {DDOF_KERNEL_HEAT, DDOF_KERNEL_DISC_2X2};
+    static const ddof_solver solvers[3] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
+                                           DDOF_SOLVER_REFERENCE_F64};
+    for (int k = 0; k < 2; k++)
+        for (int v = 0; v < 3; v++) {
+            flat(&f, 12.0f);
+            /* Green -FLT_MAX over a band of rows, and lights in it: the diffused green stays
+             * near -FLT_MAX and the lights' discs bring more of it. Four pixels of blue +FLT_MAX. */
+            for (int i = 20 * W; i < 40 * W; i++)
+                f.color[i * 4 + 1] = -FLT_MAX;
+            for (int i = 50 * W + 20; i < 50 * W + 24; i++)
+                f.color[i * 4 + 2] = FLT_MAX;
+            for (int x = 30; x < 60; x += 7) {
+                f.color[(size_t)(30 * W + x) * 4] = 10.0f;
+                f.color[(size_t)(55 * W + x) * 4] = 10.0f;
+            }
+            ddof_params p;
+            ddof_params_init(&p);
+            p.coc_signed = 1;
+            p.kernel = kernels[k];
+            p.solver = solvers[v];
+            p.background = DDOF_LAYER_OFF;
+            p.near_spread = DDOF_LAYER_OFF;
+            p.highlights = DDOF_LAYER_ON;
+            ddof_stats st = {.struct_size = sizeof st};
+            const ddof_status got = ddof_diffuse_layers(
+                ctx, &p, &(ddof_image_in){f.color, W, H, 4, 0},
+                &(ddof_image_in){f.coc, W, H, 1, 0}, NULL, &(ddof_image){f.out, W, H, 4, 0}, &st);
+            CHECK_MSG(got == DDOF_OK, "kernel %d solver %d: %s", k, v,
+                      ddof_context_last_error(ctx));
+            CHECK_MSG(st.effects & DDOF_EFFECT_HIGHLIGHTS, "kernel %d solver %d: %s", k, v,
+                      st.plan);
+            int bad = 0;
+            for (int i = 0; i < N * 4; i++)
+                bad += !isfinite(f.out[i]);
+            CHECK_MSG(bad == 0, "kernel %d solver %d: %d output values not finite", k, v, bad);
+        }
+}
+
 int main(void)
 {
     ddof_context_options co;
@@ -358,6 +404,7 @@ int main(void)
     test_element_highlight();
     test_budget();
     test_params();
+    test_extreme_colour();
     ddof_context_free(ctx);
     return test_report("test_highlights");
 }

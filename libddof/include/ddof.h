@@ -15,7 +15,19 @@
  *  - Images are owned by the caller and described by ddof_image; no pointer is kept past a call.
  *  - Parameter structs carry their size in `struct_size`; fill them with their *_init function
  *    first, then change what you need. Fields are only ever appended.
- *  - One context per thread. The library has no global mutable state.
+ *  - The struct rules (the ABI): each *_init(p) is a macro for *_init_sized(p, sizeof *p),
+ *    which writes only the caller's size (never more than the library's own struct) and sets
+ *    struct_size to what it wrote, so a caller built with an older, smaller struct is never
+ *    overrun by a newer library; the functions of the plain names stay for binaries built
+ *    before (they write the whole struct). (A literal NULL now needs a cast.) Each input
+ *    struct is accepted from its named first size, DDOF_<STRUCT>_SIZE_0_5 below or older (the
+ *    fields it lacks take their defaults), and beyond the library's own size only when the
+ *    bytes it does not know are zero (a newer caller that left new fields at their defaults).
+ *  - One context per thread. The library has no global mutable state. A call on a context
+ *    that another call is using (another thread, or the progress callback calling back in)
+ *    returns DDOF_ERROR_CONTEXT_BUSY at once and touches nothing: the context is then not
+ *    shared safely, and the caller's design should change, but it gets a status, not a crash
+ *    or wrong pixels. ddof_context_free while a call runs stays undefined.
  *
  * Usage: one frame from a renderer's colour and depth passes
  *
@@ -87,7 +99,8 @@ typedef enum ddof_status {
     DDOF_ERROR_BAD_COLOR,     /* NaN or infinity in the colour image                           */
     DDOF_ERROR_BAD_DEPTH,     /* NaN, -inf, negative or zero depth (+inf is valid: the sky)    */
     DDOF_ERROR_BAD_COC,       /* NaN, infinite, negative CoC, or above DDOF_MAX_COC_PX         */
-    DDOF_ERROR_BAD_CAMERA,    /* f-number <= 0, focus not beyond the focal length, ...         */
+    DDOF_ERROR_BAD_CAMERA,    /* f-number <= 0, focus not beyond the focal length, pixel      */
+                              /* aspect outside 0.01..100, ...                                 */
     DDOF_ERROR_OUT_OF_MEMORY, /* an allocation failed; nothing was written                     */
     DDOF_ERROR_THREADS,       /* a worker thread could not be started                          */
     DDOF_ERROR_CANCELLED,     /* the progress callback asked to stop                           */
@@ -97,6 +110,9 @@ typedef enum ddof_status {
     DDOF_ERROR_UNSUPPORTED,   /* the context's backend cannot run this solver or precision     */
     DDOF_ERROR_BACKEND_FAILED,/* the GL backend failed mid-call (shader, out of GPU memory);   */
                               /* out is untouched                                             */
+    DDOF_ERROR_CONTEXT_BUSY,  /* another call is running on this context (another thread, or */
+                              /* the progress callback calling back in); nothing was done and */
+                              /* the last error is left to the running call                    */
     DDOF_STATUS_COUNT_        /* not a status: the number of codes                             */
 } ddof_status;
 
@@ -160,7 +176,9 @@ typedef struct ddof_context_options {
     const ddof_allocator *allocator; /* NULL = malloc/free; copied, need not outlive call    */
 } ddof_context_options;
 
-DDOF_API void ddof_context_options_init(ddof_context_options *options);
+DDOF_API void (ddof_context_options_init)(ddof_context_options *options);
+DDOF_API void ddof_context_options_init_sized(ddof_context_options *options, size_t size);
+#define ddof_context_options_init(options) ddof_context_options_init_sized((options), sizeof *(options))
 
 /* options may be NULL for the defaults. On success *out_context is a new context. */
 DDOF_API ddof_status ddof_context_create(const ddof_context_options *options,
@@ -220,7 +238,9 @@ typedef struct ddof_camera {
     int32_t window_x, window_y; /* the image's top-left pixel within the full frame */
 } ddof_camera;
 
-DDOF_API void ddof_camera_init(ddof_camera *camera);
+DDOF_API void (ddof_camera_init)(ddof_camera *camera);
+DDOF_API void ddof_camera_init_sized(ddof_camera *camera, size_t size);
+#define ddof_camera_init(camera) ddof_camera_init_sized((camera), sizeof *(camera))
 
 /* Fills `coc` (1 channel, same size as depth) with CoC diameters in horizontal pixels.
  * depth: its first channel is read. +inf depth (sky) is valid and gets the far-limit CoC.
@@ -244,7 +264,9 @@ typedef struct ddof_curve {
     uint32_t signed_coc;  /* 1: the near part of the curve is written negative. Default 0.    */
 } ddof_curve;
 
-DDOF_API void ddof_curve_init(ddof_curve *curve);
+DDOF_API void (ddof_curve_init)(ddof_curve *curve);
+DDOF_API void ddof_curve_init_sized(ddof_curve *curve, size_t size);
+#define ddof_curve_init(curve) ddof_curve_init_sized((curve), sizeof *(curve))
 
 /* As ddof_coc_from_camera, with the curve. Depth must not be NaN or negative (+inf is far). */
 DDOF_API ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
@@ -442,11 +464,16 @@ typedef struct ddof_params {
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
-DDOF_API void ddof_params_init(ddof_params *params);
+DDOF_API void (ddof_params_init)(ddof_params *params);
+DDOF_API void ddof_params_init_sized(ddof_params *params, size_t size);
+#define ddof_params_init(params) ddof_params_init_sized((params), sizeof *(params))
 
 /* Fills params with a preset's settings; an unknown preset gives DDOF_ERROR_BAD_PARAMETER and
  * the default preset. "preview", "default", "final" by name; NULL if unknown. */
 DDOF_API ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset);
+/* ddof_params_init_preset writing only `size` bytes (ddof_params_init_sized's rule). */
+DDOF_API ddof_status ddof_params_init_preset_sized(ddof_params *params, size_t size,
+                                                   ddof_preset preset);
 DDOF_API const char *ddof_preset_name(ddof_preset preset);
 
 /* What a call simulated, skipped, and how long each stage took. Parameter structs of an older
@@ -531,7 +558,9 @@ typedef struct ddof_foreground {
     uint32_t premultiplied;/* 1: RGB is already multiplied by alpha. Default 1.               */
 } ddof_foreground;
 
-DDOF_API void ddof_foreground_init(ddof_foreground *foreground);
+DDOF_API void (ddof_foreground_init)(ddof_foreground *foreground);
+DDOF_API void ddof_foreground_init_sized(ddof_foreground *foreground, size_t size);
+#define ddof_foreground_init(foreground) ddof_foreground_init_sized((foreground), sizeof *(foreground))
 
 /* ddof_diffuse with the layers: the planner analyses the CoC field and runs the midground
  * diffusion, the background layer(s), the near layer or the near-field spread and the
@@ -602,7 +631,15 @@ typedef struct ddof_frame {
     ddof_image coc_out;
 } ddof_frame;
 
-DDOF_API void ddof_frame_init(ddof_frame *frame);
+/* The smallest struct_size accepted for the structs that had no older layout: their 0.5
+ * layouts (fields appended later are optional). */
+#define DDOF_CONTEXT_OPTIONS_SIZE_0_5 (offsetof(ddof_context_options, allocator) + sizeof(void *))
+#define DDOF_FOREGROUND_SIZE_0_5 (offsetof(ddof_foreground, premultiplied) + sizeof(uint32_t))
+#define DDOF_FRAME_SIZE_0_5 (offsetof(ddof_frame, coc_out) + sizeof(ddof_image))
+
+DDOF_API void (ddof_frame_init)(ddof_frame *frame);
+DDOF_API void ddof_frame_init_sized(ddof_frame *frame, size_t size);
+#define ddof_frame_init(frame) ddof_frame_init_sized((frame), sizeof *(frame))
 
 /* Depth of field of one frame: the CoC from the frame's source, then the layers as the planner
  * and params decide (ddof_diffuse_layers), with the foreground element when there is one.

@@ -2,6 +2,8 @@
 /* api.c - version, defaults of the parameter structs, names. */
 #include "internal.h"
 
+#include <string.h>
+
 unsigned ddof_version_number(void)
 {
     return DDOF_VERSION_NUMBER;
@@ -45,7 +47,55 @@ const char *ddof_preset_name(ddof_preset preset)
     return NULL;
 }
 
-ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
+/* The caller's first `size` bytes of `full` (never more than full_size), with struct_size
+ * saying how many were written. Nothing below the size field's own 4 bytes. */
+static void write_prefix(void *caller, size_t size, const void *full, size_t full_size)
+{
+    if (!caller || size < sizeof(uint32_t))
+        return;
+    const size_t n = size < full_size ? size : full_size;
+    memcpy(caller, full, n);
+    const uint32_t written = (uint32_t)n;
+    memcpy(caller, &written, sizeof written);
+}
+
+ddof_status ddof_params_init_preset_sized(ddof_params *caller, size_t size, ddof_preset preset)
+{
+    if (!caller)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_params full;
+    const ddof_status status = (ddof_params_init_preset)(&full, preset);
+    write_prefix(caller, size, &full, sizeof full);
+    return status;
+}
+
+void ddof_params_init_sized(ddof_params *params, size_t size)
+{
+    (void)ddof_params_init_preset_sized(params, size, DDOF_PRESET_DEFAULT);
+}
+
+void ddof_camera_init_sized(ddof_camera *camera, size_t size)
+{
+    ddof_camera full;
+    (ddof_camera_init)(&full);
+    write_prefix(camera, size, &full, sizeof full);
+}
+
+void ddof_curve_init_sized(ddof_curve *curve, size_t size)
+{
+    ddof_curve full;
+    (ddof_curve_init)(&full);
+    write_prefix(curve, size, &full, sizeof full);
+}
+
+void ddof_foreground_init_sized(ddof_foreground *foreground, size_t size)
+{
+    ddof_foreground full;
+    (ddof_foreground_init)(&full);
+    write_prefix(foreground, size, &full, sizeof full);
+}
+
+ddof_status (ddof_params_init_preset)(ddof_params *params, ddof_preset preset)
 {
     if (!params)
         return DDOF_ERROR_NULL_POINTER;
@@ -77,12 +127,12 @@ ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset)
     return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
 }
 
-void ddof_params_init(ddof_params *params)
+void (ddof_params_init)(ddof_params *params)
 {
-    (void)ddof_params_init_preset(params, DDOF_PRESET_DEFAULT);
+    (void)(ddof_params_init_preset)(params, DDOF_PRESET_DEFAULT);
 }
 
-void ddof_camera_init(ddof_camera *camera)
+void (ddof_camera_init)(ddof_camera *camera)
 {
     if (!camera)
         return;
@@ -100,7 +150,7 @@ void ddof_camera_init(ddof_camera *camera)
     };
 }
 
-void ddof_curve_init(ddof_curve *curve)
+void (ddof_curve_init)(ddof_curve *curve)
 {
     if (!curve)
         return;
@@ -115,7 +165,7 @@ void ddof_curve_init(ddof_curve *curve)
     };
 }
 
-void ddof_foreground_init(ddof_foreground *foreground)
+void (ddof_foreground_init)(ddof_foreground *foreground)
 {
     if (foreground)
         *foreground = (ddof_foreground){.struct_size = sizeof *foreground, .premultiplied = 1};

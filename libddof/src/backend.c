@@ -103,11 +103,9 @@ void ddof_backend_release(ddof_context *context)
     drop_device(&context->backend);
 }
 
-ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
-                                     const char *plugin_path)
+static ddof_status set_backend(ddof_context *context, ddof_backend_kind kind,
+                               const char *plugin_path)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     if ((unsigned)kind >= DDOF_BACKEND_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "unknown backend %d", (int)kind);
@@ -136,6 +134,12 @@ ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind ki
     drop_device(&context->backend);
     context->backend = next;
     return DDOF_OK;
+}
+
+ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
+                                     const char *plugin_path)
+{
+    DDOF_EXCLUSIVE_CALL(context, set_backend(context, kind, plugin_path));
 }
 
 ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_info *info)

@@ -41,7 +41,9 @@ ddof_status ddof_check_camera_aspect(ddof_context *context, const ddof_camera *c
 {
     if (pixel_aspect_ok(camera->pixel_aspect, 0))
         return DDOF_OK;
-    return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+    /* DDOF_ERROR_BAD_CAMERA, as for a pixel aspect <= 0 (ddof_camera_terms.h): one status
+     * for one field. */
+    return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
                      "camera pixel_aspect %.9g must be within %g..%g for the diffusion",
                      camera->pixel_aspect, DDOF_MIN_PIXEL_ASPECT, DDOF_MAX_PIXEL_ASPECT);
 }
@@ -312,8 +314,8 @@ ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *c
 {
     ddof_foreground fg;
     ddof_foreground_init(&fg);
-    ddof_status status = ddof_read_struct(context, caller, sizeof fg, &fg, sizeof fg,
-                                          "foreground");
+    ddof_status status = ddof_read_struct(context, caller, DDOF_FOREGROUND_SIZE_0_5, &fg,
+                                          sizeof fg, "foreground");
     if (status != DDOF_OK)
         return status;
     const adi_request *r = &q->base;

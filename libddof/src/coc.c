@@ -180,11 +180,9 @@ static ddof_status check_coc_images(ddof_context *context, const ddof_image_in *
     return DDOF_OK;
 }
 
-ddof_status ddof_coc_from_camera(ddof_context *context, const ddof_camera *camera,
-                                 const ddof_image_in *depth, const ddof_image *coc)
+static ddof_status coc_from_camera(ddof_context *context, const ddof_camera *camera,
+                                   const ddof_image_in *depth, const ddof_image *coc)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     size_t depth_stride, coc_stride;
     ddof_camera full;
@@ -196,11 +194,9 @@ ddof_status ddof_coc_from_camera(ddof_context *context, const ddof_camera *camer
     return ddof_compute_coc_camera(context, &full, depth, depth_stride, coc->pixels, coc_stride);
 }
 
-ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
-                                const ddof_image_in *depth, const ddof_image *coc)
+static ddof_status coc_from_curve(ddof_context *context, const ddof_curve *curve,
+                                  const ddof_image_in *depth, const ddof_image *coc)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     size_t depth_stride, coc_stride;
     ddof_curve full;
@@ -210,4 +206,16 @@ ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
     if (status != DDOF_OK)
         return status;
     return ddof_compute_coc_curve(context, &full, depth, depth_stride, coc->pixels, coc_stride);
+}
+
+ddof_status ddof_coc_from_camera(ddof_context *context, const ddof_camera *camera,
+                                 const ddof_image_in *depth, const ddof_image *coc)
+{
+    DDOF_EXCLUSIVE_CALL(context, coc_from_camera(context, camera, depth, coc));
+}
+
+ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
+                                const ddof_image_in *depth, const ddof_image *coc)
+{
+    DDOF_EXCLUSIVE_CALL(context, coc_from_curve(context, curve, depth, coc));
 }

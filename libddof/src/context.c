@@ -3,6 +3,7 @@
 #include "backend.h"
 
 #include <stdlib.h>
+#include <string.h>
 #include <unistd.h>
 
 static void *default_alloc(void *user, size_t size)
@@ -17,10 +18,20 @@ static void default_free(void *user, void *ptr)
     free(ptr);
 }
 
-void ddof_context_options_init(ddof_context_options *options)
+void (ddof_context_options_init)(ddof_context_options *options)
 {
     if (options)
         *options = (ddof_context_options){.struct_size = sizeof *options};
+}
+
+void ddof_context_options_init_sized(ddof_context_options *options, size_t size)
+{
+    if (!options || size < sizeof(uint32_t))
+        return;
+    const ddof_context_options full = {.struct_size = sizeof full};
+    const size_t n = size < sizeof full ? size : sizeof full;
+    memcpy(options, &full, n);
+    options->struct_size = (uint32_t)n;
 }
 
 static uint32_t online_cores(void)
@@ -34,12 +45,18 @@ ddof_status ddof_context_create(const ddof_context_options *options, ddof_contex
     if (!out_context)
         return DDOF_ERROR_NULL_POINTER;
     *out_context = NULL;
-    ddof_context_options defaults;
-    ddof_context_options_init(&defaults);
-    if (!options)
-        options = &defaults;
-    if (options->struct_size < sizeof(ddof_context_options))
-        return DDOF_ERROR_BAD_PARAMETER;
+    ddof_context_options given;
+    ddof_context_options_init(&given);
+    if (options) {
+        /* The 0.5 layout or newer; a newer caller's unknown trailing bytes must be zero. */
+        if (options->struct_size < DDOF_CONTEXT_OPTIONS_SIZE_0_5 ||
+            !ddof_struct_tail_is_zero(options, sizeof given))
+            return DDOF_ERROR_BAD_PARAMETER;
+        memcpy(&given, options, sizeof given < options->struct_size ? sizeof given
+                                                                     : options->struct_size);
+        given.struct_size = sizeof given;
+    }
+    options = &given;
     if (options->allocator && (!options->allocator->alloc || !options->allocator->free))
         return DDOF_ERROR_NULL_POINTER;
     if (options->thread_count > 1024)
@@ -53,6 +70,7 @@ ddof_status ddof_context_create(const ddof_context_options *options, ddof_contex
         return DDOF_ERROR_OUT_OF_MEMORY;
     *context = (ddof_context){.allocator = allocator, .thread_count = 1,
                               .backend = {.kind = DDOF_BACKEND_CPU}};
+    atomic_init(&context->in_use, 0);
 
     uint32_t threads = options->thread_count ? options->thread_count : online_cores();
     if (threads > 1) {
@@ -77,6 +95,16 @@ void ddof_context_free(ddof_context *context)
     for (int i = 0; i < DDOF_SCRATCH_COUNT; i++)
         ddof_free(&allocator, context->scratch[i].memory);
     ddof_free(&allocator, context);
+}
+
+int ddof_context_enter(ddof_context *context)
+{
+    return atomic_exchange_explicit(&context->in_use, 1, memory_order_acquire) == 0;
+}
+
+void ddof_context_leave(ddof_context *context)
+{
+    atomic_store_explicit(&context->in_use, 0, memory_order_release);
 }
 
 uint32_t ddof_context_thread_count(const ddof_context *context)

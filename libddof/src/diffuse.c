@@ -242,13 +242,11 @@ static ddof_status prepare(ddof_context *context, const ddof_params *caller_para
     return DDOF_OK;
 }
 
-ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
-                         const ddof_image_in *color, const ddof_image_in *coc,
-                         const ddof_image *out, ddof_stats *stats)
+static ddof_status diffuse(ddof_context *context, const ddof_params *params,
+                           const ddof_image_in *color, const ddof_image_in *coc,
+                           const ddof_image *out, ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     ddof_params p;
     adi_request r = {0};
@@ -262,14 +260,19 @@ ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
     return run_single(context, &r, &p, max_coc, stats, t_start, ddof_seconds() - t_start);
 }
 
-ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
-                                const ddof_image_in *color, const ddof_image_in *coc,
-                                const ddof_foreground *foreground, const ddof_image *out,
-                                ddof_stats *stats)
+ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,
+                         const ddof_image_in *color, const ddof_image_in *coc,
+                         const ddof_image *out, ddof_stats *stats)
+{
+    DDOF_EXCLUSIVE_CALL(context, diffuse(context, params, color, coc, out, stats));
+}
+
+static ddof_status diffuse_layers(ddof_context *context, const ddof_params *params,
+                                  const ddof_image_in *color, const ddof_image_in *coc,
+                                  const ddof_foreground *foreground, const ddof_image *out,
+                                  ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     ddof_params p;
     layers_request q = {.params = &p};
@@ -287,4 +290,13 @@ ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params
         return status;
     return ddof_run_layered(context, &q, foreground != NULL, fg_visible, max_coc, stats,
                             t_start, ddof_seconds() - t_start);
+}
+
+ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,
+                                const ddof_image_in *color, const ddof_image_in *coc,
+                                const ddof_foreground *foreground, const ddof_image *out,
+                                ddof_stats *stats)
+{
+    DDOF_EXCLUSIVE_CALL(context,
+                        diffuse_layers(context, params, color, coc, foreground, out, stats));
 }

@@ -24,6 +24,8 @@ const char *ddof_status_string(ddof_status status)
     case DDOF_ERROR_BACKEND_UNAVAILABLE: return "the requested GL backend is not available";
     case DDOF_ERROR_UNSUPPORTED: return "the backend does not support this solver or precision";
     case DDOF_ERROR_BACKEND_FAILED: return "the GL backend failed during the call";
+    case DDOF_ERROR_CONTEXT_BUSY:
+        return "another call is running on this context (one context per thread)";
     case DDOF_STATUS_COUNT_: break;
     }
     return "unknown status code";

@@ -6,15 +6,27 @@
 #include "coc.h"
 #include "element_edges.h"
 
+#include <stdint.h>
 #include <string.h>
 
-void ddof_frame_init(ddof_frame *frame)
+void (ddof_frame_init)(ddof_frame *frame)
 {
     if (!frame)
         return;
     memset(frame, 0, sizeof *frame);
     frame->struct_size = sizeof *frame;
     frame->foreground_premultiplied = 1;
+}
+
+void ddof_frame_init_sized(ddof_frame *frame, size_t size)
+{
+    ddof_frame full;
+    if (!frame || size < sizeof(uint32_t))
+        return;
+    (ddof_frame_init)(&full);
+    const size_t n = size < sizeof full ? size : sizeof full;
+    memcpy(frame, &full, n);
+    frame->struct_size = (uint32_t)n;
 }
 
 typedef enum coc_source { SOURCE_CAMERA, SOURCE_CURVE, SOURCE_GIVEN } coc_source;
@@ -96,6 +108,22 @@ static ddof_status check_foreground(ddof_context *context, frame_setup *s, const
                           &s->fg_map_stride);
 }
 
+/* The bytes a validated image spans: [*lo, *hi). */
+static void byte_range(const float *pixels, uint32_t width, uint32_t height, uint32_t channels,
+                       size_t row_stride, const char **lo, const char **hi)
+{
+    const size_t row = (size_t)width * channels * sizeof(float);
+    *lo = (const char *)pixels;
+    *hi = *lo + (size_t)(height - 1) * (row_stride ? row_stride : row) + row;
+}
+
+static int ranges_overlap(const char *a_lo, const char *a_hi, const char *b_lo,
+                          const char *b_hi)
+{
+    /* Pointers into different objects are compared as addresses. */
+    return (uintptr_t)a_lo < (uintptr_t)b_hi && (uintptr_t)b_lo < (uintptr_t)a_hi;
+}
+
 static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const adi_request *r)
 {
     const ddof_image *c = &s->frame.coc_out;
@@ -109,9 +137,33 @@ static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const ad
         return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
                          "coc_out is %ux%u with %u channels; it must be %ux%u with 1 channel",
                          c->width, c->height, c->channels, r->width, r->height);
-    if (c->pixels == r->out || (const float *)c->pixels == r->color)
+    /* By byte range, not base pointer: the colour's alpha (`color + 3` with its stride), an
+     * address inside an input or `out + 1` all overlap. Images are already validated. */
+    const ddof_frame *f = &s->frame;
+    const ddof_image_in *inputs[6] = {&f->color, &f->depth, &f->coc, &f->foreground_color,
+                                      &f->foreground_depth, &f->foreground_coc};
+    static const char *const names[6] = {"colour", "depth", "coc", "foreground colour",
+                                         "foreground depth", "foreground coc"};
+    const char *lo, *hi;
+    byte_range(c->pixels, c->width, c->height, c->channels, c->row_stride, &lo, &hi);
+    for (int i = 0; i < 6; i++) {
+        const char *in_lo, *in_hi;
+        if (!inputs[i]->pixels)
+            continue;
+        byte_range(inputs[i]->pixels, inputs[i]->width, inputs[i]->height,
+                   inputs[i]->channels, inputs[i]->row_stride, &in_lo, &in_hi);
+        if (ranges_overlap(lo, hi, in_lo, in_hi))
+            return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                             "coc_out overlaps the frame's %s in memory; it must not overlap "
+                             "an input or the output", names[i]);
+    }
+    const char *out_lo, *out_hi;
+    byte_range(r->out, r->width, r->height, r->channels, r->out_stride * sizeof(float),
+               &out_lo, &out_hi);
+    if (ranges_overlap(lo, hi, out_lo, out_hi))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "coc_out must not be the colour or the output image");
+                         "coc_out overlaps the output image in memory; it must not overlap an "
+                         "input or the output");
     return DDOF_OK;
 }
 
@@ -206,12 +258,10 @@ static ddof_status prepare_coc(ddof_context *context, const frame_setup *s, cons
     return status;
 }
 
-ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
-                              const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
+static ddof_status render_frame(ddof_context *context, const ddof_params *params,
+                                const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     frame_setup s = {0};
     ddof_frame_init(&s.frame);
@@ -220,7 +270,7 @@ ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
     adi_request *r = &q.base;
     int fg_visible = 0;
     float max_coc = -1.0f;
-    ddof_status status = ddof_read_struct(context, frame, sizeof s.frame, &s.frame,
+    ddof_status status = ddof_read_struct(context, frame, DDOF_FRAME_SIZE_0_5, &s.frame,
                                           sizeof s.frame, "frame");
     if (status == DDOF_OK)
         status = ddof_read_params(context, params, &p);
@@ -248,13 +298,17 @@ ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
                             t_start, ddof_seconds() - t_start);
 }
 
-ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
-                                const ddof_camera *camera, const ddof_image_in *color,
-                                const ddof_image_in *depth, const ddof_image *out,
-                                ddof_stats *stats)
+ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
+                              const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context, render_frame(context, params, frame, out, stats));
+}
+
+static ddof_status depth_of_field(ddof_context *context, const ddof_params *params,
+                                  const ddof_camera *camera, const ddof_image_in *color,
+                                  const ddof_image_in *depth, const ddof_image *out,
+                                  ddof_stats *stats)
+{
     if (!camera || !color || !depth) {
         ddof_clear_error(context);
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL",
@@ -265,33 +319,51 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
     frame.color = *color;
     frame.depth = *depth;
     frame.camera = camera;
-    return ddof_render_frame(context, params, &frame, out, stats);
+    return render_frame(context, params, &frame, out, stats);
 }
 
-ddof_status ddof_params_check(ddof_context *context, const ddof_params *params)
+ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,
+                                const ddof_camera *camera, const ddof_image_in *color,
+                                const ddof_image_in *depth, const ddof_image *out,
+                                ddof_stats *stats)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context,
+                        depth_of_field(context, params, camera, color, depth, out, stats));
+}
+
+static ddof_status params_check(ddof_context *context, const ddof_params *params)
+{
     ddof_clear_error(context);
     ddof_params p;
     return ddof_read_params(context, params, &p);
 }
 
-ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
+ddof_status ddof_params_check(ddof_context *context, const ddof_params *params)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context, params_check(context, params));
+}
+
+static ddof_status camera_check(ddof_context *context, const ddof_camera *camera)
+{
     ddof_clear_error(context);
     ddof_camera full;
     ddof_status status = ddof_read_camera(context, camera, &full);
     return status == DDOF_OK ? ddof_check_camera_aspect(context, &full) : status;
 }
 
-ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve)
+ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
+    DDOF_EXCLUSIVE_CALL(context, camera_check(context, camera));
+}
+
+static ddof_status curve_check(ddof_context *context, const ddof_curve *curve)
+{
     ddof_clear_error(context);
     ddof_curve full;
     return ddof_read_curve(context, curve, &full);
+}
+
+ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve)
+{
+    DDOF_EXCLUSIVE_CALL(context, curve_check(context, curve));
 }

@@ -4,6 +4,7 @@
 
 #include "parallel_rows.h"
 
+#include <float.h>
 #include <math.h>
 #include <string.h>
 
@@ -378,8 +379,14 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             for (int c = 0; c < 3; c++)
                 sum[c] += d[(size_t)x * 3 + c];
             if (lands(r, job->coc_signed, job->threshold, x, y))
-                for (int c = 0; c < 3; c++)
-                    out[(size_t)x * r->channels + c] += (float)sum[c];
+                for (int c = 0; c < 3; c++) {
+                    /* In double and kept within float's range: colour near -FLT_MAX (valid
+                     * input) diffuses to near -FLT_MAX, and its light's share on top of that
+                     * would overflow to -inf. */
+                    float *o = &out[(size_t)x * r->channels + c];
+                    const double v = (double)*o + sum[c];
+                    *o = (float)(v > FLT_MAX ? FLT_MAX : v < -FLT_MAX ? -FLT_MAX : v);
+                }
         }
     }
 }

@@ -17,6 +17,16 @@ ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min
     return DDOF_OK;
 }
 
+int ddof_struct_tail_is_zero(const void *caller, size_t known)
+{
+    const uint32_t size = *(const uint32_t *)caller;
+    const unsigned char *bytes = caller;
+    for (size_t i = known; i < size; i++)
+        if (bytes[i])
+            return 0;
+    return 1;
+}
+
 ddof_status ddof_read_struct(ddof_context *context, const void *caller, size_t min_size,
                              void *full, size_t full_size, const char *what)
 {
@@ -24,6 +34,13 @@ ddof_status ddof_read_struct(ddof_context *context, const void *caller, size_t m
     if (status != DDOF_OK)
         return status;
     const uint32_t size = *(const uint32_t *)caller;
+    /* Linux's copy_struct_from_user rule: a newer caller's struct is read when the fields this
+     * library does not know are zero (their defaults), refused when one is set. */
+    if (!ddof_struct_tail_is_zero(caller, full_size))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "%s.struct_size is %u, larger than this library's %zu, and a field it "
+                         "does not know is set (a newer caller: update libddof)",
+                         what, size, full_size);
     memcpy(full, caller, size < full_size ? size : full_size);
     *(uint32_t *)full = (uint32_t)full_size;
     return DDOF_OK;

@@ -8,6 +8,7 @@
 #include "thread_pool.h"
 
 #include <stdarg.h>
+#include <stdatomic.h>
 #include <stddef.h>
 #include <stdint.h>
 
@@ -60,7 +61,28 @@ struct ddof_context {
     uint32_t thread_count;  /* workers + the caller                                    */
     ddof_scratch scratch[DDOF_SCRATCH_COUNT];
     char last_error[256];
+    atomic_int in_use;      /* 1 while a call runs on the context (ddof_context_enter)     */
 };
+
+/* A context is one thread's: every call that works on one first marks it in use, so a second
+ * call at the same time (another thread, or the progress callback) gets
+ * DDOF_ERROR_CONTEXT_BUSY instead of a crash or wrong pixels. One atomic exchange per call. */
+int ddof_context_enter(ddof_context *context); /* 1: entered; 0: busy (nothing touched)  */
+void ddof_context_leave(ddof_context *context);
+
+/* The body of a public call that takes a context, made exclusive: NULL is
+ * DDOF_ERROR_NULL_POINTER, a context in use DDOF_ERROR_CONTEXT_BUSY (its last error left to
+ * the call running on it). */
+#define DDOF_EXCLUSIVE_CALL(context, call)                                                      \
+    do {                                                                                        \
+        if (!(context))                                                                         \
+            return DDOF_ERROR_NULL_POINTER;                                                     \
+        if (!ddof_context_enter(context))                                                       \
+            return DDOF_ERROR_CONTEXT_BUSY;                                                     \
+        const ddof_status exclusive_status_ = (call);                                           \
+        ddof_context_leave(context);                                                            \
+        return exclusive_status_;                                                               \
+    } while (0)
 
 /* At least `size` bytes of 64-byte aligned memory in the context's slot, or NULL. */
 void *ddof_scratch_get(ddof_context *context, int slot, size_t size);
@@ -77,6 +99,10 @@ void ddof_free(const ddof_allocator *allocator, void *ptr);
 
 /* Monotonic seconds. */
 double ddof_seconds(void);
+
+/* 1 when the bytes of a caller's struct beyond the library's own size (`known`) up to its
+ * struct_size are all zero (or there are none): a newer caller's fields at their defaults. */
+int ddof_struct_tail_is_zero(const void *caller, size_t known);
 
 /* Validates a struct that starts with `uint32_t struct_size`: non-NULL and at least as large
  * as the first version of the struct, `min_size`. */

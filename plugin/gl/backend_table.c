@@ -36,8 +36,40 @@ static int table_supports_disc(const ddof_device *device)
     return 1;
 }
 
+/* llvmpipe (and Mesa's other software renderers) end a shader invocation's loops after
+ * 65,535 iterations in all, silently: thomas.comp solves a line in one invocation (2n - 1
+ * iterations), lens_thomas.comp a line's chain of `steps` complex steps (steps x (2n + 1)).
+ * Measured with tests/gl/test_gl_long_lines.c on llvmpipe: Thomas right at 32,000 px and
+ * wrong from 32,768 (6 values: the count is not exact, so the budget keeps a margin); the
+ * 2x2 disc right at 16,000 and wrong at 16,384. Such a line is refused, never solved wrong; a
+ * hardware driver runs loops to their end. */
+#define SOFTWARE_LOOP_LIMIT 65000u
+
+static ddof_status check_line_length(const ddof_device *device, const adi_request *r,
+                                     char *message, size_t size)
+{
+    if (device->info.hardware || r->solver != DDOF_SOLVER_THOMAS)
+        return DDOF_OK;
+    const uint64_t n = r->width > r->height ? r->width : r->height;
+    const uint64_t steps = r->disc ? r->disc->steps : 0;
+    const uint64_t iterations = r->disc ? steps * (2 * n + 1) : 2 * n - 1;
+    if (iterations <= SOFTWARE_LOOP_LIMIT)
+        return DDOF_OK;
+    const uint64_t longest = r->disc ? (SOFTWARE_LOOP_LIMIT / steps - 1) / 2
+                                     : (SOFTWARE_LOOP_LIMIT + 1) / 2;
+    /* n > longest here, and every length up to it is solved right (test_gl_long_lines). */
+    snprintf(message, size,
+             "lines of %llu pixels are longer than this software renderer can solve with %s "
+             "(at most %llu pixels: its shader loops stop after 65,535 iterations); use the CPU "
+             "backend, or the cyclic reduction solver with the heat kernel",
+             (unsigned long long)n, r->disc ? "the disc kernel" : "the Thomas solver",
+             (unsigned long long)longest);
+    return DDOF_ERROR_UNSUPPORTED;
+}
+
 /* What every request must be for this device, checked before the device is touched. */
-static ddof_status check_request(const adi_request *r, char *message, size_t size)
+static ddof_status check_request(const ddof_device *device, const adi_request *r, char *message,
+                                 size_t size)
 {
     if (!gl_solver_supported(r->solver, r->precision)) {
         snprintf(message, size, "solver %d is not available on the GPU", (int)r->solver);
@@ -47,7 +79,7 @@ static ddof_status check_request(const adi_request *r, char *message, size_t siz
         snprintf(message, size, "the disc kernel runs with the Thomas solver only");
         return DDOF_ERROR_UNSUPPORTED;
     }
-    return DDOF_OK;
+    return check_line_length(device, r, message, size);
 }
 
 /* Opens a call: the device's context current, the host's GL errors cleared (they are not
@@ -87,7 +119,7 @@ static ddof_status end_call(ddof_device *device, const adi_request *r, ddof_stat
 static ddof_status table_run(ddof_device *device, const adi_request *r, adi_report *report,
                              char *message, size_t size)
 {
-    ddof_status status = check_request(r, message, size);
+    ddof_status status = check_request(device, r, message, size);
     if (status != DDOF_OK)
         return status;
     if (!begin_call(device, message, size))
@@ -112,7 +144,7 @@ static ddof_status table_run(ddof_device *device, const adi_request *r, adi_repo
 static ddof_status table_run_layers(ddof_device *device, const adi_layers_request *q,
                                     adi_layers_report *report, char *message, size_t size)
 {
-    ddof_status status = check_request(&q->base, message, size);
+    ddof_status status = check_request(device, &q->base, message, size);
     if (status != DDOF_OK)
         return status;
     if (!begin_call(device, message, size))

@@ -648,6 +648,19 @@ static int case_focus_map(void)
         CHECK_MSG(far[2] > far[0] && far[2] > far[1], "far %d %d %d", far[0], far[1], far[2]);
     }
     free(px);
+    /* Never another output: refused before the first frame, so the EXR result (or the
+     * preview) is not replaced by the PNG, in one frame or a batch. */
+    {
+        const char *out = test_path(dir, "fm_twice.exr"), *pv = test_path(dir, "fm_pv.png");
+        CHECK(ddof(in, "-o", out, "--focal-length", "50", "--fstop", "2", "--focus", "1",
+                   "--focus-map", out, NULL) == 1);
+        CHECK(err_contains("the focus map and the output are the same file"));
+        CHECK(!test_file_exists(out));
+        CHECK(ddof(in, "-o", test_path(dir, "fm_pv.exr"), "--focal-length", "50", "--fstop",
+                   "2", "--focus", "1", "--preview", pv, "--focus-map", pv, NULL) == 1);
+        CHECK(err_contains("the focus map and the preview are the same file"));
+        CHECK(!test_file_exists(pv) && !test_file_exists(test_path(dir, "fm_pv.exr")));
+    }
     /* Never the input. */
     CHECK(ddof(in, "-o", test_path(dir, "fm_out2.exr"), "--focal-length", "50", "--fstop", "2",
                "--focus", "1", "--focus-map", in, NULL) == 1);
@@ -1402,6 +1415,16 @@ static int case_sidecar(void)
              " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
              " \"pixel_aspect\": 1, \"fstop\": 8}", "duplicate key \"fstop\" at byte 147 (first at "
              "byte 69)");
+    /* Issue 22: the same key through an escape is the same key (cJSON reads both as
+     * "fstop"; the first used to win silently). */
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"fs\\u0074op\": 8}", "duplicate key \"fstop\" at byte 147 "
+             "(first at byte 69)");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"\\u00e9\\ud83d\\ude00\": 1, \"\xc3\xa9\xf0\x9f\x98\x80\": 2}",
+             "duplicate key");
     {
         /* 1e5 brackets: said to be too deep where they become so, not "invalid at 1000". */
         const size_t n = 100000;
@@ -1896,6 +1919,81 @@ static int case_backend(void)
     return test_finish("test_cli backend");
 }
 
+/* Issue 22: messages that name what the user set. */
+static int case_messages(void)
+{
+    static scene s;
+    const char *in = test_path(dir, "in.exr"), *json = test_path(dir, "cam.json");
+    make_scene(&s, 0);
+    write_scene(in, &s, 0);
+
+    /* A subnormal pixel aspect is a number, judged against the range it is outside; a value
+     * beyond a double is said to be so. */
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "5e-324", NULL) == 2);
+    CHECK(err_contains("4.94065646e-324") && err_contains("0.01..100"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--pixel-aspect", "1e-400", NULL) == 2);
+    CHECK(err_contains("--pixel-aspect '1e-400' is closer to 0 than a double can hold"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop", "1e999",
+               "--focus", "3", NULL) == 2);
+    CHECK(err_contains("--fstop '1e999' is larger than a double can hold"));
+    {
+        const char *big = "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": "
+                          "\"AUTO\", \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, "
+                          "32], \"pixel_aspect\": 1e999}";
+        test_write_file(json, big, strlen(big));
+        CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--camera", json, NULL) == 2);
+        CHECK(err_contains("\"pixel_aspect\" is larger than a double can hold"));
+    }
+    /* The EXR header's pixelAspectRatio is named as such, not as params.pixel_aspect. */
+    {
+        size_t size = 0;
+        char *bytes = test_read_file(in, &size);
+        static const char attr[] = "pixelAspectRatio\0float\0\4\0\0\0";
+        const float wide = 1e5f;
+        size_t at = 0;
+        while (bytes && at + sizeof attr + 4 <= size &&
+               memcmp(bytes + at, attr, sizeof attr - 1) != 0)
+            at++;
+        CHECK(bytes && at + sizeof attr + 4 <= size);
+        if (bytes && at + sizeof attr + 4 <= size) {
+            memcpy(bytes + at + sizeof attr - 1, &wide, 4);
+            test_write_file(test_path(dir, "wide.exr"), bytes, size);
+            CHECK(ddof(test_path(dir, "wide.exr"), "-o", test_path(dir, "o.exr"), "--curve",
+                       "8,0,2,4,12,10", NULL) == 1);
+            CHECK(err_contains("the header's pixelAspectRatio 100000 is outside 0.01..100"));
+            CHECK(ddof(test_path(dir, "wide.exr"), "-o", test_path(dir, "o.exr"),
+                       "--focal-length", "50", "--fstop", "2", "--focus", "3", NULL) == 1);
+            CHECK(err_contains("the header's pixelAspectRatio 100000") &&
+                  err_contains("--pixel-aspect"));
+            CHECK(ddof(test_path(dir, "wide.exr"), "-o", test_path(dir, "o.exr"),
+                       "--focal-length", "50", "--fstop", "2", "--focus", "3", "--pixel-aspect",
+                       "1", NULL) == 0);
+        }
+        free(bytes);
+    }
+    /* --stats whose directory cannot take it: said with its option, before any frame. */
+    CHECK(ddof(in, "-o", test_path(dir, "o2.exr"), "--focal-length", "50", "--fstop", "2",
+               "--focus", "3", "--stats", test_path(dir, "in.exr/s.json"), NULL) != 0);
+    CHECK(err_contains("ddof: --stats: "));
+    CHECK(!test_file_exists(test_path(dir, "o2.exr")));
+    /* Standard output closed: the report is lost, so the run is a failure, said on stderr. */
+    {
+        char command[8192];
+        snprintf(command, sizeof command,
+                 "'%s' '%s' -o '%s' --focal-length 50 --fstop 2 --focus 3 >&- 2>'%s'",
+                 ddof_bin, in, test_path(dir, "o3.exr"), test_path(dir, "closed.err"));
+        const int rc = system(command);
+        CHECK_MSG(WIFEXITED(rc) && WEXITSTATUS(rc) == 1, "exit %d", rc);
+        char *e = test_read_file(test_path(dir, "closed.err"), NULL);
+        CHECK_MSG(e && strstr(e, "cannot write the standard output"), "stderr: %s",
+                  e ? e : "");
+        free(e);
+    }
+    return test_finish("test_cli messages");
+}
+
 int main(int argc, char **argv)
 {
     const char *which;
@@ -1923,6 +2021,7 @@ int main(int argc, char **argv)
     if (!strcmp(which, "pipe")) return case_pipe();
     if (!strcmp(which, "resume")) return case_resume();
     if (!strcmp(which, "keep_parts")) return case_keep_parts();
+    if (!strcmp(which, "messages")) return case_messages();
     fprintf(stderr, "test_cli: unknown case %s\n", which);
     return 2;
 }

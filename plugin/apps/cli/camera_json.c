@@ -92,15 +92,85 @@ static int compare_keys(const void *pa, const void *pb)
     return a->at < b->at ? -1 : a->at > b->at; /* the first one written first */
 }
 
-/* A key written twice in one object of valid JSON (compared as written, escapes included):
- * 1 with the byte offsets of the second and the first, else 0; -1 when out of memory. */
-static int duplicate_key(const char *text, size_t size, size_t *second, size_t *first,
-                         size_t *length)
+static unsigned hex4(const char *at)
 {
+    unsigned v = 0;
+    int k;
+    for (k = 0; k < 4; k++) {
+        const char c = at[k];
+        v = v * 16 + (unsigned)(c <= '9' ? c - '0' : (c | 0x20) - 'a' + 10);
+    }
+    return v;
+}
+
+/* Decodes the escapes of a valid JSON string's contents [from, to) in place (UTF-8 is never
+ * longer than its escape); returns the decoded length. "fs\u0074op" is "fstop". */
+static size_t unescape_in_place(char *from, const char *to)
+{
+    char *w = from;
+    const char *r = from;
+    while (r < to) {
+        unsigned cp;
+        if (*r != '\\') {
+            *w++ = *r++;
+            continue;
+        }
+        r++;
+        switch (*r) {
+        case 'b': cp = '\b'; break;
+        case 'f': cp = '\f'; break;
+        case 'n': cp = '\n'; break;
+        case 'r': cp = '\r'; break;
+        case 't': cp = '\t'; break;
+        case 'u':
+            cp = hex4(r + 1);
+            r += 4;
+            if (cp >= 0xD800 && cp < 0xDC00 && to - r >= 7 && r[1] == '\\' && r[2] == 'u') {
+                const unsigned low = hex4(r + 3);
+                if (low >= 0xDC00 && low < 0xE000) {
+                    cp = 0x10000 + ((cp - 0xD800) << 10) + (low - 0xDC00);
+                    r += 6;
+                }
+            }
+            break;
+        default: cp = (unsigned char)*r; break; /* \" \\ \/ */
+        }
+        r++;
+        if (cp < 0x80) {
+            *w++ = (char)cp;
+        } else if (cp < 0x800) {
+            *w++ = (char)(0xC0 | cp >> 6);
+            *w++ = (char)(0x80 | (cp & 0x3F));
+        } else if (cp < 0x10000) {
+            *w++ = (char)(0xE0 | cp >> 12);
+            *w++ = (char)(0x80 | (cp >> 6 & 0x3F));
+            *w++ = (char)(0x80 | (cp & 0x3F));
+        } else {
+            *w++ = (char)(0xF0 | cp >> 18);
+            *w++ = (char)(0x80 | (cp >> 12 & 0x3F));
+            *w++ = (char)(0x80 | (cp >> 6 & 0x3F));
+            *w++ = (char)(0x80 | (cp & 0x3F));
+        }
+    }
+    return (size_t)(w - from);
+}
+
+/* A key written twice in one object of valid JSON, compared after unescaping (as cJSON reads
+ * it: "fs\u0074op" is "fstop"): 1 with the byte offsets of the second and the first and
+ * *decoded (the caller frees) holding the keys decoded in place, else 0; -1 when out of
+ * memory. */
+static int duplicate_key(const char *text, size_t size, size_t *second, size_t *first,
+                         size_t *length, char **decoded)
+{
+    char *dec = malloc(size + 1);
     json_key *keys = NULL;
     size_t count = 0, capacity = 0, i;
     size_t begin[MAX_SIDECAR_DEPTH + 1]; /* per open container: its first key, or SIZE_MAX */
     int depth = 0, expect_key = 0, found = 0;
+    *decoded = NULL;
+    if (!dec)
+        return -1;
+    memcpy(dec, text, size + 1);
     for (i = 0; i < size && !found; i++) {
         const char ch = text[i];
         if (ch == '"') {
@@ -111,13 +181,14 @@ static int duplicate_key(const char *text, size_t size, size_t *second, size_t *
                     json_key *bigger = realloc(keys, grow * sizeof *keys);
                     if (!bigger) {
                         free(keys);
+                        free(dec);
                         return -1;
                     }
                     keys = bigger;
                     capacity = grow;
                 }
-                keys[count].at = text + i + 1;
-                keys[count].length = end - i - 2;
+                keys[count].at = dec + i + 1;
+                keys[count].length = unescape_in_place(dec + i + 1, dec + end - 1);
                 count++;
                 expect_key = 0;
             }
@@ -137,8 +208,8 @@ static int duplicate_key(const char *text, size_t size, size_t *second, size_t *
                 for (k = from + 1; k < count && !found; k++)
                     if (keys[k].length == keys[k - 1].length &&
                         memcmp(keys[k].at, keys[k - 1].at, keys[k].length) == 0) {
-                        *first = (size_t)(keys[k - 1].at - text) - 1;
-                        *second = (size_t)(keys[k].at - text) - 1;
+                        *first = (size_t)(keys[k - 1].at - dec) - 1;
+                        *second = (size_t)(keys[k].at - dec) - 1;
                         *length = keys[k].length;
                         found = 1;
                     }
@@ -149,6 +220,10 @@ static int duplicate_key(const char *text, size_t size, size_t *second, size_t *
         }
     }
     free(keys);
+    if (found)
+        *decoded = dec;
+    else
+        free(dec);
     return found;
 }
 
@@ -162,8 +237,19 @@ static int number(const cJSON *root, const char *key, int required, double *out,
         snprintf(error, error_size, "%s: missing \"%s\"", path, key);
         return -1;
     }
-    if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble) || !(item->valuedouble > 0.0)) {
+    if (!cJSON_IsNumber(item)) {
         snprintf(error, error_size, "%s: \"%s\" must be a number > 0", path, key);
+        return -1;
+    }
+    if (!isfinite(item->valuedouble)) { /* cJSON reads 1e999 as infinity */
+        snprintf(error, error_size, "%s: \"%s\" is larger than a double can hold; it must be "
+                 "a finite number > 0", path, key);
+        return -1;
+    }
+    if (!(item->valuedouble > 0.0)) {
+        snprintf(error, error_size, "%s: \"%s\" is %.9g%s; it must be a number > 0", path,
+                 key, item->valuedouble,
+                 item->valuedouble == 0.0 ? " (or closer to 0 than a double can hold)" : "");
         return -1;
     }
     *out = item->valuedouble;
@@ -240,6 +326,7 @@ int camera_sidecar_parse(const char *text, size_t size, const char *path, camera
     const char *end = NULL;
     cJSON *root;
     size_t second = 0, first = 0, length = 0;
+    char *decoded = NULL;
     long deep;
     int fit = 0, depth = 0, rc = -1, duplicate;
 
@@ -271,15 +358,16 @@ int camera_sidecar_parse(const char *text, size_t size, const char *path, camera
                  "at byte %ld", path, (long)(end - text));
         goto done;
     }
-    duplicate = duplicate_key(text, size, &second, &first, &length);
+    duplicate = duplicate_key(text, size, &second, &first, &length, &decoded);
     if (duplicate != 0) {
         if (duplicate < 0)
             snprintf(error, error_size, "%s: out of memory", path);
         else
             snprintf(error, error_size, "%s: duplicate key \"%.*s\" at byte %lu (first at "
-                     "byte %lu): which one is meant is unclear", path,
-                     length > 64 ? 64 : (int)length, text + first + 1, (unsigned long)second,
-                     (unsigned long)first);
+                     "byte %lu): which one is meant is unclear",
+                     path, length > 64 ? 64 : (int)length, decoded + first + 1,
+                     (unsigned long)second, (unsigned long)first);
+        free(decoded);
         goto done;
     }
     if (!cJSON_IsObject(root)) {

@@ -81,7 +81,7 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
             }
         }
     }
-    for (o = 1; o < 3; o++) {
+    for (o = 1; o < 4; o++) { /* every pair of outputs, the focus map included */
         int p;
         for (p = 0; p < o; p++) {
             if (outputs[o][0] && (strcmp(outputs[o], outputs[p]) == 0 ||
@@ -663,6 +663,16 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
     ddof_status status;
     double t;
 
+    /* The file's pixel aspect, unless a camera brings one: named as the header's when the
+     * diffusion cannot take it (the library would call it params.pixel_aspect). */
+    if ((opt->source != COC_FROM_CAMERA || !setup->camera_aspect_given) &&
+        !(d->part->pixel_aspect >= 0.01f && d->part->pixel_aspect <= 100.0f))
+        return fail(result, "%s: the header's pixelAspectRatio %.9g is outside 0.01..100, the "
+                    "range the diffusion takes%s", paths->input, (double)d->part->pixel_aspect,
+                    opt->source == COC_FROM_CAMERA
+                        ? " (give the camera's with --pixel-aspect or the sidecar's "
+                          "pixel_aspect)"
+                        : "");
     params.progress = link->bar ? on_progress : NULL;
     params.progress_user = link;
     /* The image's own pixel aspect; a camera brings its own (frame_camera). */
@@ -674,6 +684,9 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
         if (frame_camera(setup, paths, d, &camera, result) != 0)
             return -1;
         frame.camera = &camera;
+        /* The camera's aspect is the call's (ddof_render_frame); the file's, which a given
+         * one replaces, must not be judged in its place. */
+        params.pixel_aspect = (float)camera.pixel_aspect;
     } else if (opt->source == COC_FROM_CURVE) {
         frame.curve = &setup->curve;
     }

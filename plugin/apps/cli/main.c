@@ -324,9 +324,12 @@ static int check_outputs(const cli_options *o, const frame_paths *paths, int cou
         (paths[0].preview_input[0] &&
          output_check_directory(paths[0].preview_input, error, sizeof error) != 0) ||
         (paths[0].focus_map[0] &&
-         output_check_directory(paths[0].focus_map, error, sizeof error) != 0) ||
-        (o->stats_path && output_check_directory(o->stats_path, error, sizeof error) != 0)) {
+         output_check_directory(paths[0].focus_map, error, sizeof error) != 0)) {
         fprintf(stderr, "ddof: %s\n", error);
+        return -1;
+    }
+    if (o->stats_path && output_check_directory(o->stats_path, error, sizeof error) != 0) {
+        fprintf(stderr, "ddof: --stats: %s\n", error);
         return -1;
     }
     return 0;
@@ -607,8 +610,15 @@ static int run_frames(const cli_options *o)
         stats_failed = 1;
     }
     print_summary(o, paths, results, count, failed, now() - t0);
-    if (fflush(stdout) != 0 && errno == EPIPE)
-        output_broken_pipe("standard output");
+    errno = 0;
+    if (fflush(stdout) != 0 || ferror(stdout)) {
+        if (errno == EPIPE)
+            output_broken_pipe("standard output");
+        /* Closed (>&-), full or failing: the frames' lines are lost, so the run failed. */
+        fprintf(stderr, "ddof: cannot write the standard output%s%s: the frames' report is "
+                "lost\n", errno ? ": " : "", errno ? strerror(errno) : "");
+        stats_failed = 1;
+    }
     free(paths);
     free(results);
     progress_free(bar);

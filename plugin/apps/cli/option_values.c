@@ -71,7 +71,16 @@ static int parse_number(const cli_option *option, const char *text, double *out)
     double v;
     errno = 0;
     v = strtod(text, &end);
-    if (end == text || *end != '\0' || errno != 0 || !isfinite(v) || !in_range(v, option->range))
+    /* Out of a double's range: said so, not "wants a number > 0" for 1e-400 or 1e999. A
+     * subnormal (5e-324, ERANGE with a value) is a number: the checks that know the option's
+     * own range (0.01..100 for --pixel-aspect) judge it and name it. */
+    if (end != text && *end == '\0' && errno == ERANGE && (v == 0.0 || !isfinite(v))) {
+        fprintf(stderr, "ddof: %s '%s' is %s than a double can hold (try --help)\n",
+                option->name, text, v == 0.0 ? "closer to 0" : "larger");
+        return -1;
+    }
+    if (end == text || *end != '\0' || (errno != 0 && errno != ERANGE) || !isfinite(v) ||
+        !in_range(v, option->range))
         return cli_option_bad_value(option, text, wants[option->range]);
     *out = v;
     return 0;

@@ -11,6 +11,7 @@
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
+#include <errno.h>
 #include <string.h>
 
 void stats_effects(const ddof_stats *s, char *out, size_t out_size)
@@ -342,10 +343,13 @@ int stats_json_write(const char *path, const frame_setup *setup, const frame_pat
     length = strlen(text);
     if (output_file_begin(&file, path, error, error_size) == 0) {
         FILE *stream = output_file_stream(&file);
+        errno = 0;
         if (stream && fwrite(text, 1, length, stream) == length && fputc('\n', stream) != EOF) {
             rc = output_file_commit(&file, error, error_size);
         } else {
-            snprintf(error, error_size, "cannot write %s", path);
+            const int e = errno; /* ENOSPC on a full disk */
+            snprintf(error, error_size, "cannot write %s%s%s", path, e ? ": " : "",
+                     e ? strerror(e) : "");
             output_file_abort(&file);
         }
     }
