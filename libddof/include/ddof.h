@@ -757,6 +757,59 @@ DDOF_API ddof_status ddof_kernel_get_info(ddof_kernel kernel, ddof_kernel_info *
 DDOF_API ddof_status ddof_kernel_get_step(ddof_kernel kernel, uint32_t component, uint32_t step,
                                           float kappa[2], float mix[2]);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Cards: depth of field per textured polygon (docs/cards.md)                                 */
+
+/* The per-polygon method of US 8,035,641: each card (a convex textured polygon in camera space)
+ * gets a CoC per vertex from the camera, is expanded by those radii on screen, and every pixel
+ * of the expanded polygon averages the card's texture over the disc of its own, perspective-
+ * correct radius; the cards are composited far to near. A blurred near card thus shows exactly
+ * what lies behind it. Texture averages come from a summed-area table (double precision): the
+ * disc, mapped into texels by the card's local projection, as `strips` rectangles of exact
+ * slice area, so a pixel costs the same whatever its radius. */
+
+#define DDOF_CARD_MAX_VERTICES 8u
+
+typedef struct ddof_card {
+    uint32_t vertex_count; /* 3..DDOF_CARD_MAX_VERTICES; planar, convex, either winding          */
+    /* camera space in metres: x right, y up, the camera at the origin looking down -z (Blender, */
+    /* OpenGL). Every vertex must have z < 0: a card behind or crossing the camera's plane is   */
+    /* DDOF_ERROR_BAD_PARAMETER (split it first).                                                */
+    float position[DDOF_CARD_MAX_VERTICES][3];
+    /* texture coordinates, affine over the card: (0, 0) the texture's bottom-left corner,      */
+    /* (1, 1) its top-right. Texels outside the uv polygon are transparent.                     */
+    float uv[DDOF_CARD_MAX_VERTICES][2];
+    ddof_image_in texture; /* 4 channels, premultiplied RGBA, row 0 at the top (as EXR)          */
+} ddof_card;
+
+typedef enum ddof_cards_expansion {
+    DDOF_CARDS_EXPAND_OFFSET = 0,   /* default: each edge moved out by its larger vertex radius  */
+    DDOF_CARDS_EXPAND_CENTROID = 1  /* the patent's: each vertex pushed from the centroid by its */
+                                    /* radius (clips the blur at corners: docs/cards.md)         */
+} ddof_cards_expansion;
+
+typedef struct ddof_cards_params {
+    uint32_t struct_size;           /* sizeof(ddof_cards_params)                                */
+    ddof_cards_expansion expansion; /* default DDOF_CARDS_EXPAND_OFFSET                         */
+    uint32_t strips;                /* rectangles per disc, 1..64, default 8                    */
+} ddof_cards_params;
+
+DDOF_API void ddof_cards_params_init(ddof_cards_params *params);
+
+/* Renders `cards` seen through `camera` into `out` (4 channels, premultiplied RGBA; alpha 0
+ * where no card lands; every pixel written). The camera's lens model, focus, f-number, sensor
+ * fit, pixel aspect and crop window apply; its depth_kind, depth_unit_m and signed_coc do not
+ * (geometry is in metres). Projection and pixel centres as Blender's camera. params NULL: the
+ * defaults. Order: a card drawn before another that is wholly behind its plane; cards that
+ * intersect, or overlap on screen in no consistent order, are DDOF_ERROR_BAD_PARAMETER naming
+ * them (split them). Card errors (DDOF_ERROR_BAD_PARAMETER: vertex count, NaN/inf position or
+ * uv, z >= 0, a degenerate, non-planar or concave polygon, uv not affine; DDOF_ERROR_BAD_COLOR:
+ * NaN/inf texel; the texture's size and channel codes) name the card; nothing is written. A
+ * card seen exactly edge-on draws nothing. */
+DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
+                                       const ddof_camera *camera, const ddof_card *cards,
+                                       uint32_t card_count, const ddof_image *out);
+
 #ifdef __cplusplus
 }
 #endif

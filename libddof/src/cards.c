@@ -1,0 +1,122 @@
+/* SPDX-License-Identifier: MIT */
+/* cards.c - ddof_render_cards: the camera's view, each card checked and reduced to its plane,
+ * its uv map and its expanded screen polygon (docs/cards.md). */
+#include "cards.h"
+
+#include "coc.h"
+#include "ddof_camera_terms.h"
+
+#include <math.h>
+#include <string.h>
+
+#define CARDS_MAX_STRIPS 64u
+
+void ddof_cards_params_init(ddof_cards_params *params)
+{
+    if (!params)
+        return;
+    memset(params, 0, sizeof *params);
+    params->struct_size = sizeof *params;
+    params->expansion = DDOF_CARDS_EXPAND_OFFSET;
+    params->strips = 8;
+}
+
+double cards_radius(const cards_view *view, double z)
+{
+    double coc = view->k_px * fabs(1.0 - view->focus_m / z);
+    return 0.5 * (coc < DDOF_MAX_COC_PX ? coc : DDOF_MAX_COC_PX);
+}
+
+static cards_view view_of(const ddof_camera *camera, uint32_t width, uint32_t height)
+{
+    const ddof_camera_terms t = ddof_camera_terms_of(camera, width, height);
+    /* Blender's camera: the frame's centre on the axis, a pixel pixel_w/f wide at unit depth. */
+    return (cards_view){
+        .ray_a = t.pixel_w_over_f,
+        .ray_bx = (t.window_x - 0.5 * t.frame_width) * t.pixel_w_over_f,
+        .ray_c = t.pixel_h_over_f,
+        .ray_by = (0.5 * t.frame_height - t.window_y) * t.pixel_h_over_f,
+        .k_px = t.k_px,
+        .focus_m = camera->focus_distance_m,
+        .aspect = camera->pixel_aspect,
+        .width = width,
+        .height = height,
+    };
+}
+
+static ddof_status read_params(ddof_context *context, const ddof_cards_params *caller,
+                               ddof_cards_params *p)
+{
+    ddof_cards_params_init(p);
+    if (!caller)
+        return DDOF_OK;
+    ddof_status status = ddof_read_struct(context, caller, sizeof *p, p, sizeof *p,
+                                          "cards params");
+    if (status != DDOF_OK)
+        return status;
+    if ((unsigned)p->expansion > DDOF_CARDS_EXPAND_CENTROID || p->strips < 1 ||
+        p->strips > CARDS_MAX_STRIPS)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "cards params: expansion %u must be 0 or 1, strips %u within 1..%u",
+                         (unsigned)p->expansion, p->strips, CARDS_MAX_STRIPS);
+    return DDOF_OK;
+}
+
+static ddof_status check_out(ddof_context *context, const ddof_image *out, size_t *stride)
+{
+    if (!out)
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "out is NULL");
+    ddof_status status = ddof_check_image(context, "out", out->pixels, out->width, out->height,
+                                          out->channels, out->row_stride, stride);
+    if (status == DDOF_OK && out->channels != 4)
+        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS,
+                         "out has %u channels; cards render premultiplied RGBA (4)",
+                         out->channels);
+    return status;
+}
+
+ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
+                              const ddof_camera *camera, const ddof_card *cards,
+                              uint32_t card_count, const ddof_image *out)
+{
+    if (!context)
+        return DDOF_ERROR_NULL_POINTER;
+    ddof_clear_error(context);
+    if (!camera || (!cards && card_count))
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "camera or cards is NULL");
+    ddof_cards_params p;
+    ddof_camera cam;
+    size_t out_stride = 0;
+    ddof_status status = read_params(context, params, &p);
+    if (status == DDOF_OK)
+        status = ddof_read_camera(context, camera, &cam);
+    if (status == DDOF_OK)
+        status = check_out(context, out, &out_stride);
+    if (status != DDOF_OK)
+        return status;
+    const cards_view view = view_of(&cam, out->width, out->height);
+    card_setup *setups = NULL;
+    uint32_t *order = NULL;
+    if (card_count) {
+        setups = ddof_alloc(&context->allocator, (size_t)card_count * sizeof *setups);
+        order = ddof_alloc(&context->allocator, (size_t)card_count * sizeof *order);
+        if (!setups || !order)
+            status = ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "no memory for %u cards",
+                               card_count);
+    }
+    for (uint32_t i = 0; status == DDOF_OK && i < card_count; i++)
+        status = cards_setup(context, &view, &p, &cards[i], i, &setups[i]);
+    if (status == DDOF_OK)
+        status = cards_order(context, setups, card_count, order);
+    if (status == DDOF_OK) {
+        for (uint32_t y = 0; y < out->height; y++)
+            memset(out->pixels + (size_t)y * out_stride, 0, (size_t)out->width * 4 * sizeof(float));
+        for (uint32_t i = 0; status == DDOF_OK && i < card_count; i++)
+            if (setups[order[i]].visible)
+                status = cards_draw(context, &view, &p, &setups[order[i]], out->pixels,
+                                    out_stride);
+    }
+    ddof_free(&context->allocator, setups);
+    ddof_free(&context->allocator, order);
+    return status;
+}

@@ -1,0 +1,61 @@
+/* SPDX-License-Identifier: MIT */
+/* cards.h - the per-polygon depth of field (ddof_render_cards): a card reduced to what drawing
+ * it needs, shared by the checks (cards.c), the ordering (cards_order.c) and the drawing
+ * (cards_draw.c). All in double: the geometry decides which pixels a card covers. */
+#ifndef DDOF_CARDS_H
+#define DDOF_CARDS_H
+
+#ifndef DDOF_EXPERIMENTAL
+#define DDOF_EXPERIMENTAL
+#endif
+#include "internal.h"
+
+/* The screen: continuous pixel coordinates (x right, y down, pixel (i, j) covers
+ * [i, i+1) x [j, j+1)) and the camera's CoC. A ray through screen point (x, y) has the
+ * direction (ray_a x + ray_bx, -(ray_c y) + ray_by, -1), so planar depth Z = n.O / n.D. */
+typedef struct cards_view {
+    double ray_a, ray_bx, ray_c, ray_by;
+    double k_px;        /* CoC diameter in horizontal pixels of a point at infinity */
+    double focus_m;     /* S1 */
+    double aspect;      /* pixel width / height: a CoC of d px spans d * aspect rows */
+    uint32_t width, height;
+} cards_view;
+
+/* One checked card. */
+typedef struct card_setup {
+    uint32_t index;                  /* in the caller's list, for messages */
+    uint32_t n;                      /* vertices */
+    double p[DDOF_CARD_MAX_VERTICES][3];
+    double normal[3], origin[3];     /* unit normal, centroid (n.origin != 0: not edge-on) */
+    double e1[3], e2[3];             /* the plane's axes */
+    double uv[DDOF_CARD_MAX_VERTICES][2]; /* the caller's texture coordinates */
+    double uv_affine[2][3];          /* u, v = a0 + a1 s + a2 q with s, q along e1, e2 */
+    double screen[DDOF_CARD_MAX_VERTICES][2]; /* projected vertices */
+    double expanded[DDOF_CARD_MAX_VERTICES][2]; /* counter-clockwise on screen (y down) */
+    double box[4];                   /* expanded bounds: x0, y0, x1, y1 */
+    int visible;                     /* 0: edge-on, or nothing on the image */
+    ddof_image_in texture;
+    size_t texture_stride;           /* floats */
+} card_setup;
+
+/* Checks card `c` and fills `s` (visible 0 when it draws nothing); a failure names it. */
+ddof_status cards_setup(ddof_context *context, const cards_view *view,
+                        const ddof_cards_params *params, const ddof_card *card, uint32_t index,
+                        card_setup *s);
+
+/* Fills c->expanded, c->box and c->visible from c->screen (cards_order.c). */
+void cards_expand(const cards_view *view, const ddof_cards_params *params, card_setup *c);
+
+/* The drawing order, far to near, into `order` (count entries); an error names the cards. */
+ddof_status cards_order(ddof_context *context, const card_setup *cards, uint32_t count,
+                        uint32_t *order);
+
+/* Composites card `s` over `out` (premultiplied RGBA, stride in floats). */
+ddof_status cards_draw(ddof_context *context, const cards_view *view,
+                       const ddof_cards_params *params, const card_setup *s, float *out,
+                       size_t out_stride);
+
+/* CoC radius in horizontal pixels at planar depth z metres. */
+double cards_radius(const cards_view *view, double z);
+
+#endif
