@@ -15,7 +15,8 @@
 #
 # Options: --configs LIST (ddof-study's list: full, smoke, ids), --scenes a,b (a subset of the
 # scenes), --no-large (no 1920x1080 timings), --threads N (the CPU contexts' threads),
-# --no-gl (never load the GL plugin).
+# --no-gl (never load the GL plugin), --bpy-nodes-1080 (time the 4.2 and 5.0 Defocus nodes at
+# 1920x1080 too: off by default, as they are far slower than 3.4's; see study/scenes/README.md).
 # Environment: DDOF_STUDY_EXE (a built ddof-study: skip the build), DDOF_STUDY_NO_INSTALL=1
 # (never install packages; what ctest sets), BLENDER (the blender executable).
 set -euo pipefail
@@ -27,6 +28,7 @@ outdir=
 configs=
 scenes_arg=
 sweep_args=()
+bpy_nodes_1080=0
 while [ $# -gt 0 ]; do
     case "$1" in
     --smoke)
@@ -40,6 +42,7 @@ while [ $# -gt 0 ]; do
     --no-large) sweep_args+=(--no-large); shift ;;
     --threads) sweep_args+=(--threads "${2:?}"); shift 2 ;;
     --no-gl) sweep_args+=(--no-gl); shift ;;
+    --bpy-nodes-1080) bpy_nodes_1080=1; shift ;;
     -h | --help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {print}' "$0"; exit 0 ;;
     *) echo "study/run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
     esac
@@ -163,11 +166,12 @@ if [ "$mode" != report ]; then
     # At 1920x1080 one composite takes up to minutes (its cost grows with the blur radius
     # squared): 3 timed runs after the warm-up there (and defocus_node.py takes a warm-up
     # over 20 s as the one measurement).
+    # $node_tags: the frame sizes ("" the scene's own, 1080 the timing frame).
     run_node() {
         local name=$1 dir tag src json
         shift
         for dir in "${scene_dirs[@]}"; do
-            for tag in "" 1080; do
+            for tag in "${node_tags[@]}"; do
                 src=$dir/pinhole${tag:+_$tag}.exr
                 json=$dir/$name${tag:+_$tag}.json
                 [ -f "$src" ] || continue
@@ -183,6 +187,7 @@ if [ "$mode" != report ]; then
             done
         done
     }
+    node_tags=("" 1080)
     step "Blender's Defocus node (3.4, $blender) on ${#scene_dirs[@]} scene(s) (cached)"
     run_node defocus "$blender" -b --factory-startup --python-exit-code 1 --python
 
@@ -191,6 +196,13 @@ if [ "$mode" != report ]; then
     # run (its configurations do not use them).
     if [ "$mode" = full ]; then
         bpy_cache=${DDOF_BPY_CACHE:-$HOME/.cache/ddof-bpy}
+        if [ "$bpy_nodes_1080" = 1 ]; then
+            node_tags=("" 1080)
+        else
+            node_tags=("")
+            echo "study/run.sh: the 4.2 and 5.0 Defocus nodes run at the scenes' size only" \
+                "(--bpy-nodes-1080 times them at 1920x1080 too)"
+        fi
         [ "${DDOF_STUDY_NO_INSTALL:-0}" = 1 ] || bash scripts/bpy_venv.sh 4.2.23 5.0.1
         for v in 4.2.23 5.0.1; do
             venv=$bpy_cache/venv-$v

@@ -7,13 +7,20 @@
         [--threads N] \
         [--out-dir DIR] [--out-name NAME] [--write-image] [--verbose]
 
+    VENV/bin/python study/scenes/defocus_node.py -- --scene-dir ...   (PyPI's bpy 4.2 / 5.0)
+
+Under Blender 4.2 or 5.0 the outputs are named defocus-4.2 / defocus-5.0 (node_rules.node_tag),
+the f-stop follows that node's thin-lens CoC (node_rules.node_fstop), 5.0's tree is a node
+group with a group output and its blur_max the scene's largest CoC (node_rules.auto_blur_max);
+scenes/README.md, "Blender 4.2 LTS's and 5.0's nodes", has what differs and why.
+
 Reads DIR/<scene>/pinhole.exr (with --size-tag 1080: pinhole_1080.exr) and camera.json, and
 composites Image node (ViewLayer: Combined -> Image, Depth -> Z) -> Defocus -> Composite, with
 no Render Layers node, so `bpy.ops.render.render()` runs the compositor alone (Blender renders
 nothing when no Render Layers node is in the tree). The Defocus node gets the camera of the
 sidecar (focal length, sensor, AUTO fit, focus distance) as its scene camera, use_zbuffer on,
 circular bokeh, no gamma correction, use_preview off (full quality), blur_max 512 px radius
-(so that nothing is clipped), threshold 1 (Blender's default), and the f-stop
+(so that nothing is clipped; 3.4), threshold 1 (Blender's default), and the f-stop (3.4)
 N * 1000 / sensor_mm * fstop-scale: docs/design.md section 1 says the node blurs 1000/sensor_mm
 times more than the physical lens at the same f-number (README.md, "Defocus node f-stop",
 checks it).
