@@ -10,8 +10,8 @@
     VENV/bin/python study/scenes/defocus_node.py -- --scene-dir ...   (PyPI's bpy 4.2 / 5.0)
 
 Under Blender 4.2 or 5.0 the outputs are named defocus-4.2 / defocus-5.0 (node_rules.node_tag),
-the f-stop follows that node's thin-lens CoC (node_rules.node_fstop), 5.0's tree is a node
-group with a group output and its blur_max the scene's largest CoC (node_rules.auto_blur_max);
+the f-stop follows that node's thin-lens CoC (node_rules.node_fstop), blur_max is the scene's
+largest CoC (node_rules.auto_blur_max), and 5.0's tree is a node group with a group output;
 scenes/README.md, "Blender 4.2 LTS's and 5.0's nodes", has what differs and why.
 
 Reads DIR/<scene>/pinhole.exr (with --size-tag 1080: pinhole_1080.exr) and camera.json, and

@@ -21,8 +21,8 @@ from exr_io import depth_of, read_exr  # noqa: E402
 # is meant to match Cycles. Measured with fstop_check.py on the highlights scene (6 isolated
 # lights, median blur diameter over the truth's; README.md, "Defocus node f-stop"): 5.0 at
 # this rule 1.049 (x0.5 1.736, x2 0.615; PSNR 26.72 dB, the best of the scales); 4.2 at this
-# rule 0.853 (x0.7 1.056, x0.8 0.950; its PSNR peaks at 17.36 dB at x2, 16.95 at x1: its image
-# is far from the truth at any scale); the 3.x mapping on either: 0.381.
+# rule 1.067 (x0.8 1.277, x2 0.611; 26.63 dB, the best) with blur_max auto (below); the 3.x
+# mapping on either: 0.381 (nearly sharp).
 RULE_BLUR_AMOUNT = "N * 1000 / sensor_width_mm * fstop_scale"
 RULE_THIN_LENS = "N * S1 / (S1 - f) * fstop_scale (S1 focus distance, f focal length, m)"
 
@@ -55,11 +55,13 @@ def max_coc_radius_px(cam, depth, width):
 
 
 def auto_blur_max(cam, source, width, scale, version):
-    """blur_max for --blur-max auto: 512 px (nothing clipped) up to 4.x, whose cost does not
-    grow with it; from 5.0, whose CPU defocus searches blur_max pixels around every pixel
-    (thin_bars 480x270: 2.6 s at 16 px, 14.9 s at 64 px, not done after 10 minutes at 512),
-    the scene's largest CoC radius plus 10 % and 2 px, so that nothing is clipped either."""
-    if version < (5, 0, 0):
+    """blur_max for --blur-max auto: 512 px (nothing clipped) up to 4.1, whose cost does not
+    grow with it; from 4.2 the scene's largest CoC radius plus 10 % and 2 px, so that nothing
+    is clipped either: 5.0's CPU defocus searches blur_max pixels around every pixel (thin_bars
+    480x270: 2.6 s at 16 px, 14.9 s at 64 px, not done after 10 minutes at 512), and 4.2's
+    blurs wrong with a blur_max far above the CoC (thin_bars: 21.49 dB at 512, smeared
+    sideways; 32.31 dB at 16)."""
+    if version < (4, 2, 0):
         return 512.0
     radius = max_coc_radius_px(cam, depth_of(read_exr(source)), width) / scale
     return float(min(512, math.ceil(radius * 1.1 + 2.0)))
