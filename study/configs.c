@@ -42,7 +42,9 @@ void study_config_make_id(study_config *cfg)
     case STUDY_COD4: snprintf(cfg->id, sizeof cfg->id, "cod4"); return;
     case STUDY_GATHER: snprintf(cfg->id, sizeof cfg->id, "gather"); return;
     case STUDY_PINHOLE: snprintf(cfg->id, sizeof cfg->id, "pinhole"); return;
-    case STUDY_DEFOCUS: snprintf(cfg->id, sizeof cfg->id, "defocus"); return;
+    case STUDY_DEFOCUS:
+        snprintf(cfg->id, sizeof cfg->id, "%s", study_node_names[cfg->node]);
+        return;
     case STUDY_DIFFUSION: break;
     }
     char solver[32];
@@ -61,15 +63,27 @@ void study_config_make_id(study_config *cfg)
              study_layers_name(cfg->layers));
 }
 
+const char *const study_node_names[STUDY_NODE_COUNT] = {"defocus", "defocus-4.2",
+                                                         "defocus-5.0"};
+
 int study_config_parse(const char *id, study_config *out)
 {
     memset(out, 0, sizeof *out);
     out->jacobi_iterations = 50;
+    for (int n = 0; n < STUDY_NODE_COUNT; n++)
+        if (!strcmp(id, study_node_names[n])) {
+            out->kind = STUDY_DEFOCUS;
+            out->node = n;
+            out->substeps = 1;
+            out->beta_scale = DDOF_MOMENT_BETA_SCALE;
+            study_config_make_id(out);
+            return 0;
+        }
     static const struct {
         const char *name;
         study_kind kind;
     } baselines[] = {{"cod4", STUDY_COD4}, {"gather", STUDY_GATHER},
-                     {"pinhole", STUDY_PINHOLE}, {"defocus", STUDY_DEFOCUS}};
+                     {"pinhole", STUDY_PINHOLE}};
     for (size_t i = 0; i < sizeof baselines / sizeof *baselines; i++)
         if (!strcmp(id, baselines[i].name)) {
             out->kind = baselines[i].kind;
@@ -181,7 +195,10 @@ void study_config_label(const study_config *cfg, char *out, size_t size)
     if (cfg->kind != STUDY_DIFFUSION) {
         static const char *const names[] = {"", "CoD4 preview", "gather blur", "pinhole",
                                             "Defocus node"};
-        snprintf(out, size, "%s", names[cfg->kind]);
+        if (cfg->kind == STUDY_DEFOCUS)
+            snprintf(out, size, "Defocus node (%s)", study_node_names[cfg->node]);
+        else
+            snprintf(out, size, "%s", names[cfg->kind]);
         return;
     }
     char solver[32], k[32];
@@ -257,6 +274,15 @@ static int add_baseline(study_config_list *list, const char *name)
 {
     study_config c;
     return study_config_parse(name, &c) == 0 ? study_config_add(list, &c, "baseline") : -1;
+}
+
+/* Every Blender's Defocus node (a scene without a node's files reports it not available). */
+static int add_nodes(study_config_list *list)
+{
+    int rc = 0;
+    for (int n = 0; n < STUDY_NODE_COUNT; n++)
+        rc |= add_baseline(list, study_node_names[n]);
+    return rc;
 }
 
 static int add_full(study_config_list *list)
@@ -350,7 +376,7 @@ static int add_full(study_config_list *list)
     rc |= add_baseline(list, "pinhole");
     rc |= add_baseline(list, "cod4");
     rc |= add_baseline(list, "gather");
-    rc |= add_baseline(list, "defocus");
+    rc |= add_nodes(list);
     return rc ? -1 : 0;
 }
 
@@ -368,7 +394,7 @@ int study_config_named(study_config_list *list, const char *name)
     }
     if (!strcmp(name, "baselines"))
         return add_baseline(list, "pinhole") | add_baseline(list, "cod4") |
-               add_baseline(list, "gather") | add_baseline(list, "defocus");
+               add_baseline(list, "gather") | add_nodes(list);
     return -1;
 }
 
@@ -389,7 +415,7 @@ int study_config_from_spec(study_config_list *list, const char *spec, char *erro
         if (study_config_parse(tok, &c) != 0 || study_config_add(list, &c, "listed") != 0) {
             snprintf(error, size, "'%s' is not a configuration id or list name (full, smoke, "
                      "baselines); ids look like cpu/thomas/f32/n4/k0.03125/auto, cod4, gather, "
-                     "pinhole, defocus", tok);
+                     "pinhole, defocus, defocus-4.2, defocus-5.0", tok);
             rc = -1;
         }
     }

@@ -54,11 +54,11 @@ static void usage(FILE *f)
             "       ddof-study list [--configs LIST]\n"
             "\n"
             "A scene folder holds pinhole.exr, truth.exr, camera.json and optionally fg.exr,\n"
-            "pinhole_1080.exr, defocus.exr + defocus.json (study/scenes/README.md).\n"
+            "pinhole_1080.exr, defocus[-4.2|-5.0].exr + .json (study/scenes/README.md).\n"
             "\n"
             "  --configs LIST     comma-separated ids and lists: full (default), smoke,\n"
             "                     baselines, cpu/thomas/f32/n4/k0.03125/auto, cod4, gather,\n"
-            "                     pinhole, defocus\n"
+            "                     pinhole, defocus, defocus-4.2, defocus-5.0\n"
             "  --out DIR          run: DIR/results.jsonl; images: DIR/<scene>/<id>.npy\n"
             "  --append           add to an existing results.jsonl instead of replacing it\n"
             "  --reps N           timed calls after the warm-up at the scene's size (5)\n"
@@ -499,14 +499,16 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
     double ms = NAN, ms_large = NAN;
 
     if (cfg->kind == STUDY_DEFOCUS) {
-        if (!scene->defocus) {
+        const study_node *node = &scene->nodes[cfg->node];
+        if (!node->image) {
             available = 0;
-            snprintf(note, sizeof note, "no defocus.exr in the scene folder");
+            snprintf(note, sizeof note, "no %s.exr in the scene folder",
+                     study_node_names[cfg->node]);
         } else {
-            image = scene->defocus;
-            ms = scene->defocus_seconds >= 0 ? scene->defocus_seconds * 1e3 : NAN;
-            ms_large =
-                scene->defocus_seconds_large >= 0 ? scene->defocus_seconds_large * 1e3 : NAN;
+            image = node->image;
+            ms = node->seconds >= 0 ? node->seconds * 1e3 : NAN;
+            ms_large = node->seconds_large >= 0 ? node->seconds_large * 1e3 : NAN;
+            cJSON_AddStringToObject(r, "blender_version", node->blender);
         }
         cJSON_AddNumberToObject(r, "width", scene->small.width);
         cJSON_AddNumberToObject(r, "height", scene->small.height);
@@ -737,7 +739,10 @@ static int cmd_run(const options *o, const study_config_list *list)
                    100.0 * (double)scene.band_pixels /
                        ((double)scene.small.width * scene.small.height),
                    scene.small.fg_rgba ? ", foreground element" : "",
-                   scene.defocus ? ", Defocus node" : "", study_now() - t_load);
+                   scene.nodes[0].image || scene.nodes[1].image || scene.nodes[2].image
+                       ? ", Defocus node(s)"
+                       : "",
+                   study_now() - t_load);
         if (write_line(f, scene_json(&scene)) != 0)
             goto io_error;
         const size_t ps = (size_t)scene.small.width * scene.small.height;
@@ -862,8 +867,8 @@ static int cmd_images(const options *o, const study_config_list *list)
             char name[128];
             safe_name(cfg->id, name, sizeof name);
             if (cfg->kind == STUDY_DEFOCUS) {
-                if (scene.defocus)
-                    WRITE(name, scene.defocus, 4);
+                if (scene.nodes[cfg->node].image)
+                    WRITE(name, scene.nodes[cfg->node].image, 4);
                 continue;
             }
             int owned;

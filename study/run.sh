@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # SPDX-License-Identifier: MIT
 # study/run.sh - the accuracy-vs-cost study (issue 7) in one command: builds ddof-study, renders
-# the ground-truth scenes (cached), runs Blender's Defocus node on them (cached), runs the sweep
-# and writes the report. Installs what is missing first (Debian packages, as scripts/test.sh).
+# the ground-truth scenes (cached), runs Blender's Defocus node on them (cached; Blender 3.4, and
+# 4.2 and 5.0 through PyPI's bpy where scripts/bpy_venv.sh can install it), runs the sweep and
+# writes the report. Installs what is missing first (Debian packages, as scripts/test.sh).
 #
 #   bash study/run.sh                  the full study: docs/accuracy.md, docs/images/accuracy_*.png
 #                                      and libddof/src/presets_measured.inc (about 10-15 minutes
@@ -14,7 +15,8 @@
 #
 # Options: --configs LIST (ddof-study's list: full, smoke, ids), --scenes a,b (a subset of the
 # scenes), --no-large (no 1920x1080 timings), --threads N (the CPU contexts' threads),
-# --no-gl (never load the GL plugin).
+# --no-gl (never load the GL plugin), --bpy-nodes-1080 (time the 4.2 and 5.0 Defocus nodes at
+# 1920x1080 too: off by default, as they are far slower than 3.4's; see study/scenes/README.md).
 # Environment: DDOF_STUDY_EXE (a built ddof-study: skip the build), DDOF_STUDY_NO_INSTALL=1
 # (never install packages; what ctest sets), BLENDER (the blender executable).
 set -euo pipefail
@@ -26,6 +28,7 @@ outdir=
 configs=
 scenes_arg=
 sweep_args=()
+bpy_nodes_1080=0
 while [ $# -gt 0 ]; do
     case "$1" in
     --smoke)
@@ -39,6 +42,7 @@ while [ $# -gt 0 ]; do
     --no-large) sweep_args+=(--no-large); shift ;;
     --threads) sweep_args+=(--threads "${2:?}"); shift 2 ;;
     --no-gl) sweep_args+=(--no-gl); shift ;;
+    --bpy-nodes-1080) bpy_nodes_1080=1; shift ;;
     -h | --help) awk 'NR > 1 && !/^#/ {exit} NR > 1 {print}' "$0"; exit 0 ;;
     *) echo "study/run.sh: unknown argument $1 (see --help)" >&2; exit 2 ;;
     esac
@@ -156,27 +160,60 @@ if [ "$mode" != report ]; then
     [ "$mode" != smoke ] || scene_dirs=("$cache/thin_bars")
     [ ${#scene_dirs[@]} -gt 0 ] || { echo "study/run.sh: no scenes in $cache" >&2; exit 1; }
 
-    if [ -f study/scenes/defocus_node.py ]; then
-        # At 1920x1080 one composite takes up to minutes (its cost grows with the blur radius
-        # squared): 3 timed runs after the warm-up there (and defocus_node.py takes a warm-up
-        # over 20 s as the one measurement).
-        step "Blender's Defocus node on ${#scene_dirs[@]} scene(s) (cached)"
+    # One Blender's Defocus node on every scene (cached: a result newer than its input and
+    # the script is kept). $1: the node's file name (defocus, defocus-4.2, ...); the rest: the
+    # command that runs study/scenes/defocus_node.py (arguments follow it).
+    # At 1920x1080 one composite takes up to minutes (its cost grows with the blur radius
+    # squared): 3 timed runs after the warm-up there (and defocus_node.py takes a warm-up
+    # over 20 s as the one measurement).
+    # $node_tags: the frame sizes ("" the scene's own, 1080 the timing frame).
+    run_node() {
+        local name=$1 dir tag src json
+        shift
         for dir in "${scene_dirs[@]}"; do
-            for tag in "" 1080; do
+            for tag in "${node_tags[@]}"; do
                 src=$dir/pinhole${tag:+_$tag}.exr
-                json=$dir/defocus${tag:+_$tag}.json
+                json=$dir/$name${tag:+_$tag}.json
                 [ -f "$src" ] || continue
                 if [ -f "$json" ] && [ "$json" -nt "$src" ] &&
                     [ "$json" -nt study/scenes/defocus_node.py ]; then
                     continue
                 fi
-                if ! "$blender" -b --factory-startup --python-exit-code 1 \
-                    --python study/scenes/defocus_node.py -- --scene-dir "$dir" \
+                if ! "$@" study/scenes/defocus_node.py -- --scene-dir "$dir" \
                     ${tag:+--size-tag "$tag" --repeats 3} 2>&1 | blender_filter; then
-                    echo "study/run.sh: defocus_node.py failed on $dir" >&2
+                    echo "study/run.sh: defocus_node.py ($name) failed on $dir" >&2
                     exit 1
                 fi
             done
+        done
+    }
+    node_tags=("" 1080)
+    step "Blender's Defocus node (3.4, $blender) on ${#scene_dirs[@]} scene(s) (cached)"
+    run_node defocus "$blender" -b --factory-startup --python-exit-code 1 --python
+
+    # The node of Blender 4.2 LTS and 5.0 through PyPI's bpy (scripts/bpy_venv.sh makes the
+    # venvs, cached; a version it cannot install is skipped with its reason). Not in the smoke
+    # run (its configurations do not use them).
+    if [ "$mode" = full ]; then
+        bpy_cache=${DDOF_BPY_CACHE:-$HOME/.cache/ddof-bpy}
+        if [ "$bpy_nodes_1080" = 1 ]; then
+            node_tags=("" 1080)
+        else
+            node_tags=("")
+            echo "study/run.sh: the 4.2 and 5.0 Defocus nodes run at the scenes' size only" \
+                "(--bpy-nodes-1080 times them at 1920x1080 too)"
+        fi
+        [ "${DDOF_STUDY_NO_INSTALL:-0}" = 1 ] || bash scripts/bpy_venv.sh 4.2.23 5.0.1
+        for v in 4.2.23 5.0.1; do
+            venv=$bpy_cache/venv-$v
+            if [ ! -f "$venv/ok" ]; then
+                reason=$(cat "$venv.reason" 2>/dev/null ||
+                    echo "no venv (bash scripts/bpy_venv.sh $v)")
+                echo "study/run.sh: skipping Blender $v's Defocus node: $reason" >&2
+                continue
+            fi
+            step "Blender's Defocus node ($v, bpy) on ${#scene_dirs[@]} scene(s) (cached)"
+            run_node "defocus-${v%.*}" "$venv/bin/python"
         done
     fi
 

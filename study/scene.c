@@ -198,6 +198,52 @@ static void blender_version(const char *dir, char *out, size_t size)
     }
 }
 
+/* A JSON file's top-level string `key` into out ("" when absent). */
+static void json_string(const char *path, const char *key, char *out, size_t size)
+{
+    out[0] = '\0';
+    char *text = study_read_text(path);
+    cJSON *root = text ? cJSON_Parse(text) : NULL;
+    free(text);
+    const cJSON *v = cJSON_GetObjectItemCaseSensitive(root, key);
+    if (cJSON_IsString(v))
+        snprintf(out, size, "%s", v->valuestring);
+    cJSON_Delete(root);
+}
+
+/* The median of a node's timed composites in its JSON (as ddof's times are medians; "seconds"
+ * is their minimum), "seconds" when there is no median; -1 when absent. */
+static double node_seconds(const char *path)
+{
+    double t = json_number(path, "seconds_median");
+    if (!isfinite(t))
+        t = json_number(path, "seconds");
+    return isfinite(t) ? t : -1.0;
+}
+
+/* One Blender's Defocus node: <name>.exr (absent: no node result, not an error), its times in
+ * <name>.json and <name>_1080.json. 0, or -1 with a message. */
+static int load_node(const char *dir, const char *name, const study_scene *s, study_node *node,
+                     char *error, size_t size)
+{
+    char path[4352];
+    uint32_t w, h;
+    snprintf(path, sizeof path, "%s/%s.exr", dir, name);
+    if (!exists(path))
+        return 0;
+    if (read_exr(path, &node->image, NULL, &w, &h, error, size) != 0)
+        return -1;
+    if (w != s->small.width || h != s->small.height)
+        return fail(error, size, "%s is %ux%u, pinhole.exr %ux%u", path, w, h, s->small.width,
+                    s->small.height);
+    snprintf(path, sizeof path, "%s/%s.json", dir, name);
+    node->seconds = node_seconds(path);
+    json_string(path, "blender", node->blender, sizeof node->blender);
+    snprintf(path, sizeof path, "%s/%s_1080.json", dir, name);
+    node->seconds_large = node_seconds(path);
+    return 0;
+}
+
 static void frame_free(study_frame *f)
 {
     free(f->rgba);
@@ -216,7 +262,8 @@ void study_scene_free(study_scene *s)
     frame_free(&s->large);
     free(s->truth);
     free(s->band);
-    free(s->defocus);
+    for (int n = 0; n < STUDY_NODE_COUNT; n++)
+        free(s->nodes[n].image);
     memset(s, 0, sizeof *s);
 }
 
@@ -242,7 +289,8 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
     memset(s, 0, sizeof *s);
     if (size)
         error[0] = '\0';
-    s->defocus_seconds = s->defocus_seconds_large = -1.0;
+    for (int n = 0; n < STUDY_NODE_COUNT; n++)
+        s->nodes[n].seconds = s->nodes[n].seconds_large = -1.0;
     snprintf(s->dir, sizeof s->dir, "%s", dir);
     {
         size_t n = strlen(dir);
@@ -340,28 +388,9 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
             goto failed;
     }
 
-    snprintf(path, sizeof path, "%s/defocus.exr", dir);
-    if (exists(path)) {
-        if (read_exr(path, &s->defocus, NULL, &w, &h, error, size) != 0)
+    for (int n = 0; n < STUDY_NODE_COUNT; n++)
+        if (load_node(dir, study_node_names[n], s, &s->nodes[n], error, size) != 0)
             goto failed;
-        if (w != s->small.width || h != s->small.height) {
-            fail(error, size, "%s is %ux%u, pinhole.exr %ux%u", path, w, h, s->small.width,
-                 s->small.height);
-            goto failed;
-        }
-        /* The median of its timed composites, as ddof's times are medians ("seconds" is
-         * their minimum); "seconds" when there is no median. */
-        snprintf(path, sizeof path, "%s/defocus.json", dir);
-        double t = json_number(path, "seconds_median");
-        if (!isfinite(t))
-            t = json_number(path, "seconds");
-        s->defocus_seconds = isfinite(t) ? t : -1.0;
-        snprintf(path, sizeof path, "%s/defocus_1080.json", dir);
-        t = json_number(path, "seconds_median");
-        if (!isfinite(t))
-            t = json_number(path, "seconds");
-        s->defocus_seconds_large = isfinite(t) ? t : -1.0;
-    }
     blender_version(dir, s->blender, sizeof s->blender);
     free(fg_depth);
     free(rest_depth);

@@ -20,8 +20,15 @@ typedef enum study_kind {
     STUDY_COD4,          /* the library's CoD4 preview (DDOF_METHOD_COD4_PREVIEW)               */
     STUDY_GATHER,        /* study/baselines/gather_blur.c: a naive per-pixel gather by CoC     */
     STUDY_PINHOLE,       /* the input itself (identity)                                         */
-    STUDY_DEFOCUS        /* Blender's compositor Defocus node (defocus.exr/.json of the scene)  */
+    STUDY_DEFOCUS        /* Blender's compositor Defocus node (defocus*.exr/.json of the scene) */
 } study_kind;
+
+/* The Defocus nodes the study compares, one per Blender: the ids of their baselines and the
+ * names of their files in a scene folder (<name>.exr, <name>.json, <name>_1080.json), as
+ * study/scenes/defocus_node.py names them: Debian's Blender 3.4, then 4.2 LTS and 5.0 (PyPI's
+ * bpy). */
+enum { STUDY_NODE_COUNT = 3 };
+extern const char *const study_node_names[STUDY_NODE_COUNT];
 
 /* What the layer knob sets. */
 typedef enum study_layers {
@@ -54,6 +61,7 @@ typedef struct study_config {
     float beta_scale;
     study_layers layers;
     ddof_kernel kernel;       /* heat (the ids above) or a disc: "cpu/thomas/f32/disc-2x2/auto" */
+    int node;                 /* STUDY_DEFOCUS: which Blender's node (study_node_names)        */
 } study_config;
 
 typedef struct study_config_list {
@@ -97,6 +105,13 @@ typedef struct study_frame {
                           /* renders of them): for timing only                                  */
 } study_frame;
 
+/* One Blender's Defocus node on a scene. */
+typedef struct study_node {
+    float *image;         /* its image (NULL when the scene folder has none)                    */
+    double seconds, seconds_large; /* median composite times; < 0 when absent                 */
+    char blender[64];     /* the version that ran it (its JSON's "blender"), "" if unknown      */
+} study_node;
+
 typedef struct study_scene {
     char name[128];
     char dir[4096];
@@ -108,8 +123,7 @@ typedef struct study_scene {
     size_t band_pixels;
     float max_abs_coc;
     double seconds_coc_small, seconds_coc_large; /* ddof_coc_from_camera, median             */
-    float *defocus;       /* the Defocus node's image (NULL when absent)                        */
-    double defocus_seconds, defocus_seconds_large; /* < 0 when absent                         */
+    study_node nodes[STUDY_NODE_COUNT]; /* the Defocus nodes' results (study_node_names)      */
     char blender[64];     /* Blender version from render.json / defocus.json, "" if unknown     */
 } study_scene;
 

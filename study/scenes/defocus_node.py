@@ -7,13 +7,20 @@
         [--threads N] \
         [--out-dir DIR] [--out-name NAME] [--write-image] [--verbose]
 
+    VENV/bin/python study/scenes/defocus_node.py -- --scene-dir ...   (PyPI's bpy 4.2 / 5.0)
+
+Under Blender 4.2 or 5.0 the outputs are named defocus-4.2 / defocus-5.0 (node_rules.node_tag),
+the f-stop follows that node's thin-lens CoC (node_rules.node_fstop), blur_max is the scene's
+largest CoC (node_rules.auto_blur_max), and 5.0's tree is a node group with a group output;
+scenes/README.md, "Blender 4.2 LTS's and 5.0's nodes", has what differs and why.
+
 Reads DIR/<scene>/pinhole.exr (with --size-tag 1080: pinhole_1080.exr) and camera.json, and
 composites Image node (ViewLayer: Combined -> Image, Depth -> Z) -> Defocus -> Composite, with
 no Render Layers node, so `bpy.ops.render.render()` runs the compositor alone (Blender renders
 nothing when no Render Layers node is in the tree). The Defocus node gets the camera of the
 sidecar (focal length, sensor, AUTO fit, focus distance) as its scene camera, use_zbuffer on,
 circular bokeh, no gamma correction, use_preview off (full quality), blur_max 512 px radius
-(so that nothing is clipped), threshold 1 (Blender's default), and the f-stop
+(so that nothing is clipped; 3.4), threshold 1 (Blender's default), and the f-stop (3.4)
 N * 1000 / sensor_mm * fstop-scale: docs/design.md section 1 says the node blurs 1000/sensor_mm
 times more than the physical lens at the same f-number (README.md, "Defocus node f-stop",
 checks it).
@@ -43,6 +50,7 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from node_rules import auto_blur_max, node_fstop, node_tag  # noqa: E402
 from script_util import parse, quiet, write_json  # noqa: E402
 
 
@@ -50,7 +58,7 @@ def parse_args():
     return parse(
         "defocus_node.py",
         {"scene-dir": None, "size-tag": "", "fstop-scale": "1.0", "threshold": "1.0",
-         "blur-max": "512", "execution-mode": "TILED", "repeats": "5", "threads": "2",
+         "blur-max": "auto", "execution-mode": "TILED", "repeats": "5", "threads": "2",
          "long": "20", "out-dir": None, "out-name": None},
         {"write-image", "verbose"}, required=("scene-dir",))
 
@@ -75,6 +83,34 @@ def exr_size(path):
     raise SystemExit("defocus_node.py: %s has no displayWindow" % path)
 
 
+VERSION = tuple(bpy.app.version)
+
+
+NODE_GROUP_COMPOSITOR = "compositing_node_group" in bpy.types.Scene.bl_rna.properties  # 5.0+
+
+
+def compositor_tree(scene):
+    """A new compositor tree for the scene: scene.node_tree up to 4.x, a node group in
+    scene.compositing_node_group from 5.0 (as blender_addon/diffusion_dof/compat.py)."""
+    if NODE_GROUP_COMPOSITOR:
+        tree = bpy.data.node_groups.new("Compositing", "CompositorNodeTree")
+        scene.compositing_node_group = tree
+        return tree
+    scene.use_nodes = True
+    return scene.node_tree
+
+
+def output_socket(tree):
+    """The socket whose image the render keeps: a Composite node's (with use_alpha where it
+    has one) up to 4.x; from 5.0, which has no Composite node, the group output's "Image"."""
+    if NODE_GROUP_COMPOSITOR:
+        tree.interface.new_socket(name="Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+        return tree.nodes.new("NodeGroupOutput").inputs["Image"]
+    composite = tree.nodes.new("CompositorNodeComposite")
+    if hasattr(composite, "use_alpha"):
+        composite.use_alpha = True
+    return composite.inputs["Image"]
+
 def main():
     args = parse_args()
     scene_dir = os.path.abspath(args["scene-dir"])
@@ -86,12 +122,12 @@ def main():
     if not os.path.exists(source):
         raise SystemExit("defocus_node.py: no %s" % source)
     width, height = exr_size(source)
-    base = args["out-name"] or "defocus%s" % suffix
+    base = args["out-name"] or node_tag(VERSION) + suffix
     out_dir = os.path.abspath(args["out-dir"]) if args["out-dir"] else scene_dir
     os.makedirs(out_dir, exist_ok=True)
     write_image = args["write-image"] or not tag
     sensor = float(cam["sensor_width_mm"])
-    fstop_node = float(cam["fstop"]) * 1000.0 / sensor * float(args["fstop-scale"])
+    fstop_node, fstop_rule = node_fstop(cam, float(args["fstop-scale"]), VERSION)
     threads = int(args["threads"])
 
     bpy.ops.wm.read_factory_settings(use_empty=True)
@@ -120,9 +156,9 @@ def main():
     scene.collection.objects.link(cam_obj)
     scene.camera = cam_obj
 
-    scene.use_nodes = True
-    tree = scene.node_tree
-    tree.execution_mode = args["execution-mode"]
+    tree = compositor_tree(scene)
+    if hasattr(tree, "execution_mode"):  # 3.x to 4.1; 4.2 has one (full-frame) compositor
+        tree.execution_mode = args["execution-mode"]
     tree.nodes.clear()
     image = bpy.data.images.load(source)
     image_node = tree.nodes.new("CompositorNodeImage")
@@ -133,18 +169,22 @@ def main():
     defocus.use_zbuffer = True
     defocus.bokeh = "CIRCLE"
     defocus.angle = 0.0
-    defocus.use_gamma_correction = False
-    defocus.use_preview = False
+    # 5.0 dropped these three (no threshold, no gamma option, always full quality).
+    for name, value in (("use_gamma_correction", False), ("use_preview", False),
+                        ("threshold", float(args["threshold"]))):
+        if hasattr(defocus, name):
+            setattr(defocus, name, value)
     defocus.f_stop = fstop_node
-    defocus.blur_max = float(args["blur-max"])
-    defocus.threshold = float(args["threshold"])
-    composite = tree.nodes.new("CompositorNodeComposite")
-    composite.use_alpha = True
+    defocus.blur_max = (auto_blur_max(cam, source, width, float(args["fstop-scale"]), VERSION)
+                        if args["blur-max"] == "auto"
+                        else float(args["blur-max"]))
     tree.links.new(image_node.outputs["Combined"], defocus.inputs["Image"])
     tree.links.new(image_node.outputs["Depth"], defocus.inputs["Z"])
-    tree.links.new(defocus.outputs["Image"], composite.inputs["Image"])
+    tree.links.new(defocus.outputs["Image"], output_socket(tree))
 
     settings = render.image_settings
+    if hasattr(settings, "media_type"):  # 5.0: the format's media type first
+        settings.media_type = "IMAGE"
     settings.file_format = "OPEN_EXR"
     settings.color_mode = "RGBA"
     settings.color_depth = "32"
@@ -156,11 +196,12 @@ def main():
             bpy.ops.render.render(write_still=False)
         return time.perf_counter() - t0
 
-    print("defocus_node.py: %s %dx%d, f-stop %.4g (N %.4g x 1000 / %.4g mm x %.4g), "
-          "threshold %g, blur_max %g, %s, %d threads ..."
-          % (os.path.basename(scene_dir), width, height, fstop_node, cam["fstop"], sensor,
-             float(args["fstop-scale"]), defocus.threshold, defocus.blur_max,
-             tree.execution_mode, threads), end=" ", flush=True)
+    print("defocus_node.py: Blender %s, %s %dx%d, f-stop %.4g (N %.4g: %s, scale %.4g), "
+          "threshold %s, blur_max %g, %s, %d threads ..."
+          % (bpy.app.version_string, os.path.basename(scene_dir), width, height, fstop_node,
+             cam["fstop"], fstop_rule.split(" * fstop_scale")[0], float(args["fstop-scale"]),
+             getattr(defocus, "threshold", "-"), defocus.blur_max,
+             getattr(tree, "execution_mode", "FULL_FRAME"), threads), end=" ", flush=True)
     first = composite_once()
     if first > float(args["long"]):
         # Minutes per composite (large blur at 1080p): the warm-up is the measurement; the
@@ -181,14 +222,14 @@ def main():
         "fstop_camera": cam["fstop"],
         "fstop_node": round(fstop_node, 6),
         "fstop_scale": float(args["fstop-scale"]),
-        "fstop_rule": "N * 1000 / sensor_width_mm * fstop_scale",
+        "fstop_rule": fstop_rule,
         "blur_max": defocus.blur_max,
-        "threshold": defocus.threshold,
+        "threshold": getattr(defocus, "threshold", None),
         "bokeh": "CIRCLE",
         "use_zbuffer": True,
-        "use_preview": False,
-        "use_gamma_correction": False,
-        "execution_mode": tree.execution_mode,
+        "use_preview": getattr(defocus, "use_preview", None),
+        "use_gamma_correction": getattr(defocus, "use_gamma_correction", None),
+        "execution_mode": getattr(tree, "execution_mode", "FULL_FRAME"),
         "threads": threads,
         "seconds": round(seconds, 4),
         "seconds_median": round(statistics.median(runs), 4) if runs else round(seconds, 4),
@@ -203,6 +244,7 @@ def main():
                    "(compositor only), longer than --long s, so not repeated; includes "
                    "decoding the EXR on first use (well under a second), not file writing"),
         "blender": bpy.app.version_string,
+        "node": node_tag(VERSION),
     }
     if write_image:
         out_path = os.path.join(out_dir, base + ".exr")
