@@ -9,7 +9,8 @@
  *    range, in-focus pixels the element's blur does not reach keep their bits, a frame whose
  *    alpha is not 1 keeps its alpha channel, the 4-channel and 3-channel calls agree;
  *  - the hard cases: a frame that is all near field (no source for the fill), an object on the
- *    border, a 1-pixel near island, a near field only mildly blurred (the matte's ramp);
+ *    border, a 1-pixel near island, a near field only mildly blurred (the matte's ramp), holes
+ *    whose row or column has no source (the result independent of the scratch's contents);
  *  - the planner and the parameter checks. */
 #include "ddof.h"
 #include "disc_kernel.h"
@@ -491,6 +492,66 @@ static void test_parameters(void)
     free(out);
 }
 
+/* Scratch memory handed out full of one byte pattern: 0xff is a NaN in every float. */
+static void *patterned_alloc(void *user, size_t size)
+{
+    void *p = malloc(size);
+    if (p)
+        memset(p, *(const unsigned char *)user, size);
+    return p;
+}
+
+static void plain_free(void *user, void *p)
+{
+    (void)user;
+    free(p);
+}
+
+static ddof_context *patterned_context(unsigned char *pattern)
+{
+    ddof_allocator a = {patterned_alloc, plain_free, pattern};
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    o.thread_count = 1;
+    o.allocator = &a;
+    ddof_context *c = NULL;
+    return ddof_context_create(&o, &c) == DDOF_OK ? c : NULL;
+}
+
+/* Holes whose row, or whose column, holds no source (a near band across the whole frame, a
+ * near strip down its side): the fill writes every hole, so the result does not depend on what
+ * the scratch memory held before, and is finite. */
+static void test_fill_independent_of_scratch(void)
+{
+    float *img = alloc_f(NPX * CH), *coc = alloc_f(NPX);
+    float *out_nan = alloc_f(NPX * CH), *out_zero = alloc_f(NPX * CH);
+    block_texture(img, W, H, CH, 5, 0.05, 0.55);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++)
+            coc[(size_t)y * W + x] = (y >= 30 && y < 40) || x < 10 ? -20.0f : 0.0f;
+    unsigned char nan_bytes = 0xff, zero_bytes = 0;
+    ddof_context *poisoned = patterned_context(&nan_bytes), *zeroed = patterned_context(&zero_bytes);
+    CHECK(poisoned && zeroed);
+    const ddof_params p = near_params();
+    ddof_stats st = stats_init();
+    CHECK_EQ_INT(diffuse_layers(poisoned, &p, img, coc, NULL, out_nan, W, H, CH, &st), DDOF_OK);
+    CHECK(st.effects & DDOF_EFFECT_NEAR_LAYER);
+    CHECK_EQ_INT(diffuse_layers(zeroed, &p, img, coc, NULL, out_zero, W, H, CH, NULL), DDOF_OK);
+    size_t bad = 0, differ = 0;
+    for (size_t i = 0; i < NPX * CH; i++) {
+        bad += !isfinite(out_nan[i]);
+        differ += memcmp(&out_nan[i], &out_zero[i], sizeof(float)) != 0;
+    }
+    CHECK_MSG(bad == 0 && differ == 0, "%zu values not finite, %zu differ with the scratch's bytes",
+              bad, differ);
+    ddof_context_free(poisoned);
+    ddof_context_free(zeroed);
+    free(img);
+    free(coc);
+    free(out_nan);
+    free(out_zero);
+}
+
 int main(void)
 {
     if (ddof_context_create(NULL, &ctx) != DDOF_OK)
@@ -503,6 +564,7 @@ int main(void)
     test_all_near();
     test_border_and_island();
     test_parameters();
+    test_fill_independent_of_scratch();
     ddof_context_free(ctx);
     return test_report("test_near_layer");
 }

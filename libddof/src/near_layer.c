@@ -292,8 +292,10 @@ static float across_run(const float *before, const float *after, uint32_t n, uin
         return 1.0f / (length * length);
     }
     const float *only = before ? before : after;
-    if (!only)
+    if (!only) {
+        memset(out, 0, n * sizeof(float)); /* weightless, but blended by 0 * value */
         return 0.0f;
+    }
     memcpy(out, only, n * sizeof(float));
     return 0.25f / (length * length);
 }
@@ -342,10 +344,8 @@ static void store_row_fill(const split_job *j, uint32_t x, uint32_t y, const flo
     const uint32_t C = j->r->channels;
     const size_t p = (size_t)y * j->r->width + x;
     j->row_weight[p] = w;
-    if (w > 0.0f) {
-        memcpy(j->rest + p * C, v, C * sizeof(float));
-        j->rest_coc[p] = v[C];
-    }
+    memcpy(j->rest + p * C, v, C * sizeof(float)); /* weightless (0) when w = 0 */
+    j->rest_coc[p] = v[C];
 }
 
 /* A hole's fill: the column interpolation blended with the row's by their weights, then
