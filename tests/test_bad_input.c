@@ -545,7 +545,7 @@ static void test_presets(void)
     CHECK_EQ_INT(ddof_params_init_preset(&p, DDOF_PRESET_COUNT_), DDOF_ERROR_BAD_PARAMETER);
     CHECK(same_settings(&p, &d));
     CHECK(ddof_preset_name(DDOF_PRESET_COUNT_) == NULL);
-    CHECK_EQ_INT(ddof_params_init_preset(NULL, DDOF_PRESET_DEFAULT), DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(ddof_params_init_preset((ddof_params *)NULL, DDOF_PRESET_DEFAULT), DDOF_ERROR_NULL_POINTER);
 }
 
 /* Backends: a GL backend that cannot be loaded is a status and a sentence, the context keeps

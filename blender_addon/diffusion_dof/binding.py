@@ -1,9 +1,10 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.5).
+"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.6).
 
 This module does not import bpy: it is the add-on's only contact with the C library and can be
 used (and is tested) from a plain Python interpreter. The structures mirror ddof.h field by field;
-every parameter struct is filled by its *_init function first, so fields the add-on does not set
+every parameter struct is filled by its *_init_sized function first (at the size of this mirror,
+so a newer library never writes past it), so fields the add-on does not set
 keep the library's defaults (and the quality presets are the library's: ddof_params_init_preset,
 never values of the add-on's own). Pixel buffers are array.array('f') objects (tightly packed floats,
 interleaved channels) handed to the library as pointers: Python never touches a pixel.
@@ -16,8 +17,11 @@ import os
 import sys
 
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
-# version_compatible): in 0.x the same major.minor, from 1.0 the same major and a minor >= ours.
-BINDING_VERSION = (0, 5)
+# version_compatible): the same major and a minor >= ours (structs are only appended, and a
+# library accepts an older caller's layout: ddof.h, Conventions).
+BINDING_VERSION = (0, 6)
+# The soname of the ABI line (libddof/CMakeLists.txt), a name the library may be installed under.
+SONAME = "libddof.so.0.5"
 
 # ---------------------------------------------------------------------------------------------
 # Constants (ddof.h enums and defines)
@@ -260,7 +264,7 @@ _PROTOTYPES = {
     "ddof_version_number": (ctypes.c_uint, []),
     "ddof_version_string": (ctypes.c_char_p, []),
     "ddof_status_string": (ctypes.c_char_p, [_enum]),
-    "ddof_context_options_init": (None, [ctypes.POINTER(ContextOptions)]),
+    "ddof_context_options_init_sized": (None, [ctypes.POINTER(ContextOptions), ctypes.c_size_t]),
     "ddof_context_create": (_enum, [ctypes.POINTER(ContextOptions), ctypes.POINTER(_c_ctx)]),
     "ddof_context_free": (None, [_c_ctx]),
     "ddof_context_thread_count": (ctypes.c_uint32, [_c_ctx]),
@@ -268,16 +272,18 @@ _PROTOTYPES = {
     "ddof_backend_name": (ctypes.c_char_p, [_enum]),
     "ddof_context_set_backend": (_enum, [_c_ctx, _enum, ctypes.c_char_p]),
     "ddof_context_backend_info": (_enum, [_c_ctx, ctypes.POINTER(BackendInfo)]),
-    "ddof_camera_init": (None, [ctypes.POINTER(Camera)]),
+    "ddof_camera_init_sized": (None, [ctypes.POINTER(Camera), ctypes.c_size_t]),
     "ddof_coc_from_camera": (_enum, [_c_ctx, ctypes.POINTER(Camera), ctypes.POINTER(ImageIn),
                                      ctypes.POINTER(Image)]),
     "ddof_solver_name": (ctypes.c_char_p, [_enum]),
-    "ddof_params_init": (None, [ctypes.POINTER(Params)]),
-    "ddof_params_init_preset": (_enum, [ctypes.POINTER(Params), _enum]),
+    "ddof_params_init_sized": (None, [ctypes.POINTER(Params), ctypes.c_size_t]),
+    "ddof_params_init_preset_sized": (_enum, [ctypes.POINTER(Params), ctypes.c_size_t, _enum]),
+    "ddof_param_bounds": (_enum, [ctypes.c_char_p, ctypes.POINTER(ctypes.c_double),
+                                  ctypes.POINTER(ctypes.c_double)]),
     "ddof_preset_name": (ctypes.c_char_p, [_enum]),
     "ddof_params_check": (_enum, [_c_ctx, ctypes.POINTER(Params)]),
     "ddof_camera_check": (_enum, [_c_ctx, ctypes.POINTER(Camera)]),
-    "ddof_frame_init": (None, [ctypes.POINTER(Frame)]),
+    "ddof_frame_init_sized": (None, [ctypes.POINTER(Frame), ctypes.c_size_t]),
     "ddof_render_frame": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Frame),
                                   ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
 }
@@ -317,8 +323,6 @@ def version_tuple(number):
 def version_compatible(number, binding=BINDING_VERSION):
     """Whether a library of this ddof_version_number() fits structures written for `binding`."""
     major, minor, _ = version_tuple(number)
-    if binding[0] == 0:
-        return major == 0 and minor == binding[1]
     return major == binding[0] and minor >= binding[1]
 
 
@@ -334,8 +338,7 @@ def _library_file_names():
         return ["ddof.dll", "libddof.dll"]
     if sys.platform == "darwin":
         return ["libddof.dylib"]
-    major, minor = BINDING_VERSION
-    return ["libddof.so", "libddof.so.%d.%d" % (major, minor)]
+    return ["libddof.so", SONAME]
 
 
 def find_library():
@@ -395,9 +398,9 @@ class Library:
         if not version_compatible(self.version_number):
             raise LibraryError(
                 "The ddof library '%s' is version %s, but this add-on was written for %d.%d "
-                "(0.x versions must match in major and minor). Install the add-on and library "
-                "from the same build." % (path, self.version, BINDING_VERSION[0],
-                                          BINDING_VERSION[1]))
+                "(it needs the same major version and at least that minor). Install the add-on "
+                "and library from the same build." % (path, self.version, BINDING_VERSION[0],
+                                                       BINDING_VERSION[1]))
         for name, (restype, argtypes) in _PROTOTYPES.items():
             if not hasattr(dll, name):
                 raise LibraryError("'%s' (version %s) is not a usable ddof library: it has no "
@@ -418,13 +421,23 @@ class Library:
 
     def default_camera(self):
         cam = Camera()
-        self._dll.ddof_camera_init(ctypes.byref(cam))
+        self._dll.ddof_camera_init_sized(ctypes.byref(cam), ctypes.sizeof(cam))
         return cam
 
     def default_params(self):
         params = Params()
-        self._dll.ddof_params_init(ctypes.byref(params))
+        self._dll.ddof_params_init_sized(ctypes.byref(params), ctypes.sizeof(params))
         return params
+
+    def param_bounds(self, field):
+        """(lowest, highest) that the library accepts for a numeric ddof_params field, inclusive
+        (ddof_param_bounds). Raises KeyError for a name that has no range."""
+        lowest, highest = ctypes.c_double(), ctypes.c_double()
+        status = self._dll.ddof_param_bounds(field.encode("ascii"), ctypes.byref(lowest),
+                                             ctypes.byref(highest))
+        if status != DDOF_OK:
+            raise KeyError("ddof_params has no numeric field %r" % field)
+        return lowest.value, highest.value
 
     def backend_name(self, kind):
         name = self._dll.ddof_backend_name(kind)
@@ -440,7 +453,8 @@ class Library:
         study. Raises ValueError for an unknown preset."""
         value = PRESETS[preset] if isinstance(preset, str) else int(preset)
         params = Params()
-        status = self._dll.ddof_params_init_preset(ctypes.byref(params), value)
+        status = self._dll.ddof_params_init_preset_sized(ctypes.byref(params),
+                                                         ctypes.sizeof(params), value)
         if status != DDOF_OK:
             raise ValueError("the ddof library has no preset %r (%s)"
                              % (preset, self.status_string(status)))
@@ -465,7 +479,7 @@ class Library:
         fails for want of a GPU (it runs on the CPU and says why); 'egl' or 'osmesa' that cannot
         be had raise DdofError with the library's reason."""
         options = ContextOptions()
-        self._dll.ddof_context_options_init(ctypes.byref(options))
+        self._dll.ddof_context_options_init_sized(ctypes.byref(options), ctypes.sizeof(options))
         options.thread_count = max(0, int(threads))
         ctx = _c_ctx()
         status = self._dll.ddof_context_create(ctypes.byref(options), ctypes.byref(ctx))
@@ -619,7 +633,7 @@ class Session:
         cam = self.library.make_camera(camera)
         p = self.library.make_params(params, preset)
         frame = Frame()
-        self._dll.ddof_frame_init(ctypes.byref(frame))
+        self._dll.ddof_frame_init_sized(ctypes.byref(frame), ctypes.sizeof(frame))
         frame.color = ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
         frame.depth = ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
         frame.camera = ctypes.pointer(cam)

@@ -18,11 +18,23 @@
  *  - The struct rules (the ABI): each *_init(p) is a macro for *_init_sized(p, sizeof *p),
  *    which writes only the caller's size (never more than the library's own struct) and sets
  *    struct_size to what it wrote, so a caller built with an older, smaller struct is never
- *    overrun by a newer library; the functions of the plain names stay for binaries built
- *    before (they write the whole struct). (A literal NULL now needs a cast.) Each input
- *    struct is accepted from its named first size, DDOF_<STRUCT>_SIZE_0_5 below or older (the
- *    fields it lacks take their defaults), and beyond the library's own size only when the
- *    bytes it does not know are zero (a newer caller that left new fields at their defaults).
+ *    overrun by a newer library. The functions of the plain names are for binaries built
+ *    against 0.5, which called them directly: they write the 0.5 layout (DDOF_<STRUCT>_SIZE_0_5).
+ *    (A literal NULL now needs a cast.) Each input struct is accepted from its named first size
+ *    (the fields it lacks take their defaults), and beyond the library's own size only when
+ *    the bytes it does not know are zero (a newer caller that left new fields at their
+ *    defaults). Each output struct (ddof_stats, ddof_backend_info, ddof_kernel_info) is
+ *    written up to the smaller of its struct_size and the library's own size, and struct_size
+ *    then says how many bytes were written (a newer caller sees which fields an older library
+ *    filled); one smaller than its first layout is DDOF_ERROR_BAD_PARAMETER, before anything
+ *    runs.
+ *  - Every enum is 32 bits wide (its *_FORCE_32BIT_ value keeps it so under -fshort-enums; the
+ *    header's static assertions stop a compiler where it is not). The *_COUNT_ values are not
+ *    values: they grow when one is added, so never store one or size a table that outlives a
+ *    build by it. ddof_param_bounds() gives the range of each numeric parameter.
+ *  - Versions: a binary built against 0.5 or later runs on any later 0.x library; the soname
+ *    (libddof.so.0.5) names that ABI's first release and changes only when such a binary
+ *    could not run any more. The CMake package accepts a newer minor (SameMajorVersion).
  *  - One context per thread. The library has no global mutable state. A call on a context
  *    that another call is using (another thread, or the progress callback calling back in)
  *    returns DDOF_ERROR_CONTEXT_BUSY at once and touches nothing: the context is then not
@@ -76,7 +88,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 5
+#define DDOF_VERSION_MINOR 6
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -113,7 +125,8 @@ typedef enum ddof_status {
     DDOF_ERROR_CONTEXT_BUSY,  /* another call is running on this context (another thread, or */
                               /* the progress callback calling back in); nothing was done and */
                               /* the last error is left to the running call                    */
-    DDOF_STATUS_COUNT_        /* not a status: the number of codes                             */
+    DDOF_STATUS_COUNT_,       /* not a status: the number of codes                             */
+    DDOF_STATUS_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_status;
 
 /* A short English sentence for any code (also for unknown values); never NULL. */
@@ -199,18 +212,21 @@ typedef enum ddof_lens_model {
     DDOF_LENS_CYCLES = 0,
     /* Textbook thin lens: c = (f / N) * |S2 - S1| / S2 * f / (S1 - f).
      * Larger than the Cycles model by S1 / (S1 - f). */
-    DDOF_LENS_THIN_LENS = 1
+    DDOF_LENS_THIN_LENS = 1,
+    DDOF_LENS_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_lens_model;
 
 typedef enum ddof_depth_kind {
     DDOF_DEPTH_PLANAR = 0, /* camera-space Z along the optical axis (Blender's Depth pass)  */
-    DDOF_DEPTH_RADIAL = 1  /* distance from the centre of projection; converted to planar   */
+    DDOF_DEPTH_RADIAL = 1, /* distance from the centre of projection; converted to planar   */
+    DDOF_DEPTH_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_depth_kind;
 
 typedef enum ddof_sensor_fit {
     DDOF_SENSOR_FIT_AUTO = 0,       /* sensor width spans the larger image dimension         */
     DDOF_SENSOR_FIT_HORIZONTAL = 1, /* sensor width spans the image width                    */
-    DDOF_SENSOR_FIT_VERTICAL = 2    /* sensor width spans the image height                   */
+    DDOF_SENSOR_FIT_VERTICAL = 2,   /* sensor width spans the image height                   */
+    DDOF_SENSOR_FIT_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_sensor_fit;
 
 /* The camera sidecar of docs/design.md in C. Lengths: focal length and sensor in millimetres, focus
@@ -241,6 +257,8 @@ typedef struct ddof_camera {
 DDOF_API void (ddof_camera_init)(ddof_camera *camera);
 DDOF_API void ddof_camera_init_sized(ddof_camera *camera, size_t size);
 #define ddof_camera_init(camera) ddof_camera_init_sized((camera), sizeof *(camera))
+/* The 0.5 layout: what (ddof_camera_init) writes (see Conventions). */
+#define DDOF_CAMERA_SIZE_0_5 (offsetof(ddof_camera, window_y) + sizeof(int32_t))
 
 /* Fills `coc` (1 channel, same size as depth) with CoC diameters in horizontal pixels.
  * depth: its first channel is read. +inf depth (sky) is valid and gets the far-limit CoC.
@@ -267,6 +285,8 @@ typedef struct ddof_curve {
 DDOF_API void (ddof_curve_init)(ddof_curve *curve);
 DDOF_API void ddof_curve_init_sized(ddof_curve *curve, size_t size);
 #define ddof_curve_init(curve) ddof_curve_init_sized((curve), sizeof *(curve))
+/* The 0.5 layout: what (ddof_curve_init) writes (see Conventions). */
+#define DDOF_CURVE_SIZE_0_5 (offsetof(ddof_curve, signed_coc) + sizeof(uint32_t))
 
 /* As ddof_coc_from_camera, with the curve. Depth must not be NaN or negative (+inf is far). */
 DDOF_API ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
@@ -283,7 +303,8 @@ typedef enum ddof_solver {
     DDOF_SOLVER_REFERENCE_F64 = 4,   /* double precision throughout, one thread; for tests    */
     DDOF_SOLVER_GRUEN = 5,           /* GL backends only: Gruen's fast DDOF solver (Game Engine */
                                      /* Gems 2 ch. 8): four-to-one reduction, Cramer at 2 or 3 */
-    DDOF_SOLVER_COUNT_               /* not a solver                                          */
+    DDOF_SOLVER_COUNT_,              /* not a solver                                          */
+    DDOF_SOLVER_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_solver;
 
 /* The name of a solver ("thomas", "cr", "pcr", "jacobi", "reference", "gruen"); NULL if
@@ -303,12 +324,13 @@ DDOF_API const char *ddof_solver_name(ddof_solver solver);
 /* How a call computes the blur. */
 typedef enum ddof_method {
     DDOF_METHOD_DIFFUSION = 0,    /* the heat-diffusion solve (with layers as planned)         */
-    DDOF_METHOD_COD4_PREVIEW = 1  /* the practical post-process DOF of Call of Duty 4 (GPU    */
+    DDOF_METHOD_COD4_PREVIEW = 1, /* the practical post-process DOF of Call of Duty 4 (GPU    */
                                   /* Gems 3 ch. 28): quarter-resolution near CoC, blurred and */
                                   /* dilated, three blur levels interpolated. Fast, approximate;*/
                                   /* CPU only; ignores solver, substeps and layer fields. The */
                                   /* near spread needs signed CoC; blur beyond a quarter of   */
                                   /* the image's larger side saturates at that size.          */
+    DDOF_METHOD_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_method;
 
 /* The shape of the blur a diffusion draws around a point (its point spread).
@@ -333,7 +355,8 @@ typedef enum ddof_kernel {
     DDOF_KERNEL_DISC_2X2 = 1, /* 2 components x 2 steps: 8 complex solves per pixel           */
     DDOF_KERNEL_DISC_2X3 = 2, /* 2 x 3: 12                                                   */
     DDOF_KERNEL_DISC_3X3 = 3, /* 3 x 3: 18; the closest disc                                 */
-    DDOF_KERNEL_COUNT_        /* not a kernel                                                 */
+    DDOF_KERNEL_COUNT_,       /* not a kernel                                                 */
+    DDOF_KERNEL_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_kernel;
 
 /* "heat", "disc-2x2", "disc-2x3", "disc-3x3"; NULL if unknown. */
@@ -344,8 +367,9 @@ DDOF_API const char *ddof_kernel_name(ddof_kernel kernel);
  * is double throughout. */
 typedef enum ddof_precision {
     DDOF_PRECISION_FLOAT = 0,      /* 32-bit float everywhere                                   */
-    DDOF_PRECISION_PACKED_HALF = 1 /* GL Gruen solver only: a, b, c and x packed into one      */
+    DDOF_PRECISION_PACKED_HALF = 1, /* GL Gruen solver only: a, b, c and x packed into one      */
                                    /* RGBA32UI texel per pixel and channel group (half floats) */
+    DDOF_PRECISION_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_precision;
 
 /* Named settings measured in docs/accuracy.md: the fastest point of the accuracy-vs-time front
@@ -354,7 +378,8 @@ typedef enum ddof_preset {
     DDOF_PRESET_PREVIEW = 0,
     DDOF_PRESET_DEFAULT = 1,
     DDOF_PRESET_FINAL = 2,
-    DDOF_PRESET_COUNT_
+    DDOF_PRESET_COUNT_,
+    DDOF_PRESET_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_preset;
 
 /* Whether an optional effect runs: AUTO lets the planner decide from the CoC field (and says
@@ -362,7 +387,8 @@ typedef enum ddof_preset {
 typedef enum ddof_layer_mode {
     DDOF_LAYER_AUTO = 0,
     DDOF_LAYER_OFF = 1,
-    DDOF_LAYER_ON = 2
+    DDOF_LAYER_ON = 2,
+    DDOF_LAYER_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_layer_mode;
 
 /* Bits of ddof_stats.effects: what a call simulated. */
@@ -467,18 +493,30 @@ typedef struct ddof_params {
 DDOF_API void (ddof_params_init)(ddof_params *params);
 DDOF_API void ddof_params_init_sized(ddof_params *params, size_t size);
 #define ddof_params_init(params) ddof_params_init_sized((params), sizeof *(params))
+/* The 0.5 layout: what (ddof_params_init) writes (see Conventions). */
+#define DDOF_PARAMS_SIZE_0_5 (offsetof(ddof_params, highlight_threshold) + sizeof(float))
+
+/* The range ddof_params_check accepts for a numeric field of ddof_params, by the field's name
+ * ("substeps", "beta_scale", "near_layer_threshold_px", ...): *lowest and *highest are the
+ * smallest and largest values accepted (inclusive; for a field that must be > 0, the smallest
+ * float above 0). DDOF_ERROR_BAD_PARAMETER for a name that is not a numeric field, with the
+ * outputs untouched. What ties two fields (background_threshold_px above
+ * background_ramp_start_px; jacobi_iterations read only by the Jacobi solver) is not a range:
+ * ddof_params_check judges it. Hosts read their sliders' limits here. */
+DDOF_API ddof_status ddof_param_bounds(const char *field, double *lowest, double *highest);
 
 /* Fills params with a preset's settings; an unknown preset gives DDOF_ERROR_BAD_PARAMETER and
  * the default preset. "preview", "default", "final" by name; NULL if unknown. */
-DDOF_API ddof_status ddof_params_init_preset(ddof_params *params, ddof_preset preset);
+DDOF_API ddof_status (ddof_params_init_preset)(ddof_params *params, ddof_preset preset);
 /* ddof_params_init_preset writing only `size` bytes (ddof_params_init_sized's rule). */
 DDOF_API ddof_status ddof_params_init_preset_sized(ddof_params *params, size_t size,
                                                    ddof_preset preset);
+#define ddof_params_init_preset(params, preset)                                                 \
+    ddof_params_init_preset_sized((params), sizeof *(params), (preset))
 DDOF_API const char *ddof_preset_name(ddof_preset preset);
 
-/* What a call simulated, skipped, and how long each stage took. Parameter structs of an older
- * version (a smaller struct_size, at least the first version's) are accepted: the fields they
- * lack take their defaults. */
+/* What a call simulated, skipped, and how long each stage took. An output struct (see
+ * Conventions): written up to the caller's struct_size, at least DDOF_STATS_SIZE_0_1. */
 typedef struct ddof_stats {
     uint32_t struct_size;      /* set by the caller to sizeof(ddof_stats) before the call     */
     uint32_t solver;           /* the ddof_solver that ran                                    */
@@ -525,6 +563,10 @@ typedef struct ddof_stats {
     double seconds_near_layer; /* splitting the near layer off and filling what it hid (its  */
                                /* blur and composite count as seconds_foreground)            */
 } ddof_stats;
+
+/* The first layout (0.1): the smallest struct_size a call takes (smaller is
+ * DDOF_ERROR_BAD_PARAMETER before anything runs). */
+#define DDOF_STATS_SIZE_0_1 offsetof(ddof_stats, effects)
 
 /* The single-layer diffusion: diffuses `color` (1..4 channels) with the CoC diameters in pixels
  * in the first channel of `coc` (same size) into `out` (same size and channels as color). The
@@ -674,6 +716,25 @@ DDOF_API ddof_status ddof_depth_of_field(ddof_context *context, const ddof_param
                                          const ddof_image_in *depth, const ddof_image *out,
                                          ddof_stats *stats);
 
+/* Every enum 32 bits wide, as the library was built (see Conventions). */
+#if defined(__cplusplus) && __cplusplus >= 201103L
+#define DDOF_ASSERT_32_BITS(type) static_assert(sizeof(type) == 4, #type " must be 32 bits wide")
+#elif defined(__STDC_VERSION__) && __STDC_VERSION__ >= 201112L
+#define DDOF_ASSERT_32_BITS(type) _Static_assert(sizeof(type) == 4, #type " must be 32 bits wide")
+#else
+#define DDOF_ASSERT_32_BITS(type) typedef char ddof_assert_##type[sizeof(type) == 4 ? 1 : -1]
+#endif
+DDOF_ASSERT_32_BITS(ddof_status);
+DDOF_ASSERT_32_BITS(ddof_lens_model);
+DDOF_ASSERT_32_BITS(ddof_depth_kind);
+DDOF_ASSERT_32_BITS(ddof_sensor_fit);
+DDOF_ASSERT_32_BITS(ddof_solver);
+DDOF_ASSERT_32_BITS(ddof_method);
+DDOF_ASSERT_32_BITS(ddof_kernel);
+DDOF_ASSERT_32_BITS(ddof_precision);
+DDOF_ASSERT_32_BITS(ddof_preset);
+DDOF_ASSERT_32_BITS(ddof_layer_mode);
+
 #ifdef __cplusplus
 }
 #endif
@@ -712,7 +773,8 @@ typedef enum ddof_backend_kind {
     DDOF_BACKEND_OSMESA = 3,  /* Mesa's off-screen software renderer                           */
     DDOF_BACKEND_HOST_GL = 4, /* the GL 4.5 context current on the calling thread (a host     */
                               /* application's); it must stay current during every call       */
-    DDOF_BACKEND_COUNT_       /* not a backend                                                  */
+    DDOF_BACKEND_COUNT_,      /* not a backend                                                  */
+    DDOF_BACKEND_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_backend_kind;
 
 /* "cpu", "auto", "egl", "osmesa", "host"; NULL if unknown. */
@@ -732,6 +794,7 @@ typedef struct ddof_backend_info {
     char renderer[128];     /* GL_RENDERER and GL_VERSION, or "CPU, N threads"                 */
     char note[256];         /* why AUTO chose what it chose; "" otherwise                       */
 } ddof_backend_info;
+#define DDOF_BACKEND_INFO_SIZE_0_3 (offsetof(ddof_backend_info, note) + 256u) /* first layout */
 
 DDOF_API ddof_status ddof_context_backend_info(const ddof_context *context,
                                                ddof_backend_info *info);
@@ -749,6 +812,7 @@ typedef struct ddof_kernel_info {
     float reach_coc;       /* how far it carries anything, in CoC diameters                     */
     float fit_snr_db;      /* the fit's kernel SNR against a uniform disc of diameter 32 px    */
 } ddof_kernel_info;
+#define DDOF_KERNEL_INFO_SIZE_0_4 (offsetof(ddof_kernel_info, fit_snr_db) + sizeof(float))
 
 DDOF_API ddof_status ddof_kernel_get_info(ddof_kernel kernel, ddof_kernel_info *info);
 
@@ -784,8 +848,9 @@ typedef struct ddof_card {
 
 typedef enum ddof_cards_expansion {
     DDOF_CARDS_EXPAND_OFFSET = 0,   /* default: each edge moved out by its larger vertex radius  */
-    DDOF_CARDS_EXPAND_CENTROID = 1  /* the patent's: each vertex pushed from the centroid by its */
+    DDOF_CARDS_EXPAND_CENTROID = 1, /* the patent's: each vertex pushed from the centroid by its */
                                     /* radius (clips the blur at corners: docs/cards.md)         */
+    DDOF_CARDS_EXPAND_FORCE_32BIT_ = 0x7fffffff /* not a value: keeps the enum 32 bits wide */
 } ddof_cards_expansion;
 
 typedef struct ddof_cards_params {
@@ -809,6 +874,9 @@ DDOF_API void ddof_cards_params_init(ddof_cards_params *params);
 DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
                                        const ddof_camera *camera, const ddof_card *cards,
                                        uint32_t card_count, const ddof_image *out);
+
+DDOF_ASSERT_32_BITS(ddof_backend_kind);
+DDOF_ASSERT_32_BITS(ddof_cards_expansion);
 
 #ifdef __cplusplus
 }

@@ -42,7 +42,8 @@ const char *ddof_preset_name(ddof_preset preset)
     case DDOF_PRESET_PREVIEW: return "preview";
     case DDOF_PRESET_DEFAULT: return "default";
     case DDOF_PRESET_FINAL: return "final";
-    case DDOF_PRESET_COUNT_: break;
+    case DDOF_PRESET_COUNT_:
+    case DDOF_PRESET_FORCE_32BIT_: break;
     }
     return NULL;
 }
@@ -59,50 +60,13 @@ static void write_prefix(void *caller, size_t size, const void *full, size_t ful
     memcpy(caller, &written, sizeof written);
 }
 
-ddof_status ddof_params_init_preset_sized(ddof_params *caller, size_t size, ddof_preset preset)
+/* The whole struct of each kind with its defaults; the init functions write a prefix of it. */
+static ddof_params preset_params(ddof_preset preset)
 {
-    if (!caller)
-        return DDOF_ERROR_NULL_POINTER;
-    ddof_params full;
-    const ddof_status status = (ddof_params_init_preset)(&full, preset);
-    write_prefix(caller, size, &full, sizeof full);
-    return status;
-}
-
-void ddof_params_init_sized(ddof_params *params, size_t size)
-{
-    (void)ddof_params_init_preset_sized(params, size, DDOF_PRESET_DEFAULT);
-}
-
-void ddof_camera_init_sized(ddof_camera *camera, size_t size)
-{
-    ddof_camera full;
-    (ddof_camera_init)(&full);
-    write_prefix(camera, size, &full, sizeof full);
-}
-
-void ddof_curve_init_sized(ddof_curve *curve, size_t size)
-{
-    ddof_curve full;
-    (ddof_curve_init)(&full);
-    write_prefix(curve, size, &full, sizeof full);
-}
-
-void ddof_foreground_init_sized(ddof_foreground *foreground, size_t size)
-{
-    ddof_foreground full;
-    (ddof_foreground_init)(&full);
-    write_prefix(foreground, size, &full, sizeof full);
-}
-
-ddof_status (ddof_params_init_preset)(ddof_params *params, ddof_preset preset)
-{
-    if (!params)
-        return DDOF_ERROR_NULL_POINTER;
     const int known = (unsigned)preset < DDOF_PRESET_COUNT_;
     const preset_settings *s = &presets[known ? preset : DDOF_PRESET_DEFAULT];
-    *params = (ddof_params){
-        .struct_size = sizeof *params,
+    return (ddof_params){
+        .struct_size = sizeof(ddof_params),
         .method = s->method,
         .solver = s->solver,
         .substeps = s->substeps,
@@ -124,20 +88,12 @@ ddof_status (ddof_params_init_preset)(ddof_params *params, ddof_preset preset)
         .near_layer = s->near_layer,
         .near_layer_threshold_px = 8.0f,
     };
-    return known ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
 }
 
-void (ddof_params_init)(ddof_params *params)
+static ddof_camera default_camera(void)
 {
-    (void)(ddof_params_init_preset)(params, DDOF_PRESET_DEFAULT);
-}
-
-void (ddof_camera_init)(ddof_camera *camera)
-{
-    if (!camera)
-        return;
-    *camera = (ddof_camera){
-        .struct_size = sizeof *camera,
+    return (ddof_camera){
+        .struct_size = sizeof(ddof_camera),
         .lens_model = DDOF_LENS_CYCLES,
         .depth_kind = DDOF_DEPTH_PLANAR,
         .sensor_fit = DDOF_SENSOR_FIT_AUTO,
@@ -150,12 +106,10 @@ void (ddof_camera_init)(ddof_camera *camera)
     };
 }
 
-void (ddof_curve_init)(ddof_curve *curve)
+static ddof_curve default_curve(void)
 {
-    if (!curve)
-        return;
-    *curve = (ddof_curve){
-        .struct_size = sizeof *curve,
+    return (ddof_curve){
+        .struct_size = sizeof(ddof_curve),
         .near_blur_px = 0.0,
         .near_start = 0.0,
         .near_end = 0.0,
@@ -165,10 +119,67 @@ void (ddof_curve_init)(ddof_curve *curve)
     };
 }
 
+static int preset_known(ddof_preset preset)
+{
+    return (unsigned)preset < DDOF_PRESET_COUNT_;
+}
+
+ddof_status ddof_params_init_preset_sized(ddof_params *caller, size_t size, ddof_preset preset)
+{
+    if (!caller)
+        return DDOF_ERROR_NULL_POINTER;
+    const ddof_params full = preset_params(preset);
+    write_prefix(caller, size, &full, sizeof full);
+    return preset_known(preset) ? DDOF_OK : DDOF_ERROR_BAD_PARAMETER;
+}
+
+void ddof_params_init_sized(ddof_params *params, size_t size)
+{
+    (void)ddof_params_init_preset_sized(params, size, DDOF_PRESET_DEFAULT);
+}
+
+void ddof_camera_init_sized(ddof_camera *camera, size_t size)
+{
+    const ddof_camera full = default_camera();
+    write_prefix(camera, size, &full, sizeof full);
+}
+
+void ddof_curve_init_sized(ddof_curve *curve, size_t size)
+{
+    const ddof_curve full = default_curve();
+    write_prefix(curve, size, &full, sizeof full);
+}
+
+void ddof_foreground_init_sized(ddof_foreground *foreground, size_t size)
+{
+    const ddof_foreground full = {.struct_size = sizeof full, .premultiplied = 1};
+    write_prefix(foreground, size, &full, sizeof full);
+}
+
+/* The plain names: called by binaries built against 0.5, whose structs have the 0.5 layout. */
+ddof_status (ddof_params_init_preset)(ddof_params *params, ddof_preset preset)
+{
+    return ddof_params_init_preset_sized(params, DDOF_PARAMS_SIZE_0_5, preset);
+}
+
+void (ddof_params_init)(ddof_params *params)
+{
+    ddof_params_init_sized(params, DDOF_PARAMS_SIZE_0_5);
+}
+
+void (ddof_camera_init)(ddof_camera *camera)
+{
+    ddof_camera_init_sized(camera, DDOF_CAMERA_SIZE_0_5);
+}
+
+void (ddof_curve_init)(ddof_curve *curve)
+{
+    ddof_curve_init_sized(curve, DDOF_CURVE_SIZE_0_5);
+}
+
 void (ddof_foreground_init)(ddof_foreground *foreground)
 {
-    if (foreground)
-        *foreground = (ddof_foreground){.struct_size = sizeof *foreground, .premultiplied = 1};
+    ddof_foreground_init_sized(foreground, DDOF_FOREGROUND_SIZE_0_5);
 }
 
 const char *ddof_kernel_name(ddof_kernel kernel)
@@ -178,7 +189,8 @@ const char *ddof_kernel_name(ddof_kernel kernel)
     case DDOF_KERNEL_DISC_2X2: return "disc-2x2";
     case DDOF_KERNEL_DISC_2X3: return "disc-2x3";
     case DDOF_KERNEL_DISC_3X3: return "disc-3x3";
-    case DDOF_KERNEL_COUNT_: break;
+    case DDOF_KERNEL_COUNT_:
+    case DDOF_KERNEL_FORCE_32BIT_: break;
     }
     return NULL;
 }
@@ -192,7 +204,8 @@ const char *ddof_solver_name(ddof_solver solver)
     case DDOF_SOLVER_JACOBI: return "jacobi";
     case DDOF_SOLVER_REFERENCE_F64: return "reference";
     case DDOF_SOLVER_GRUEN: return "gruen";
-    case DDOF_SOLVER_COUNT_: break;
+    case DDOF_SOLVER_COUNT_:
+    case DDOF_SOLVER_FORCE_32BIT_: break;
     }
     return NULL;
 }

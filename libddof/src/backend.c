@@ -3,6 +3,7 @@
  * plugin library, loaded at run time so that libddof itself never links GL. */
 #define _GNU_SOURCE /* dladdr */
 #include "backend.h"
+#include "ddof_output_struct.h"
 
 #include "parallel_rows.h"
 
@@ -22,7 +23,8 @@ const char *ddof_backend_name(ddof_backend_kind kind)
     case DDOF_BACKEND_EGL: return "egl";
     case DDOF_BACKEND_OSMESA: return "osmesa";
     case DDOF_BACKEND_HOST_GL: return "host";
-    case DDOF_BACKEND_COUNT_: break;
+    case DDOF_BACKEND_COUNT_:
+    case DDOF_BACKEND_FORCE_32BIT_: break;
     }
     return NULL;
 }
@@ -146,20 +148,21 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
 {
     if (!context || !info)
         return DDOF_ERROR_NULL_POINTER;
-    if (info->struct_size < sizeof *info)
+    if (info->struct_size < DDOF_BACKEND_INFO_SIZE_0_3)
         return DDOF_ERROR_BAD_PARAMETER;
     const ddof_backend_state *b = &context->backend;
-    *info = (ddof_backend_info){.struct_size = sizeof *info, .kind = b->kind};
-    snprintf(info->note, sizeof info->note, "%s", b->note);
+    ddof_backend_info full = {.struct_size = sizeof full, .kind = b->kind};
+    snprintf(full.note, sizeof full.note, "%s", b->note);
     if (b->device) {
         ddof_device_info d = {0};
         b->table->describe(b->device, &d);
-        info->hardware = d.hardware;
-        snprintf(info->renderer, sizeof info->renderer, "%s", d.renderer);
+        full.hardware = d.hardware;
+        snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
     } else {
-        snprintf(info->renderer, sizeof info->renderer, "CPU, %u thread%s",
-                 context->thread_count, context->thread_count == 1 ? "" : "s");
+        snprintf(full.renderer, sizeof full.renderer, "CPU, %u thread%s", context->thread_count,
+                 context->thread_count == 1 ? "" : "s");
     }
+    ddof_write_output_struct(info, &full, sizeof full);
     return DDOF_OK;
 }
 

@@ -6,40 +6,21 @@
 
 #include "backend.h"
 #include "disc_kernel.h"
+#include "param_bounds.h"
 #include "parallel_rows.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 
-#define DDOF_MAX_SUBSTEPS 4096u
-#define DDOF_MAX_JACOBI_ITERATIONS 1000000u
-#define DDOF_MAX_BACKGROUND_LEVELS 8u
-
-/* The float parameters' ranges (ddof.h). At the largest CoC (DDOF_MAX_COC_PX) and one
- * sub-step, beta_scale 1 and pixel aspect 100 make the column links' beta 1e14; the reference
- * solver's overflows near 1e16, the others' later (tests/test_bad_input.c runs every CPU
- * solver at the bounds and checks the output is finite). */
-#define DDOF_MAX_BETA_SCALE 1.0f
-#define DDOF_MIN_PIXEL_ASPECT 0.01
-#define DDOF_MAX_PIXEL_ASPECT 100.0
-
-/* Compared as float for params (0.01f is below the double 0.01) and as double for a camera. */
-static int pixel_aspect_ok(double v, int is_float)
-{
-    return is_float ? v >= (float)DDOF_MIN_PIXEL_ASPECT && v <= (float)DDOF_MAX_PIXEL_ASPECT
-                    : v >= DDOF_MIN_PIXEL_ASPECT && v <= DDOF_MAX_PIXEL_ASPECT;
-}
-
-/* A CoC-sized threshold: > 0 (or >= 0) and at most DDOF_MAX_COC_PX. */
-static int coc_size_ok(float v, int zero_ok)
-{
-    return (zero_ok ? v >= 0.0f : v > 0.0f) && v <= DDOF_MAX_COC_PX;
-}
+/* The numeric fields' ranges: param_bounds.c. A range's ends in a message. */
+#define LOW(id) ddof_param_range(id)->lowest
+#define HIGH(id) ddof_param_range(id)->highest
 
 ddof_status ddof_check_camera_aspect(ddof_context *context, const ddof_camera *camera)
 {
-    if (pixel_aspect_ok(camera->pixel_aspect, 0))
+    if (camera->pixel_aspect >= DDOF_MIN_PIXEL_ASPECT &&
+        camera->pixel_aspect <= DDOF_MAX_PIXEL_ASPECT)
         return DDOF_OK;
     /* DDOF_ERROR_BAD_CAMERA, as for a pixel aspect <= 0 (ddof_camera_terms.h): one status
      * for one field. */
@@ -60,40 +41,42 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
     if ((unsigned)p->solver >= DDOF_SOLVER_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.solver %u is not a solver",
                          (unsigned)p->solver);
-    if (p->substeps < 1 || p->substeps > DDOF_MAX_SUBSTEPS)
+    if (!ddof_param_ok(PARAM_SUBSTEPS, p->substeps))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.substeps %u must be within 1..%u", p->substeps,
-                         DDOF_MAX_SUBSTEPS);
-    if (!(p->beta_scale > 0.0f && p->beta_scale <= DDOF_MAX_BETA_SCALE))
+                         "params.substeps %u must be within %g..%g", p->substeps,
+                         LOW(PARAM_SUBSTEPS), HIGH(PARAM_SUBSTEPS));
+    if (!ddof_param_ok(PARAM_BETA_SCALE, p->beta_scale))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.beta_scale %.9g must be > 0 and at most %g",
-                         (double)p->beta_scale, (double)DDOF_MAX_BETA_SCALE);
-    if (!pixel_aspect_ok(p->pixel_aspect, 1))
+                         (double)p->beta_scale, HIGH(PARAM_BETA_SCALE));
+    if (!ddof_param_ok(PARAM_PIXEL_ASPECT, p->pixel_aspect))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.pixel_aspect %.9g must be within %g..%g", (double)p->pixel_aspect,
                          DDOF_MIN_PIXEL_ASPECT, DDOF_MAX_PIXEL_ASPECT);
     if (p->solver == DDOF_SOLVER_JACOBI &&
-        (p->jacobi_iterations < 1 || p->jacobi_iterations > DDOF_MAX_JACOBI_ITERATIONS))
+        !ddof_param_ok(PARAM_JACOBI_ITERATIONS, p->jacobi_iterations))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.jacobi_iterations %u must be within 1..%u",
-                         p->jacobi_iterations, DDOF_MAX_JACOBI_ITERATIONS);
+                         "params.jacobi_iterations %u must be within %g..%g",
+                         p->jacobi_iterations, LOW(PARAM_JACOBI_ITERATIONS),
+                         HIGH(PARAM_JACOBI_ITERATIONS));
     if (p->coc_signed > 1 || (unsigned)p->background > DDOF_LAYER_ON ||
         (unsigned)p->near_spread > DDOF_LAYER_ON)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.coc_signed, background or near_spread is not a known value");
-    if (!(coc_size_ok(p->background_ramp_start_px, 1) &&
-          coc_size_ok(p->background_threshold_px, 0) &&
+    if (!(ddof_param_ok(PARAM_BACKGROUND_RAMP_START, p->background_ramp_start_px) &&
+          ddof_param_ok(PARAM_BACKGROUND_THRESHOLD, p->background_threshold_px) &&
           p->background_threshold_px > p->background_ramp_start_px))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.background_threshold_px (%.9g) must exceed "
                          "background_ramp_start_px (%.9g) >= 0, both at most %g px",
                          (double)p->background_threshold_px,
                          (double)p->background_ramp_start_px, (double)DDOF_MAX_COC_PX);
-    if (p->background_levels < 1 || p->background_levels > DDOF_MAX_BACKGROUND_LEVELS)
+    if (!ddof_param_ok(PARAM_BACKGROUND_LEVELS, p->background_levels))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.background_levels %u must be within 1..%u",
-                         p->background_levels, DDOF_MAX_BACKGROUND_LEVELS);
-    if (!coc_size_ok(p->near_spread_threshold_px, 0))
+                         "params.background_levels %u must be within %g..%g",
+                         p->background_levels, LOW(PARAM_BACKGROUND_LEVELS),
+                         HIGH(PARAM_BACKGROUND_LEVELS));
+    if (!ddof_param_ok(PARAM_NEAR_SPREAD_THRESHOLD, p->near_spread_threshold_px))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_spread_threshold_px %.9g must be > 0 and at most %g px",
                          (double)p->near_spread_threshold_px, (double)DDOF_MAX_COC_PX);
@@ -102,17 +85,18 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.method %u or params.precision %u is not a known value",
                          (unsigned)p->method, (unsigned)p->precision);
-    if (!coc_size_ok(p->in_focus_threshold_px, 1))
+    if (!ddof_param_ok(PARAM_IN_FOCUS_THRESHOLD, p->in_focus_threshold_px))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.in_focus_threshold_px %.9g must be >= 0 and at most %g px",
                          (double)p->in_focus_threshold_px, (double)DDOF_MAX_COC_PX);
     if ((unsigned)p->highlights > DDOF_LAYER_ON ||
-        !(p->highlight_threshold > 0.0f && isfinite(p->highlight_threshold)))
+        !ddof_param_ok(PARAM_HIGHLIGHT_THRESHOLD, p->highlight_threshold))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.highlights %u is not a known value, or highlight_threshold %.9g "
                          "is not > 0 and finite",
                          (unsigned)p->highlights, (double)p->highlight_threshold);
-    if ((unsigned)p->near_layer > DDOF_LAYER_ON || !coc_size_ok(p->near_layer_threshold_px, 0))
+    if ((unsigned)p->near_layer > DDOF_LAYER_ON ||
+        !ddof_param_ok(PARAM_NEAR_LAYER_THRESHOLD, p->near_layer_threshold_px))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_layer %u is not a known value, or near_layer_threshold_px "
                          "%.9g is not > 0 and at most %g px",

@@ -18,11 +18,6 @@ static void default_free(void *user, void *ptr)
     free(ptr);
 }
 
-void (ddof_context_options_init)(ddof_context_options *options)
-{
-    if (options)
-        *options = (ddof_context_options){.struct_size = sizeof *options};
-}
 
 void ddof_context_options_init_sized(ddof_context_options *options, size_t size)
 {
@@ -32,6 +27,12 @@ void ddof_context_options_init_sized(ddof_context_options *options, size_t size)
     const size_t n = size < sizeof full ? size : sizeof full;
     memcpy(options, &full, n);
     options->struct_size = (uint32_t)n;
+}
+
+/* For binaries built against 0.5, whose struct has the 0.5 layout (ddof.h, Conventions). */
+void (ddof_context_options_init)(ddof_context_options *options)
+{
+    ddof_context_options_init_sized(options, DDOF_CONTEXT_OPTIONS_SIZE_0_5);
 }
 
 static uint32_t online_cores(void)

@@ -2,6 +2,7 @@
 /* diffuse.c - the public diffusion calls (ddof_diffuse, ddof_diffuse_layers) and the running
  * they share with the frame call: plan the frame, run the plan, report it. */
 #include "call_checks.h"
+#include "ddof_output_struct.h"
 
 #include "backend.h"
 #include "layers.h"
@@ -20,15 +21,12 @@ static int all_in_focus(float max_coc, const ddof_params *p)
     return max_coc <= 0.0f || max_coc < p->in_focus_threshold_px;
 }
 
-/* Copies the fields the caller's struct has room for. */
+/* The fields the caller's struct has room for (ddof.h: output structs); its size was checked
+ * before the call ran (ddof_check_stats). */
 static void write_stats(ddof_stats *stats, const ddof_stats *full)
 {
-    if (!stats || stats->struct_size < sizeof(uint32_t))
-        return;
-    size_t size = stats->struct_size < sizeof *full ? stats->struct_size : sizeof *full;
-    uint32_t caller_size = stats->struct_size;
-    memcpy(stats, full, size);
-    stats->struct_size = caller_size;
+    if (stats)
+        ddof_write_output_struct(stats, full, sizeof *full);
 }
 
 /* Working memory the context holds for its calls (grown, reused). */
@@ -221,11 +219,13 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
 /* The checks every diffusion call shares: params, colour, CoC, output. */
 static ddof_status prepare(ddof_context *context, const ddof_params *caller_params,
                            const ddof_image_in *color, const ddof_image_in *coc,
-                           const ddof_image *out, ddof_params *params, adi_request *r,
-                           float *max_coc)
+                           const ddof_image *out, const ddof_stats *stats, ddof_params *params,
+                           adi_request *r, float *max_coc)
 {
     size_t coc_stride = 0;
     ddof_status status = ddof_read_params(context, caller_params, params);
+    if (status == DDOF_OK)
+        status = ddof_check_stats(context, stats);
     if (status == DDOF_OK)
         status = ddof_check_near_spread(context, params);
     if (status == DDOF_OK)
@@ -251,7 +251,7 @@ static ddof_status diffuse(ddof_context *context, const ddof_params *params,
     ddof_params p;
     adi_request r = {0};
     float max_coc = 0.0f;
-    ddof_status status = prepare(context, params, color, coc, out, &p, &r, &max_coc);
+    ddof_status status = prepare(context, params, color, coc, out, stats, &p, &r, &max_coc);
     if (status != DDOF_OK)
         return status;
     if (p.method == DDOF_METHOD_COD4_PREVIEW)
@@ -278,7 +278,7 @@ static ddof_status diffuse_layers(ddof_context *context, const ddof_params *para
     layers_request q = {.params = &p};
     int fg_visible = 0;
     float max_coc = 0.0f;
-    ddof_status status = prepare(context, params, color, coc, out, &p, &q.base, &max_coc);
+    ddof_status status = prepare(context, params, color, coc, out, stats, &p, &q.base, &max_coc);
     if (status == DDOF_OK && foreground && p.method == DDOF_METHOD_COD4_PREVIEW)
         status = ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
                            "the CoD4 preview takes no foreground element");

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* disc_kernel.c - the disc kernels' fitted tables and what the layers need to know of them. */
 #include "disc_kernel.h"
+#include "ddof_output_struct.h"
 
 #include <math.h>
 
@@ -27,18 +28,19 @@ ddof_status ddof_kernel_get_info(ddof_kernel kernel, ddof_kernel_info *info)
 {
     if (!info)
         return DDOF_ERROR_NULL_POINTER;
-    if (info->struct_size < sizeof *info)
+    if (info->struct_size < DDOF_KERNEL_INFO_SIZE_0_4)
         return DDOF_ERROR_BAD_PARAMETER;
     if ((unsigned)kernel >= DDOF_KERNEL_COUNT_)
         return DDOF_ERROR_BAD_PARAMETER;
     const disc_kernel *disc = ddof_disc_kernel(kernel);
-    *info = (ddof_kernel_info){
-        .struct_size = sizeof *info,
+    const ddof_kernel_info full = {
+        .struct_size = sizeof full,
         .components = disc ? disc->components : 0u,
         .steps = disc ? disc->steps : 0u,
         .reach_coc = disc ? disc->reach : 0.0f,
         .fit_snr_db = disc ? disc->snr_db : 0.0f,
     };
+    ddof_write_output_struct(info, &full, sizeof full);
     return DDOF_OK;
 }
 

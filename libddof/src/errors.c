@@ -26,7 +26,8 @@ const char *ddof_status_string(ddof_status status)
     case DDOF_ERROR_BACKEND_FAILED: return "the GL backend failed during the call";
     case DDOF_ERROR_CONTEXT_BUSY:
         return "another call is running on this context (one context per thread)";
-    case DDOF_STATUS_COUNT_: break;
+    case DDOF_STATUS_COUNT_:
+    case DDOF_STATUS_FORCE_32BIT_: break;
     }
     return "unknown status code";
 }

@@ -9,24 +9,22 @@
 #include <stdint.h>
 #include <string.h>
 
-void (ddof_frame_init)(ddof_frame *frame)
-{
-    if (!frame)
-        return;
-    memset(frame, 0, sizeof *frame);
-    frame->struct_size = sizeof *frame;
-    frame->foreground_premultiplied = 1;
-}
-
 void ddof_frame_init_sized(ddof_frame *frame, size_t size)
 {
-    ddof_frame full;
     if (!frame || size < sizeof(uint32_t))
         return;
-    (ddof_frame_init)(&full);
+    ddof_frame full;
+    memset(&full, 0, sizeof full);
+    full.foreground_premultiplied = 1;
     const size_t n = size < sizeof full ? size : sizeof full;
     memcpy(frame, &full, n);
     frame->struct_size = (uint32_t)n;
+}
+
+/* For binaries built against 0.5, whose struct has the 0.5 layout (ddof.h, Conventions). */
+void (ddof_frame_init)(ddof_frame *frame)
+{
+    ddof_frame_init_sized(frame, DDOF_FRAME_SIZE_0_5);
 }
 
 typedef enum coc_source { SOURCE_CAMERA, SOURCE_CURVE, SOURCE_GIVEN } coc_source;
@@ -274,6 +272,8 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
                                           sizeof s.frame, "frame");
     if (status == DDOF_OK)
         status = ddof_read_params(context, params, &p);
+    if (status == DDOF_OK)
+        status = ddof_check_stats(context, stats);
     if (status == DDOF_OK)
         status = read_source(context, &s, &p);
     if (status == DDOF_OK)

@@ -17,6 +17,11 @@ ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min
     return DDOF_OK;
 }
 
+ddof_status ddof_check_stats(ddof_context *context, const ddof_stats *stats)
+{
+    return stats ? ddof_check_struct(context, stats, DDOF_STATS_SIZE_0_1, "stats") : DDOF_OK;
+}
+
 int ddof_struct_tail_is_zero(const void *caller, size_t known)
 {
     const uint32_t size = *(const uint32_t *)caller;

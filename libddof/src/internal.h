@@ -109,6 +109,9 @@ int ddof_struct_tail_is_zero(const void *caller, size_t known);
 ddof_status ddof_check_struct(ddof_context *context, const void *ptr, size_t min_size,
                               const char *what);
 
+/* An optional ddof_stats (NULL is fine): at least its first layout, DDOF_STATS_SIZE_0_1. */
+ddof_status ddof_check_stats(ddof_context *context, const ddof_stats *stats);
+
 /* Reads a caller's versioned struct into `full` (already holding the defaults, full_size
  * bytes): as many bytes as the caller's struct_size says, so a caller built against an older
  * header gets the defaults for the fields it does not know. */

@@ -6,6 +6,7 @@
  * (ddof_camera_terms.h, the formula the CPU uses). */
 #include "ddof_gl.h"
 #include "ddof_camera_terms.h"
+#include "ddof_output_struct.h"
 #include "gl_solve.h"
 
 #include <stddef.h>
@@ -242,6 +243,11 @@ static ddof_status host_run(ddof_gl_host *host, const ddof_params *params,
         return DDOF_ERROR_NULL_POINTER;
     }
     ddof_status status = check_params(params, message, size);
+    if (status == DDOF_OK && stats && stats->struct_size < DDOF_STATS_SIZE_0_1) {
+        snprintf(message, size, "stats.struct_size is %u, expected at least %zu (set it to "
+                                "sizeof(ddof_stats))", stats->struct_size, DDOF_STATS_SIZE_0_1);
+        status = DDOF_ERROR_BAD_PARAMETER;
+    }
     ddof_camera full_camera;
     if (status == DDOF_OK && camera)
         status = read_camera(camera, &full_camera, message, size);
@@ -301,24 +307,26 @@ static ddof_status host_run(ddof_gl_host *host, const ddof_params *params,
     }
     restore_state(gl, &saved);
     device->context->ops->release(device->context);
-    if (stats && stats->struct_size >= sizeof *stats) {
+    if (stats) {
         struct timespec t1;
         clock_gettime(CLOCK_MONOTONIC, &t1);
-        const uint32_t size_field = stats->struct_size;
-        *stats = (ddof_stats){.struct_size = size_field};
-        stats->solver = (uint32_t)params->solver;
-        stats->threads = 1;
-        stats->substeps = report.substeps_run;
-        stats->lines_solved = report.lines_solved;
-        stats->lines_skipped = report.lines_skipped;
-        stats->max_coc_px = report.max_coc;
-        stats->seconds_total =
-            (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec);
-        stats->seconds_rows = report.seconds_rows;
-        stats->seconds_columns = report.seconds_columns;
-        stats->effects = report.substeps_run ? DDOF_EFFECT_MIDGROUND : 0;
-        stats->backend = DDOF_BACKEND_HOST_GL;
-        stats->device_bytes = gl_buffers_used(&device->buffers);
+        ddof_stats full = {
+            .struct_size = sizeof full,
+            .solver = (uint32_t)params->solver,
+            .threads = 1,
+            .substeps = report.substeps_run,
+            .lines_solved = report.lines_solved,
+            .lines_skipped = report.lines_skipped,
+            .max_coc_px = report.max_coc,
+            .seconds_total =
+                (double)(t1.tv_sec - t0.tv_sec) + 1e-9 * (double)(t1.tv_nsec - t0.tv_nsec),
+            .seconds_rows = report.seconds_rows,
+            .seconds_columns = report.seconds_columns,
+            .effects = report.substeps_run ? DDOF_EFFECT_MIDGROUND : 0,
+            .backend = DDOF_BACKEND_HOST_GL,
+            .device_bytes = gl_buffers_used(&device->buffers),
+        };
+        ddof_write_output_struct(stats, &full, sizeof full);
     }
     return status;
 }

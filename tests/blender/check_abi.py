@@ -22,6 +22,26 @@ def load_binding():
     return module
 
 
+def addon_ranges():
+    """The min and max of the add-on's settings that are ddof_params fields, read from
+    settings.py's source (it imports bpy)."""
+    import ast
+    path = os.path.join(HERE, "..", "..", "blender_addon", "diffusion_dof", "settings.py")
+    tree = ast.parse(open(path, encoding="utf-8").read())
+    params = {name for name, _ in load_binding().Params._fields_}
+    ranges = {}
+    for node in ast.walk(tree):
+        if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) and \
+                node.target.id in params and isinstance(node.annotation, ast.Call):
+            keywords = {k.arg: k.value for k in node.annotation.keywords}
+            if "min" in keywords and "max" in keywords:
+                ranges[node.target.id] = (ast.literal_eval(keywords["min"]),
+                                          ast.literal_eval(keywords["max"]))
+    if not ranges:
+        raise SystemExit("no ddof_params slider found in settings.py")
+    return ranges
+
+
 def main():
     layout_exe, library = sys.argv[1], sys.argv[2]
     b = load_binding()
@@ -119,8 +139,8 @@ def main():
     if addon_version[:2] != b.BINDING_VERSION:
         failures.append("bl_info version %s, binding %s" % (addon_version, b.BINDING_VERSION))
 
-    # Version rule.
-    for number, ok in ((500, True), (505, True), (400, False), (600, False), (10500, False)):
+    # Version rule: the same major, a minor at least the binding's.
+    for number, ok in ((600, True), (605, True), (700, True), (500, False), (10600, False)):
         if b.version_compatible(number) != ok:
             failures.append("version_compatible(%d) should be %s" % (number, ok))
 
@@ -138,6 +158,17 @@ def main():
     for name, value in b.PRESETS.items():
         if lib.preset_name(value) != name:
             failures.append("preset %d is %r in the library" % (value, lib.preset_name(value)))
+    # The add-on's sliders stay within what the library accepts (ddof_param_bounds).
+    for field, (lowest, highest) in addon_ranges().items():
+        low, high = lib.param_bounds(field)
+        if lowest < low or highest > high:
+            failures.append("the add-on's %s slider %g..%g leaves the library's %g..%g"
+                            % (field, lowest, highest, low, high))
+    try:
+        lib.param_bounds("solver")
+        failures.append("param_bounds('solver') gave a range")
+    except KeyError:
+        pass
     # Presets are the library's: ddof_params_init_preset through ctypes, default = params_init.
     default = lib.default_params()
     if bytes(lib.preset_params("default")) != bytes(default):

@@ -107,6 +107,16 @@ foreach(header IN LISTS headers)
 endforeach()
 message(STATUS "ok: installed files")
 
+# The soname names the ABI's first release (libddof/CMakeLists.txt), not this version.
+find_program(OBJDUMP NAMES objdump)
+if(OBJDUMP)
+  step("objdump -p libddof.so" "${OBJDUMP}" -p "${shared_lib}")
+  if(NOT step_output MATCHES "SONAME +libddof\\.so\\.0\\.5(\n|$)")
+    fail("libddof.so's soname is not libddof.so.0.5:\n${step_output}")
+  endif()
+  message(STATUS "ok: soname libddof.so.0.5")
+endif()
+
 # Exported symbols: only ddof_*, and every DDOF_API function of the header.
 if(NOT NM)
   find_program(NM NAMES nm)
@@ -180,7 +190,8 @@ if(sanitize_flags)
   list(APPEND configure_args "-DCMAKE_C_FLAGS=${flags}" "-DCMAKE_EXE_LINKER_FLAGS=${flags}")
 endif()
 
-# The version check: another minor version must be refused (0.x: SameMinorVersion).
+# The version check (SameMajorVersion): a newer minor than the one installed is refused, an
+# older one of the same ABI (from 0.5) is served.
 math(EXPR other_minor "${minor} + 1")
 execute_process(COMMAND "${CMAKE_COMMAND}" ${configure_args} -B "${WORK_DIR}/cmake-wrong-version"
                         "-DDDOF_REQUIRED_VERSION=${major}.${other_minor}"
@@ -189,6 +200,15 @@ if("${rc}" STREQUAL "0")
   fail("find_package(ddof ${major}.${other_minor}) accepted the installed ${VERSION}")
 endif()
 message(STATUS "ok: find_package(ddof ${major}.${other_minor}) refuses ${VERSION}")
+if(major EQUAL 0 AND minor GREATER 5)
+  execute_process(COMMAND "${CMAKE_COMMAND}" ${configure_args} -B "${WORK_DIR}/cmake-older-version"
+                          "-DDDOF_REQUIRED_VERSION=0.5"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE out)
+  if(NOT "${rc}" STREQUAL "0")
+    fail("find_package(ddof 0.5) refused the installed ${VERSION}:\n${out}")
+  endif()
+  message(STATUS "ok: find_package(ddof 0.5) accepts ${VERSION}")
+endif()
 
 step("configure the consumer project" "${CMAKE_COMMAND}" ${configure_args} -B "${cmake_build}"
      "-DDDOF_REQUIRED_VERSION=${major}.${minor}")
