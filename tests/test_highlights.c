@@ -322,17 +322,19 @@ static void test_params(void)
                               &(ddof_image){out, W, H, 1, 0}, &st) == DDOF_OK);
     CHECK_MSG(strstr(st.plan, "highlights: off: 1 colour channel") != NULL, "%s", st.plan);
     CHECK(!(st.effects & DDOF_EFFECT_HIGHLIGHTS));
-    /* A pixel so bright that brightness / threshold overflows to +inf (1e38 / 0.25), among
-     * pixels of 1 too many to draw (their discs are over the budget). Its class was the int of
-     * +inf: undefined (clang's UBSan stops on it; x86 gave INT_MIN, i.e. the dimmest class), so
-     * the budget dropped it with the rest and the pass went off. It is the brightest class: it
-     * alone is drawn, its light kept. */
+    /* A pixel so bright that brightness / threshold overflows to +inf (DDOF_MAX_COLOR over a
+     * threshold of 1e-30), among pixels of 1e-21 too many to draw (their discs are over the
+     * budget; 1e9 times the threshold, a class below the top one, which starts at 2^32). Its
+     * class was the int of +inf: undefined (clang's UBSan stops on it; x86 gave INT_MIN, i.e.
+     * the dimmest class), so the budget dropped it with the rest and the pass went off. It is
+     * the brightest class: it alone is drawn, its light kept. */
     flat(&f, 10.0f);
     for (int i = 0; i < N; i++)
         for (int c = 0; c < 3; c++)
-            f.color[i * 4 + c] = 1.0f;
-    f.color[(40 * W + 48) * 4 + 0] = 1e38f;
+            f.color[i * 4 + c] = 1e-21f;
+    f.color[(40 * W + 48) * 4 + 0] = DDOF_MAX_COLOR;
     ddof_params_init(&p);
+    p.highlight_threshold = 1e-30f;
     p.background = DDOF_LAYER_OFF;
     p.near_spread = DDOF_LAYER_OFF;
     st = (ddof_stats){.struct_size = sizeof st};
@@ -345,24 +347,31 @@ static void test_params(void)
     CHECK_MSG(isfinite(red) && fabs(red / red_in - 1.0) < 1e-3, "red %.6g of %.6g", red, red_in);
 }
 
-/* Colour at the ends of float's range beside a highlight: -FLT_MAX in one channel of a bright
- * pixel, +FLT_MAX in another's. With the pass on, the disc added to the diffused colour used to
- * overflow to -inf (DDOF_OK); the output must be finite with every solver and kernel. */
+/* Colour at the ends of the accepted range (+-DDOF_MAX_COLOR) beside a highlight: the lower
+ * end in one channel of a bright pixel, the upper in another's, and both in one row. With the
+ * pass on, the disc added to the diffused colour used to overflow to -inf (DDOF_OK, at
+ * -FLT_MAX); cyclic reduction gave NaN where +-3e38 met in a row (the fuzzer), and Thomas a
+ * clamped, wrong row. The output must be finite with every solver and kernel, and a value
+ * beyond the range is DDOF_ERROR_BAD_COLOR naming the pixel, the output untouched. */
 static void test_extreme_colour(void)
 {
     static frame f;
     static const ddof_kernel kernels[2] = {DDOF_KERNEL_HEAT, DDOF_KERNEL_DISC_2X2};
-    static const ddof_solver solvers[3] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
+    static const ddof_solver solvers[5] = {DDOF_SOLVER_THOMAS, DDOF_SOLVER_CYCLIC_REDUCTION,
+                                           DDOF_SOLVER_PCR, DDOF_SOLVER_JACOBI,
                                            DDOF_SOLVER_REFERENCE_F64};
     for (int k = 0; k < 2; k++)
-        for (int v = 0; v < 3; v++) {
+        for (int v = 0; v < 5; v++) {
             flat(&f, 12.0f);
-            /* Green -FLT_MAX over a band of rows, and lights in it: the diffused green stays
-             * near -FLT_MAX and the lights' discs bring more of it. Four pixels of blue +FLT_MAX. */
+            /* Green at the lower end over a band of rows, and lights in it: the diffused green
+             * stays near it and the lights' discs bring more of it. Blue at the upper end in
+             * four pixels, and both ends side by side in one row of red. */
             for (int i = 20 * W; i < 40 * W; i++)
-                f.color[i * 4 + 1] = -FLT_MAX;
+                f.color[i * 4 + 1] = -DDOF_MAX_COLOR;
             for (int i = 50 * W + 20; i < 50 * W + 24; i++)
-                f.color[i * 4 + 2] = FLT_MAX;
+                f.color[i * 4 + 2] = DDOF_MAX_COLOR;
+            f.color[(60 * W + 10) * 4] = -DDOF_MAX_COLOR;
+            f.color[(60 * W + 11) * 4] = DDOF_MAX_COLOR;
             for (int x = 30; x < 60; x += 7) {
                 f.color[(size_t)(30 * W + x) * 4] = 10.0f;
                 f.color[(size_t)(55 * W + x) * 4] = 10.0f;
@@ -387,6 +396,21 @@ static void test_extreme_colour(void)
             for (int i = 0; i < N * 4; i++)
                 bad += !isfinite(f.out[i]);
             CHECK_MSG(bad == 0, "kernel %d solver %d: %d output values not finite", k, v, bad);
+
+            /* One step beyond the range: refused, the output as it was. */
+            f.color[(60 * W + 11) * 4] = nextafterf(DDOF_MAX_COLOR, INFINITY);
+            for (int i = 0; i < N * 4; i++)
+                f.out[i] = -5.0f;
+            CHECK_EQ_INT(ddof_diffuse_layers(ctx, &p, &(ddof_image_in){f.color, W, H, 4, 0},
+                                             &(ddof_image_in){f.coc, W, H, 1, 0}, NULL,
+                                             &(ddof_image){f.out, W, H, 4, 0}, NULL),
+                         DDOF_ERROR_BAD_COLOR);
+            CHECK_MSG(strstr(ddof_context_last_error(ctx), "pixel (11, 60) channel 0") != NULL,
+                      "%s", ddof_context_last_error(ctx));
+            bad = 0;
+            for (int i = 0; i < N * 4; i++)
+                bad += f.out[i] != -5.0f;
+            CHECK(bad == 0);
         }
 }
 

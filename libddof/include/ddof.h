@@ -108,7 +108,7 @@ typedef enum ddof_status {
     DDOF_ERROR_BAD_STRIDE,    /* row stride smaller than a row, not a multiple of 4, overflows */
     DDOF_ERROR_BAD_CHANNELS,  /* channel count outside 1..4, or not what the call needs        */
     DDOF_ERROR_SIZE_MISMATCH, /* images of one call differ in size or channel count            */
-    DDOF_ERROR_BAD_COLOR,     /* NaN or infinity in the colour image                           */
+    DDOF_ERROR_BAD_COLOR,     /* NaN, infinity or |value| > DDOF_MAX_COLOR in the colour image */
     DDOF_ERROR_BAD_DEPTH,     /* NaN, -inf, negative or zero depth (+inf is valid: the sky)    */
     DDOF_ERROR_BAD_COC,       /* NaN, infinite, negative CoC, or above DDOF_MAX_COC_PX         */
     DDOF_ERROR_BAD_CAMERA,    /* f-number <= 0, focus not beyond the focal length, pixel      */
@@ -139,6 +139,10 @@ DDOF_API const char *ddof_status_string(ddof_status status);
 #define DDOF_MAX_PIXELS (1u << 28)         /* width * height (268 megapixels)               */
 #define DDOF_MAX_COC_PX 100000.0f          /* a CoC diameter larger than this is an error;   */
                                            /* CoC computed from a camera is clamped to it    */
+#define DDOF_MAX_COLOR 1e20f               /* |colour value| beyond this is an error: with   */
+                                           /* links up to 1e14 (DDOF_MAX_COC_PX^2 times the  */
+                                           /* pixel aspect^2), larger values overflow float */
+                                           /* inside the solvers                            */
 
 /* ------------------------------------------------------------------------------------------ */
 /* Images: caller-owned, 32-bit float, interleaved channels, rows `row_stride` bytes apart.      */
@@ -577,7 +581,7 @@ typedef struct ddof_stats {
  * the fields it has room for).
  *  - NULL context/params/images: DDOF_ERROR_NULL_POINTER. params NULL is *not* allowed: call
  *    ddof_params_init so that the defaults are explicit.
- *  - NaN/inf in colour: DDOF_ERROR_BAD_COLOR. NaN/inf CoC, |CoC| > DDOF_MAX_COC_PX, or a
+ *  - NaN/inf or |value| > DDOF_MAX_COLOR in colour: DDOF_ERROR_BAD_COLOR. NaN/inf CoC, |CoC| > DDOF_MAX_COC_PX, or a
  *    negative CoC without coc_signed: DDOF_ERROR_BAD_COC. Sizes, strides, channels: as their status codes say.
  *    In each case out is untouched and ddof_context_last_error() names the first bad pixel.
  *  - A pixel with CoC 0 (or |CoC| below params.in_focus_threshold_px) is left exactly

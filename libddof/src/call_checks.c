@@ -205,11 +205,12 @@ ddof_status ddof_check_call_images(ddof_context *context, const ddof_image_in *c
 
     bad_value bad;
     if (ddof_find_bad_value(context, color->pixels, color->width, color->height,
-                            color->channels, color->channels, r->color_stride, VALUE_FINITE,
+                            color->channels, color->channels, r->color_stride, VALUE_COLOR,
                             &bad, NULL))
         return ddof_fail(context, DDOF_ERROR_BAD_COLOR,
-                         "colour at pixel (%u, %u) channel %u is %g", bad.x, bad.y,
-                         bad.channel, (double)bad.value);
+                         "colour at pixel (%u, %u) channel %u is %g (colour must be finite and "
+                         "within +-%g)", bad.x, bad.y, bad.channel, (double)bad.value,
+                         (double)DDOF_MAX_COLOR);
     return DDOF_OK;
 }
 
@@ -271,7 +272,7 @@ static void scan_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t 
                 bad_channel = 3;
             else if (alpha > 0.0f) {
                 for (int c = 0; c < 3 && bad_channel < 0; c++)
-                    if (!isfinite(px[x * 4 + c]))
+                    if (!(fabsf(px[x * 4 + c]) <= DDOF_MAX_COLOR))
                         bad_channel = c;
                 if (bad_channel < 0 && !(d <= DDOF_MAX_COC_PX))
                     bad_channel = 4;
@@ -339,8 +340,9 @@ ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *c
                                    "foreground CoC at pixel (%u, %u) is %g", b.x, b.y,
                                    (double)b.value)
                        : ddof_fail(context, DDOF_ERROR_BAD_COLOR,
-                                   "foreground colour at pixel (%u, %u) channel %u is %g", b.x,
-                                   b.y, b.channel, (double)b.value);
+                                   "foreground colour at pixel (%u, %u) channel %u is %g "
+                                   "(colour must be finite and within +-%g)", b.x, b.y,
+                                   b.channel, (double)b.value, (double)DDOF_MAX_COLOR);
         }
         *visible |= has_alpha[c];
     }

@@ -14,7 +14,7 @@ const char *ddof_status_string(ddof_status status)
     case DDOF_ERROR_BAD_STRIDE: return "image row stride is too small, misaligned or overflows";
     case DDOF_ERROR_BAD_CHANNELS: return "image channel count is not 1 to 4";
     case DDOF_ERROR_SIZE_MISMATCH: return "images of one call differ in size or channel count";
-    case DDOF_ERROR_BAD_COLOR: return "colour contains NaN or infinity";
+    case DDOF_ERROR_BAD_COLOR: return "colour contains NaN, infinity or a value beyond DDOF_MAX_COLOR";
     case DDOF_ERROR_BAD_DEPTH: return "depth contains NaN, -infinity, zero or negative values";
     case DDOF_ERROR_BAD_COC: return "circle of confusion is NaN, infinite, negative or too large";
     case DDOF_ERROR_BAD_CAMERA: return "camera parameters are invalid";

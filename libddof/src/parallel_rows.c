@@ -35,6 +35,7 @@ static DDOF_ALWAYS_INLINE int value_ok(float v, const value_rule rule)
 {
     switch (rule) {
     case VALUE_FINITE: return v - v == 0.0f; /* NaN and +-inf give NaN; isfinite may not vectorise */
+    case VALUE_COLOR: return (v >= -DDOF_MAX_COLOR) & (v <= DDOF_MAX_COLOR);
     case VALUE_DEPTH: return v > 0.0f;       /* false for NaN; true for +inf */
     case VALUE_DEPTH_ZERO: return v >= 0.0f;
     /* & rather than &&: both compares are cheap, and a short-circuit keeps the loop scalar. */
@@ -93,6 +94,7 @@ static DDOF_ALWAYS_INLINE unsigned count_bad(const float *v, size_t n, size_t st
 {
     switch (rule) {
         COUNT_BAD_CASE(VALUE_FINITE)
+        COUNT_BAD_CASE(VALUE_COLOR)
         COUNT_BAD_CASE(VALUE_DEPTH)
         COUNT_BAD_CASE(VALUE_DEPTH_ZERO)
         COUNT_BAD_CASE(VALUE_COC)

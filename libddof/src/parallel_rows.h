@@ -19,7 +19,8 @@ void ddof_parallel_rows(ddof_context *context, uint32_t height, row_chunk_fn fn,
 
 /* What a value must satisfy. */
 typedef enum value_rule {
-    VALUE_FINITE,     /* colour: not NaN, not +-inf                                   */
+    VALUE_FINITE,     /* not NaN, not +-inf                                           */
+    VALUE_COLOR,      /* colour: |v| <= DDOF_MAX_COLOR (so finite)                   */
     VALUE_DEPTH,      /* > 0, +inf allowed                                            */
     VALUE_DEPTH_ZERO, /* >= 0, +inf allowed (the artist curve accepts depth 0)        */
     VALUE_COC,        /* finite, 0 <= v <= DDOF_MAX_COC_PX                            */
