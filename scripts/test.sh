@@ -33,6 +33,11 @@ case "$mode" in
     # that says why.
     ensure_packages python3-venv || echo "warning: could not install python3-venv: the bpy tests will be skipped" >&2
     bash scripts/bpy_venv.sh
+    # OpenCue's pyoutline and the Open Job Description CLI (PyPI) for the `farm` tests
+    # (tests/farm): one cached venv under ~/.cache/ddof-farm; nodejs checks the Flamenco job
+    # type's syntax.
+    ensure_packages nodejs || echo "warning: could not install nodejs: the Flamenco job type's check will be skipped" >&2
+    bash scripts/farm_venv.sh
     cmake -S . -B build/test -G Ninja -DCMAKE_BUILD_TYPE=Release -DDDOF_WERROR=ON
     cmake --build build/test -j "$jobs"
     ctest --test-dir build/test --output-on-failure -j "$jobs"

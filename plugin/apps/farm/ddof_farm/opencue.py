@@ -1,0 +1,77 @@
+# SPDX-License-Identifier: MIT
+"""The job as an OpenCue outline (pyoutline): one layer of ddof chunks, optionally after a
+Blender render layer it depends on frame by frame (a chunk starts when its frames are rendered).
+
+launch_local runs the outline on this machine with pyoutline's local dispatcher (no Cuebot);
+pyoutline reads its configuration when imported, so outline_config.py writes it first."""
+
+import os
+import subprocess
+
+import outline
+import outline.cuerun
+import outline.depend
+import outline.layer
+from outline.modules.shell import Shell
+
+from . import frames as frame_lists
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+class DdofChunk(outline.layer.Layer):
+    """Runs `ddof` once over the frames of one task (a chunk), from the job's directory."""
+
+    def __init__(self, name, **args):
+        super().__init__(name, **args)
+        self.require_arg("ddof_command")
+        self.require_arg("workdir")
+
+    def _execute(self, frames):
+        chunk = frame_lists.format_frames(sorted(frames))
+        argv = list(self.get_arg("ddof_command")) + ["--frames", chunk, "--skip-existing",
+                                                      "--stats", self.get_arg("stats_prefix") +
+                                                      chunk.replace(",", "_") + ".json"]
+        result = subprocess.run(argv, cwd=self.get_arg("workdir"), check=False)
+        if result.returncode != 0:
+            raise RuntimeError("ddof exited with %d on frames %s (its last line names the "
+                               "failed frames)" % (result.returncode, chunk))
+
+
+def build(job, render_command=None):
+    """The outline: `render` (a shell command per frame, #IFRAME# its frame) when given, then
+    `ddof` in chunks of job.chunk_size, each frame waiting on that frame's render."""
+    os.makedirs(job.stats_dir, exist_ok=True)
+    ol = outline.Outline(job.name, shot="ddof", show="ddof")
+    spec = frame_lists.format_frames(job.frames)
+    render = None
+    if render_command:
+        render = Shell("render", command=render_command, range=spec, chunk=1)
+        ol.add_layer(render)
+    dof = DdofChunk("ddof", ddof_command=[job.ddof] + job.ddof_args, workdir=job.workdir,
+                    stats_prefix=os.path.join(job.stats_dir, "chunk_"), range=spec,
+                    chunk=job.chunk_size)
+    if render is not None:
+        dof.depend_on(render, outline.depend.DependType.FrameByFrame)
+    ol.add_layer(dof)
+    return ol
+
+
+def launch_local(job, render_command=None):
+    """Runs the outline here through pyoutline's local dispatcher, one task at a time."""
+    ol = build(job, render_command)
+    # The tasks run in child processes (pycuerun) that load this module to run DdofChunk.
+    package_root = os.path.dirname(HERE)
+    path = os.environ.get("PYTHONPATH", "")
+    if package_root not in path.split(os.pathsep):
+        os.environ["PYTHONPATH"] = package_root + (os.pathsep + path if path else "")
+    outline.cuerun.launch(ol, backend="local", range=frame_lists.format_frames(job.frames))
+
+
+def submit(job, render_command=None):
+    """Sends the outline to the Cuebot that opencue's configuration names."""
+    if not (os.environ.get("CUEBOT_HOSTS") or os.environ.get("OPENCUE_CONFIG_FILE")):
+        raise RuntimeError("no Cuebot configured: set CUEBOT_HOSTS (or OPENCUE_CONFIG_FILE) to "
+                           "submit, or run here with --local")
+    ol = build(job, render_command)
+    return outline.cuerun.launch(ol, backend="cue", range=frame_lists.format_frames(job.frames))

@@ -1,0 +1,83 @@
+# SPDX-License-Identifier: MIT
+"""The chunks' `ddof --stats` files merged into one sequence report: per frame its last status
+(a retried chunk's file replaces the killed attempt's), the failures with their errors, the time
+per frame of the frames computed, and the planner's decisions grouped by the frames they hold
+for."""
+
+import glob
+import json
+import os
+import statistics
+
+from . import frames as frame_lists
+
+
+def load(paths):
+    """Every frame record of the given --stats files (or directories of them), oldest file
+    first, so that a later attempt's record of a frame wins."""
+    files = []
+    for path in paths:
+        if os.path.isdir(path):
+            files += glob.glob(os.path.join(path, "*.json"))
+        else:
+            files.append(path)
+    files.sort(key=lambda f: (os.path.getmtime(f), f))
+    frames = {}
+    for path in files:
+        with open(path, encoding="utf-8") as f:
+            try:
+                stats = json.load(f)
+            except json.JSONDecodeError as err:
+                raise ValueError("%s is not a ddof --stats file: %s" % (path, err)) from None
+        for record in stats.get("frames", []):
+            previous = frames.get(record["frame"])
+            # A frame another attempt computed stays computed when this one only skipped it.
+            if previous and record.get("status") == "skipped" and previous.get("status") == "ok":
+                continue
+            frames[record["frame"]] = dict(record, stats_file=path)
+    return frames
+
+
+def summary(frames):
+    """The merged report as a dict."""
+    numbers = sorted(frames)
+    by_status = {}
+    for n in numbers:
+        by_status.setdefault(frames[n].get("status", "?"), []).append(n)
+    times = [frames[n]["seconds"]["frame"] for n in by_status.get("ok", [])
+             if "frame" in frames[n].get("seconds", {})]
+    plans = {}
+    for n in by_status.get("ok", []):
+        plan = tuple(frames[n].get("simulated", {}).get("plan", []))
+        plans.setdefault(plan, []).append(n)
+    return {
+        "frames": len(numbers),
+        "computed": frame_lists.format_frames(by_status.get("ok", [])),
+        "skipped": frame_lists.format_frames(by_status.get("skipped", [])),
+        "failed": [{"frame": n, "error": frames[n].get("error", "")}
+                   for n in by_status.get("failed", [])],
+        "seconds_per_frame": {
+            "mean": statistics.mean(times) if times else None,
+            "median": statistics.median(times) if times else None,
+            "max": max(times) if times else None,
+        },
+        "plans": [{"frames": frame_lists.format_frames(ns), "plan": list(plan)}
+                  for plan, ns in sorted(plans.items(), key=lambda item: item[1][0])],
+    }
+
+
+def text(report):
+    """The report for a person."""
+    lines = ["%d frames: computed %s; skipped (already complete) %s; failed %d"
+             % (report["frames"], report["computed"] or "none", report["skipped"] or "none",
+                len(report["failed"]))]
+    for failure in report["failed"]:
+        lines.append("  frame %d failed: %s" % (failure["frame"], failure["error"]))
+    t = report["seconds_per_frame"]
+    if t["mean"] is not None:
+        lines.append("time per computed frame: mean %.3f s, median %.3f s, max %.3f s"
+                     % (t["mean"], t["median"], t["max"]))
+    for group in report["plans"]:
+        lines.append("frames %s:" % group["frames"])
+        lines += ["  " + line for line in group["plan"]]
+    return "\n".join(lines)
