@@ -85,6 +85,24 @@ def main():
           ["chunk_1-5.json", "chunk_11-15.json", "chunk_16-20.json", "chunk_21-24.json",
            "chunk_6-10.json"], "OpenCue: one --stats file per chunk of 5: %s" % stats)
 
+    # OpenCue with a render layer first (here a copy of the sample per frame, %{FRAME} its
+    # number), the ddof chunks after it.
+    render = os.path.join(scratch, "render.py")
+    with open(render, "w", encoding="utf-8") as f:
+        f.write("import shutil, sys\nshutil.copyfile(%r, 'rendered/r_%%04d.exr' %% int(sys.argv[1]))\n"
+                % os.path.join(samples, "pinhole.exr"))
+    os.makedirs(os.path.join(scratch, "rendered"))
+    r = farm("opencue", "--local", "--frames", "1-6", "--chunk", "3", "--stats-dir", "rcue-stats",
+             "--ddof", ddof, "--render", "%s %s %%{FRAME}" % (sys.executable, render), "--",
+             "rendered/r_####.exr", "--camera", "camera.json", "-q", "-o", "rcue/d_####.exr",
+             cwd=scratch)
+    names = ["d_%04d.exr" % f for f in range(1, 7)]
+    _, mismatch, errors = filecmp.cmpfiles(os.path.join(scratch, "single"),
+                                           os.path.join(scratch, "rcue"), names, shallow=False)
+    check(r.returncode == 0 and not mismatch and not errors,
+          "OpenCue local, a render layer then ddof: 6 frames identical (%s %s)"
+          % (mismatch, errors))
+
     # Open Job Description: the template, checked and run.
     r = farm("openjd", "-o", "job.json", "--frames", "1-%d" % FRAMES, "--chunk", str(CHUNK),
              "--stats-dir", "jd-stats", "--ddof", ddof, "--", *dof_args, "-o", "jd/d_####.exr",

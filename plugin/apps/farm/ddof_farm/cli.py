@@ -12,6 +12,7 @@ job options: --frames LIST (as ddof --frames), --chunk N (frames per task, defau
 
 import argparse
 import json
+import shlex
 import sys
 
 from . import __version__
@@ -54,7 +55,7 @@ def _opencue(args):
         from . import opencue
     except ImportError as err:
         raise JobError("OpenCue needs pyoutline (pip install opencue-pyoutline): %s" % err)
-    render = args.render.split() if args.render else None
+    render = shlex.split(args.render) if args.render else None
     if args.local:
         opencue.launch_local(job, render)
     elif args.submit:
@@ -93,7 +94,8 @@ def main(argv=None):
     how = p.add_mutually_exclusive_group()
     how.add_argument("--local", action="store_true", help="run it here (pyoutline's local backend)")
     how.add_argument("--submit", action="store_true", help="send it to the configured Cuebot")
-    p.add_argument("--render", help="a render command per frame (#IFRAME# the frame) that each "
+    p.add_argument("--render", help="a render command per frame (%%{FRAME} the frame, %%{ZFRAME} "
+                                    "zero-padded to 4 digits: pyoutline's tokens) that each "
                                     "ddof frame waits for")
     _job_options(p)
     p.set_defaults(run=_opencue)

@@ -38,34 +38,43 @@ class DdofChunk(outline.layer.Layer):
                                "failed frames)" % (result.returncode, chunk))
 
 
-def build(job, render_command=None):
-    """The outline: `render` (a shell command per frame, #IFRAME# its frame) when given, then
-    `ddof` in chunks of job.chunk_size, each frame waiting on that frame's render."""
+def build(job, render_command=None, layers=("render", "ddof")):
+    """The outline: `render` (a shell command per frame, %{FRAME} its frame) when given, then
+    `ddof` in chunks of job.chunk_size, each frame waiting on that frame's render. `layers`
+    keeps only some of the two."""
     os.makedirs(job.stats_dir, exist_ok=True)
     ol = outline.Outline(job.name, shot="ddof", show="ddof")
     spec = frame_lists.format_frames(job.frames)
     render = None
-    if render_command:
-        render = Shell("render", command=render_command, range=spec, chunk=1)
+    if render_command and "render" in layers:
+        # From the job's directory, as the ddof tasks run (pyoutline's is its own user_dir).
+        in_workdir = ["/bin/sh", "-c", 'cd "$1" && shift && exec "$@"', "render", job.workdir]
+        render = Shell("render", command=in_workdir + list(render_command), range=spec, chunk=1)
         ol.add_layer(render)
-    dof = DdofChunk("ddof", ddof_command=[job.ddof] + job.ddof_args, workdir=job.workdir,
-                    stats_prefix=os.path.join(job.stats_dir, "chunk_"), range=spec,
-                    chunk=job.chunk_size)
-    if render is not None:
-        dof.depend_on(render, outline.depend.DependType.FrameByFrame)
-    ol.add_layer(dof)
+    if "ddof" in layers:
+        dof = DdofChunk("ddof", ddof_command=[job.ddof] + job.ddof_args, workdir=job.workdir,
+                        stats_prefix=os.path.join(job.stats_dir, "chunk_"), range=spec,
+                        chunk=job.chunk_size)
+        if render is not None:
+            dof.depend_on(render, outline.depend.DependType.FrameByFrame)
+        ol.add_layer(dof)
     return ol
 
 
 def launch_local(job, render_command=None):
-    """Runs the outline here through pyoutline's local dispatcher, one task at a time."""
-    ol = build(job, render_command)
+    """Runs the outline here through pyoutline's local dispatcher, one task at a time. That
+    dispatcher runs frames in order and ignores dependencies, so the renders (when given) run
+    as an outline of their own first."""
     # The tasks run in child processes (pycuerun) that load this module to run DdofChunk.
     package_root = os.path.dirname(HERE)
     path = os.environ.get("PYTHONPATH", "")
     if package_root not in path.split(os.pathsep):
         os.environ["PYTHONPATH"] = package_root + (os.pathsep + path if path else "")
-    outline.cuerun.launch(ol, backend="local", range=frame_lists.format_frames(job.frames))
+    spec = frame_lists.format_frames(job.frames)
+    if render_command:
+        outline.cuerun.launch(build(job, render_command, ("render",)), backend="local",
+                              range=spec)
+    outline.cuerun.launch(build(job, None, ("ddof",)), backend="local", range=spec)
 
 
 def submit(job, render_command=None):
