@@ -2,8 +2,9 @@
 # SPDX-License-Identifier: MIT
 # Installs the render-farm tools the `farm` tests run (tests/farm): OpenCue's pyoutline and the
 # Open Job Description CLI from PyPI, in one cached venv ($DDOF_FARM_CACHE, default
-# ~/.cache/ddof-farm/venv, about 60 MB). Where it cannot be made (no python3-venv, no network)
-# the reason goes to venv.reason, which the tests print as their skip reason. Never fails itself.
+# ~/.cache/ddof-farm/venv: about 90 MB on disk, 17 s to install). Where it cannot be made (no
+# python3-venv, no network) the reason goes to venv.reason, which the tests print as their skip
+# reason. Never fails itself.
 set -uo pipefail
 cache=${DDOF_FARM_CACHE:-$HOME/.cache/ddof-farm}
 venv=$cache/venv
