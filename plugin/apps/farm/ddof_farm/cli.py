@@ -2,7 +2,8 @@
 """ddof-farm: one ddof frame sequence as a render-farm job, and the merged report.
 
     ddof-farm openjd   -o job.json  [job options] -- DDOF_ARGS...
-    ddof-farm opencue  --local|--submit|--print [--render CMD] [job options] -- DDOF_ARGS...
+    ddof-farm opencue  [--local|--submit] [--render CMD] [job options] -- DDOF_ARGS...
+                       (neither: print the tasks' commands)
     ddof-farm flamenco SCRIPTS_DIR
     ddof-farm report   STATS_DIR_OR_FILE... [--json FILE]
 
@@ -47,6 +48,10 @@ def _openjd(args):
 
 def _opencue(args):
     job = _job(args)
+    if not (args.local or args.submit):
+        for chunk in job.chunks:
+            print(shlex.join(job.command(chunk)))
+        return
     if args.local:
         import os
         from .outline_config import use_local_backend
@@ -58,11 +63,8 @@ def _opencue(args):
     render = shlex.split(args.render) if args.render else None
     if args.local:
         opencue.launch_local(job, render)
-    elif args.submit:
-        opencue.submit(job, render)
     else:
-        for chunk in job.chunks:
-            print(" ".join(job.command(chunk)))
+        opencue.submit(job, render)
 
 
 def _flamenco(args):

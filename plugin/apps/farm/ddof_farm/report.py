@@ -18,9 +18,14 @@ def load(paths):
     files = []
     for path in paths:
         if os.path.isdir(path):
-            files += glob.glob(os.path.join(path, "*.json"))
-        else:
+            found = glob.glob(os.path.join(path, "*.json"))
+            if not found:
+                raise ValueError("no --stats file (*.json) in %s" % path)
+            files += found
+        elif os.path.isfile(path):
             files.append(path)
+        else:
+            raise ValueError("%s: no such --stats file or folder" % path)
     files.sort(key=lambda f: (os.path.getmtime(f), f))
     frames = {}
     for path in files:
