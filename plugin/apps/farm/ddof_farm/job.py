@@ -40,7 +40,7 @@ class SequenceJob:
         self.name = name
 
     def stats_path(self, chunk):
-        return os.path.join(self.stats_dir, "chunk_%s.json" % chunk.replace(",", "_"))
+        return os.path.join(self.stats_dir, "chunk_%s.json" % chunk)
 
     def command(self, chunk):
         """The argv of one chunk (a --frames list), to run in self.workdir."""

@@ -31,7 +31,7 @@ class DdofChunk(outline.layer.Layer):
         chunk = frame_lists.format_frames(sorted(frames))
         argv = list(self.get_arg("ddof_command")) + ["--frames", chunk, "--skip-existing",
                                                       "--stats", self.get_arg("stats_prefix") +
-                                                      chunk.replace(",", "_") + ".json"]
+                                                      chunk + ".json"]
         result = subprocess.run(argv, cwd=self.get_arg("workdir"), check=False)
         if result.returncode != 0:
             raise RuntimeError("ddof exited with %d on frames %s (its last line names the "
