@@ -414,30 +414,10 @@ static void test_params_and_cancel(ddof_context *ctx)
  * alternate with in-focus ones), so nothing has written the chain's results before the
  * in-focus band's blocks, two whole blocks wherever they fall. With two threads it depended
  * on which thread took which block: the check of the Blender add-on's ABI failed once. */
-static void *nan_alloc(void *user, size_t size)
-{
-    (void)user;
-    void *p = malloc(size);
-    if (p)
-        memset(p, 0xFF, size);
-    return p;
-}
-
-static void nan_free(void *user, void *ptr)
-{
-    (void)user;
-    free(ptr);
-}
-
 static void test_stale_scratch(void)
 {
-    ddof_allocator allocator = {nan_alloc, nan_free, NULL};
-    ddof_context_options options;
-    ddof_context_options_init(&options);
-    options.thread_count = 1;
-    options.allocator = &allocator;
-    ddof_context *ctx = NULL;
-    CHECK_EQ_INT(ddof_context_create(&options, &ctx), DDOF_OK);
+    ddof_context *ctx = patterned_context(0xff);
+    CHECK(ctx != NULL);
     test_image im = image_alloc(96, 24, 4);
     test_rng rng = {8};
     fill_uniform(im.color, im.n, &rng, 0.0, 1.0);

@@ -46,6 +46,34 @@ static inline ddof_context *make_context(uint32_t threads)
     return ctx;
 }
 
+/* Scratch memory handed out full of one byte (carried in the allocator's user pointer): 0xff
+ * is a NaN in every float, so a result that reads scratch it never wrote shows. */
+static inline void *patterned_alloc(void *user, size_t size)
+{
+    void *p = malloc(size);
+    if (p)
+        memset(p, (int)(uintptr_t)user, size);
+    return p;
+}
+
+static inline void patterned_free(void *user, void *p)
+{
+    (void)user;
+    free(p);
+}
+
+/* A one-thread context whose scratch arrives filled with `byte`; NULL if it cannot be made. */
+static inline ddof_context *patterned_context(unsigned char byte)
+{
+    const ddof_allocator a = {patterned_alloc, patterned_free, (void *)(uintptr_t)byte};
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    o.thread_count = 1;
+    o.allocator = &a;
+    ddof_context *c = NULL;
+    return ddof_context_create(&o, &c) == DDOF_OK ? c : NULL;
+}
+
 /* One case's tightly packed images: colour and output w x h x ch, CoC w x h (one channel).
  * Most cases need exactly these three buffers; image_free() releases them together. */
 typedef struct test_image {
