@@ -21,6 +21,21 @@ static int box_valid(const exrio_box *b)
     return b->max_x >= b->min_x && b->max_y >= b->min_y;
 }
 
+/* B44 compresses half channels only; a part without one gets a chunk layout of exactly the raw
+ * size, which OpenEXR's C++ reader (Blender's, Nuke's) takes as uncompressed and reads with its
+ * channels shuffled while the C core decodes it. Such a part is written uncompressed, which both
+ * read alike. */
+static exrio_compression stored_compression(const exrio_write_spec *spec)
+{
+    int c;
+    if (spec->compression != EXRIO_COMPRESSION_B44 && spec->compression != EXRIO_COMPRESSION_B44A)
+        return spec->compression;
+    for (c = 0; c < spec->channel_count; c++)
+        if (spec->channels[c].type == EXRIO_HALF)
+            return spec->compression;
+    return EXRIO_COMPRESSION_NONE;
+}
+
 /* Sets the part's attributes and channels. Channels are declared in the caller's order; the
  * core keeps its list sorted by name, as the file format requires. */
 static exr_result_t define_part(exr_context_t ctxt, const exrio_write_spec *spec)
@@ -38,7 +53,7 @@ static exr_result_t define_part(exr_context_t ctxt, const exrio_write_spec *spec
         rv = exr_initialize_required_attr(ctxt, part, &display, &data,
                                           spec->pixel_aspect > 0.0f ? spec->pixel_aspect : 1.0f,
                                           &center, 1.0f, EXR_LINEORDER_INCREASING_Y,
-                                          (exr_compression_t)spec->compression);
+                                          (exr_compression_t)stored_compression(spec));
     for (c = 0; rv == EXR_ERR_SUCCESS && c < spec->channel_count; c++) {
         const exrio_write_channel *ch = &spec->channels[c];
         rv = exr_add_channel(ctxt, part, ch->name, (exr_pixel_type_t)ch->type,
@@ -61,9 +76,29 @@ static const exrio_write_channel *spec_channel(const exrio_write_spec *spec, con
     return NULL;
 }
 
+typedef exr_result_t (*compress_fn_t)(exr_encode_pipeline_t *);
+
+/* A zip chunk whose deflated size is not below its raw size must be stored raw: readers take a
+ * zip chunk of exactly the raw size as uncompressed. OpenEXR 3.1's zip encoder stores raw only
+ * when deflate makes the chunk larger, so a chunk that deflates to exactly its raw size read back
+ * as the zlib stream. (Its other encoders already store raw, or, like B44, write a layout of the
+ * raw size that its reader decodes.) */
+static exr_result_t deflate_or_store(exr_encode_pipeline_t *encoder)
+{
+    const compress_fn_t deflate = *(const compress_fn_t *)encoder->encoding_user_data;
+    exr_result_t rv = deflate(encoder);
+    if (rv == EXR_ERR_SUCCESS && encoder->compressed_buffer != encoder->packed_buffer &&
+        encoder->compressed_bytes >= encoder->packed_bytes) {
+        memcpy(encoder->compressed_buffer, encoder->packed_buffer, encoder->packed_bytes);
+        encoder->compressed_bytes = encoder->packed_bytes;
+    }
+    return rv;
+}
+
 static exr_result_t write_pixels(exr_context_t ctxt, const exrio_write_spec *spec)
 {
     exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
+    compress_fn_t deflate = NULL;
     exr_chunk_info_t cinfo;
     exr_result_t rv;
     int32_t lines = 0, y;
@@ -102,6 +137,12 @@ static exr_result_t write_pixels(exr_context_t ctxt, const exrio_write_spec *spe
             if (rv != EXR_ERR_SUCCESS)
                 break;
             initialized = 1;
+            if (encoder.compress_fn && (spec->compression == EXRIO_COMPRESSION_ZIP ||
+                                        spec->compression == EXRIO_COMPRESSION_ZIPS)) {
+                deflate = encoder.compress_fn;
+                encoder.encoding_user_data = &deflate;
+                encoder.compress_fn = deflate_or_store;
+            }
         }
         rv = exr_encoding_run(ctxt, 0, &encoder);
     }
