@@ -5,7 +5,9 @@
  * partial loads, tiled files and multi-part files written with the C core API directly, and
  * header attributes carried over by --keep-metadata's copy, and chunks that do not compress.
  *
- *   test_exr_roundtrip SCRATCH_DIR */
+ * Files written by OpenEXR's C++ library (tests/exr/data, see its README) read as it wrote them.
+ *
+ *   test_exr_roundtrip SCRATCH_DIR DATA_DIR */
 #include "exr_test_util.h"
 
 #include <openexr.h>
@@ -21,6 +23,7 @@
 #define H 41
 
 static const char *dir;
+static const char *data_dir;
 
 /* Values a type can hold exactly: halves are multiples of 1/64 in (-32, 32) (11 bits), floats
  * are anything finite (including tiny and huge), uints use all 32 bits. `smooth` gives a gentle
@@ -516,6 +519,40 @@ static void raw_size_chunk(void)
     }
 }
 
+/* OpenEXR's C++ writer stores a B44 chunk raw when B44 does not make it smaller: always for a
+ * float-only part, and for a 1x1 half image (one 4x4 block is 14 bytes, the pixel 2). OpenEXR
+ * 3.1's C core decoded such chunks as B44 and shuffled the float channels. */
+static void cpp_b44(void)
+{
+    static const char *const names[4] = {"A", "B", "G", "R"};
+    exrio_image image;
+    char error[1024];
+    int c, x, y, bad = 0;
+    CHECK(exrio_open(test_path(data_dir, "cpp_b44_float.exr"), &image, error, sizeof error) ==
+          EXRIO_OK);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_OK);
+    CHECK(image.parts[0].compression == EXRIO_COMPRESSION_B44 && image.parts[0].width == 9 &&
+          image.parts[0].height == 7);
+    for (c = 0; c < 4; c++) {
+        const int k = exrio_find_channel(&image, names[c], 0);
+        const float *p = k >= 0 ? image.channels[k].pixels : NULL;
+        CHECK(p != NULL);
+        for (y = 0; p && y < 7; y++)
+            for (x = 0; x < 9; x++)
+                bad += p[y * 9 + x] != (float)(c * 100 + y * 10 + x);
+    }
+    CHECK_MSG(bad == 0, "float B44 from the C++ writer: %d of 252 values differ", bad);
+    exrio_close(&image);
+
+    CHECK(exrio_open(test_path(data_dir, "cpp_b44a_half_1x1.exr"), &image, error,
+                     sizeof error) == EXRIO_OK);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_OK);
+    CHECK_MSG(image.channel_count == 1 && ((const float *)image.channels[0].pixels)[0] == 1.5f,
+              "1x1 half B44A from the C++ writer: %g instead of 1.5",
+              image.channel_count == 1 ? ((const float *)image.channels[0].pixels)[0] : -1.0);
+    exrio_close(&image);
+}
+
 int main(int argc, char **argv)
 {
     static const exrio_compression all[] = {
@@ -524,11 +561,12 @@ int main(int argc, char **argv)
         EXRIO_COMPRESSION_B44,  EXRIO_COMPRESSION_B44A};
     size_t c;
     int t;
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_exr_roundtrip SCRATCH_DIR\n");
+    if (argc != 3) {
+        fprintf(stderr, "usage: test_exr_roundtrip SCRATCH_DIR DATA_DIR\n");
         return 2;
     }
     dir = argv[1];
+    data_dir = argv[2];
     test_fresh_dir(dir);
     for (t = EXRIO_UINT; t <= EXRIO_FLOAT; t++)
         for (c = 0; c < sizeof all / sizeof all[0]; c++)
@@ -540,5 +578,6 @@ int main(int argc, char **argv)
     multipart();
     long_names();
     raw_size_chunk();
+    cpp_b44();
     return test_finish("test_exr_roundtrip");
 }

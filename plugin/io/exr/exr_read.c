@@ -234,12 +234,40 @@ exrio_status exrio_open(const char *path, exrio_image *image, char *error, size_
 
 /* ---- pixels ----------------------------------------------------------------------------- */
 
+typedef exr_result_t (*decompress_fn_t)(exr_decode_pipeline_t *);
+
+/* A B44 chunk of exactly the raw size is raw: OpenEXR's C++ writer stores a chunk raw when B44
+ * does not make it smaller (always so for float-only parts), but OpenEXR 3.1's C core decodes
+ * it as B44, which shuffles the channels. The unpacked buffer is the pipeline's, from the
+ * context's allocator: exrio's contexts keep the default, malloc and free. */
+static exr_result_t b44_or_raw(exr_decode_pipeline_t *decoder)
+{
+    const decompress_fn_t b44 = *(const decompress_fn_t *)decoder->decoding_user_data;
+    const uint64_t size = decoder->chunk.unpacked_size;
+    if (decoder->chunk.packed_size != size || size == 0 || size > SIZE_MAX)
+        return b44(decoder);
+    if (decoder->unpacked_buffer == decoder->packed_buffer) {
+        decoder->unpacked_buffer = NULL;
+        decoder->unpacked_alloc_size = 0;
+    }
+    if (decoder->unpacked_alloc_size < size) {
+        free(decoder->unpacked_buffer);
+        decoder->unpacked_alloc_size = 0;
+        decoder->unpacked_buffer = malloc((size_t)size);
+        if (!decoder->unpacked_buffer)
+            return EXR_ERR_OUT_OF_MEMORY;
+        decoder->unpacked_alloc_size = (size_t)size;
+    }
+    memcpy(decoder->unpacked_buffer, decoder->packed_buffer, (size_t)size);
+    return EXR_ERR_SUCCESS;
+}
+
 /* Decodes one chunk (a block of scanlines or a tile) into the planes of the wanted channels
  * of part `p`. x0, y0: where the chunk starts, relative to the data window. */
 static exr_result_t decode_chunk(exr_context_t ctxt, exrio_image *image, int p, int first_channel,
                                  const exr_chunk_info_t *cinfo, int32_t x0, int32_t y0,
                                  uint8_t *scratch, exr_decode_pipeline_t *decoder,
-                                 int *initialized)
+                                 decompress_fn_t *b44, int *initialized)
 {
     const exrio_part *part = &image->parts[p];
     const size_t line = (size_t)part->width * 4;
@@ -271,6 +299,12 @@ static exr_result_t decode_chunk(exr_context_t ctxt, exrio_image *image, int p, 
         if (rv != EXR_ERR_SUCCESS)
             return rv;
         *initialized = 1;
+        if (decoder->decompress_fn && (part->compression == EXRIO_COMPRESSION_B44 ||
+                                       part->compression == EXRIO_COMPRESSION_B44A)) {
+            *b44 = decoder->decompress_fn;
+            decoder->decoding_user_data = b44;
+            decoder->decompress_fn = b44_or_raw;
+        }
     }
     return exr_decoding_run(ctxt, p, decoder);
 }
@@ -281,6 +315,7 @@ static exrio_status load_part(exrio_image *image, int p, int first_channel, exri
     exr_context_t ctxt = image->source_;
     const exrio_part *part = &image->parts[p];
     exr_decode_pipeline_t decoder = EXR_DECODE_PIPELINE_INITIALIZER;
+    decompress_fn_t b44 = NULL;
     exr_chunk_info_t cinfo;
     exr_result_t rv = EXR_ERR_SUCCESS;
     int initialized = 0;
@@ -309,7 +344,7 @@ static exrio_status load_part(exrio_image *image, int p, int first_channel, exri
             if (rv == EXR_ERR_SUCCESS)
                 rv = decode_chunk(ctxt, image, p, first_channel, &cinfo, 0,
                                   cinfo.start_y - part->data_window.min_y, scratch, &decoder,
-                                  &initialized);
+                                  &b44, &initialized);
         }
     } else if (rv == EXR_ERR_SUCCESS) {
         int32_t tw = 0, th = 0, tx, ty, nx, ny;
@@ -325,7 +360,7 @@ static exrio_status load_part(exrio_image *image, int p, int first_channel, exri
                 rv = exr_read_tile_chunk_info(ctxt, p, tx, ty, 0, 0, &cinfo);
                 if (rv == EXR_ERR_SUCCESS)
                     rv = decode_chunk(ctxt, image, p, first_channel, &cinfo, tx * tw, ty * th,
-                                      scratch, &decoder, &initialized);
+                                      scratch, &decoder, &b44, &initialized);
             }
         }
     }
