@@ -248,6 +248,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             camera.depth_kind = (ddof_depth_kind)(byte(&r) % 3u);
             camera.depth_unit_m = byte(&r) < 200 ? 1.0 : any_double(&r, 1.0);
             camera.lens_model = (ddof_lens_model)(byte(&r) % 3u);
+            if (byte(&r) < 96) { /* an aperture: polygons, ellipses, and out-of-range values */
+                camera.aperture_blades = byte(&r) % 20u;
+                camera.aperture_rotation_deg = any_double(&r, 90.0);
+                camera.aperture_ratio = byte(&r) < 128 ? 1.0 : any_double(&r, 1.0);
+            }
             if (byte(&r) & 1) {
                 s = ddof_depth_of_field(ctx, pp, &camera, &ci, &zi, &oi, NULL);
                 check_call(ctx, "ddof_depth_of_field", s, out, before, ofloats, &oi);

@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.6).
+"""ctypes binding of the ddof shared library (libddof/include/ddof.h, API version 0.7).
 
 This module does not import bpy: it is the add-on's only contact with the C library and can be
 used (and is tested) from a plain Python interpreter. The structures mirror ddof.h field by field;
@@ -19,7 +19,7 @@ import sys
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
 # version_compatible): the same major and a minor >= ours (structs are only appended, and a
 # library accepts an older caller's layout: ddof.h, Conventions).
-BINDING_VERSION = (0, 6)
+BINDING_VERSION = (0, 7)
 # The soname of the ABI line (libddof/CMakeLists.txt), a name the library may be installed under.
 SONAME = "libddof.so.0.5"
 
@@ -141,7 +141,11 @@ class Camera(ctypes.Structure):
                 ("frame_width", ctypes.c_uint32),
                 ("frame_height", ctypes.c_uint32),
                 ("window_x", ctypes.c_int32),
-                ("window_y", ctypes.c_int32)]
+                ("window_y", ctypes.c_int32),
+                # version 0.7: the aperture's shape (Blender's Blades, Rotation, Ratio)
+                ("aperture_blades", ctypes.c_uint32),
+                ("aperture_rotation_deg", ctypes.c_double),
+                ("aperture_ratio", ctypes.c_double)]
 
 
 class Curve(ctypes.Structure):

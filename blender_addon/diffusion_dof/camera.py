@@ -2,6 +2,8 @@
 """The camera of a frame as ddof_camera fields, read from Blender's camera (evaluated for the
 frame being rendered when a depsgraph is given) with the panel's overrides on top."""
 
+import math
+
 from .errors import SetupError
 
 
@@ -93,6 +95,10 @@ def camera_settings(scene, settings, depsgraph=None, cam_obj=None):
         "focus_distance_m": float(focus_units) * unit,
         "pixel_aspect": float(render.pixel_aspect_x) / float(render.pixel_aspect_y),
         "depth_unit_m": float(unit),
+        # Cycles' aperture: polygonal highlights and anamorphic (stretched) blur.
+        "aperture_blades": int(data.dof.aperture_blades),
+        "aperture_rotation_deg": math.degrees(float(data.dof.aperture_rotation)),
+        "aperture_ratio": float(data.dof.aperture_ratio),
     }
     info = {"camera": cam_obj.name, "focus_source": focus_source, "focus_units": focus_units,
             "lens_dof_on": bool(data.dof.use_dof)}

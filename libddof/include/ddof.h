@@ -88,7 +88,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 6
+#define DDOF_VERSION_MINOR 7
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -143,6 +143,9 @@ DDOF_API const char *ddof_status_string(ddof_status status);
                                            /* links up to 1e14 (DDOF_MAX_COC_PX^2 times the  */
                                            /* pixel aspect^2), larger values overflow float */
                                            /* inside the solvers                            */
+#define DDOF_MAX_APERTURE_BLADES 16u       /* ddof_camera.aperture_blades                   */
+#define DDOF_MIN_APERTURE_RATIO 0.01       /* ddof_camera.aperture_ratio, and its product   */
+#define DDOF_MAX_APERTURE_RATIO 100.0      /* with pixel_aspect                             */
 
 /* ------------------------------------------------------------------------------------------ */
 /* Images: caller-owned, 32-bit float, interleaved channels, rows `row_stride` bytes apart.      */
@@ -256,6 +259,21 @@ typedef struct ddof_camera {
     /* the defaults: all 0, the image is the full frame.                                        */
     uint32_t frame_width, frame_height; /* the full frame's size in pixels; 0 = the image's own */
     int32_t window_x, window_y; /* the image's top-left pixel within the full frame */
+    /* version 0.7 of this struct: the aperture's shape, Blender's camera Blades, Rotation and */
+    /* Ratio as Cycles renders them. ddof_depth_of_field and ddof_render_frame draw highlights */
+    /* (the highlight pass) in its shape; the diffusion follows the ratio (an ellipse) and      */
+    /* stays round for blades. A caller with an older struct_size gets a round aperture.        */
+    uint32_t aperture_blades;     /* 0: round (1 and 2 too, as Cycles); 3..16: a regular      */
+                                  /* polygon inscribed in the round aperture. Default 0.       */
+    double aperture_rotation_deg; /* the polygon's rotation, counter-clockwise: at 0 an edge's */
+                                  /* middle points along +x. Default 0; finite, +-360.        */
+    double aperture_ratio;        /* anamorphic ratio: the blur of a point is CoC / ratio     */
+                                  /* wide and CoC tall (ratio 2: tall ovals). The CoC this     */
+                                  /* camera gives (ddof_coc_from_camera, coc_out) is the       */
+                                  /* blur's width in pixels; a caller diffusing it itself sets */
+                                  /* params.pixel_aspect = pixel_aspect * aperture_ratio.      */
+                                  /* Default 1; 0.01..100, and so its product with             */
+                                  /* pixel_aspect.                                             */
 } ddof_camera;
 
 DDOF_API void (ddof_camera_init)(ddof_camera *camera);
@@ -469,7 +487,8 @@ typedef struct ddof_params {
                                /* of its 3x3: a light's anti-aliased rim goes with the light; */
                                /* on the pixels at or behind its depth), so HDR highlights    */
                                /* come out as the crisp discs a lens draws, without a disc    */
-                               /* kernel's dark rim. A                                        */
+                               /* kernel's dark rim; with a camera, in its aperture's shape  */
+                               /* (ddof_camera.aperture_blades, _ratio). A                    */
                                /* disc costs its rows and rim, not its area, and the pass at  */
                                /* most 8 operations per frame pixel: the brightest first (the */
                                /* threshold rises in quarter octaves until they fit).        */

@@ -69,6 +69,16 @@ static inline int ddof_camera_problem(const ddof_camera *camera, char *message, 
         snprintf(message, size, "camera window (%d, %d) must be within -%u..%u",
                  (int)camera->window_x, (int)camera->window_y, DDOF_MAX_DIMENSION,
                  DDOF_MAX_DIMENSION);
+    else if (camera->aperture_blades > DDOF_MAX_APERTURE_BLADES)
+        snprintf(message, size, "camera aperture_blades %u must be 0 (round) or 3..%u",
+                 camera->aperture_blades, DDOF_MAX_APERTURE_BLADES);
+    else if (!(fabs(camera->aperture_rotation_deg) <= 360.0))
+        snprintf(message, size, "camera aperture_rotation_deg %g must be within -360..360",
+                 camera->aperture_rotation_deg);
+    else if (!(camera->aperture_ratio >= DDOF_MIN_APERTURE_RATIO &&
+               camera->aperture_ratio <= DDOF_MAX_APERTURE_RATIO))
+        snprintf(message, size, "camera aperture_ratio %g must be within %g..%g",
+                 camera->aperture_ratio, DDOF_MIN_APERTURE_RATIO, DDOF_MAX_APERTURE_RATIO);
     else
         return 0;
 #undef DDOF_POSITIVE_FINITE
@@ -106,8 +116,10 @@ static inline ddof_camera_terms ddof_camera_terms_of(const ddof_camera *camera, 
     const double s1_mm = camera->focus_distance_m * 1000.0;
     const double lens_distance = camera->lens_model == DDOF_LENS_CYCLES ? s1_mm : s1_mm - f;
     const double k_mm = f * f / (camera->fstop * lens_distance);
+    /* The ratio narrows the blur: its width is the CoC over the ratio (Cycles scales the
+     * aperture's x by 1 / ratio), its height the CoC. */
     return (ddof_camera_terms){
-        .k_px = k_mm / pixel_w,
+        .k_px = k_mm / pixel_w / camera->aperture_ratio,
         .focus_units = camera->focus_distance_m / camera->depth_unit_m,
         .frame_width = frame_w, .frame_height = frame_h,
         .window_x = camera->window_x, .window_y = camera->window_y,

@@ -103,6 +103,7 @@ static ddof_camera default_camera(void)
         .focus_distance_m = 10.0,
         .pixel_aspect = 1.0,
         .depth_unit_m = 1.0,
+        .aperture_ratio = 1.0,
     };
 }
 

@@ -19,11 +19,18 @@
 
 ddof_status ddof_check_camera_aspect(ddof_context *context, const ddof_camera *camera)
 {
-    if (camera->pixel_aspect >= DDOF_MIN_PIXEL_ASPECT &&
-        camera->pixel_aspect <= DDOF_MAX_PIXEL_ASPECT)
+    /* The ratio stretches the blur as the pixel aspect does: the diffusion gets the product. */
+    const double aspect = camera->pixel_aspect * camera->aperture_ratio;
+    if (aspect >= DDOF_MIN_PIXEL_ASPECT && aspect <= DDOF_MAX_PIXEL_ASPECT)
         return DDOF_OK;
     /* DDOF_ERROR_BAD_CAMERA, as for a pixel aspect <= 0 (ddof_camera_terms.h): one status
      * for one field. */
+    if (camera->aperture_ratio != 1.0)
+        return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
+                         "camera pixel_aspect %.9g times aperture_ratio %.9g must be within "
+                         "%g..%g for the diffusion",
+                         camera->pixel_aspect, camera->aperture_ratio, DDOF_MIN_PIXEL_ASPECT,
+                         DDOF_MAX_PIXEL_ASPECT);
     return ddof_fail(context, DDOF_ERROR_BAD_CAMERA,
                      "camera pixel_aspect %.9g must be within %g..%g for the diffusion",
                      camera->pixel_aspect, DDOF_MIN_PIXEL_ASPECT, DDOF_MAX_PIXEL_ASPECT);

@@ -64,7 +64,7 @@ static ddof_status read_source(ddof_context *context, frame_setup *s, ddof_param
         /* Signed, so the planner knows the near field from the far. */
         s->camera.signed_coc = 1;
         p->coc_signed = 1;
-        p->pixel_aspect = (float)s->camera.pixel_aspect;
+        p->pixel_aspect = (float)(s->camera.pixel_aspect * s->camera.aperture_ratio);
     } else if (f->curve) {
         s->source = SOURCE_CURVE;
         status = ddof_read_curve(context, f->curve, &s->curve);
@@ -294,6 +294,9 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
     if (status != DDOF_OK)
         return status;
     ddof_fill_request_params(r, &p);
+    if (s.source == SOURCE_CAMERA)
+        q.aperture = (highlight_aperture){s.camera.aperture_blades,
+                                          s.camera.aperture_rotation_deg * (3.14159265358979323846 / 180.0)};
     return ddof_run_layered(context, &q, s.has_foreground, fg_visible, max_coc, stats,
                             t_start, ddof_seconds() - t_start);
 }

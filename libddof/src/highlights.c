@@ -5,6 +5,7 @@
 #include "parallel_rows.h"
 
 #include <float.h>
+#include <limits.h>
 #include <math.h>
 #include <string.h>
 
@@ -177,46 +178,186 @@ static int lands(const adi_request *r, int coc_signed, float threshold, uint32_t
     return (coc_signed ? c : fabsf(c)) >= threshold;
 }
 
-/* One row of a disc: |dx| <= inner has weight 1; inner < |dx| <= outer is the rim, whose
- * weight is clamp(radius + 0.5 - distance, 0, 1); inner < 0 when the row has no interior. */
-typedef struct disc_row {
-    int inner, outer;
-    float v2; /* the row's vertical offset squared, in horizontal pixels */
-} disc_row;
-
 static float radius_of(const highlight *h)
 {
     return 0.5f * fabsf(h->coc);
 }
 
+/* The rim's reach beyond the shape's edge in the shape's axes (rows scaled by 1 / aspect): half
+ * a pixel, which is more than half a unit vertically when rows are squeezed (aspect < 1). */
+static float rim_margin(float aspect)
+{
+    return aspect >= 1.0f ? 0.5f : 0.5f / aspect;
+}
+
 /* Rows of a disc above and below its centre (the pixel aspect stretches it vertically). */
 static int half_height(const highlight *h, float aspect)
 {
-    return (int)ceilf((radius_of(h) + 0.5f) * aspect);
+    return (int)ceilf((radius_of(h) + rim_margin(aspect)) * aspect);
 }
 
-static int disc_row_at(const highlight *h, float aspect, int dy, disc_row *row)
+/* One row of a highlight's shape, in columns dx from its centre: [inner_l, inner_r] has weight
+ * 1 (empty when inner_l > inner_r), the rim pixels around it up to [outer_l, outer_r] are
+ * anti-aliased, clamp(0.5 - signed distance to the shape's edge, 0, 1). The rim is walked
+ * outward from the interior, left before right (rim_column), so a disc's pixels are visited
+ * and summed in one order whatever the shape code. */
+typedef struct disc_row {
+    int inner_l, inner_r, outer_l, outer_r;
+    float v;  /* the row's vertical offset in horizontal pixels (down the image) */
+    float v2; /* v squared                                                         */
+} disc_row;
+
+/* The aperture as the scatter draws it: a disc, or a regular polygon inscribed in the disc,
+ * whose edge normals point at rotation + 2 pi k / blades (Cycles' polygon: at rotation 0 an
+ * edge's middle lies on the +x axis, y up). A far highlight (CoC >= 0) is the aperture as the
+ * lens' rays cross the focus plane, upright; a near one is turned by 180 degrees. */
+typedef struct shape {
+    float aspect;                       /* rows per unit of the shape's y (>= 1: rows stretched) */
+    uint32_t sides;                     /* 0: a disc                              */
+    float normal[DDOF_MAX_APERTURE_BLADES][2];
+    float apothem;                      /* the inscribed polygon's, per unit radius */
+} shape;
+
+static shape shape_of(const highlight_aperture *aperture, float aspect)
 {
-    const float outer_r = radius_of(h) + 0.5f, inner_r = outer_r - 1.0f;
+    shape s = {.aspect = aspect};
+    if (!aperture || aperture->blades < 3)
+        return s;
+    s.sides = aperture->blades;
+    const double step = 2.0 * 3.14159265358979323846 / s.sides;
+    for (uint32_t k = 0; k < s.sides; k++) {
+        s.normal[k][0] = (float)cos(aperture->rotation_rad + step * k);
+        s.normal[k][1] = (float)sin(aperture->rotation_rad + step * k);
+    }
+    s.apothem = (float)cos(0.5 * step);
+    return s;
+}
+
+/* The signed distance of a highlight's point (dx, v) (image axes: v down, in the shape's units)
+ * from the polygon's edge, the aperture's axes having y up, turned by 180 degrees for a near
+ * highlight; in pixels when `pixels` (rows stretched by the aspect), else in the shape's units. */
+static float polygon_distance(const shape *s, const highlight *h, float dx, float v, int pixels)
+{
+    const float sign = h->coc < 0.0f ? -1.0f : 1.0f;
+    const float px = sign * dx, py = -sign * v;
+    float far = -INFINITY;
+    uint32_t edge = 0;
+    for (uint32_t k = 0; k < s->sides; k++) {
+        const float d = px * s->normal[k][0] + py * s->normal[k][1];
+        if (d > far) {
+            far = d;
+            edge = k;
+        }
+    }
+    const float units = far - s->apothem * radius_of(h);
+    if (!pixels)
+        return units;
+    const float ny = s->normal[edge][1] / s->aspect;
+    return units / sqrtf(s->normal[edge][0] * s->normal[edge][0] + ny * ny);
+}
+
+/* Columns dx of the row where the polygon's signed distance is at most t: [*lo, *hi] (real
+ * numbers), empty when *lo > *hi. Each edge bounds dx on one side (or the whole row). */
+static void polygon_span(const shape *s, const highlight *h, float v, float t, float *lo,
+                         float *hi)
+{
+    const float sign = h->coc < 0.0f ? -1.0f : 1.0f;
+    const float limit = s->apothem * radius_of(h) + t;
+    *lo = -INFINITY;
+    *hi = INFINITY;
+    for (uint32_t k = 0; k < s->sides; k++) {
+        const float c = sign * s->normal[k][0];
+        const float e = limit + sign * v * s->normal[k][1];
+        if (c > 1e-6f)
+            *hi = ddof_minf(*hi, e / c);
+        else if (c < -1e-6f)
+            *lo = ddof_maxf(*lo, e / c);
+        else if (e < 0.0f)
+            *lo = INFINITY;
+    }
+}
+
+static int disc_row_at(const shape *s, const highlight *h, float aspect, int dy, disc_row *row)
+{
+    const float margin = rim_margin(aspect);
+    const float outer_r = radius_of(h) + margin, inner_r = outer_r - 2.0f * margin;
     const float v = (float)dy / aspect, v2 = v * v;
     if (v2 >= outer_r * outer_r)
         return 0;
+    row->v = v;
     row->v2 = v2;
-    row->outer = (int)ceilf(sqrtf(outer_r * outer_r - v2));
-    row->inner = inner_r > 0.0f && v2 <= inner_r * inner_r
-                     ? (int)floorf(sqrtf(inner_r * inner_r - v2))
-                     : -1;
+    /* Columns past the disc's half a pixel hold no weight (the rows' margin may be wider). */
+    const int reach = (int)ceilf(radius_of(h) + 0.5f);
+    if (!s->sides) {
+        int outer = (int)ceilf(sqrtf(outer_r * outer_r - v2));
+        outer = outer > reach ? reach : outer;
+        const int inner = inner_r > 0.0f && v2 <= inner_r * inner_r
+                              ? (int)floorf(sqrtf(inner_r * inner_r - v2))
+                              : -1;
+        row->outer_l = -outer;
+        row->outer_r = outer;
+        row->inner_l = inner >= 0 ? -inner : 1;
+        row->inner_r = inner >= 0 ? inner : -1;
+        return 1;
+    }
+    float lo, hi, in_lo, in_hi;
+    polygon_span(s, h, v, margin, &lo, &hi);
+    if (!(lo < hi))
+        return 0;
+    row->outer_l = lo < (float)-reach ? -reach : (int)floorf(lo);
+    row->outer_r = hi > (float)reach ? reach : (int)ceilf(hi);
+    polygon_span(s, h, v, -margin, &in_lo, &in_hi);
+    if (in_lo <= in_hi && ceilf(in_lo) <= floorf(in_hi)) {
+        row->inner_l = (int)ceilf(in_lo);
+        row->inner_r = (int)floorf(in_hi);
+    } else { /* no interior: the rim is walked from the row's middle */
+        const int middle = (int)lrintf(0.5f * (lo + hi));
+        const int c = middle < row->outer_l ? row->outer_l
+                                            : middle > row->outer_r ? row->outer_r : middle;
+        row->inner_l = c + 1;
+        row->inner_r = c - 1;
+    }
     return 1;
 }
 
-static float rim_weight(const highlight *h, const disc_row *row, int dx)
+/* clamp(0.5 - the pixel's signed distance from the shape's edge, 0, 1). With rows stretched by
+ * the aspect the distance in the shape's units is divided by its gradient's length in pixels. */
+static float rim_weight(const shape *s, const highlight *h, const disc_row *row, int dx)
 {
-    const float w = radius_of(h) + 0.5f - sqrtf((float)(dx * dx) + row->v2);
+    float w;
+    if (s->sides) {
+        w = 0.5f - polygon_distance(s, h, (float)dx, row->v, s->aspect != 1.0f);
+    } else if (s->aspect == 1.0f) {
+        w = radius_of(h) + 0.5f - sqrtf((float)(dx * dx) + row->v2);
+    } else {
+        const float u2 = (float)(dx * dx), d = sqrtf(u2 + row->v2);
+        const float grad = d > 0.0f ? sqrtf(u2 + row->v2 / (s->aspect * s->aspect)) / d : 1.0f;
+        w = 0.5f - (d - radius_of(h)) / grad;
+    }
     return w <= 0.0f ? 0.0f : w >= 1.0f ? 1.0f : w;
+}
+
+/* The k-th rim column (k >= 1) on `side` (-1 left, 1 right), or INT_MIN when there is none
+ * there: left columns inner_l - k down to outer_l, right ones inner_r + k up to outer_r, a
+ * row without interior starting with its middle column once. */
+static int rim_column(const disc_row *row, int k, int side)
+{
+    const int x = side < 0 ? row->inner_l - k : row->inner_r + k;
+    if (side > 0 && x == row->inner_l - k)
+        return INT_MIN; /* the middle column of a row without interior, once */
+    return (side < 0 ? x >= row->outer_l : x <= row->outer_r) ? x : INT_MIN;
+}
+
+/* Rim columns to walk on either side. */
+static int rim_steps(const disc_row *row)
+{
+    const int left = row->inner_l - row->outer_l, right = row->outer_r - row->inner_r;
+    return left > right ? left : right;
 }
 
 typedef struct scatter_job {
     const adi_request *r;
+    shape shape;
     int coc_signed;
     const highlight *items; /* of one size class, in row order                           */
     uint32_t count;
@@ -254,20 +395,19 @@ static void landing_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 static void interior_span(const adi_request *r, const highlight *h, const disc_row *row, int *a,
                           int *b)
 {
-    *a = (int)h->x - row->inner < 0 ? 0 : (int)h->x - row->inner;
-    *b = (int)h->x + row->inner >= (int)r->width ? (int)r->width - 1 : (int)h->x + row->inner;
+    *a = (int)h->x + row->inner_l < 0 ? 0 : (int)h->x + row->inner_l;
+    *b = (int)h->x + row->inner_r >= (int)r->width ? (int)r->width - 1
+                                                    : (int)h->x + row->inner_r;
 }
 
-/* The rim pixels of a disc row: dx = inner + 1 .. outer on both sides; *x the first one's
- * column on `side` (-1 or 1), 0 when it is outside the image or has no weight. */
-static int rim_pixel(const adi_request *r, const highlight *h, const disc_row *row, int dx,
-                     int side, int *x, float *w)
+/* Rim column dx of a row: *x its image column, 0 when it is outside the image or has no
+ * weight. */
+static int rim_pixel(const scatter_job *job, const highlight *h, const disc_row *row, int dx,
+                     int *x, float *w)
 {
-    if (dx == 0 && side > 0)
-        return 0; /* the centre column, once */
-    *w = rim_weight(h, row, dx);
-    *x = (int)h->x + side * dx;
-    return *w > 0.0f && *x >= 0 && *x < (int)r->width;
+    *w = rim_weight(&job->shape, h, row, dx);
+    *x = (int)h->x + dx;
+    return *w > 0.0f && *x >= 0 && *x < (int)job->r->width;
 }
 
 static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
@@ -282,20 +422,23 @@ static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
         for (int dy = -reach; dy <= reach; dy++) {
             const int y = (int)h->y + dy;
             disc_row row;
-            if (y < 0 || y >= (int)r->height || !disc_row_at(h, r->pixel_aspect, dy, &row))
+            if (y < 0 || y >= (int)r->height ||
+                !disc_row_at(&job->shape, h, r->pixel_aspect, dy, &row))
                 continue;
-            if (row.inner >= 0) {
+            if (row.inner_l <= row.inner_r) {
                 int a, b;
                 interior_span(r, h, &row, &a, &b);
                 const uint32_t *count = landing_row(job, y);
                 if (a <= b)
                     sum += (double)(count[b + 1 - job->bx0] - count[a - job->bx0]);
             }
-            for (int dx = row.inner + 1; dx <= row.outer; dx++)
+            const int steps = rim_steps(&row);
+            for (int k = 1; k <= steps; k++)
                 for (int side = -1; side <= 1; side += 2) {
+                    const int dx = rim_column(&row, k, side);
                     int x;
                     float w;
-                    if (rim_pixel(r, h, &row, dx, side, &x, &w) &&
+                    if (dx != INT_MIN && rim_pixel(job, h, &row, dx, &x, &w) &&
                         lands(r, job->coc_signed, job->threshold, (uint32_t)x, (uint32_t)y))
                         sum += w;
                 }
@@ -347,10 +490,11 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         for (int dy = -reach; dy <= reach; dy++) {
             const int y = (int)h->y + dy;
             disc_row row;
-            if (y < (int)y0 || y >= (int)y1 || !disc_row_at(h, r->pixel_aspect, dy, &row))
+            if (y < (int)y0 || y >= (int)y1 ||
+                !disc_row_at(&job->shape, h, r->pixel_aspect, dy, &row))
                 continue;
             float *d = job->diff + (size_t)y * row_floats;
-            if (row.inner >= 0) {
+            if (row.inner_l <= row.inner_r) {
                 int a, b;
                 interior_span(r, h, &row, &a, &b);
                 if (a <= b)
@@ -360,11 +504,13 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
                             d[(size_t)(b + 1) * 3 + c] -= e[c];
                     }
             }
-            for (int dx = row.inner + 1; dx <= row.outer; dx++)
+            const int steps = rim_steps(&row);
+            for (int k = 1; k <= steps; k++)
                 for (int side = -1; side <= 1; side += 2) {
+                    const int dx = rim_column(&row, k, side);
                     int x;
                     float w;
-                    if (rim_pixel(r, h, &row, dx, side, &x, &w)) {
+                    if (dx != INT_MIN && rim_pixel(job, h, &row, dx, &x, &w)) {
                         const float v[3] = {e[0] * w, e[1] * w, e[2] * w};
                         add_diff(d, job->bx1, x, v);
                     }
@@ -459,7 +605,8 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
 }
 
 void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
-                             const highlight_set *set, float *scratch)
+                             const highlight_aperture *aperture, const highlight_set *set,
+                             float *scratch)
 {
     if (!set->count)
         return;
@@ -475,8 +622,8 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
     for (uint32_t i = 0; i < set->count; i++)
         sorted[at[size_class(set->items[i].coc, coc_signed)]++] = set->items[i];
 
-    scatter_job job = {.r = r, .coc_signed = coc_signed, .landing = set->landing,
-                       .weights = set->weights, .diff = scratch};
+    scatter_job job = {.r = r, .shape = shape_of(aperture, r->pixel_aspect), .coc_signed = coc_signed,
+                       .landing = set->landing, .weights = set->weights, .diff = scratch};
     for (int k = 0; k <= SIZE_CLASSES; k++) {
         if (start[k + 1] == start[k])
             continue;

@@ -68,9 +68,18 @@ typedef struct highlight_set {
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
                                  int coc_signed, float *base, highlight_set *set);
 
-/* Adds each highlight's excess to r->out as its disc. scratch: width x height x 3 floats
+/* The aperture's shape for the scatter: a disc (blades 0, 1 or 2, as Cycles), or a regular
+ * polygon of 3..DDOF_MAX_APERTURE_BLADES blades inscribed in the disc, turned by rotation_rad
+ * (Blender's aperture_rotation). An ellipse (the aperture ratio) is the request's pixel aspect. */
+typedef struct highlight_aperture {
+    uint32_t blades;
+    double rotation_rad;
+} highlight_aperture;
+
+/* Adds each highlight's excess to r->out as its disc (aperture NULL) or aperture shape. scratch: width x height x 3 floats
  * (the base image of ddof_find_highlights may serve: it is not needed any more). */
 void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
-                             const highlight_set *set, float *scratch);
+                             const highlight_aperture *aperture, const highlight_set *set,
+                             float *scratch);
 
 #endif

@@ -499,7 +499,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
          * the element's spread CoC reaches (|CoC| at least half the disc's: the element's
          * blur, never the sharp pixels beside it). */
         const double t0 = ddof_seconds();
-        ddof_scatter_highlights(context, &blur, 0, &lights,
+        ddof_scatter_highlights(context, &blur, 0, &q->aperture, &lights,
                                 (float *)highlights_base(context, &blur));
         report->effects |= DDOF_EFFECT_HIGHLIGHTS;
         report->seconds_highlights += ddof_seconds() - t0;
@@ -570,7 +570,7 @@ static void draw_highlights(ddof_context *context, const layers_request *q,
     if (!set->count)
         return;
     const double t0 = ddof_seconds();
-    ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, set,
+    ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, &q->aperture, set,
                             (float *)highlights_base(context, &q->base));
     report->effects |= DDOF_EFFECT_HIGHLIGHTS;
     report->seconds_highlights += ddof_seconds() - t0;

@@ -4,6 +4,7 @@
 #define DDOF_LAYERS_H
 
 #include "adi.h"
+#include "highlights.h"
 #include "planner.h"
 
 /* A validated layered request. */
@@ -26,6 +27,8 @@ typedef struct layers_request {
     float fg_max_coc;          /* its largest |CoC| there                                    */
     pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */
     pixel_box near_box;        /* where the near-field pixels are (CoC < 0)                  */
+    highlight_aperture aperture; /* the highlights' shape (zero: a disc); the aperture ratio  */
+                               /* is base.pixel_aspect's part                                  */
 } layers_request;
 
 /* Everything a layered call reports (folded into ddof_stats by the caller). */

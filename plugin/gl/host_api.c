@@ -218,7 +218,9 @@ static ddof_status read_camera(const ddof_camera *caller, ddof_camera *camera, c
                                 "ddof_camera_init)", caller->struct_size, needed);
         return DDOF_ERROR_BAD_PARAMETER;
     }
+    /* The defaults of the fields an older caller's struct lacks: 0, and a ratio of 1. */
     memset(camera, 0, sizeof *camera);
+    camera->aperture_ratio = 1.0;
     memcpy(camera, caller, caller->struct_size < sizeof *camera ? caller->struct_size
                                                                 : sizeof *camera);
     camera->struct_size = sizeof *camera;
@@ -290,9 +292,14 @@ static ddof_status host_run(ddof_gl_host *host, const ddof_params *params,
             params->struct_size >= offsetof(ddof_params, precision) + sizeof params->precision
                 ? params->precision
                 : DDOF_PRECISION_FLOAT;
+        /* With a camera the CoC is the blur's width, and its aperture ratio stretches the
+         * blur's height as a pixel aspect does. */
+        const float aspect =
+            camera ? (float)(params->pixel_aspect * full_camera.aperture_ratio)
+                   : params->pixel_aspect;
         const gl_diffusion d = {width, height, 4, params->solver, precision, params->substeps,
                                 params->jacobi_iterations, params->beta_scale,
-                                params->pixel_aspect, 0, params->progress,
+                                aspect, 0, params->progress,
                                 params->progress_user, NULL /* the heat kernel */, {0}, {0}};
         const ddof_camera_terms terms =
             camera ? ddof_camera_terms_of(&full_camera, width, height) : (ddof_camera_terms){0};

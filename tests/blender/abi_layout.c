@@ -37,6 +37,9 @@ int main(void)
     F(ddof_camera, depth_unit_m); F(ddof_camera, signed_coc);
     F(ddof_camera, frame_width); F(ddof_camera, frame_height); F(ddof_camera, window_x);
     F(ddof_camera, window_y);
+    F(ddof_camera, aperture_blades);
+    F(ddof_camera, aperture_rotation_deg);
+    F(ddof_camera, aperture_ratio);
     END();
     BEGIN(ddof_curve);
     F(ddof_curve, struct_size); F(ddof_curve, near_blur_px); F(ddof_curve, near_start);

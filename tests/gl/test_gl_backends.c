@@ -249,6 +249,39 @@ static void test_host_depth(void *plugin, ddof_gl_host *gl_host, const texture_c
                radial ? "radial" : "planar", e);
         CHECK(st.max_coc_px > 5.0f); /* the CoC did reach the solver */
     }
+    /* An anamorphic aperture: the CoC is the blur's width (half for ratio 2) and the blur twice
+     * as tall, as the CPU's ddof_coc_from_camera with pixel_aspect * ratio; and a 0.5 caller's
+     * camera, which has no ratio field, is round (its struct once read as ratio 0: refused). */
+    for (int old = 0; old < 2; old++) {
+        ddof_camera camera;
+        ddof_camera_init(&camera);
+        camera.focal_length_mm = 100.0;
+        camera.fstop = 1.4;
+        camera.focus_distance_m = 2.0;
+        camera.aperture_ratio = 2.0;
+        if (old)
+            camera.struct_size = (uint32_t)DDOF_CAMERA_SIZE_0_5;
+        ddof_camera as_read = camera;
+        as_read.aperture_ratio = old ? 1.0 : 2.0;
+        as_read.struct_size = sizeof as_read;
+        ddof_image_in depth_in = {depth, W, H, 1, 0};
+        ddof_image coc_image = {cpu_coc, W, H, 1, 0};
+        CHECK_EQ_INT(ddof_coc_from_camera(cpu, &as_read, &depth_in, &coc_image), DDOF_OK);
+        ddof_params p = params_for(DDOF_SOLVER_REFERENCE_F64, 1);
+        p.pixel_aspect = (float)as_read.aperture_ratio;
+        CHECK_EQ_INT(diffuse(cpu, &p, color, cpu_coc, expect, W, H, CH, NULL), DDOF_OK);
+        t->bind(GL_TEXTURE_2D, tex[1]);
+        t->sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED, GL_FLOAT, depth);
+        p = params_for(DDOF_SOLVER_THOMAS, 1);
+        ddof_status s = host_depth(gl_host, &p, &camera, tex[0], tex[1], tex[2], W, H, NULL);
+        CHECK_MSG(s == DDOF_OK, "host depth (ratio 2, %s camera): %d %s", old ? "0.5" : "0.7",
+                  (int)s, host_last_error(gl_host));
+        t->bind(GL_TEXTURE_2D, tex[2]);
+        t->get_image(GL_TEXTURE_2D, 0, GL_RGBA, GL_FLOAT, out);
+        const double e = max_diff(out, expect, W * H * CH);
+        CHECK_MSG(e <= 1e-5, "host depth (ratio 2, %s camera) vs the CPU: %.3g",
+                  old ? "0.5" : "0.7", e);
+    }
     /* A NaN depth: a status naming the pixel, and the output texture as it was. */
     fill_const(sentinel, W * H * CH, 0.25f);
     t->bind(GL_TEXTURE_2D, tex[2]);

@@ -227,6 +227,21 @@ static int duplicate_key(const char *text, size_t size, size_t *second, size_t *
     return found;
 }
 
+/* An optional finite number of any sign (the aperture's blades and rotation). */
+static int finite_number(const cJSON *root, const char *key, double *out, const char *path,
+                         char *error, size_t error_size)
+{
+    const cJSON *item = cJSON_GetObjectItemCaseSensitive(root, key);
+    if (!item)
+        return 0;
+    if (!cJSON_IsNumber(item) || !isfinite(item->valuedouble)) {
+        snprintf(error, error_size, "%s: \"%s\" must be a finite number", path, key);
+        return -1;
+    }
+    *out = item->valuedouble;
+    return 0;
+}
+
 static int number(const cJSON *root, const char *key, int required, double *out,
                   const char *path, char *error, size_t error_size)
 {
@@ -329,6 +344,7 @@ int camera_sidecar_parse(const char *text, size_t size, const char *path, camera
     char *decoded = NULL;
     long deep;
     int fit = 0, depth = 0, rc = -1, duplicate;
+    double blades = 0.0;
 
     memset(out, 0, sizeof *out);
     ddof_camera_init(&out->camera);
@@ -385,8 +401,19 @@ int camera_sidecar_parse(const char *text, size_t size, const char *path, camera
         resolution(root, out->resolution, path, error, error_size) ||
         number(root, "pixel_aspect", 1, &out->camera.pixel_aspect, path, error, error_size) ||
         choice(root, "depth", 0, depths, 2, &depth, path, error, error_size) ||
-        number(root, "unit_scale_m", 0, &out->camera.depth_unit_m, path, error, error_size))
+        number(root, "unit_scale_m", 0, &out->camera.depth_unit_m, path, error, error_size) ||
+        finite_number(root, "aperture_blades", &blades, path, error, error_size) ||
+        finite_number(root, "aperture_rotation_deg", &out->camera.aperture_rotation_deg, path,
+                      error, error_size) ||
+        number(root, "aperture_ratio", 0, &out->camera.aperture_ratio, path, error,
+               error_size))
         goto done;
+    if (!(blades >= 0.0 && blades <= DDOF_MAX_APERTURE_BLADES && blades == floor(blades))) {
+        snprintf(error, error_size, "%s: \"aperture_blades\" must be a whole number within "
+                 "0..%u (0: round)", path, DDOF_MAX_APERTURE_BLADES);
+        goto done;
+    }
+    out->camera.aperture_blades = (uint32_t)blades;
     out->camera.sensor_fit = (ddof_sensor_fit)fit;
     out->camera.depth_kind = depth ? DDOF_DEPTH_RADIAL : DDOF_DEPTH_PLANAR;
     rc = 0;

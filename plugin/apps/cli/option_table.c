@@ -126,7 +126,8 @@ const cli_option cli_option_table[] = {
     {"--camera", COC, STRING(camera_json, "FILE.json"),
      .help = "camera sidecar: focal_length_mm, sensor_width_mm, sensor_fit,\n"
              "fstop, focus_distance_m, resolution, pixel_aspect, [depth,\n"
-             "unit_scale_m]; the flags below override its values"},
+             "unit_scale_m, aperture_blades, aperture_rotation_deg,\n"
+             "aperture_ratio]; the flags below override its values"},
     {"--focal-length", COC, DOUBLE(camera.focal_length_mm, "MM", CLI_POSITIVE),
      .camera_bit = CAM_FOCAL,
      .help = "the lens's focal length"},
@@ -145,6 +146,16 @@ const cli_option cli_option_table[] = {
     {"--pixel-aspect", COC, DOUBLE(camera.pixel_aspect, "A", CLI_POSITIVE),
      .camera_bit = CAM_ASPECT,
      .help = "pixel width / height"},
+    {"--aperture-blades", COC, UINT(camera.aperture_blades, 0, DDOF_MAX_APERTURE_BLADES),
+     .camera_bit = CAM_BLADES,
+     .help = "the aperture's blades: 0 round, 3..16 a polygon (Blender's\n"
+             "Blades); highlights are drawn in its shape"},
+    {"--aperture-rotation", COC, DOUBLE(camera.aperture_rotation_deg, "DEG", CLI_ANY_NUMBER),
+     .camera_bit = CAM_ROTATION,
+     .help = "the blades' rotation, degrees (Blender's Rotation)"},
+    {"--aperture-ratio", COC, DOUBLE(camera.aperture_ratio, "R", CLI_POSITIVE),
+     .camera_bit = CAM_RATIO,
+     .help = "anamorphic ratio (Blender's Ratio): 2 draws tall ovals"},
     {"--depth-kind", COC, CHOICE(camera.depth_kind, cli_choices_depth_kind),
      .camera_bit = CAM_DEPTH_KIND,
      .help = "planar: camera Z (Blender's Depth pass); radial: distance\n"

@@ -37,7 +37,10 @@ enum {
     CAM_ASPECT = 1 << 5,
     CAM_DEPTH_KIND = 1 << 6,
     CAM_UNIT = 1 << 7,
-    CAM_LENS = 1 << 8
+    CAM_LENS = 1 << 8,
+    CAM_BLADES = 1 << 9,
+    CAM_ROTATION = 1 << 10,
+    CAM_RATIO = 1 << 11
 };
 
 typedef struct cli_options {

@@ -115,6 +115,9 @@ static cJSON *camera_json(const ddof_camera *c)
     cJSON_AddNumberToObject(o, "pixel_aspect", c->pixel_aspect);
     cJSON_AddStringToObject(o, "depth", camera_sidecar_depth_name(c->depth_kind));
     cJSON_AddNumberToObject(o, "unit_scale_m", c->depth_unit_m);
+    cJSON_AddNumberToObject(o, "aperture_blades", c->aperture_blades);
+    cJSON_AddNumberToObject(o, "aperture_rotation_deg", c->aperture_rotation_deg);
+    cJSON_AddNumberToObject(o, "aperture_ratio", c->aperture_ratio);
     return o;
 }
 

@@ -56,7 +56,9 @@ DDOF_GL_API ddof_status ddof_gl_host_diffuse(ddof_gl_host *host, const ddof_para
 
 /* The same from a depth texture: the CoC is computed on the device from the first channel of
  * depth_texture (planar or radial depth in depth units, +inf for the sky) and the camera, by
- * ddof_coc_from_camera's formula (lens model, sensor fit, pixel aspect, crop window), in float
+ * ddof_coc_from_camera's formula (lens model, sensor fit, pixel aspect, crop window, the
+ * aperture ratio: the CoC is the blur's width and params.pixel_aspect is multiplied by the
+ * ratio for its height; blades are the highlight pass's, which this call has not), in float
  * where the CPU uses double (results within 1.2e-7 of the CPU's in the tests; a CoC within
  * float rounding of in_focus_threshold_px may fall on the other side of it). The camera is
  * checked as ddof_camera_check does: DDOF_ERROR_BAD_CAMERA. A depth that is NaN, zero or

@@ -1,0 +1,239 @@
+/* SPDX-License-Identifier: MIT */
+/* test_aperture.c - the camera's aperture (ddof_camera.aperture_blades, _rotation_deg, _ratio):
+ * a bright point far behind the focus comes out as the anti-aliased regular polygon Cycles
+ * samples (edge normals at rotation + 2 pi k / blades, inscribed in the round aperture) or the
+ * ellipse of the anamorphic ratio (CoC / ratio wide, CoC tall), against a reference that
+ * supersamples the shape in double; its energy is kept; a rotation by one blade step changes
+ * nothing; the default aperture is the 0.5 struct's (round) bit for bit; the CoC is the blur's
+ * width; the bounds are checked. */
+#include "test_util.h"
+
+#include <ddof.h>
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+enum { W = 224, H = 224, N = W * H, CX = 111, CY = 113 };
+#define LIGHT 1000.0f
+#define PI 3.14159265358979323846
+
+static ddof_context *ctx;
+
+/* 50 mm on a 36 mm sensor, W pixels wide, focused at 2 m; the f-number gives the CoC far away. */
+static ddof_camera camera_for(double coc_far_px)
+{
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    cam.focal_length_mm = 50.0;
+    cam.sensor_width_mm = 36.0;
+    cam.focus_distance_m = 2.0;
+    cam.fstop = 2500.0 / 2000.0 / (36.0 / W) / coc_far_px;
+    return cam;
+}
+
+/* A black frame at 1000 m with one white pixel of LIGHT at (CX, CY); out: RGBA. *coc gets the
+ * CoC the library computed for the frame (uniform). */
+static ddof_status point_spread(const ddof_camera *cam, float *out, float *coc)
+{
+    static float color[N * 4], depth[N], coc_map[N];
+    memset(color, 0, sizeof color);
+    for (int i = 0; i < N; i++) {
+        color[i * 4 + 3] = 1.0f;
+        depth[i] = 1000.0f;
+    }
+    for (int c = 0; c < 3; c++)
+        color[(CY * W + CX) * 4 + c] = LIGHT;
+    ddof_status s = ddof_coc_from_camera(ctx, cam, &(ddof_image_in){depth, W, H, 1, 0},
+                                         &(ddof_image){coc_map, W, H, 1, 0});
+    *coc = coc_map[0];
+    if (s != DDOF_OK)
+        return s;
+    ddof_params p;
+    ddof_params_init(&p);
+    return ddof_depth_of_field(ctx, &p, cam, &(ddof_image_in){color, W, H, 4, 0},
+                               &(ddof_image_in){depth, W, H, 1, 0},
+                               &(ddof_image){out, W, H, 4, 0}, NULL);
+}
+
+/* Whether image offset (x right, y down, pixels) from the point lies in the aperture's shape
+ * for a far point: the blur is the aperture (y up) scaled to CoC / 2 across and ratio times
+ * that tall. */
+static int in_shape(double x, double y, double coc, double ratio, unsigned blades,
+                    double rotation)
+{
+    const double ax = x / (0.5 * coc), ay = -y / (0.5 * coc * ratio);
+    if (blades < 3)
+        return ax * ax + ay * ay <= 1.0;
+    double far = -INFINITY;
+    for (unsigned k = 0; k < blades; k++) {
+        const double a = rotation + 2.0 * PI * k / blades;
+        far = fmax(far, ax * cos(a) + ay * sin(a));
+    }
+    return far <= cos(PI / blades);
+}
+
+/* The shape's coverage of each pixel (16 x 16 samples), scaled to hold `energy`. */
+static void reference(double coc, double ratio, unsigned blades, double rotation, double energy,
+                      double *ref)
+{
+    double total = 0.0;
+    const double reach_x = 0.5 * coc + 2.0, reach_y = 0.5 * coc * ratio + 2.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            ref[y * W + x] = 0.0;
+            if (fabs((double)(x - CX)) > reach_x || fabs((double)(y - CY)) > reach_y)
+                continue; /* outside the shape's box */
+            int hits = 0;
+            for (int j = 0; j < 16; j++)
+                for (int i = 0; i < 16; i++)
+                    hits += in_shape(x - CX + (i + 0.5) / 16 - 0.5, y - CY + (j + 0.5) / 16 - 0.5,
+                                     coc, ratio, blades, rotation);
+            ref[y * W + x] = hits / 256.0;
+            total += ref[y * W + x];
+        }
+    for (int i = 0; i < N; i++)
+        ref[i] *= energy / total;
+}
+
+/* Kernel SNR of the red channel against ref, in dB; *energy the channel's sum. */
+static double snr_db(const float *out, const double *ref, double *energy)
+{
+    double signal = 0.0, noise = 0.0, sum = 0.0;
+    for (int i = 0; i < N; i++) {
+        const double e = out[i * 4] - ref[i];
+        signal += ref[i] * ref[i];
+        noise += e * e;
+        sum += out[i * 4];
+    }
+    *energy = sum;
+    return 10.0 * log10(signal / noise);
+}
+
+static void check_shape(double coc_far, unsigned blades, double rotation_deg, double ratio,
+                        double min_db)
+{
+    static float out[N * 4];
+    static double ref[N];
+    ddof_camera cam = camera_for(coc_far);
+    cam.aperture_blades = blades;
+    cam.aperture_rotation_deg = rotation_deg;
+    cam.aperture_ratio = ratio;
+    float coc = 0.0f;
+    CHECK(point_spread(&cam, out, &coc) == DDOF_OK);
+    /* The highlight pass takes out what is above its threshold (0.25 of the default preset);
+     * the rest is diffused round. */
+    reference(coc, ratio, blades, rotation_deg * PI / 180.0, LIGHT - 0.25, ref);
+    double energy;
+    const double db = snr_db(out, ref, &energy);
+    CHECK_MSG(db >= min_db, "blades %u, rotation %g, ratio %g, CoC %.2f px: %.2f dB against the "
+              "shape (want >= %g)", blades, rotation_deg, ratio, (double)coc, db, min_db);
+    CHECK_MSG(fabs(energy - LIGHT) <= 0.01 * LIGHT, "blades %u, ratio %g: energy %.3f of %g",
+              blades, ratio, energy, (double)LIGHT);
+    printf("blades %2u rotation %5.1f ratio %.1f CoC %5.2f px: %6.2f dB, energy %.4f\n", blades,
+           rotation_deg, ratio, (double)coc, db, energy / LIGHT);
+}
+
+/* The CoC a camera gives is the blur's width: the ratio divides it. */
+static void test_coc_is_the_width(void)
+{
+    static float out[N * 4];
+    ddof_camera cam = camera_for(32.0);
+    float round_coc = 0.0f, oval_coc = 0.0f;
+    CHECK(point_spread(&cam, out, &round_coc) == DDOF_OK);
+    cam.aperture_ratio = 2.0;
+    CHECK(point_spread(&cam, out, &oval_coc) == DDOF_OK);
+    CHECK_MSG(fabsf(oval_coc - 0.5f * round_coc) <= 1e-5f * round_coc,
+              "ratio 2: CoC %g, round %g", (double)oval_coc, (double)round_coc);
+}
+
+/* Turning a polygon by one blade step draws the same polygon. */
+static void test_rotation_symmetry(void)
+{
+    static float a[N * 4], b[N * 4];
+    ddof_camera cam = camera_for(40.0);
+    float coc;
+    cam.aperture_blades = 4;
+    cam.aperture_rotation_deg = 10.0;
+    CHECK(point_spread(&cam, a, &coc) == DDOF_OK);
+    cam.aperture_rotation_deg = 100.0;
+    CHECK(point_spread(&cam, b, &coc) == DDOF_OK);
+    double worst = 0.0;
+    for (int i = 0; i < N * 4; i++)
+        worst = fmax(worst, fabs((double)a[i] - b[i]));
+    /* cos/sin of angles 90 degrees apart agree to float rounding, not bit for bit. */
+    CHECK_MSG(worst <= 1e-3, "4 blades at 10 and 100 degrees differ by %g", worst);
+}
+
+/* The default aperture (round, ratio 1) is what a 0.5 caller's camera, without the fields,
+ * gets: the same output bit for bit; so are 1 and 2 blades (round, as Cycles). */
+static void test_default_is_round(void)
+{
+    static float a[N * 4], b[N * 4];
+    ddof_camera cam = camera_for(30.0);
+    float coc;
+    CHECK(point_spread(&cam, a, &coc) == DDOF_OK);
+    ddof_camera old = cam;
+    old.struct_size = (uint32_t)DDOF_CAMERA_SIZE_0_5;
+    old.aperture_blades = 6; /* past the old struct: not read */
+    CHECK(point_spread(&old, b, &coc) == DDOF_OK);
+    CHECK(memcmp(a, b, sizeof a) == 0);
+    cam.aperture_blades = 2;
+    cam.aperture_rotation_deg = 33.0;
+    CHECK(point_spread(&cam, b, &coc) == DDOF_OK);
+    CHECK(memcmp(a, b, sizeof a) == 0);
+}
+
+static void test_bounds(void)
+{
+    ddof_camera cam = camera_for(30.0);
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    cam.aperture_blades = DDOF_MAX_APERTURE_BLADES;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    cam.aperture_blades = DDOF_MAX_APERTURE_BLADES + 1;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    cam = camera_for(30.0);
+    const double rotations[] = {NAN, INFINITY, 360.5, -361.0};
+    for (int i = 0; i < 4; i++) {
+        cam.aperture_rotation_deg = rotations[i];
+        CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    }
+    cam.aperture_rotation_deg = -360.0;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    const double ratios[] = {0.0, -1.0, NAN, 0.0099, 100.5, INFINITY};
+    for (int i = 0; i < 6; i++) {
+        cam.aperture_ratio = ratios[i];
+        CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    }
+    cam.aperture_ratio = 0.01;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    /* The diffusion takes the product with the pixel aspect: 0.5 x 0.01 is past its range. */
+    cam.pixel_aspect = 0.5;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    CHECK(strstr(ddof_context_last_error(ctx), "aperture_ratio") != NULL);
+}
+
+int main(void)
+{
+    ddof_context_options o;
+    ddof_context_options_init(&o);
+    CHECK(ddof_context_create(&o, &ctx) == DDOF_OK);
+    /* 37-49 dB measured (the issue's bar: >= 25 dB against the hexagon at D = 32 and 80 px, >= 30
+     * for highlights). The rim is anti-aliased over half a pixel measured in pixels, so an
+     * ellipse's ends are as sharp as its sides (with half a unit of its stretched axes they
+     * were a pixel wide: 30.0 dB). */
+    check_shape(32.0, 6, 15.0, 1.0, 35.0);
+    check_shape(80.0, 6, 15.0, 1.0, 35.0);
+    check_shape(32.0, 5, 0.0, 1.0, 35.0);
+    check_shape(48.0, 3, -20.0, 1.0, 35.0);
+    check_shape(64.0, 7, 40.0, 1.5, 35.0);
+    check_shape(32.0, 0, 0.0, 1.0, 40.0);
+    check_shape(64.0, 0, 0.0, 2.0, 40.0);
+    check_shape(32.0, 0, 0.0, 0.5, 40.0);
+    test_coc_is_the_width();
+    test_rotation_symmetry();
+    test_default_is_round();
+    test_bounds();
+    ddof_context_free(ctx);
+    return test_report("test_aperture");
+}
