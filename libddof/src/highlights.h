@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* highlights.h - the highlight pass: the few brightest out-of-focus pixels drawn as discs.
+/* highlights.h - the highlight pass: the few brightest out-of-focus pixels drawn as discs, or as
+ * the aperture's polygon.
  *
  * A disc kernel is a sum of complex chains whose rim rings (about -7% of the disc's height).
  * Next to an HDR highlight a hundred times brighter than its surroundings that ring is a dark

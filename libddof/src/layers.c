@@ -546,10 +546,13 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
         ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed, base, set);
     if (status != DDOF_OK)
         return status;
+    char shape[32] = "discs";
+    if (q->aperture.blades >= 3)
+        snprintf(shape, sizeof shape, "%u-bladed polygons", q->aperture.blades);
     if (set->count)
         snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px "
-                             "drawn as discs (%.2f operations per frame pixel)",
-                 set->count, (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
+                             "drawn as %s (%.2f operations per frame pixel)",
+                 set->count, (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX, shape,
                  (double)set->cost / ((double)r->width * r->height));
     else if (set->over_budget)
         snprintf(line, size, "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g "

@@ -1353,6 +1353,37 @@ static int case_sidecar(void)
                "--substeps", "3", "--pixel-type", "float", NULL) == 0);
     CHECK(compare_output(test_path(dir, "b.exr"), ref, 1, 0.0, 0) == 0);
 
+    /* The aperture's keys reach the library's camera; the flags override them. */
+    {
+        const char *aperture =
+            "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+            " \"fstop\": 2.0, \"focus_distance_m\": 3.0, \"resolution\": [48, 32],"
+            " \"pixel_aspect\": 1.0, \"aperture_blades\": 6, \"aperture_rotation_deg\": -15,"
+            " \"aperture_ratio\": 2}";
+        test_write_file(json, aperture, strlen(aperture));
+        camera_50mm(&r.camera, 2.0, 3.0);
+        r.camera.aperture_blades = 6;
+        r.camera.aperture_rotation_deg = -15.0;
+        r.camera.aperture_ratio = 2.0;
+        library_result(&s, &r, ref, NULL);
+        CHECK(ddof(in, "-o", test_path(dir, "ap.exr"), "--camera", json, "--substeps", "3",
+                   "--pixel-type", "float", NULL) == 0);
+        CHECK(compare_output(test_path(dir, "ap.exr"), ref, 1, 0.0, 0) == 0);
+        r.camera.aperture_blades = 5;
+        r.camera.aperture_ratio = 1.5;
+        library_result(&s, &r, ref, NULL);
+        CHECK(ddof(in, "-o", test_path(dir, "ap2.exr"), "--camera", json, "--substeps", "3",
+                   "--aperture-blades", "5", "--aperture-ratio", "1.5", "--pixel-type", "float",
+                   NULL) == 0);
+        CHECK(compare_output(test_path(dir, "ap2.exr"), ref, 1, 0.0, 0) == 0);
+        CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json, "--aperture-blades",
+                   "17", NULL) == 2);
+        CHECK(!test_file_exists(test_path(dir, "bad.exr")));
+        r.camera.aperture_blades = 0;
+        r.camera.aperture_rotation_deg = 0.0;
+        r.camera.aperture_ratio = 1.0;
+    }
+
     /* A sidecar of another resolution: a warning, and the file's pixels rule. */
     {
         const char *other = "{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\":"
@@ -1385,6 +1416,17 @@ static int case_sidecar(void)
     BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
              " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48.5, 32],"
              " \"pixel_aspect\": 1}", "\"resolution\" must be [width, height]");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"aperture_blades\": 2.5}",
+             "\"aperture_blades\" must be a whole number within 0..16");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"aperture_ratio\": 0}", "\"aperture_ratio\" is 0");
+    BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+             " \"fstop\": 2, \"focus_distance_m\": 3, \"resolution\": [48, 32],"
+             " \"pixel_aspect\": 1, \"aperture_rotation_deg\": 400}",
+             "aperture_rotation_deg 400 must be within -360..360");
     /* Valid JSON, impossible camera: the library's check, once, before any frame. */
     BAD_JSON("{\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
              " \"fstop\": 2, \"focus_distance_m\": 0.01, \"resolution\": [48, 32],"
