@@ -105,8 +105,20 @@ def camera_settings(scene, settings, depsgraph=None, cam_obj=None):
     return camera, info
 
 
+def aperture_words(camera):
+    """The aperture when it is not round and plain: "6 blades at 15 deg, ratio 2", or ""."""
+    words = []
+    if camera.get("aperture_blades", 0) >= 3:
+        words.append("%d blades at %.3g deg" % (camera["aperture_blades"],
+                                               camera.get("aperture_rotation_deg", 0.0)))
+    if camera.get("aperture_ratio", 1.0) != 1.0:
+        words.append("ratio %.3g" % camera["aperture_ratio"])
+    return ", ".join(words)
+
+
 def describe(camera, info):
     """One line for the panel and the log."""
-    return "%s: %.0f mm f/%.3g, focus %.3g m (%s)" % (
+    aperture = aperture_words(camera)
+    return "%s: %.0f mm f/%.3g%s, focus %.3g m (%s)" % (
         info["camera"], camera["focal_length_mm"], camera["fstop"],
-        camera["focus_distance_m"], info["focus_source"])
+        " (%s)" % aperture if aperture else "", camera["focus_distance_m"], info["focus_source"])

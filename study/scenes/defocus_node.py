@@ -19,7 +19,8 @@ composites Image node (ViewLayer: Combined -> Image, Depth -> Z) -> Defocus -> C
 no Render Layers node, so `bpy.ops.render.render()` runs the compositor alone (Blender renders
 nothing when no Render Layers node is in the tree). The Defocus node gets the camera of the
 sidecar (focal length, sensor, AUTO fit, focus distance) as its scene camera, use_zbuffer on,
-circular bokeh, no gamma correction, use_preview off (full quality), blur_max 512 px radius
+the bokeh of the camera's blades (circular for 0; the sidecar's aperture_blades and
+aperture_rotation_deg as a user would set the node's Bokeh Type and Angle), no gamma correction, use_preview off (full quality), blur_max 512 px radius
 (so that nothing is clipped; 3.4), threshold 1 (Blender's default), and the f-stop (3.4)
 N * 1000 / sensor_mm * fstop-scale: docs/design.md section 1 says the node blurs 1000/sensor_mm
 times more than the physical lens at the same f-number (README.md, "Defocus node f-stop",
@@ -41,6 +42,7 @@ defocus.json; with --size-tag 1080, defocus_1080.json only (the image too with -
 """
 
 import json
+import math
 import os
 import statistics
 import struct
@@ -52,6 +54,10 @@ import bpy
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from node_rules import auto_blur_max, node_fstop, node_tag  # noqa: E402
 from script_util import parse, quiet, write_json  # noqa: E402
+
+
+BOKEH_OF_BLADES = {3: "TRIANGLE", 4: "SQUARE", 5: "PENTAGON", 6: "HEXAGON", 7: "HEPTAGON",
+                   8: "OCTAGON"}
 
 
 def parse_args():
@@ -167,8 +173,10 @@ def main():
     defocus = tree.nodes.new("CompositorNodeDefocus")
     defocus.scene = scene
     defocus.use_zbuffer = True
-    defocus.bokeh = "CIRCLE"
-    defocus.angle = 0.0
+    # The camera's blades as a user would give them to the node (it has no anamorphic ratio).
+    blades = int(cam.get("aperture_blades", 0))
+    defocus.bokeh = BOKEH_OF_BLADES.get(blades, "CIRCLE")
+    defocus.angle = math.radians(float(cam.get("aperture_rotation_deg", 0.0)))
     # 5.0 dropped these three (no threshold, no gamma option, always full quality).
     for name, value in (("use_gamma_correction", False), ("use_preview", False),
                         ("threshold", float(args["threshold"]))):
@@ -225,7 +233,7 @@ def main():
         "fstop_rule": fstop_rule,
         "blur_max": defocus.blur_max,
         "threshold": getattr(defocus, "threshold", None),
-        "bokeh": "CIRCLE",
+        "bokeh": defocus.bokeh,
         "use_zbuffer": True,
         "use_preview": getattr(defocus, "use_preview", None),
         "use_gamma_correction": getattr(defocus, "use_gamma_correction", None),

@@ -4,7 +4,7 @@
     blender -b --factory-startup --python-exit-code 1 --python study/scenes/make_scenes.py -- \
         --out DIR [--scenes a,b,...] [--size WxH] [--samples-pinhole N] [--samples-truth N] \
         [--samples-1080 N] [--no-1080] [--smoke] [--force] [--seed N] \
-        [--only pinhole,truth,fg,rest,1080] [--threads N] [--verbose]
+        [--only pinhole,truth,fg,rest,1080] [--threads N] [--aperture B,R,A] [--verbose]
 
 For each scene, into DIR/<scene>/:
   pinhole.exr        the input ddof gets: Blender multilayer EXR, ViewLayer.Combined.R/G/B/A
@@ -32,7 +32,9 @@ pixel footprint, which is what the study measures against.
 --smoke renders thin_bars alone at 96x54 with 4/16 samples and no 1080p pinhole (a few
 seconds; the CI smoke test). Outputs newer than this script whose settings match render.json
 are kept (a cache) unless --force. Deterministic: fixed seed, no adaptive sampling, no
-denoiser; --threads (default 2) fixes the thread count.
+denoiser; --threads (default 2) fixes the thread count. --aperture BLADES,ROTATION_DEG,RATIO
+gives the camera Blender's Blades, Rotation and Ratio (default 0,0,1: round; the truth then
+draws polygons or ovals, and camera.json carries the aperture_* keys).
 """
 
 import json
@@ -74,7 +76,8 @@ def parse_args():
         "make_scenes.py",
         {"out": None, "scenes": ",".join(SCENE_NAMES), "size": "480x270",
          "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
-         "seed": "1", "only": "pinhole,truth,fg,rest,1080", "threads": "2"},
+         "seed": "1", "only": "pinhole,truth,fg,rest,1080", "threads": "2",
+         "aperture": "0,0,1"},
         {"no-1080", "smoke", "force", "verbose"}, required=("out",))
     if args["smoke"]:
         args.update({"scenes": "thin_bars", "size": "96x54", "samples-pinhole": "4",
@@ -86,6 +89,8 @@ def parse_args():
         if s not in SCENE_NAMES:
             raise SystemExit("make_scenes.py: unknown scene %r (have: %s)"
                              % (s, ", ".join(SCENE_NAMES)))
+    blades, rotation, ratio = args["aperture"].split(",")
+    args["aperture_set"] = (int(blades), float(rotation), float(ratio))
     args["only_set"] = set(args["only"].split(","))
     if args["no-1080"]:
         args["only_set"].discard("1080")
@@ -486,7 +491,7 @@ BUILDERS = {
 # Camera, render settings, output
 
 
-def add_camera(scene, cam, lens_dof):
+def add_camera(scene, cam, lens_dof, aperture=(0, 0.0, 1.0)):
     data = bpy.data.cameras.new("Camera")
     data.lens = cam["focal_mm"]
     data.sensor_width = SENSOR_MM
@@ -496,9 +501,9 @@ def add_camera(scene, cam, lens_dof):
     data.dof.use_dof = lens_dof
     data.dof.focus_distance = cam["focus_m"]
     data.dof.aperture_fstop = cam["fstop"]
-    data.dof.aperture_blades = 0  # circular
-    data.dof.aperture_ratio = 1.0
-    data.dof.aperture_rotation = 0.0
+    data.dof.aperture_blades = aperture[0]  # 0: circular
+    data.dof.aperture_rotation = math.radians(aperture[1])
+    data.dof.aperture_ratio = aperture[2]
     obj = bpy.data.objects.new("Camera", data)
     scene.collection.objects.link(obj)
     obj.location = (0.0, 0.0, cam["height"])
@@ -560,8 +565,8 @@ def render_to(scene, path, verbose):
     return seconds
 
 
-def camera_sidecar(cam, width, height):
-    return {
+def camera_sidecar(cam, width, height, aperture=(0, 0.0, 1.0)):
+    sidecar = {
         "focal_length_mm": cam["focal_mm"],
         "sensor_width_mm": SENSOR_MM,
         "sensor_fit": "AUTO",
@@ -572,6 +577,10 @@ def camera_sidecar(cam, width, height):
         "depth": "planar",
         "unit_scale_m": 1.0,
     }
+    if tuple(aperture) != (0, 0.0, 1.0):
+        sidecar.update({"aperture_blades": aperture[0], "aperture_rotation_deg": aperture[1],
+                        "aperture_ratio": aperture[2]})
+    return sidecar
 
 
 def coc_px(cam, z, width):
@@ -634,7 +643,7 @@ def main():
             fname, kind, w, h, samples = entry
             path = os.path.join(out, fname)
             key = {"kind": kind, "size": [w, h], "samples": samples, "seed": int(args["seed"]),
-                   "blender": bpy.app.version_string}
+                   "blender": bpy.app.version_string, "aperture": list(args["aperture_set"])}
             old = manifest["files"].get(fname, {})
             ok = (not args["force"] and os.path.exists(path) and
                   os.path.getmtime(path) > script_mtime and
@@ -652,18 +661,19 @@ def main():
         manifest.update({
             "scene": name,
             "doc": BUILDERS[name].__doc__,
-            "camera": camera_sidecar(cam, args["width"], args["height"]),
+            "camera": camera_sidecar(cam, args["width"], args["height"], args["aperture_set"]),
             "near_objects": near,
             "max_coc_px_at_infinity": round(coc_px(cam, 1e10, args["width"]), 2),
             "threads": int(args["threads"]),
             "shading": "emission-only (albedo x fake Lambert), no bounces",
         })
         write_json(os.path.join(out, "camera.json"),
-                   camera_sidecar(cam, args["width"], args["height"]))
+                   camera_sidecar(cam, args["width"], args["height"], args["aperture_set"]))
         if "1080" in args["only_set"]:
             # The same camera with the 1080p frame's resolution (ddof warns when a sidecar's
             # resolution is not the frame's).
-            write_json(os.path.join(out, "camera_1080.json"), camera_sidecar(cam, 1920, 1080))
+            write_json(os.path.join(out, "camera_1080.json"),
+                       camera_sidecar(cam, 1920, 1080, args["aperture_set"]))
 
         for (fname, kind, w, h, samples), key in todo:
             label = {"pinhole": "pinhole", "truth": "truth", "fg": "foreground element",
@@ -676,7 +686,7 @@ def main():
                         (obj.name not in near) if kind == "rest" else True
             if scene.camera is not None:
                 bpy.data.objects.remove(scene.camera, do_unlink=True)
-            add_camera(scene, cam, lens_dof=(kind == "truth"))
+            add_camera(scene, cam, lens_dof=(kind == "truth"), aperture=args["aperture_set"])
             configure(scene, args, w, h, samples, multilayer=(kind != "truth"),
                       transparent=(kind == "fg"))
             seconds = render_to(scene, os.path.join(out, fname), args["verbose"])

@@ -34,6 +34,13 @@ camera, _info = camera_mod.camera_settings(scene, settings)
 checks.check(camera["aperture_blades"] == 6 and abs(camera["aperture_rotation_deg"] - 15.0) < 1e-4
              and camera["aperture_ratio"] == 2.0, "camera read as %r" % (camera,))
 
+# The panel's camera line says so.
+line = camera_mod.describe(camera, _info)
+checks.check("6 blades at 15 deg, ratio 2" in line, "camera line: %s" % line)
+dof.aperture_blades, dof.aperture_ratio = 0, 1.0
+line = camera_mod.describe(camera_mod.camera_settings(scene, settings)[0], _info)
+checks.check("blades" not in line and "ratio" not in line, "round camera line: %s" % line)
+
 # A point of light at 10 m, the camera focused at 1 m: a CoC of 24 px.
 color = bpy.data.images.new("point color", SIZE, SIZE, float_buffer=True)
 depth = bpy.data.images.new("point depth", SIZE, SIZE, float_buffer=True)
