@@ -2,7 +2,8 @@
 /* test_aperture.c - the camera's aperture (ddof_camera.aperture_blades, _rotation_deg, _ratio):
  * a bright point far behind the focus comes out as the anti-aliased regular polygon Cycles
  * samples (edge normals at rotation + 2 pi k / blades, inscribed in the round aperture) or the
- * ellipse of the anamorphic ratio (CoC / ratio wide, CoC tall), against a reference that
+ * ellipse of the anamorphic ratio (CoC / ratio wide, CoC tall), or clipped by the cat's eye
+ * toward the frame's edges, against a reference that
  * supersamples the shape in double; its energy is kept; a rotation by one blade step changes
  * nothing; the default aperture is the 0.5 struct's (round) bit for bit; the CoC is the blur's
  * width; the bounds are checked. */
@@ -32,9 +33,9 @@ static ddof_camera camera_for(double coc_far_px)
     return cam;
 }
 
-/* A black frame at 1000 m with one white pixel of LIGHT at (CX, CY); out: RGBA. *coc gets the
+/* A black frame at 1000 m with one white pixel of LIGHT at (x, y); out: RGBA. *coc gets the
  * CoC the library computed for the frame (uniform). */
-static ddof_status point_spread(const ddof_camera *cam, float *out, float *coc)
+static ddof_status point_spread_at(const ddof_camera *cam, int x, int y, float *out, float *coc)
 {
     static float color[N * 4], depth[N], coc_map[N];
     memset(color, 0, sizeof color);
@@ -43,7 +44,7 @@ static ddof_status point_spread(const ddof_camera *cam, float *out, float *coc)
         depth[i] = 1000.0f;
     }
     for (int c = 0; c < 3; c++)
-        color[(CY * W + CX) * 4 + c] = LIGHT;
+        color[(y * W + x) * 4 + c] = LIGHT;
     ddof_status s = ddof_coc_from_camera(ctx, cam, &(ddof_image_in){depth, W, H, 1, 0},
                                          &(ddof_image){coc_map, W, H, 1, 0});
     *coc = coc_map[0];
@@ -54,6 +55,11 @@ static ddof_status point_spread(const ddof_camera *cam, float *out, float *coc)
     return ddof_depth_of_field(ctx, &p, cam, &(ddof_image_in){color, W, H, 4, 0},
                                &(ddof_image_in){depth, W, H, 1, 0},
                                &(ddof_image){out, W, H, 4, 0}, NULL);
+}
+
+static ddof_status point_spread(const ddof_camera *cam, float *out, float *coc)
+{
+    return point_spread_at(cam, CX, CY, out, coc);
 }
 
 /* Whether image offset (x right, y down, pixels) from the point lies in the aperture's shape
@@ -134,6 +140,56 @@ static void check_shape(double coc_far, unsigned blades, double rotation_deg, do
            rotation_deg, ratio, (double)coc, db, energy / LIGHT);
 }
 
+/* The cat's eye: a light at (40, 40) of the 224 x 224 frame is the disc clipped by a disc of
+ * its radius centred toward the frame's centre by catseye x radius x 0.638 (its distance from
+ * the centre, 1 at a corner); its light is kept; the light mirrored through the frame's centre
+ * is drawn mirrored. */
+static void test_catseye(void)
+{
+    static float out[N * 4], mirrored[N * 4];
+    static double ref[N];
+    ddof_camera cam = camera_for(40.0);
+    cam.aperture_catseye = 0.8;
+    float coc = 0.0f;
+    const int x0 = 40, y0 = 40;
+    CHECK(point_spread_at(&cam, x0, y0, out, &coc) == DDOF_OK);
+    const double px = x0 + 0.5 - 0.5 * W, py = y0 + 0.5 - 0.5 * H;
+    const double reach = sqrt(0.5 * ((px / (0.5 * W)) * (px / (0.5 * W)) +
+                                     (py / (0.5 * H)) * (py / (0.5 * H))));
+    const double shift = 0.8 * 0.5 * coc * reach / sqrt(px * px + py * py);
+    const double cx = -px * shift, cy = -py * shift, r = 0.5 * coc;
+    double total = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            int hits = 0;
+            for (int j = 0; j < 16; j++)
+                for (int i = 0; i < 16; i++) {
+                    const double u = x - x0 + (i + 0.5) / 16 - 0.5, v = y - y0 + (j + 0.5) / 16 - 0.5;
+                    hits += u * u + v * v <= r * r &&
+                            (u - cx) * (u - cx) + (v - cy) * (v - cy) <= r * r;
+                }
+            ref[y * W + x] = hits;
+            total += hits;
+        }
+    for (int i = 0; i < N; i++)
+        ref[i] *= (LIGHT - 0.25) / total;
+    double energy;
+    const double db = snr_db(out, ref, &energy);
+    CHECK_MSG(db >= 35.0, "cat's eye 0.8 at (40, 40), CoC %.2f: %.2f dB against the lens shape",
+              (double)coc, db);
+    CHECK_MSG(fabs(energy - LIGHT) <= 0.01 * LIGHT, "cat's eye: energy %.3f", energy);
+    printf("cat's eye 0.8 at (40, 40), CoC %5.2f px: %6.2f dB, energy %.4f\n", (double)coc, db,
+           energy / LIGHT);
+    /* The light at the mirrored place draws the mirrored shape. */
+    CHECK(point_spread_at(&cam, W - 1 - x0, H - 1 - y0, mirrored, &coc) == DDOF_OK);
+    double worst = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++)
+            worst = fmax(worst, fabs((double)out[(y * W + x) * 4] -
+                                     mirrored[((H - 1 - y) * W + (W - 1 - x)) * 4]));
+    CHECK_MSG(worst <= 1e-3, "cat's eye mirrored through the centre differs by %g", worst);
+}
+
 /* The CoC a camera gives is the blur's width: the ratio divides it. */
 static void test_coc_is_the_width(void)
 {
@@ -207,6 +263,15 @@ static void test_bounds(void)
     }
     cam.aperture_ratio = 0.01;
     CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    cam.aperture_ratio = 1.0;
+    const double catseyes[] = {-0.01, 1.01, NAN};
+    for (int i = 0; i < 3; i++) {
+        cam.aperture_catseye = catseyes[i];
+        CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    }
+    cam.aperture_catseye = 1.0;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    cam.aperture_ratio = 0.01;
     /* The diffusion takes the product with the pixel aspect: 0.5 x 0.01 is past its range. */
     cam.pixel_aspect = 0.5;
     CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
@@ -230,6 +295,7 @@ int main(void)
     check_shape(32.0, 0, 0.0, 1.0, 40.0);
     check_shape(64.0, 0, 0.0, 2.0, 40.0);
     check_shape(32.0, 0, 0.0, 0.5, 40.0);
+    test_catseye();
     test_coc_is_the_width();
     test_rotation_symmetry();
     test_default_is_round();

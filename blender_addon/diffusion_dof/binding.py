@@ -145,7 +145,8 @@ class Camera(ctypes.Structure):
                 # version 0.7: the aperture's shape (Blender's Blades, Rotation, Ratio)
                 ("aperture_blades", ctypes.c_uint32),
                 ("aperture_rotation_deg", ctypes.c_double),
-                ("aperture_ratio", ctypes.c_double)]
+                ("aperture_ratio", ctypes.c_double),
+                ("aperture_catseye", ctypes.c_double)]
 
 
 class Curve(ctypes.Structure):

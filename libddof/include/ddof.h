@@ -274,6 +274,13 @@ typedef struct ddof_camera {
                                   /* params.pixel_aspect = pixel_aspect * aperture_ratio.      */
                                   /* Default 1; 0.01..100, and so its product with             */
                                   /* pixel_aspect.                                             */
+    double aperture_catseye;      /* optical vignetting ("cat's eye" bokeh), for highlights:   */
+                                  /* a highlight's aperture is clipped by a second circle of    */
+                                  /* its size whose centre lies toward the full frame's centre  */
+                                  /* by catseye x its radius x its distance from that centre    */
+                                  /* (1 at the frame's corners), so discs turn into lens shapes */
+                                  /* drawn out along the frame's circles. Cycles has no such    */
+                                  /* effect. Default 0 (off); 0..1.                             */
 } ddof_camera;
 
 DDOF_API void (ddof_camera_init)(ddof_camera *camera);

@@ -79,6 +79,9 @@ static inline int ddof_camera_problem(const ddof_camera *camera, char *message, 
                camera->aperture_ratio <= DDOF_MAX_APERTURE_RATIO))
         snprintf(message, size, "camera aperture_ratio %g must be within %g..%g",
                  camera->aperture_ratio, DDOF_MIN_APERTURE_RATIO, DDOF_MAX_APERTURE_RATIO);
+    else if (!(camera->aperture_catseye >= 0.0 && camera->aperture_catseye <= 1.0))
+        snprintf(message, size, "camera aperture_catseye %g must be within 0..1",
+                 camera->aperture_catseye);
     else
         return 0;
 #undef DDOF_POSITIVE_FINITE

@@ -256,6 +256,22 @@ static ddof_status prepare_coc(ddof_context *context, const frame_setup *s, cons
     return status;
 }
 
+/* The highlights' aperture from the camera; the frame is the full one when the image is a crop. */
+static highlight_aperture aperture_of(const ddof_camera *c, uint32_t width, uint32_t height)
+{
+    const double frame_w = c->frame_width ? c->frame_width : width;
+    const double frame_h = c->frame_height ? c->frame_height : height;
+    return (highlight_aperture){
+        .blades = c->aperture_blades,
+        .rotation_rad = c->aperture_rotation_deg * (3.14159265358979323846 / 180.0),
+        .catseye = c->aperture_catseye,
+        .centre_x = 0.5 * frame_w - c->window_x,
+        .centre_y = 0.5 * frame_h - c->window_y,
+        .half_width = 0.5 * frame_w,
+        .half_height = 0.5 * frame_h,
+    };
+}
+
 static ddof_status render_frame(ddof_context *context, const ddof_params *params,
                                 const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
 {
@@ -295,8 +311,7 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
         return status;
     ddof_fill_request_params(r, &p);
     if (s.source == SOURCE_CAMERA)
-        q.aperture = (highlight_aperture){s.camera.aperture_blades,
-                                          s.camera.aperture_rotation_deg * (3.14159265358979323846 / 180.0)};
+        q.aperture = aperture_of(&s.camera, r->width, r->height);
     return ddof_run_layered(context, &q, s.has_foreground, fg_visible, max_coc, stats,
                             t_start, ddof_seconds() - t_start);
 }

@@ -205,6 +205,8 @@ typedef struct disc_row {
     int inner_l, inner_r, outer_l, outer_r;
     float v;  /* the row's vertical offset in horizontal pixels (down the image) */
     float v2; /* v squared                                                         */
+    int clipped;    /* the cat's eye: the shape clipped by a circle of its radius at */
+    float clip_x, clip_y; /* (clip_x, clip_y) from its centre (shape units)         */
 } disc_row;
 
 /* The aperture as the scatter draws it: a disc, or a regular polygon inscribed in the disc,
@@ -216,12 +218,23 @@ typedef struct shape {
     uint32_t sides;                     /* 0: a disc                              */
     float normal[DDOF_MAX_APERTURE_BLADES][2];
     float apothem;                      /* the inscribed polygon's, per unit radius */
+    double catseye;                     /* highlight_aperture's; 0: no clip       */
+    double centre_x, centre_y, inv_half_width, inv_half_height;
 } shape;
 
 static shape shape_of(const highlight_aperture *aperture, float aspect)
 {
     shape s = {.aspect = aspect};
-    if (!aperture || aperture->blades < 3)
+    if (!aperture)
+        return s;
+    if (aperture->catseye > 0.0 && aperture->half_width > 0.0 && aperture->half_height > 0.0) {
+        s.catseye = aperture->catseye;
+        s.centre_x = aperture->centre_x;
+        s.centre_y = aperture->centre_y;
+        s.inv_half_width = 1.0 / aperture->half_width;
+        s.inv_half_height = 1.0 / aperture->half_height;
+    }
+    if (aperture->blades < 3)
         return s;
     s.sides = aperture->blades;
     const double step = 2.0 * 3.14159265358979323846 / s.sides;
@@ -277,7 +290,58 @@ static void polygon_span(const shape *s, const highlight *h, float v, float t, f
     }
 }
 
-static int disc_row_at(const shape *s, const highlight *h, float aspect, int dy, disc_row *row)
+/* The cat's eye clip circle's centre for a highlight, in shape units from its centre: toward
+ * the frame's centre by catseye x radius x the highlight's distance from it (1 at a corner).
+ * 0 when there is no clip (off, or a highlight at the centre). */
+static int clip_offset(const shape *s, const highlight *h, float *x, float *y)
+{
+    if (s->catseye <= 0.0)
+        return 0;
+    const double px = h->x + 0.5 - s->centre_x, py = h->y + 0.5 - s->centre_y;
+    const double a = px * s->inv_half_width, b = py * s->inv_half_height;
+    const double reach = sqrt(0.5 * (a * a + b * b)); /* 1 at the corners */
+    const double ux = -px, uy = -py / s->aspect, length = sqrt(ux * ux + uy * uy);
+    if (!(length > 0.0))
+        return 0;
+    const double shift = s->catseye * fmin(reach, 1.0) * radius_of(h) / length;
+    *x = (float)(ux * shift);
+    *y = (float)(uy * shift);
+    return 1;
+}
+
+/* The row's spans clipped by the cat's eye circle (radius R + margin for the rim's end,
+ * R - margin for the interior); 0 when nothing of the row is left. */
+static int clip_row(const highlight *h, float margin, disc_row *row)
+{
+    const float dv = row->v - row->clip_y, dv2 = dv * dv;
+    const float outer_r = radius_of(h) + margin, inner_r = radius_of(h) - margin;
+    if (dv2 >= outer_r * outer_r)
+        return 0;
+    const float reach = sqrtf(outer_r * outer_r - dv2);
+    const int lo = (int)floorf(row->clip_x - reach), hi = (int)ceilf(row->clip_x + reach);
+    row->outer_l = row->outer_l > lo ? row->outer_l : lo;
+    row->outer_r = row->outer_r < hi ? row->outer_r : hi;
+    if (row->outer_l > row->outer_r)
+        return 0;
+    if (row->inner_l <= row->inner_r && inner_r > 0.0f && dv2 <= inner_r * inner_r) {
+        const float in = sqrtf(inner_r * inner_r - dv2);
+        const int a = (int)ceilf(row->clip_x - in), b = (int)floorf(row->clip_x + in);
+        row->inner_l = row->inner_l > a ? row->inner_l : a;
+        row->inner_r = row->inner_r < b ? row->inner_r : b;
+    } else {
+        row->inner_l = 1;
+        row->inner_r = -1;
+    }
+    if (row->inner_l > row->inner_r) { /* no interior left: walk the rim from the middle */
+        const int c = (row->outer_l + row->outer_r) / 2;
+        row->inner_l = c + 1;
+        row->inner_r = c - 1;
+    }
+    return 1;
+}
+
+/* The row of the shape itself (disc or polygon), before any clip. */
+static int shape_row_at(const shape *s, const highlight *h, float aspect, int dy, disc_row *row)
 {
     const float margin = rim_margin(aspect);
     const float outer_r = radius_of(h) + margin, inner_r = outer_r - 2.0f * margin;
@@ -322,18 +386,38 @@ static int disc_row_at(const shape *s, const highlight *h, float aspect, int dy,
 
 /* clamp(0.5 - the pixel's signed distance from the shape's edge, 0, 1). With rows stretched by
  * the aspect the distance in the shape's units is divided by its gradient's length in pixels. */
+/* A row of the highlight's shape, clipped by the cat's eye when there is one. */
+static int disc_row_at(const shape *s, const highlight *h, float aspect, int dy, disc_row *row)
+{
+    if (!shape_row_at(s, h, aspect, dy, row))
+        return 0;
+    row->clipped = clip_offset(s, h, &row->clip_x, &row->clip_y);
+    return !row->clipped || clip_row(h, rim_margin(aspect), row);
+}
+
+/* 0.5 - the signed distance in pixels of shape point (u, v) from a circle of radius r about
+ * the shape's centre, with rows stretched by the aspect. */
+static float circle_weight(float aspect, float r, float u, float v)
+{
+    const float u2 = u * u, v2 = v * v, d = sqrtf(u2 + v2);
+    if (aspect == 1.0f)
+        return r + 0.5f - d;
+    const float grad = d > 0.0f ? sqrtf(u2 + v2 / (aspect * aspect)) / d : 1.0f;
+    return 0.5f - (d - r) / grad;
+}
+
 static float rim_weight(const shape *s, const highlight *h, const disc_row *row, int dx)
 {
     float w;
-    if (s->sides) {
+    if (s->sides)
         w = 0.5f - polygon_distance(s, h, (float)dx, row->v, s->aspect != 1.0f);
-    } else if (s->aspect == 1.0f) {
+    else if (s->aspect == 1.0f)
         w = radius_of(h) + 0.5f - sqrtf((float)(dx * dx) + row->v2);
-    } else {
-        const float u2 = (float)(dx * dx), d = sqrtf(u2 + row->v2);
-        const float grad = d > 0.0f ? sqrtf(u2 + row->v2 / (s->aspect * s->aspect)) / d : 1.0f;
-        w = 0.5f - (d - radius_of(h)) / grad;
-    }
+    else
+        w = circle_weight(s->aspect, radius_of(h), (float)dx, row->v);
+    if (row->clipped)
+        w = ddof_minf(w, circle_weight(s->aspect, radius_of(h), (float)dx - row->clip_x,
+                                       row->v - row->clip_y));
     return w <= 0.0f ? 0.0f : w >= 1.0f ? 1.0f : w;
 }
 

@@ -75,6 +75,12 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
 typedef struct highlight_aperture {
     uint32_t blades;
     double rotation_rad;
+    /* Optical vignetting: the shape clipped by a circle of its radius R centred catseye x R x
+     * (the highlight's distance from the frame's centre, 1 at its corners) toward that centre.
+     * 0: off. The frame: its centre in the image's pixels and its half width and height (a
+     * crop's frame is the full frame's). */
+    double catseye;
+    double centre_x, centre_y, half_width, half_height;
 } highlight_aperture;
 
 /* Adds each highlight's excess to r->out as its disc (aperture NULL) or aperture shape. scratch: width x height x 3 floats

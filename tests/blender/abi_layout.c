@@ -40,6 +40,7 @@ int main(void)
     F(ddof_camera, aperture_blades);
     F(ddof_camera, aperture_rotation_deg);
     F(ddof_camera, aperture_ratio);
+    F(ddof_camera, aperture_catseye);
     END();
     BEGIN(ddof_curve);
     F(ddof_curve, struct_size); F(ddof_curve, near_blur_px); F(ddof_curve, near_start);

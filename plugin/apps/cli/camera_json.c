@@ -227,7 +227,8 @@ static int duplicate_key(const char *text, size_t size, size_t *second, size_t *
     return found;
 }
 
-/* An optional finite number of any sign (the aperture's blades and rotation). */
+/* An optional finite number of any sign (the aperture's blades, rotation and cat's eye: the
+ * library judges their ranges). */
 static int finite_number(const cJSON *root, const char *key, double *out, const char *path,
                          char *error, size_t error_size)
 {
@@ -406,7 +407,9 @@ int camera_sidecar_parse(const char *text, size_t size, const char *path, camera
         finite_number(root, "aperture_rotation_deg", &out->camera.aperture_rotation_deg, path,
                       error, error_size) ||
         number(root, "aperture_ratio", 0, &out->camera.aperture_ratio, path, error,
-               error_size))
+               error_size) ||
+        finite_number(root, "aperture_catseye", &out->camera.aperture_catseye, path, error,
+                      error_size))
         goto done;
     if (!(blades >= 0.0 && blades <= DDOF_MAX_APERTURE_BLADES && blades == floor(blades))) {
         snprintf(error, error_size, "%s: \"aperture_blades\" must be a whole number within "

@@ -127,7 +127,8 @@ const cli_option cli_option_table[] = {
      .help = "camera sidecar: focal_length_mm, sensor_width_mm, sensor_fit,\n"
              "fstop, focus_distance_m, resolution, pixel_aspect, [depth,\n"
              "unit_scale_m, aperture_blades, aperture_rotation_deg,\n"
-             "aperture_ratio]; the flags below override its values"},
+             "aperture_ratio, aperture_catseye]; the flags below override its\n"
+             "values"},
     {"--focal-length", COC, DOUBLE(camera.focal_length_mm, "MM", CLI_POSITIVE),
      .camera_bit = CAM_FOCAL,
      .help = "the lens's focal length"},
@@ -156,6 +157,10 @@ const cli_option cli_option_table[] = {
     {"--aperture-ratio", COC, DOUBLE(camera.aperture_ratio, "R", CLI_POSITIVE),
      .camera_bit = CAM_RATIO,
      .help = "anamorphic ratio (Blender's Ratio): 2 draws tall ovals"},
+    {"--aperture-catseye", COC, DOUBLE(camera.aperture_catseye, "C", CLI_NON_NEGATIVE),
+     .camera_bit = CAM_CATSEYE,
+     .help = "optical vignetting of highlights toward the frame's edges,\n"
+             "0..1 (default 0: off)"},
     {"--depth-kind", COC, CHOICE(camera.depth_kind, cli_choices_depth_kind),
      .camera_bit = CAM_DEPTH_KIND,
      .help = "planar: camera Z (Blender's Depth pass); radial: distance\n"

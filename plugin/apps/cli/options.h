@@ -40,7 +40,8 @@ enum {
     CAM_LENS = 1 << 8,
     CAM_BLADES = 1 << 9,
     CAM_ROTATION = 1 << 10,
-    CAM_RATIO = 1 << 11
+    CAM_RATIO = 1 << 11,
+    CAM_CATSEYE = 1 << 12
 };
 
 typedef struct cli_options {

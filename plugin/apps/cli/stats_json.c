@@ -118,6 +118,7 @@ static cJSON *camera_json(const ddof_camera *c)
     cJSON_AddNumberToObject(o, "aperture_blades", c->aperture_blades);
     cJSON_AddNumberToObject(o, "aperture_rotation_deg", c->aperture_rotation_deg);
     cJSON_AddNumberToObject(o, "aperture_ratio", c->aperture_ratio);
+    cJSON_AddNumberToObject(o, "aperture_catseye", c->aperture_catseye);
     return o;
 }
 
