@@ -128,6 +128,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
     ddof_context *ctx = NULL;
     ddof_params params;
     ddof_camera camera;
+    static float aperture[64];
     ddof_curve curve;
     ddof_foreground fg;
     const uint32_t w = 1u + byte(&r) % MAX_SIDE, h = 1u + byte(&r) % MAX_SIDE;
@@ -252,6 +253,14 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                 camera.aperture_blades = byte(&r) % 20u;
                 camera.aperture_rotation_deg = any_double(&r, 90.0);
                 camera.aperture_ratio = byte(&r) < 128 ? 1.0 : any_double(&r, 1.0);
+                camera.aperture_catseye = byte(&r) < 160 ? 0.0 : any_double(&r, 0.5);
+                if (byte(&r) < 64) { /* an aperture image, 0..8 per side (0: refused) */
+                    camera.aperture_image_width = byte(&r) % 9u;
+                    camera.aperture_image_height = byte(&r) % 9u;
+                    for (uint32_t i = 0; i < 64; i++)
+                        aperture[i] = (float)any_double(&r, 1.0);
+                    camera.aperture_image = aperture;
+                }
             }
             if (byte(&r) & 1) {
                 s = ddof_depth_of_field(ctx, pp, &camera, &ci, &zi, &oi, NULL);

@@ -3,7 +3,7 @@
  * a bright point far behind the focus comes out as the anti-aliased regular polygon Cycles
  * samples (edge normals at rotation + 2 pi k / blades, inscribed in the round aperture) or the
  * ellipse of the anamorphic ratio (CoC / ratio wide, CoC tall), or clipped by the cat's eye
- * toward the frame's edges, against a reference that
+ * toward the frame's edges, or a custom aperture image, against a reference that
  * supersamples the shape in double; its energy is kept; a rotation by one blade step changes
  * nothing; the default aperture is the 0.5 struct's (round) bit for bit; the CoC is the blur's
  * width; the bounds are checked. */
@@ -190,6 +190,92 @@ static void test_catseye(void)
     CHECK_MSG(worst <= 1e-3, "cat's eye mirrored through the centre differs by %g", worst);
 }
 
+/* A ring with a dot in its upper left, 48 x 40 texels: not convex, not symmetric. */
+static void ring_image(float *img, int w, int h)
+{
+    for (int j = 0; j < h; j++)
+        for (int i = 0; i < w; i++) {
+            const double u = (i + 0.5) / w * 2.0 - 1.0, v = (j + 0.5) / h * 2.0 - 1.0;
+            const double d = sqrt(u * u + v * v);
+            const double du = u + 0.35, dv = v + 0.35;
+            img[j * w + i] = (d > 0.7 && d < 0.95) ? 1.0f
+                             : (du * du + dv * dv < 0.04) ? 0.5f : 0.0f;
+        }
+}
+
+/* The image's average over [x0, x1] x [y0, y1] texels (outside it: 0), by each texel's overlap. */
+static double texel_average(const float *img, int w, int h, double x0, double x1, double y0,
+                            double y1)
+{
+    double sum = 0.0;
+    for (int j = (int)floor(fmax(y0, 0.0)); j < h && j < y1; j++)
+        for (int i = (int)floor(fmax(x0, 0.0)); i < w && i < x1; i++) {
+            const double ox = fmin(x1, i + 1.0) - fmax(x0, (double)i);
+            const double oy = fmin(y1, j + 1.0) - fmax(y0, (double)j);
+            if (ox > 0.0 && oy > 0.0)
+                sum += img[j * w + i] * ox * oy;
+        }
+    return sum / ((x1 - x0) * (y1 - y0));
+}
+
+/* A custom aperture image: each pixel of a far light's blur is the image's average over its
+ * footprint (the image spanning the CoC's square, upright), energy kept; a disc image draws
+ * the disc; the image's bounds are checked. */
+static void test_aperture_image(void)
+{
+    enum { IW = 48, IH = 40 };
+    static float img[IW * IH], out[N * 4];
+    static double ref[N];
+    ring_image(img, IW, IH);
+    ddof_camera cam = camera_for(60.0);
+    cam.aperture_image = img;
+    cam.aperture_image_width = IW;
+    cam.aperture_image_height = IH;
+    cam.aperture_blades = 6; /* the image replaces the blades */
+    float coc = 0.0f;
+    CHECK(point_spread(&cam, out, &coc) == DDOF_OK);
+    const double r = 0.5 * coc, sx = IW / (2.0 * r), sy = IH / (2.0 * r);
+    double total = 0.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const double dx = x - CX, dy = y - CY;
+            ref[y * W + x] = fabs(dx) > r + 1.0 || fabs(dy) > r + 1.0
+                                 ? 0.0
+                                 : texel_average(img, IW, IH, (dx - 0.5 + r) * sx,
+                                                 (dx + 0.5 + r) * sx, (dy - 0.5 + r) * sy,
+                                                 (dy + 0.5 + r) * sy);
+            total += ref[y * W + x];
+        }
+    for (int i = 0; i < N; i++)
+        ref[i] *= (LIGHT - 0.25) / total;
+    double energy;
+    const double db = snr_db(out, ref, &energy);
+    CHECK_MSG(db >= 40.0, "ring image, CoC %.2f px: %.2f dB against its footprint averages",
+              (double)coc, db);
+    CHECK_MSG(fabs(energy - LIGHT) <= 0.01 * LIGHT, "ring image: energy %.3f", energy);
+    printf("aperture image (a ring and a dot, %dx%d) CoC %5.2f px: %6.2f dB, energy %.4f\n", IW,
+           IH, (double)coc, db, energy / LIGHT);
+
+    /* Bad images: each a camera error before anything runs. */
+    static float bad[4] = {1.0f, 0.0f, 0.0f, 1.0f};
+    cam.aperture_image = bad;
+    cam.aperture_image_width = cam.aperture_image_height = 2;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_OK);
+    cam.aperture_image_width = 0;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    cam.aperture_image_width = DDOF_MAX_APERTURE_IMAGE + 1;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    cam.aperture_image_width = 2;
+    const float values[] = {NAN, -1.0f, INFINITY};
+    for (int i = 0; i < 3; i++) {
+        bad[2] = values[i];
+        CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    }
+    bad[0] = bad[1] = bad[2] = bad[3] = 0.0f;
+    CHECK(ddof_camera_check(ctx, &cam) == DDOF_ERROR_BAD_CAMERA);
+    CHECK(strstr(ddof_context_last_error(ctx), "all 0") != NULL);
+}
+
 /* The CoC a camera gives is the blur's width: the ratio divides it. */
 static void test_coc_is_the_width(void)
 {
@@ -296,6 +382,7 @@ int main(void)
     check_shape(64.0, 0, 0.0, 2.0, 40.0);
     check_shape(32.0, 0, 0.0, 0.5, 40.0);
     test_catseye();
+    test_aperture_image();
     test_coc_is_the_width();
     test_rotation_symmetry();
     test_default_is_round();

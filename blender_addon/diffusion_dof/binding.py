@@ -146,7 +146,10 @@ class Camera(ctypes.Structure):
                 ("aperture_blades", ctypes.c_uint32),
                 ("aperture_rotation_deg", ctypes.c_double),
                 ("aperture_ratio", ctypes.c_double),
-                ("aperture_catseye", ctypes.c_double)]
+                ("aperture_catseye", ctypes.c_double),
+                ("aperture_image", ctypes.POINTER(ctypes.c_float)),
+                ("aperture_image_width", ctypes.c_uint32),
+                ("aperture_image_height", ctypes.c_uint32)]
 
 
 class Curve(ctypes.Structure):

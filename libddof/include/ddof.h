@@ -146,6 +146,7 @@ DDOF_API const char *ddof_status_string(ddof_status status);
 #define DDOF_MAX_APERTURE_BLADES 16u       /* ddof_camera.aperture_blades                   */
 #define DDOF_MIN_APERTURE_RATIO 0.01       /* ddof_camera.aperture_ratio, and its product   */
 #define DDOF_MAX_APERTURE_RATIO 100.0      /* with pixel_aspect                             */
+#define DDOF_MAX_APERTURE_IMAGE 256u       /* ddof_camera.aperture_image's sides            */
 
 /* ------------------------------------------------------------------------------------------ */
 /* Images: caller-owned, 32-bit float, interleaved channels, rows `row_stride` bytes apart.      */
@@ -281,6 +282,15 @@ typedef struct ddof_camera {
                                   /* (1 at the frame's corners), so discs turn into lens shapes */
                                   /* drawn out along the frame's circles. Cycles has no such    */
                                   /* effect. Default 0 (off); 0..1.                             */
+    /* A custom aperture for highlights (as Nuke ZDefocus' filter image): one channel, row 0 at */
+    /* the top, width x height floats packed, finite and >= 0, not all 0; 1..                   */
+    /* DDOF_MAX_APERTURE_IMAGE per side. Stretched over the square of a highlight's CoC (the    */
+    /* CoC wide, and as tall times the ratio), turned by 180 degrees for a near highlight,      */
+    /* each pixel weighted by the image's average over its footprint; it replaces the blades.   */
+    /* Its light is kept; its cost is its area, not its rows (the pass's budget counts it so).  */
+    /* NULL (default): the blades' shape. The diffusion stays round.                            */
+    const float *aperture_image;
+    uint32_t aperture_image_width, aperture_image_height;
 } ddof_camera;
 
 DDOF_API void (ddof_camera_init)(ddof_camera *camera);

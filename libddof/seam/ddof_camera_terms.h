@@ -29,6 +29,34 @@ typedef struct ddof_camera_terms {
     int signed_coc;                   /* near points (Z < S1) negative                   */
 } ddof_camera_terms;
 
+/* Whether a camera's aperture image cannot be used, and if so why, in `message`. */
+static inline int ddof_aperture_image_problem(const ddof_camera *camera, char *message,
+                                              size_t size)
+{
+    const uint32_t w = camera->aperture_image_width, h = camera->aperture_image_height;
+    if (w < 1 || h < 1 || w > DDOF_MAX_APERTURE_IMAGE || h > DDOF_MAX_APERTURE_IMAGE) {
+        snprintf(message, size, "camera aperture image %ux%u: each side must be 1..%u", w, h,
+                 DDOF_MAX_APERTURE_IMAGE);
+        return 1;
+    }
+    double sum = 0.0;
+    for (uint32_t i = 0; i < w * h; i++) {
+        const float v = camera->aperture_image[i];
+        if (!(v >= 0.0f && v <= 3.0e38f)) {
+            snprintf(message, size, "camera aperture image value %g at (%u, %u) must be finite "
+                     "and >= 0", (double)v, i % w, i / w);
+            return 1;
+        }
+        sum += v;
+    }
+    if (!(sum > 0.0)) {
+        snprintf(message, size, "camera aperture image %ux%u is all 0: it would draw nothing", w,
+                 h);
+        return 1;
+    }
+    return 0;
+}
+
 /* Whether a camera (read over the defaults) cannot be used, and if so why, in `message`: the
  * rules of ddof_camera_check, for the core and a backend alike. */
 static inline int ddof_camera_problem(const ddof_camera *camera, char *message, size_t size)
@@ -82,6 +110,8 @@ static inline int ddof_camera_problem(const ddof_camera *camera, char *message, 
     else if (!(camera->aperture_catseye >= 0.0 && camera->aperture_catseye <= 1.0))
         snprintf(message, size, "camera aperture_catseye %g must be within 0..1",
                  camera->aperture_catseye);
+    else if (camera->aperture_image && ddof_aperture_image_problem(camera, message, size))
+        return 1;
     else
         return 0;
 #undef DDOF_POSITIVE_FINITE

@@ -269,6 +269,9 @@ static highlight_aperture aperture_of(const ddof_camera *c, uint32_t width, uint
         .centre_y = 0.5 * frame_h - c->window_y,
         .half_width = 0.5 * frame_w,
         .half_height = 0.5 * frame_h,
+        .image = c->aperture_image,
+        .image_width = c->aperture_image_width,
+        .image_height = c->aperture_image_height,
     };
 }
 

@@ -24,6 +24,7 @@ typedef struct find_job {
     float threshold; /* the user's                                  */
     uint32_t first_class;  /* the classes kept (after the budget)   */
     int coc_signed;
+    int area_cost;         /* an aperture image: a highlight costs its area */
     class_count *counts;   /* per chunk                               */
     uint32_t *offsets;     /* per chunk: where its highlights go      */
     highlight *items;
@@ -66,10 +67,13 @@ static float highlight_coc(const adi_request *r, uint32_t x, uint32_t y)
 }
 
 /* What drawing a disc of this CoC costs, in pixel operations: its rows, and its rim pixels
- * (about twice its circumference) for the weights and the scatter. */
-static double disc_cost(float coc, float aspect)
+ * (about twice its circumference) for the weights and the scatter; an aperture image's every
+ * pixel (`area`). */
+static double disc_cost(float coc, float aspect, int area)
 {
     const double r = 0.5 * fabs((double)coc) + 0.5;
+    if (area)
+        return 2.0 * (2.0 * r + 1.0) * (2.0 * r * (double)aspect + 1.0);
     return 2.0 * r * (double)aspect + 1.0 + 4.0 * 3.14159265358979 * r;
 }
 
@@ -107,7 +111,7 @@ static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const int k = highlight_class(job, row + (size_t)x * r->channels, x, y, &coc);
             if (k >= 0) {
                 c->count[k]++;
-                c->cost[k] += disc_cost(coc, r->pixel_aspect);
+                c->cost[k] += disc_cost(coc, r->pixel_aspect, job->area_cost);
             }
         }
     }
@@ -220,13 +224,20 @@ typedef struct shape {
     float apothem;                      /* the inscribed polygon's, per unit radius */
     double catseye;                     /* highlight_aperture's; 0: no clip       */
     double centre_x, centre_y, inv_half_width, inv_half_height;
+    const double *sums;                 /* an aperture image's table (NULL: none) */
+    uint32_t image_width, image_height;
 } shape;
 
-static shape shape_of(const highlight_aperture *aperture, float aspect)
+static shape shape_of(const highlight_aperture *aperture, const double *sums, float aspect)
 {
     shape s = {.aspect = aspect};
     if (!aperture)
         return s;
+    if (aperture->image && sums) {
+        s.sums = sums;
+        s.image_width = aperture->image_width;
+        s.image_height = aperture->image_height;
+    }
     if (aperture->catseye > 0.0 && aperture->half_width > 0.0 && aperture->half_height > 0.0) {
         s.catseye = aperture->catseye;
         s.centre_x = aperture->centre_x;
@@ -234,7 +245,7 @@ static shape shape_of(const highlight_aperture *aperture, float aspect)
         s.inv_half_width = 1.0 / aperture->half_width;
         s.inv_half_height = 1.0 / aperture->half_height;
     }
-    if (aperture->blades < 3)
+    if (aperture->blades < 3 || s.sums)
         return s;
     s.sides = aperture->blades;
     const double step = 2.0 * 3.14159265358979323846 / s.sides;
@@ -352,6 +363,13 @@ static int shape_row_at(const shape *s, const highlight *h, float aspect, int dy
     row->v2 = v2;
     /* Columns past the disc's half a pixel hold no weight (the rows' margin may be wider). */
     const int reach = (int)ceilf(radius_of(h) + 0.5f);
+    if (s->sums) { /* the image's square: every pixel weighed, from the middle out */
+        row->outer_l = -reach;
+        row->outer_r = reach;
+        row->inner_l = 1;
+        row->inner_r = -1;
+        return 1;
+    }
     if (!s->sides) {
         int outer = (int)ceilf(sqrtf(outer_r * outer_r - v2));
         outer = outer > reach ? reach : outer;
@@ -406,10 +424,48 @@ static float circle_weight(float aspect, float r, float u, float v)
     return 0.5f - (d - r) / grad;
 }
 
+/* The integral of the (scaled) aperture image over [0, x] x [0, y] texels, clamped to it:
+ * exact for piecewise-constant texels, as the bilinear blend of the table's corners. */
+static double image_integral(const shape *s, double x, double y)
+{
+    const uint32_t w = s->image_width, h = s->image_height;
+    x = x < 0.0 ? 0.0 : x > w ? w : x;
+    y = y < 0.0 ? 0.0 : y > h ? h : y;
+    uint32_t i = (uint32_t)x, j = (uint32_t)y;
+    i = i >= w ? w - 1 : i;
+    j = j >= h ? h - 1 : j;
+    const double fx = x - i, fy = y - j;
+    const double *s00 = s->sums + (size_t)j * (w + 1) + i, *s01 = s00 + (w + 1);
+    return (1 - fy) * ((1 - fx) * s00[0] + fx * s00[1]) + fy * ((1 - fx) * s01[0] + fx * s01[1]);
+}
+
+/* The aperture image's average over pixel (dx, row)'s footprint: the image spans the square
+ * of the CoC (shape units -R..R both ways, row 0 at the top), turned by 180 degrees for a near
+ * highlight. */
+static float image_weight(const shape *s, const highlight *h, const disc_row *row, int dx)
+{
+    const double r = radius_of(h), half_v = 0.5 / s->aspect;
+    const double sx = s->image_width / (2.0 * r), sy = s->image_height / (2.0 * r);
+    double x0 = (dx - 0.5 + r) * sx, x1 = (dx + 0.5 + r) * sx;
+    double y0 = (row->v - half_v + r) * sy, y1 = (row->v + half_v + r) * sy;
+    if (h->coc < 0.0f) { /* near: the image turned by 180 degrees */
+        const double fx0 = s->image_width - x1, fy0 = s->image_height - y1;
+        x1 = s->image_width - x0;
+        y1 = s->image_height - y0;
+        x0 = fx0;
+        y0 = fy0;
+    }
+    const double sum = image_integral(s, x1, y1) - image_integral(s, x0, y1) -
+                       image_integral(s, x1, y0) + image_integral(s, x0, y0);
+    return (float)(sum / ((x1 - x0) * (y1 - y0)));
+}
+
 static float rim_weight(const shape *s, const highlight *h, const disc_row *row, int dx)
 {
     float w;
-    if (s->sides)
+    if (s->sums)
+        w = image_weight(s, h, row, dx);
+    else if (s->sides)
         w = 0.5f - polygon_distance(s, h, (float)dx, row->v, s->aspect != 1.0f);
     else if (s->aspect == 1.0f)
         w = radius_of(h) + 0.5f - sqrtf((float)(dx * dx) + row->v2);
@@ -621,18 +677,50 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     }
 }
 
+/* The aperture image's summed-area table, scaled so that its largest texel is 1: sums[j][i]
+ * holds the texels of rows < j and columns < i. */
+static const double *aperture_sums(ddof_context *context, const highlight_aperture *a)
+{
+    const uint32_t w = a->image_width, h = a->image_height;
+    double *sums = ddof_scratch_get(context, DDOF_SCRATCH_APERTURE_SUMS,
+                                    (size_t)(w + 1) * (h + 1) * sizeof *sums);
+    if (!sums)
+        return NULL;
+    float peak = 0.0f;
+    for (uint32_t i = 0; i < w * h; i++)
+        peak = ddof_maxf(peak, a->image[i]);
+    memset(sums, 0, (size_t)(w + 1) * sizeof *sums);
+    for (uint32_t j = 0; j < h; j++) {
+        double run = 0.0;
+        double *above = sums + (size_t)j * (w + 1), *here = above + (w + 1);
+        here[0] = 0.0;
+        for (uint32_t i = 0; i < w; i++) {
+            run += (double)a->image[(size_t)j * w + i] / peak;
+            here[i + 1] = above[i + 1] + run;
+        }
+    }
+    return sums;
+}
+
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
-                                 int coc_signed, float *base, highlight_set *set)
+                                 int coc_signed, const highlight_aperture *aperture, float *base,
+                                 highlight_set *set)
 {
     memset(set, 0, sizeof *set);
     set->threshold = threshold;
+    const int image = aperture && aperture->image;
+    const double *sums = image ? aperture_sums(context, aperture) : NULL;
+    if (image && !sums)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the aperture image's table");
     const uint32_t chunks = ddof_row_chunks(r->height);
     class_count *counts = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_COUNTS,
                                            chunks * (sizeof *counts + sizeof(uint32_t)));
     if (!counts)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the highlight pass's counts");
-    find_job job = {.r = r, .threshold = threshold, .coc_signed = coc_signed, .counts = counts,
+    find_job job = {.r = r, .threshold = threshold, .coc_signed = coc_signed,
+                    .area_cost = image, .counts = counts,
                     .offsets = (uint32_t *)(counts + chunks), .base = base};
     ddof_parallel_rows(context, r->height, count_rows, &job);
 
@@ -684,7 +772,7 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
     *set = (highlight_set){items, (uint32_t)kept,
                            threshold * exp2f((float)first / CLASSES_PER_OCTAVE),
                            (uint64_t)kept_cost, 0, (float *)(items + 2 * kept),
-                           (uint32_t *)((float *)(items + 2 * kept) + kept)};
+                           (uint32_t *)((float *)(items + 2 * kept) + kept), sums};
     return DDOF_OK;
 }
 
@@ -706,7 +794,7 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
     for (uint32_t i = 0; i < set->count; i++)
         sorted[at[size_class(set->items[i].coc, coc_signed)]++] = set->items[i];
 
-    scatter_job job = {.r = r, .shape = shape_of(aperture, r->pixel_aspect), .coc_signed = coc_signed,
+    scatter_job job = {.r = r, .shape = shape_of(aperture, set->aperture_sums, r->pixel_aspect), .coc_signed = coc_signed,
                        .landing = set->landing, .weights = set->weights, .diff = scratch};
     for (int k = 0; k <= SIZE_CLASSES; k++) {
         if (start[k + 1] == start[k])

@@ -46,6 +46,23 @@ static inline int ddof_is_highlight(float brightness, float coc, float threshold
     return brightness > threshold && fabsf(coc) >= DDOF_HIGHLIGHT_MIN_COC_PX;
 }
 
+/* The aperture's shape for the scatter: a disc (blades 0, 1 or 2, as Cycles), or a regular
+ * polygon of 3..DDOF_MAX_APERTURE_BLADES blades inscribed in the disc, turned by rotation_rad
+ * (Blender's aperture_rotation). An ellipse (the aperture ratio) is the request's pixel aspect. */
+typedef struct highlight_aperture {
+    uint32_t blades;
+    double rotation_rad;
+    /* Optical vignetting: the shape clipped by a circle of its radius R centred catseye x R x
+     * (the highlight's distance from the frame's centre, 1 at its corners) toward that centre.
+     * 0: off. The frame: its centre in the image's pixels and its half width and height (a
+     * crop's frame is the full frame's). */
+    double catseye;
+    double centre_x, centre_y, half_width, half_height;
+    /* A custom aperture (ddof_camera.aperture_image): replaces the blades; NULL: none. */
+    const float *image;
+    uint32_t image_width, image_height;
+} highlight_aperture;
+
 typedef struct highlight {
     uint32_t x, y;
     float coc;       /* signed CoC its light is drawn with (highlights.c: highlight_coc) */
@@ -60,28 +77,19 @@ typedef struct highlight_set {
     int over_budget;  /* none drawn: the brightest class alone was over the budget     */
     float *weights;   /* scratch for the scatter: one per highlight                    */
     uint32_t *landing;/* scratch for the scatter: (width + 1) x height                 */
+    const double *aperture_sums; /* the aperture image's summed-area table, scaled to a
+                                    maximum of 1: (w + 1) x (h + 1); NULL without an image */
 } highlight_set;
 
-/* Finds the highlights of r (colour with 3 or 4 channels, its signed or unsigned CoC):
+/* Finds the highlights of r (colour with 3 or 4 channels, its signed or unsigned CoC), a
+ * highlight costing its rows and rim, or its area with an aperture image (aperture may be NULL):
  * pixels whose largest colour channel exceeds `threshold` and whose |CoC| >= the minimum,
  * and writes `base` (width x height x channels floats, packed) = the colour with their excess
  * taken out. set->count 0: none (base is then not written). Memory from the context. */
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
-                                 int coc_signed, float *base, highlight_set *set);
+                                 int coc_signed, const highlight_aperture *aperture, float *base,
+                                 highlight_set *set);
 
-/* The aperture's shape for the scatter: a disc (blades 0, 1 or 2, as Cycles), or a regular
- * polygon of 3..DDOF_MAX_APERTURE_BLADES blades inscribed in the disc, turned by rotation_rad
- * (Blender's aperture_rotation). An ellipse (the aperture ratio) is the request's pixel aspect. */
-typedef struct highlight_aperture {
-    uint32_t blades;
-    double rotation_rad;
-    /* Optical vignetting: the shape clipped by a circle of its radius R centred catseye x R x
-     * (the highlight's distance from the frame's centre, 1 at its corners) toward that centre.
-     * 0: off. The frame: its centre in the image's pixels and its half width and height (a
-     * crop's frame is the full frame's). */
-    double catseye;
-    double centre_x, centre_y, half_width, half_height;
-} highlight_aperture;
 
 /* Adds each highlight's excess to r->out as its disc (aperture NULL) or aperture shape. scratch: width x height x 3 floats
  * (the base image of ddof_find_highlights may serve: it is not needed any more). */

@@ -452,8 +452,8 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
             return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                              "could not allocate the highlight pass's %ux%u image", r->width,
                              r->height);
-        if ((status = ddof_find_highlights(context, &er, q->params->highlight_threshold, 0, base,
-                                           &lights)) != DDOF_OK)
+        if ((status = ddof_find_highlights(context, &er, q->params->highlight_threshold, 0,
+                                           &q->aperture, base, &lights)) != DDOF_OK)
             return status;
         if (lights.count)
             element = base;
@@ -543,11 +543,15 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
                          "could not allocate the highlight pass's %ux%u image", r->width,
                          r->height);
     ddof_status status =
-        ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed, base, set);
+        ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
+                             &q->aperture, base, set);
     if (status != DDOF_OK)
         return status;
-    char shape[32] = "discs";
-    if (q->aperture.blades >= 3)
+    char shape[48] = "discs";
+    if (q->aperture.image)
+        snprintf(shape, sizeof shape, "the %ux%u aperture image", q->aperture.image_width,
+                 q->aperture.image_height);
+    else if (q->aperture.blades >= 3)
         snprintf(shape, sizeof shape, "%u-bladed polygons", q->aperture.blades);
     if (set->count)
         snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px "

@@ -41,6 +41,9 @@ int main(void)
     F(ddof_camera, aperture_rotation_deg);
     F(ddof_camera, aperture_ratio);
     F(ddof_camera, aperture_catseye);
+    F(ddof_camera, aperture_image);
+    F(ddof_camera, aperture_image_width);
+    F(ddof_camera, aperture_image_height);
     END();
     BEGIN(ddof_curve);
     F(ddof_curve, struct_size); F(ddof_curve, near_blur_px); F(ddof_curve, near_start);

@@ -1379,6 +1379,44 @@ static int case_sidecar(void)
         CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json, "--aperture-blades",
                    "17", NULL) == 2);
         CHECK(!test_file_exists(test_path(dir, "bad.exr")));
+        /* --aperture-image: an EXR's Y channel is the camera's aperture image. */
+        {
+            static float cross[8 * 8], zeros[8 * 8];
+            const char *names[1] = {"Y"};
+            const exrio_pixel_type types[1] = {EXRIO_FLOAT};
+            const exrio_box box = test_box(0, 0, 8, 8);
+            const void *planes[1] = {cross};
+            for (int i = 0; i < 64; i++)
+                cross[i] = (i % 8 == 3 || i % 8 == 4 || i / 8 == 3 || i / 8 == 4) ? 1.0f : 0.0f;
+            CHECK(test_write_exr(test_path(dir, "cross.exr"), &box, &box, 1, names, types,
+                                 planes, EXRIO_COMPRESSION_ZIP) == 0);
+            static float without[N * 4];
+            /* f/0.1: the scene's highlight (30 at 17 m) gets a CoC of 9 px, so it is drawn. */
+            r.camera.fstop = 0.1;
+            library_result(&s, &r, without, NULL);
+            r.camera.aperture_image = cross;
+            r.camera.aperture_image_width = r.camera.aperture_image_height = 8;
+            library_result(&s, &r, ref, NULL);
+            CHECK(memcmp(without, ref, sizeof without) != 0); /* the image is drawn */
+            CHECK(ddof(in, "-o", test_path(dir, "ap3.exr"), "--camera", json, "--substeps", "3",
+                       "--fstop", "0.1", "--aperture-blades", "5", "--aperture-ratio", "1.5",
+                       "--aperture-image", test_path(dir, "cross.exr"), "--pixel-type",
+                       "float", NULL) == 0);
+            CHECK(compare_output(test_path(dir, "ap3.exr"), ref, 1, 0.0, 0) == 0);
+            r.camera.aperture_image = NULL;
+            r.camera.aperture_image_width = r.camera.aperture_image_height = 0;
+            r.camera.fstop = 2.0;
+            planes[0] = zeros;
+            CHECK(test_write_exr(test_path(dir, "zeros.exr"), &box, &box, 1, names, types,
+                                 planes, EXRIO_COMPRESSION_ZIP) == 0);
+            CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json,
+                       "--aperture-image", test_path(dir, "zeros.exr"), NULL) == 2);
+            CHECK(err_contains("all 0"));
+            CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", json,
+                       "--aperture-image", test_path(dir, "none.exr"), NULL) == 2);
+            CHECK(err_contains("--aperture-image"));
+            CHECK(!test_file_exists(test_path(dir, "bad.exr")));
+        }
         r.camera.aperture_blades = 0;
         r.camera.aperture_rotation_deg = 0.0;
         r.camera.aperture_ratio = 1.0;

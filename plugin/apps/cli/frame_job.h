@@ -36,6 +36,7 @@ typedef struct frame_setup {
     uint32_t sidecar_resolution[2]; /* 0, 0 when none */
     ddof_curve curve;
     ddof_params params;           /* progress fields are set per frame */
+    float *aperture_pixels;       /* --aperture-image's, owned (camera.aperture_image) */
 } frame_setup;
 
 typedef struct frame_paths {

@@ -5,6 +5,7 @@
  * options; everything that can be checked once (camera values, output directories, output !=
  * input) is checked before the first frame is read, so that a 240-frame job with a typo fails
  * in a second, not after frame 1 or frame 240. */
+#include "aperture_image.h"
 #include "camera_json.h"
 #include "exrio.h"
 #include "exrio_layout.h"
@@ -70,6 +71,17 @@ static int resolve_camera(const cli_options *o, frame_setup *setup)
     cli_options_override_camera(o, c);
     if (o->camera_set & CAM_ASPECT)
         setup->camera_aspect_given = 1;
+    if (o->aperture_image) {
+        char error[1024];
+        setup->aperture_pixels = aperture_image_read(o->aperture_image, &c->aperture_image_width,
+                                                     &c->aperture_image_height, error,
+                                                     sizeof error);
+        if (!setup->aperture_pixels) {
+            fprintf(stderr, "ddof: --aperture-image: %s\n", error);
+            return -1;
+        }
+        c->aperture_image = setup->aperture_pixels;
+    }
     return 0;
 }
 
@@ -496,14 +508,18 @@ static int prepare(const cli_options *o, frame_setup *setup, frame_paths **paths
     setup->options = o;
     setup->curve = o->curve;
     resolve_params(o, &setup->params);
-    if (o->source == COC_FROM_CAMERA && resolve_camera(o, setup) != 0)
+    if (o->source == COC_FROM_CAMERA && resolve_camera(o, setup) != 0) {
+        free(setup->aperture_pixels);
         return CLI_EXIT_USAGE;
+    }
     rc = validate_with_library(setup);
-    if (rc != 0)
+    *paths = rc == 0 ? build_paths(o, count) : NULL;
+    if (rc == 0 && !*paths)
+        rc = CLI_EXIT_USAGE;
+    if (rc != 0) {
+        free(setup->aperture_pixels);
         return rc;
-    *paths = build_paths(o, count);
-    if (!*paths)
-        return CLI_EXIT_USAGE;
+    }
     rc = check_outputs(o, *paths, *count) != 0 ? CLI_EXIT_FAILED : 0;
     if (rc == 0) {
         remove_stale_temps(o, &(*paths)[0]);
@@ -512,6 +528,7 @@ static int prepare(const cli_options *o, frame_setup *setup, frame_paths **paths
     if (rc != 0) {
         free(*paths);
         *paths = NULL;
+        free(setup->aperture_pixels);
     }
     return rc;
 }
@@ -589,6 +606,7 @@ static int run_frames(const cli_options *o)
         fprintf(stderr, "ddof: out of memory\n");
         free(paths);
         free(results);
+        free(setup.aperture_pixels);
         progress_free(bar);
         return CLI_EXIT_FAILED;
     }
@@ -621,6 +639,7 @@ static int run_frames(const cli_options *o)
     }
     free(paths);
     free(results);
+    free(setup.aperture_pixels);
     progress_free(bar);
     return failed > 0 || stats_failed ? CLI_EXIT_FAILED : CLI_EXIT_OK;
 }

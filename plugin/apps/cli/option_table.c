@@ -157,6 +157,9 @@ const cli_option cli_option_table[] = {
     {"--aperture-ratio", COC, DOUBLE(camera.aperture_ratio, "R", CLI_POSITIVE),
      .camera_bit = CAM_RATIO,
      .help = "anamorphic ratio (Blender's Ratio): 2 draws tall ovals"},
+    {"--aperture-image", COC, STRING(aperture_image, "FILE.exr"),
+     .help = "a custom aperture for highlights (its Y, R or first channel;\n"
+             "up to 256 x 256): replaces the blades"},
     {"--aperture-catseye", COC, DOUBLE(camera.aperture_catseye, "C", CLI_NON_NEGATIVE),
      .camera_bit = CAM_CATSEYE,
      .help = "optical vignetting of highlights toward the frame's edges,\n"
