@@ -45,9 +45,48 @@ def focus_map_bytes(coc, rgb, channels, width, height):
     return out
 
 
-def focus_map_rgba(coc, rgb, channels, width, height):
-    """The map as RGBA floats (bytes / 255, alpha 1), for a Blender image."""
+def _in_aperture(camera, x, y):
+    """Whether the legend's point (x, y) (y down, the shape's unit radius at height 1) lies in
+    the camera's aperture, as a light behind the focus draws it."""
+    ax, ay = x * camera.get("aperture_ratio", 1.0), -y
+    blades = camera.get("aperture_blades", 0)
+    if blades < 3:
+        return ax * ax + ay * ay <= 1.0
+    rotation = camera.get("aperture_rotation_deg", 0.0) * (math.pi / 180.0)
+    far = max(ax * math.cos(rotation + 2.0 * math.pi * k / blades) +
+              ay * math.sin(rotation + 2.0 * math.pi * k / blades) for k in range(blades))
+    return far <= math.cos(math.pi / blades)
+
+
+def aperture_legend(camera, width, height):
+    """The camera's aperture as the map's legend, as `ddof --focus-map` draws it
+    (plugin/apps/cli/focus_map.c): {pixel index: 0 or 255} over a square of min(64, the smaller
+    side / 4) pixels 2 from the top and right edges, white inside the shape; {} for a round
+    aperture (blades < 3, ratio 1) or a map under 48 pixels a side."""
+    ratio = camera.get("aperture_ratio", 1.0)
+    if camera.get("aperture_blades", 0) < 3 and ratio == 1.0:
+        return {}
+    s = min(64, min(width, height) // 4)
+    if s < 12:
+        return {}
+    x0, y0, half = width - s - 2, 2, 0.5 * s
+    scale = half - 1.0
+    extent = 1.0 / ratio if ratio < 1.0 else 1.0
+    legend = {}
+    for y in range(y0, y0 + s):
+        for x in range(x0, x0 + s):
+            u = (x + 0.5 - (x0 + half)) / scale * extent
+            v = (y + 0.5 - (y0 + half)) / scale * extent
+            legend[y * width + x] = 255 if _in_aperture(camera, u, v) else 0
+    return legend
+
+
+def focus_map_rgba(coc, rgb, channels, width, height, camera=None):
+    """The map as RGBA floats (bytes / 255, alpha 1), for a Blender image; with the camera's
+    aperture as its legend when a camera is given."""
     b = focus_map_bytes(coc, rgb, channels, width, height)
+    for i, value in (aperture_legend(camera, width, height) if camera else {}).items():
+        b[3 * i:3 * i + 3] = [value, value, value]
     out = array.array("f", [1.0]) * (width * height * 4)
     for i in range(width * height):
         out[4 * i:4 * i + 3] = array.array("f", (b[3 * i] / 255.0, b[3 * i + 1] / 255.0,

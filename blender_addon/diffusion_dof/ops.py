@@ -1,6 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Operators: apply to any two images, set up the passes, pinhole render, reload the library."""
 
+import array
+
 import bpy
 from bpy.props import IntProperty, StringProperty
 
@@ -151,7 +153,7 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
                 if region is not None:
                     cam = dict(cam, **region.camera_fields())
                 coc = lib.coc(w, h, depth, dch, cam)
-                rgba = focus_map.focus_map_rgba(coc, color, ch, w, h)
+                rgba = focus_map.focus_map_rgba(coc, color, ch, w, h, cam)
             else:  # the border's pixels only; the rest of the frame black
                 x, y, rw, rh = region.x, region.y, region.width, region.height
                 coc = lib.coc(rw, rh, frame_region.crop(depth, w, dch, x, y, rw, rh), dch,
@@ -160,6 +162,9 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
                                                                        rh), ch, rw, rh)
                 rgba = binding.new_buffer(w * h * 4)
                 frame_region.paste(rgba, w, 4, x, y, rw, rh, part)
+                for i, value in focus_map.aperture_legend(cam, w, h).items():
+                    rgba[4 * i:4 * i + 3] = array.array("f", [value / 255.0] * 3)
+                    rgba[4 * i + 3] = 1.0
             image = render.store_result(render.FOCUS_MAP_IMAGE, w, h, 4, rgba, data=True)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             self.report({"ERROR"}, str(err))

@@ -40,6 +40,26 @@ check(fm.focus_map_bytes([0.0, 0.2], [0.5] * 6, 3, 2, 1)[1] > 200, "all in focus
 rgba = fm.focus_map_rgba(coc, rgb, 3, 4, 1)
 check(len(rgba) == 16 and rgba[3] == 1.0 and abs(rgba[1] - 1.0) < 1e-6, "rgba %r" % list(rgba))
 
+# A non-round aperture is the legend: the same white counts as `ddof --focus-map`'s
+# (tests/exr/test_cli.c, case focus_map), white in the middle, black in the square's corner.
+for cam, w, h, white in (({"aperture_blades": 6, "aperture_rotation_deg": 15.0}, 200, 120, 514),
+                         ({"aperture_ratio": 2.0}, 200, 120, 312),
+                         ({"aperture_blades": 5, "aperture_ratio": 0.5}, 320, 240, 990),
+                         ({"aperture_blades": 0, "aperture_ratio": 1.0}, 200, 120, 0),
+                         ({"aperture_blades": 6}, 47, 200, 0)):
+    legend = fm.aperture_legend(cam, w, h)
+    count = sum(1 for v in legend.values() if v == 255)
+    check(count == white, "legend of %r: %d white pixels, want %d" % (cam, count, white))
+    if white:
+        s = min(64, min(w, h) // 4)
+        middle = (2 + s // 2) * w + (w - 2 - s // 2)
+        corner = 2 * w + (w - 3)
+        check(legend[middle] == 255 and legend[corner] == 0, "legend of %r: middle %r, corner %r"
+              % (cam, legend[middle], legend[corner]))
+rgba = fm.focus_map_rgba([5.0] * (200 * 120), [0.5] * (200 * 120 * 3), 3, 200, 120,
+                         {"aperture_blades": 6, "aperture_rotation_deg": 15.0})
+check(rgba[4 * ((2 + 15) * 200 + (200 - 2 - 15))] == 1.0, "the legend is in the map")
+
 check(fm.pixel_of(0.0, 0.0, 10, 5) == (0, 0), "pixel of (0, 0)")
 check(fm.pixel_of(0.999, 0.5, 10, 5) == (9, 2), "pixel of (0.999, 0.5)")
 check(fm.pixel_of(1.0, 0.5, 10, 5) is None and fm.pixel_of(-0.1, 0.5, 10, 5) is None,

@@ -648,6 +648,34 @@ static int case_focus_map(void)
         CHECK_MSG(far[2] > far[0] && far[2] > far[1], "far %d %d %d", far[0], far[1], far[2]);
     }
     free(px);
+    /* A non-round aperture is the map's legend: the white pixels of the shapes the add-on's
+     * aperture_legend (blender_addon/diffusion_dof/focus_map.py) draws, counted there too
+     * (tests/blender/test_focus_map_plain.py): a hexagon at 15 degrees, a tall ellipse (ratio
+     * 2), a wide pentagon (ratio 0.5); none for a round aperture or a small map. */
+    {
+        static uint8_t legend[320 * 240 * 3];
+        const struct {
+            uint32_t blades;
+            double rotation, ratio;
+            uint32_t w, h, white;
+        } cases[] = {{6, 15.0, 1.0, 200, 120, 514}, {0, 0.0, 2.0, 200, 120, 312},
+                     {5, 0.0, 0.5, 320, 240, 990}, {0, 0.0, 1.0, 200, 120, 0},
+                     {6, 0.0, 1.0, 47, 200, 0}};
+        for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
+            ddof_camera a;
+            ddof_camera_init(&a);
+            a.aperture_blades = cases[k].blades;
+            a.aperture_rotation_deg = cases[k].rotation;
+            a.aperture_ratio = cases[k].ratio;
+            memset(legend, 7, sizeof legend);
+            focus_map_aperture(&a, cases[k].w, cases[k].h, legend);
+            uint32_t white = 0;
+            for (size_t j = 0; j < (size_t)cases[k].w * cases[k].h * 3; j += 3)
+                white += legend[j] == 255;
+            CHECK_MSG(white == cases[k].white, "legend %zu: %u white pixels, want %u", k, white,
+                      cases[k].white);
+        }
+    }
     /* Never another output: refused before the first frame, so the EXR result (or the
      * preview) is not replaced by the PNG, in one frame or a batch. */
     {

@@ -9,6 +9,8 @@
 #include <stdio.h>
 #include <stdlib.h>
 
+#define PI 3.14159265358979323846
+
 static uint8_t byte_of(double v)
 {
     return (uint8_t)(fmin(fmax(v, 0.0), 1.0) * 255.0 + 0.5);
@@ -44,8 +46,62 @@ void focus_map_pixels(const float *coc, const float *rgb, uint32_t channels, uin
     }
 }
 
+/* Whether the legend's point (x, y) (image axes, y down, the shape's unit radius at height 1)
+ * lies in the aperture, as a light behind the focus draws it. */
+static int in_aperture(const ddof_camera *camera, float peak, double x, double y)
+{
+    const double ratio = camera->aperture_ratio;
+    if (camera->aperture_image) { /* its texel at least half the brightest */
+        const uint32_t w = camera->aperture_image_width, h = camera->aperture_image_height;
+        const double u = (x * ratio + 1.0) * 0.5 * w, v = (y + 1.0) * 0.5 * h;
+        if (!(u >= 0.0 && u < w && v >= 0.0 && v < h))
+            return 0;
+        return camera->aperture_image[(size_t)v * w + (size_t)u] >= 0.5f * peak;
+    }
+    const double ax = x * ratio, ay = -y;
+    if (camera->aperture_blades < 3)
+        return ax * ax + ay * ay <= 1.0;
+    double far = -INFINITY;
+    for (uint32_t k = 0; k < camera->aperture_blades; k++) {
+        const double a = camera->aperture_rotation_deg * (PI / 180.0) +
+                         2.0 * PI * k / camera->aperture_blades;
+        far = fmax(far, ax * cos(a) + ay * sin(a));
+    }
+    return far <= cos(PI / camera->aperture_blades);
+}
+
+void focus_map_aperture(const ddof_camera *camera, uint32_t width, uint32_t height,
+                        uint8_t *bytes)
+{
+    if (!camera || (camera->aperture_blades < 3 && camera->aperture_ratio == 1.0 &&
+                    !camera->aperture_image))
+        return;
+    const uint32_t side = (width < height ? width : height) / 4;
+    const uint32_t s = side > 64 ? 64 : side;
+    if (s < 12)
+        return;
+    const uint32_t x0 = width - s - 2, y0 = 2;
+    const double half = 0.5 * s, scale = half - 1.0;
+    /* The shape is 1 / ratio wide and 1 tall: the larger of the two fills the square. */
+    const double extent = camera->aperture_ratio < 1.0 ? 1.0 / camera->aperture_ratio : 1.0;
+    float peak = 0.0f;
+    for (uint32_t i = 0; camera->aperture_image &&
+                         i < camera->aperture_image_width * camera->aperture_image_height;
+         i++)
+        peak = camera->aperture_image[i] > peak ? camera->aperture_image[i] : peak;
+    for (uint32_t y = y0; y < y0 + s; y++)
+        for (uint32_t x = x0; x < x0 + s; x++) {
+            const double u = (x + 0.5 - (x0 + half)) / scale * extent;
+            const double v = (y + 0.5 - (y0 + half)) / scale * extent;
+            const uint8_t value = in_aperture(camera, peak, u, v) ? 255 : 0;
+            for (int c = 0; c < 3; c++)
+                bytes[((size_t)y * width + x) * 3 + (size_t)c] = value;
+        }
+}
+
 int focus_map_write(const char *path, const float *coc, const float *rgb, uint32_t channels,
-                    uint32_t width, uint32_t height, char *error, size_t error_size)
+                    uint32_t width, uint32_t height, const ddof_camera *camera, char *error,
+                    size_t error_size)
 {
     output_file out;
     FILE *stream;
@@ -55,6 +111,7 @@ int focus_map_write(const char *path, const float *coc, const float *rgb, uint32
         return -1;
     }
     focus_map_pixels(coc, rgb, channels, width, height, bytes);
+    focus_map_aperture(camera, width, height, bytes);
     if (output_file_begin(&out, path, error, error_size) != 0) {
         free(bytes);
         return -1;

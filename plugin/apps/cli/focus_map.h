@@ -10,9 +10,15 @@
  * gives the hue's brightness 0.35 + 0.65 t; every colour is shaded by the picture's luminance
  * (0.35 + 0.65 sqrt(Y)) so that the frame stays recognisable. An unsigned CoC (a CoC channel
  * read without --coc-signed) cannot tell near from far: all blur is shown as far. The same
- * mapping is the Blender add-on's focal-plane view (blender_addon/diffusion_dof/focus_map.py). */
+ * mapping is the Blender add-on's focal-plane view (blender_addon/diffusion_dof/focus_map.py).
+ *
+ * A camera whose aperture is not round (blades, an anamorphic ratio, an aperture image) gets
+ * its shape as a legend in the top-right corner: white inside, black around it, as a light
+ * behind the focus draws it (focus_map_aperture; the add-on draws the same pixels). */
 #ifndef DDOF_CLI_FOCUS_MAP_H
 #define DDOF_CLI_FOCUS_MAP_H
+
+#include "ddof.h"
 
 #include <stddef.h>
 #include <stdint.h>
@@ -24,8 +30,16 @@
 void focus_map_pixels(const float *coc, const float *rgb, uint32_t channels, uint32_t width,
                       uint32_t height, uint8_t *bytes);
 
-/* Writes the map as a PNG atomically (output_file.h). Returns 0, or -1 with a message. */
+/* Draws the camera's aperture into the map's bytes as its legend: a square of min(64, the
+ * smaller side / 4) pixels, 2 from the top and right edges; nothing for a round aperture
+ * (blades < 3, ratio 1, no image) or a map under 48 pixels a side. */
+void focus_map_aperture(const ddof_camera *camera, uint32_t width, uint32_t height,
+                        uint8_t *bytes);
+
+/* Writes the map as a PNG atomically (output_file.h), with the camera's aperture when camera
+ * is not NULL. Returns 0, or -1 with a message. */
 int focus_map_write(const char *path, const float *coc, const float *rgb, uint32_t channels,
-                    uint32_t width, uint32_t height, char *error, size_t error_size);
+                    uint32_t width, uint32_t height, const ddof_camera *camera, char *error,
+                    size_t error_size);
 
 #endif

@@ -745,7 +745,9 @@ static int write_results(const frame_setup *setup, const frame_paths *paths,
     if (paths->focus_map[0]) {
         t = now();
         if (focus_map_write(paths->focus_map, d->coc, d->color, channels, d->part->width,
-                            d->part->height, error, sizeof error) != 0)
+                            d->part->height,
+                            opt->source == COC_FROM_CAMERA ? &setup->camera : NULL, error,
+                            sizeof error) != 0)
             return fail(result, "focus map: %s", error);
         result->seconds_preview += now() - t;
     }
