@@ -794,7 +794,9 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
     for (uint32_t i = 0; i < set->count; i++)
         sorted[at[size_class(set->items[i].coc, coc_signed)]++] = set->items[i];
 
-    scatter_job job = {.r = r, .shape = shape_of(aperture, set->aperture_sums, r->pixel_aspect), .coc_signed = coc_signed,
+    scatter_job job = {.r = r,
+                       .shape = shape_of(aperture, set->aperture_sums, r->pixel_aspect),
+                       .coc_signed = coc_signed,
                        .landing = set->landing, .weights = set->weights, .diff = scratch};
     for (int k = 0; k <= SIZE_CLASSES; k++) {
         if (start[k + 1] == start[k])

@@ -46,9 +46,10 @@ static inline int ddof_is_highlight(float brightness, float coc, float threshold
     return brightness > threshold && fabsf(coc) >= DDOF_HIGHLIGHT_MIN_COC_PX;
 }
 
-/* The aperture's shape for the scatter: a disc (blades 0, 1 or 2, as Cycles), or a regular
+/* The aperture's shape for the pass: a disc (blades 0, 1 or 2, as Cycles), or a regular
  * polygon of 3..DDOF_MAX_APERTURE_BLADES blades inscribed in the disc, turned by rotation_rad
- * (Blender's aperture_rotation). An ellipse (the aperture ratio) is the request's pixel aspect. */
+ * (Blender's aperture_rotation), or an image; clipped by the cat's eye. An ellipse (the
+ * aperture ratio) is the request's pixel aspect. Zero: a disc. */
 typedef struct highlight_aperture {
     uint32_t blades;
     double rotation_rad;
@@ -90,9 +91,9 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
                                  int coc_signed, const highlight_aperture *aperture, float *base,
                                  highlight_set *set);
 
-
-/* Adds each highlight's excess to r->out as its disc (aperture NULL) or aperture shape. scratch: width x height x 3 floats
- * (the base image of ddof_find_highlights may serve: it is not needed any more). */
+/* Adds each highlight's excess to r->out as its disc (aperture NULL) or the aperture's shape.
+ * scratch: width x height x 3 floats (the base image of ddof_find_highlights may serve: it is
+ * not needed any more). */
 void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
                              const highlight_aperture *aperture, const highlight_set *set,
                              float *scratch);
