@@ -77,7 +77,7 @@ case "$mode" in
     # The EXR library's tests (the command's tests run `ddof` as a child process, which this
     # does not reach).
     exr=build/valgrind/tests/exr
-    memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip"
+    memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip" tests/exr/data
     memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input"
     memcheck exr_blender_sample "$exr/test_exr_blender" sample samples "$scratch/sample"
     memcheck cli_option_table "$exr/test_option_table" "$scratch/option_table"

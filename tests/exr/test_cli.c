@@ -258,6 +258,103 @@ static int compare_output(const char *path, const float *ref, int exact, double 
 
 /* ---- cases ---------------------------------------------------------------------------------- */
 
+/* --cards: a scene of textured cards (plugin/apps/cli/cards_scene.h). Two cards, an EXR and a
+ * PNG, out of focus at 1 m and 6 m before a 3 m focus: the output is ddof_render_cards on the
+ * same cards, bit for bit (the PNG decoded here from its bytes, sRGB to linear, premultiplied);
+ * bad scenes are exit 2 with nothing written. */
+static int case_cards(void)
+{
+    enum { TW = 8, TH = 6 };
+    static float tex[TW * TH * 4], png_tex[TW * TH * 4], ref[N * 4];
+    static uint8_t png_bytes[TW * TH * 4];
+    static const char *const names[4] = {"R", "G", "B", "A"};
+    const exrio_pixel_type types[4] = {EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT};
+    static float planes[4][TW * TH];
+    const void *cplanes[4] = {planes[0], planes[1], planes[2], planes[3]};
+    const exrio_box box = test_box(0, 0, TW, TH);
+    const char *json = test_path(dir, "cards.json"), *out = test_path(dir, "cards.exr");
+    png_image png;
+    for (int i = 0; i < TW * TH; i++) {
+        for (int c = 0; c < 3; c++)
+            planes[c][i] = tex[i * 4 + c] = (float)((i * (c + 3)) % 7) / 6.0f;
+        planes[3][i] = tex[i * 4 + 3] = 1.0f;
+        for (int c = 0; c < 4; c++)
+            png_bytes[i * 4 + c] = (uint8_t)(c == 3 ? 128 + (i % 2) * 127 : (i * 37 + c * 50) % 256);
+        const float a = png_bytes[i * 4 + 3] / 255.0f;
+        for (int c = 0; c < 3; c++) {
+            const float v = png_bytes[i * 4 + c] / 255.0f;
+            png_tex[i * 4 + c] = (v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f)) * a;
+        }
+        png_tex[i * 4 + 3] = a;
+    }
+    CHECK(test_write_exr(test_path(dir, "far.exr"), &box, &box, 4, names, types, cplanes,
+                         EXRIO_COMPRESSION_ZIP) == 0);
+    memset(&png, 0, sizeof png);
+    png.version = PNG_IMAGE_VERSION;
+    png.width = TW;
+    png.height = TH;
+    png.format = PNG_FORMAT_RGBA;
+    CHECK(png_image_write_to_file(&png, test_path(dir, "near.png"), 0, png_bytes, 0, NULL) != 0);
+    const char *scene =
+        "{\"camera\": {\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+        " \"fstop\": 1.4, \"focus_distance_m\": 3, \"resolution\": [48, 32], \"pixel_aspect\": 1},"
+        " \"cards\": [{\"image\": \"far.exr\", \"corners\": [[-3, -2, -6], [3, -2, -6], [3, 2, -6],"
+        " [-3, 2, -6]]}, {\"image\": \"near.png\", \"corners\": [[-0.2, -0.1, -1], [0.1, -0.1, -1],"
+        " [0.1, 0.15, -1]], \"uv\": [[0, 0], [1, 0], [1, 1]]}]}";
+    test_write_file(json, scene, strlen(scene));
+    CHECK(ddof("--cards", json, "-o", out, "--pixel-type", "float", NULL) == 0);
+    {
+        ddof_context *ctx = NULL;
+        ddof_camera cam;
+        ddof_card cards[2];
+        static const float quad[4][3] = {{-3, -2, -6}, {3, -2, -6}, {3, 2, -6}, {-3, 2, -6}};
+        static const float tri[3][3] = {{-0.2f, -0.1f, -1}, {0.1f, -0.1f, -1}, {0.1f, 0.15f, -1}};
+        static const float uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+        memset(cards, 0, sizeof cards);
+        cards[0].vertex_count = 4;
+        cards[1].vertex_count = 3;
+        memcpy(cards[0].position, quad, sizeof quad);
+        memcpy(cards[0].uv, uv, sizeof uv);
+        memcpy(cards[1].position, tri, sizeof tri);
+        memcpy(cards[1].uv, uv, 3 * sizeof uv[0]);
+        cards[0].texture = (ddof_image_in){tex, TW, TH, 4, 0};
+        cards[1].texture = (ddof_image_in){png_tex, TW, TH, 4, 0};
+        camera_50mm(&cam, 1.4, 3.0);
+        memset(ref, 0, sizeof ref);
+        CHECK(ddof_context_create(NULL, &ctx) == DDOF_OK);
+        CHECK(ddof_render_cards(ctx, NULL, &cam, cards, 2, &(ddof_image){ref, W, H, 4, 0}) ==
+              DDOF_OK);
+        ddof_context_free(ctx);
+    }
+    CHECK(compare_output(out, ref, 1, 0.0, 0) == 0);
+
+#define BAD_SCENE(text, message)                                                              \
+    do {                                                                                      \
+        test_write_file(json, text, strlen(text));                                            \
+        CHECK(ddof("--cards", json, "-o", test_path(dir, "bad.exr"), NULL) == 2);             \
+        CHECK_MSG(err_contains(message), "wanted '%s'", message);                             \
+        CHECK(!test_file_exists(test_path(dir, "bad.exr")));                                  \
+    } while (0)
+#define CAMERA "{\"camera\": {\"focal_length_mm\": 50, \"sensor_width_mm\": 36, \"sensor_fit\": " \
+               "\"AUTO\", \"fstop\": 1.4, \"focus_distance_m\": 3, \"resolution\": [48, 32], "     \
+               "\"pixel_aspect\": 1}, "
+    BAD_SCENE(CAMERA "\"cards\": []}", "at least one card");
+    BAD_SCENE(CAMERA "\"cards\": [{\"image\": \"missing.exr\", \"corners\": [[0, 0, -1], "
+              "[1, 0, -1], [1, 1, -1], [0, 1, -1]]}]}", "missing.exr");
+    BAD_SCENE(CAMERA "\"cards\": [{\"image\": \"far.exr\", \"corners\": [[0, 0, -1], [1, 0, -1]]}]}",
+              "needs \"corners\"");
+    BAD_SCENE(CAMERA "\"cards\": [{\"image\": \"far.exr\", \"corners\": [[0, 0, 1], [1, 0, 1], "
+              "[1, 1, 1], [0, 1, 1]]}]}", "behind");
+    BAD_SCENE("{\"camera\": {\"focal_length_mm\": 50}, \"cards\": [{}]}", "missing");
+#undef CAMERA
+#undef BAD_SCENE
+    CHECK(ddof("--cards", json, test_path(dir, "in.exr"), "-o", out, NULL) == 2);
+    CHECK(err_contains("no input file"));
+    CHECK(ddof("--cards", json, "-o", out, "--frames", "1-3", NULL) == 2);
+    CHECK(err_contains("no --frames"));
+    return test_finish("test_cli cards");
+}
+
 static int case_values(void)
 {
     static scene s;
@@ -2129,6 +2226,7 @@ int main(int argc, char **argv)
     if (!strcmp(which, "pipe")) return case_pipe();
     if (!strcmp(which, "resume")) return case_resume();
     if (!strcmp(which, "keep_parts")) return case_keep_parts();
+    if (!strcmp(which, "cards")) return case_cards();
     if (!strcmp(which, "messages")) return case_messages();
     fprintf(stderr, "test_cli: unknown case %s\n", which);
     return 2;

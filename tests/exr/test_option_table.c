@@ -97,15 +97,20 @@ static const char *valid_value(const cli_option *option, char *buffer, size_t si
 }
 
 /* The argv that goes with one option: the input, --list (so that no -o or camera is needed;
- * not for --list itself), what the option needs beside it, then "--name value" or
- * "--name=value". */
+ * not for --list itself; --cards takes -o instead of both), what the option needs beside it,
+ * then "--name value" or "--name=value". */
 static void build_argv(const cli_option *option, const char *value, int joined,
                        const char **args, char *joined_buffer, size_t size)
 {
     int n = 0;
     args[n++] = "ddof";
-    args[n++] = "in.exr";
-    if (strcmp(option->name, "--list") != 0)
+    if (!strcmp(option->name, "--cards")) { /* its own input: an output instead */
+        args[n++] = "-o";
+        args[n++] = "out.exr";
+    } else {
+        args[n++] = "in.exr";
+    }
+    if (strcmp(option->name, "--list") != 0 && strcmp(option->name, "--cards") != 0)
         args[n++] = "--list";
     if (!strcmp(option->name, "--coc-signed")) {
         args[n++] = "--coc-channel";

@@ -119,6 +119,9 @@ const cli_option cli_option_table[] = {
      .help = "depth channel (planar camera Z unless --depth-kind radial)"},
     {"--depth-file", INPUT, STRING(depth_file, "FILE.exr"),
      .help = "read depth from another file (#### allowed)"},
+    {"--cards", INPUT, STRING(cards_json, "SCENE.json"),
+     .help = "render a scene of textured cards (docs/cards.md) instead of\n"
+             "IN.exr: -o OUT.exr, and --pixel-type, --compression, --threads"},
     {"--list", INPUT, FLAG(list_only),
      .help = "print the parts, channels and what would be used, then exit"},
 

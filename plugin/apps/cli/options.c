@@ -170,6 +170,24 @@ int cli_parse_options(int argc, char **argv, cli_options *o)
         if (rc != 0)
             return rc;
     }
+    if (o->cards_json) {
+        /* A scene of cards is its own input: its camera and images come from the JSON. */
+        if (o->input) {
+            fprintf(stderr, "ddof: --cards renders its own scene: no input file ('%s')\n",
+                    o->input);
+            return -1;
+        }
+        if (o->frames || o->list_only) {
+            fprintf(stderr, "ddof: --cards renders one frame of its scene: no %s\n",
+                    o->frames ? "--frames" : "--list");
+            return -1;
+        }
+        if (!o->output) {
+            fprintf(stderr, "ddof: no output file: give -o OUT.exr (try --help)\n");
+            return -1;
+        }
+        return 0;
+    }
     if (!o->input) {
         fprintf(stderr, "ddof: no input file (try --help)\n");
         return -1;

@@ -63,6 +63,7 @@ typedef struct cli_options {
     coc_source source;
     unsigned coc_sources_given;   /* --curve and --coc-channel seen: more than one is an error */
     const char *camera_json;
+    const char *cards_json;       /* --cards: a scene of textured cards instead of IN.exr    */
     const char *aperture_image;   /* --aperture-image: an EXR; NULL: the blades' shape      */
     ddof_camera camera;           /* flag values (valid where camera_set says) */
     unsigned camera_set;

@@ -1,0 +1,233 @@
+/* SPDX-License-Identifier: MIT */
+/* cards_scene.c - reading `ddof --cards scene.json` (cards_scene.h). */
+#include "cards_scene.h"
+
+#include "camera_json.h"
+#include "exrio.h"
+
+#include <cJSON.h>
+#include <png.h>
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <strings.h>
+
+static char *read_file(const char *path, size_t *size, char *error, size_t error_size)
+{
+    FILE *f = fopen(path, "rb");
+    char *text = NULL;
+    long n;
+    if (!f || fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
+        !(text = malloc((size_t)n + 1)) || fread(text, 1, (size_t)n, f) != (size_t)n) {
+        snprintf(error, error_size, "cannot read cards scene %s", path);
+        free(text);
+        if (f)
+            fclose(f);
+        return NULL;
+    }
+    fclose(f);
+    text[n] = '\0';
+    *size = (size_t)n;
+    return text;
+}
+
+/* A path relative to the scene file's folder. */
+static void resolve_path(const char *scene_path, const char *name, char *out, size_t size)
+{
+    const char *slash = strrchr(scene_path, '/');
+    if (name[0] == '/' || !slash)
+        snprintf(out, size, "%s", name);
+    else
+        snprintf(out, size, "%.*s/%s", (int)(slash - scene_path), scene_path, name);
+}
+
+static int ends_with(const char *s, const char *suffix)
+{
+    const size_t n = strlen(s), m = strlen(suffix);
+    return n >= m && strcasecmp(s + n - m, suffix) == 0;
+}
+
+static float srgb_to_linear(float v)
+{
+    return v <= 0.04045f ? v / 12.92f : powf((v + 0.055f) / 1.055f, 2.4f);
+}
+
+/* A PNG as premultiplied linear RGBA floats. */
+static float *read_png(const char *path, uint32_t *w, uint32_t *h, char *error, size_t size)
+{
+    png_image image;
+    memset(&image, 0, sizeof image);
+    image.version = PNG_IMAGE_VERSION;
+    if (!png_image_begin_read_from_file(&image, path)) {
+        snprintf(error, size, "%s: not a readable PNG (%s)", path, image.message);
+        return NULL;
+    }
+    image.format = PNG_FORMAT_RGBA;
+    uint8_t *bytes = malloc(PNG_IMAGE_SIZE(image));
+    float *rgba = bytes ? malloc((size_t)image.width * image.height * 4 * sizeof *rgba) : NULL;
+    if (!rgba || !png_image_finish_read(&image, NULL, bytes, 0, NULL)) {
+        snprintf(error, size, "%s: %s", path, rgba ? image.message : "out of memory");
+        png_image_free(&image);
+        free(bytes);
+        free(rgba);
+        return NULL;
+    }
+    for (size_t i = 0; i < (size_t)image.width * image.height; i++) {
+        const float a = bytes[i * 4 + 3] / 255.0f;
+        for (int c = 0; c < 3; c++)
+            rgba[i * 4 + c] = srgb_to_linear(bytes[i * 4 + c] / 255.0f) * a;
+        rgba[i * 4 + 3] = a;
+    }
+    *w = image.width;
+    *h = image.height;
+    free(bytes);
+    return rgba;
+}
+
+/* An EXR's R, G, B (and A, else 1) as interleaved floats. */
+static float *read_exr(const char *path, uint32_t *w, uint32_t *h, char *error, size_t size)
+{
+    static const char *const names[4] = {"R", "G", "B", "A"};
+    exrio_image image;
+    float *rgba = NULL;
+    int index[4], c;
+    if (exrio_open(path, &image, error, size) != EXRIO_OK)
+        return NULL;
+    unsigned char *wanted = calloc((size_t)image.channel_count + 1, 1);
+    for (c = 0; c < 4; c++) {
+        index[c] = exrio_find_channel(&image, names[c], 0);
+        if (index[c] >= 0 && wanted)
+            wanted[index[c]] = 1;
+    }
+    if (index[0] < 0 || index[1] < 0 || index[2] < 0) {
+        snprintf(error, size, "%s: a card image needs channels R, G and B", path);
+    } else if (!wanted) {
+        snprintf(error, size, "out of memory");
+    } else if (exrio_load(&image, wanted, error, size) == EXRIO_OK) {
+        const exrio_part *part = &image.parts[0];
+        const size_t n = (size_t)part->width * part->height;
+        rgba = malloc(n * 4 * sizeof *rgba);
+        if (!rgba)
+            snprintf(error, size, "out of memory");
+        for (size_t i = 0; rgba && i < n; i++)
+            for (c = 0; c < 4; c++)
+                rgba[i * 4 + (size_t)c] =
+                    index[c] >= 0 ? ((const float *)image.channels[index[c]].pixels)[i] : 1.0f;
+        *w = part->width;
+        *h = part->height;
+    }
+    free(wanted);
+    exrio_close(&image);
+    return rgba;
+}
+
+/* n numbers of an array item into out; 0, or -1 when it is not an array of n numbers. */
+static int numbers(const cJSON *item, int n, float *out)
+{
+    if (!cJSON_IsArray(item) || cJSON_GetArraySize(item) != n)
+        return -1;
+    for (int i = 0; i < n; i++) {
+        const cJSON *v = cJSON_GetArrayItem(item, i);
+        if (!cJSON_IsNumber(v) || !isfinite(v->valuedouble))
+            return -1;
+        out[i] = (float)v->valuedouble;
+    }
+    return 0;
+}
+
+static int read_card(const char *path, const cJSON *item, int k, ddof_card *card,
+                     float **texture, char *error, size_t size)
+{
+    static const float corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const cJSON *image = cJSON_GetObjectItemCaseSensitive(item, "image");
+    const cJSON *corners = cJSON_GetObjectItemCaseSensitive(item, "corners");
+    const cJSON *uv = cJSON_GetObjectItemCaseSensitive(item, "uv");
+    const int n = cJSON_IsArray(corners) ? cJSON_GetArraySize(corners) : 0;
+    char file[4096];
+    uint32_t w = 0, h = 0;
+    if (!cJSON_IsObject(item) || !cJSON_IsString(image)) {
+        snprintf(error, size, "%s: card %d needs \"image\" (a file name)", path, k);
+        return -1;
+    }
+    if (n < 3 || n > (int)DDOF_CARD_MAX_VERTICES || (n != 4 && !uv)) {
+        snprintf(error, size, "%s: card %d needs \"corners\": 4 [x, y, z] (the image's "
+                 "corners), or 3..%d with \"uv\"", path, k, (int)DDOF_CARD_MAX_VERTICES);
+        return -1;
+    }
+    if (uv && (!cJSON_IsArray(uv) || cJSON_GetArraySize(uv) != n)) {
+        snprintf(error, size, "%s: card %d: \"uv\" must hold one [u, v] per corner", path, k);
+        return -1;
+    }
+    memset(card, 0, sizeof *card);
+    card->vertex_count = (uint32_t)n;
+    for (int i = 0; i < n; i++) {
+        if (numbers(cJSON_GetArrayItem(corners, i), 3, card->position[i]) != 0 ||
+            (uv ? numbers(cJSON_GetArrayItem(uv, i), 2, card->uv[i]) != 0
+                : (memcpy(card->uv[i], corner_uv[i], sizeof card->uv[i]), 0))) {
+            snprintf(error, size, "%s: card %d, corner %d: not [x, y, z] (and [u, v]) of finite "
+                     "numbers", path, k, i);
+            return -1;
+        }
+    }
+    resolve_path(path, image->valuestring, file, sizeof file);
+    *texture = ends_with(file, ".png") ? read_png(file, &w, &h, error, size)
+                                       : read_exr(file, &w, &h, error, size);
+    if (!*texture)
+        return -1;
+    card->texture = (ddof_image_in){*texture, w, h, 4, 0};
+    return 0;
+}
+
+int cards_scene_read(const char *path, cards_scene *scene, char *error, size_t error_size)
+{
+    size_t size = 0;
+    char *text = read_file(path, &size, error, error_size);
+    cJSON *root = text ? cJSON_Parse(text) : NULL;
+    int rc = -1;
+    memset(scene, 0, sizeof *scene);
+    if (text && !root)
+        snprintf(error, error_size, "%s: not valid JSON", path);
+    const cJSON *camera = root ? cJSON_GetObjectItemCaseSensitive(root, "camera") : NULL;
+    const cJSON *cards = root ? cJSON_GetObjectItemCaseSensitive(root, "cards") : NULL;
+    if (root && (!cJSON_IsObject(camera) || !cJSON_IsArray(cards) ||
+                 cJSON_GetArraySize(cards) < 1)) {
+        snprintf(error, error_size, "%s: a cards scene is {\"camera\": {...}, \"cards\": [...]} "
+                 "with at least one card", path);
+    } else if (root) {
+        /* The camera object is a sidecar of its own: printed and read by the sidecar's rules. */
+        char *camera_text = cJSON_PrintUnformatted(camera);
+        camera_sidecar sidecar;
+        if (camera_text && camera_sidecar_parse(camera_text, strlen(camera_text), path,
+                                                &sidecar, error, error_size) == 0) {
+            scene->camera = sidecar.camera;
+            scene->width = sidecar.resolution[0];
+            scene->height = sidecar.resolution[1];
+            scene->count = (uint32_t)cJSON_GetArraySize(cards);
+            scene->cards = calloc(scene->count, sizeof *scene->cards);
+            scene->textures = calloc(scene->count, sizeof *scene->textures);
+            rc = scene->cards && scene->textures ? 0 : -1;
+            if (rc != 0)
+                snprintf(error, error_size, "out of memory");
+            for (uint32_t k = 0; rc == 0 && k < scene->count; k++)
+                rc = read_card(path, cJSON_GetArrayItem(cards, (int)k), (int)k,
+                               &scene->cards[k], &scene->textures[k], error, error_size);
+        }
+        free(camera_text);
+    }
+    cJSON_Delete(root);
+    free(text);
+    if (rc != 0)
+        cards_scene_free(scene);
+    return rc;
+}
+
+void cards_scene_free(cards_scene *scene)
+{
+    for (uint32_t k = 0; scene->textures && k < scene->count; k++)
+        free(scene->textures[k]);
+    free(scene->textures);
+    free(scene->cards);
+    memset(scene, 0, sizeof *scene);
+}
