@@ -111,7 +111,8 @@ ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *pa
     if (status == DDOF_OK) {
         for (uint32_t y = 0; y < out->height; y++)
             memset(out->pixels + (size_t)y * out_stride, 0, (size_t)out->width * 4 * sizeof(float));
-        for (uint32_t i = 0; status == DDOF_OK && i < card_count; i++)
+        /* Near to far, each card under the nearer ones (cards_draw.c). */
+        for (uint32_t i = card_count; status == DDOF_OK && i-- > 0;)
             if (setups[order[i]].visible)
                 status = cards_draw(context, &view, &p, &setups[order[i]], out->pixels,
                                     out_stride);

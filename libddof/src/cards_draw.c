@@ -165,6 +165,11 @@ static int disc_average(const draw_job *job, double x, double y, double avg[4])
     return 1;
 }
 
+/* Cards are drawn near to far, each under what is already there (`out += (1 - out.a) card`,
+ * the same image as far to near with `over`); a pixel this opaque takes nothing more from the
+ * cards behind it, which then change it by at most 1e-6 of their value. */
+#define CARDS_OPAQUE (1.0f - 1e-6f)
+
 static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
 {
     (void)chunk;
@@ -172,16 +177,29 @@ static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
     for (uint32_t y = job->y0 + r0; y < job->y0 + r1; y++) {
         float *row = job->out + (size_t)y * job->out_stride;
         for (uint32_t x = job->x0; x < job->x1; x++) {
+            float *px = row + (size_t)x * 4;
             double avg[4];
-            if (!inside_expanded(job->card, x + 0.5, y + 0.5) ||
+            if (px[3] >= CARDS_OPAQUE || !inside_expanded(job->card, x + 0.5, y + 0.5) ||
                 !disc_average(job, x + 0.5, y + 0.5, avg))
                 continue;
-            float *px = row + (size_t)x * 4;
-            const double keep = 1.0 - avg[3];
+            const double keep = 1.0 - px[3];
             for (int ch = 0; ch < 4; ch++)
-                px[ch] = (float)(avg[ch] + keep * px[ch]);
+                px[ch] = (float)(px[ch] + keep * avg[ch]);
         }
     }
+}
+
+/* Whether every pixel of the card's box is already opaque (a card wholly hidden by nearer
+ * ones: its table is not even built). */
+static int box_opaque(const draw_job *job, uint32_t y1)
+{
+    for (uint32_t y = job->y0; y < y1; y++) {
+        const float *row = job->out + (size_t)y * job->out_stride;
+        for (uint32_t x = job->x0; x < job->x1; x++)
+            if (row[(size_t)x * 4 + 3] < CARDS_OPAQUE)
+                return 0;
+    }
+    return 1;
 }
 
 static double unit_disc_below(double t) /* area of the unit disc's part below height t */
@@ -201,7 +219,7 @@ ddof_status cards_draw(ddof_context *context, const cards_view *view,
     job.y0 = (uint32_t)fmax(0.0, floor(s->box[1]));
     job.x1 = (uint32_t)fmin((double)view->width, ceil(s->box[2]));
     const uint32_t y1 = (uint32_t)fmin((double)view->height, ceil(s->box[3]));
-    if (job.x0 >= job.x1 || job.y0 >= y1)
+    if (job.x0 >= job.x1 || job.y0 >= y1 || box_opaque(&job, y1))
         return DDOF_OK;
     for (uint32_t k = 0; k < job.strips; k++)
         job.slice[k] = unit_disc_below(-1.0 + 2.0 * (k + 1) / job.strips) -
