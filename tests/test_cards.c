@@ -3,8 +3,9 @@
  * the definition (not from the library's code): per pixel, the ray through its centre meets
  * the card's plane at depth Z; the Cycles CoC of Z gives the radius r (at least 0.5 px); the
  * result is the average, over a dense grid of points of the screen disc of radius r, of the
- * texel each point's own ray meets (transparent off the card). Then order, focus, huge CoC,
- * and bad inputs (each a clear status, nothing written). */
+ * texel each point's own ray meets (transparent off the card). Then order, a card hidden
+ * behind an opaque one, focus, huge CoC, and bad inputs (each a clear status, nothing
+ * written). */
 #ifndef DDOF_EXPERIMENTAL
 #define DDOF_EXPERIMENTAL
 #endif
@@ -247,6 +248,40 @@ static void test_order(ddof_context *ctx)
     CHECK(checked > 100);
 }
 
+/* A card wholly behind an opaque, larger card in focus adds nothing: the output is the front
+ * card's alone, bit for bit (the pixels it makes opaque skip the cards behind them); where the
+ * front card is not opaque the card behind still shows. */
+static void test_hidden_card(ddof_context *ctx)
+{
+    static float opaque[TH * TW * 4], front[W * H * 4], both[W * H * 4];
+    for (int i = 0; i < TW * TH; i++) {
+        for (int c = 0; c < 3; c++)
+            opaque[i * 4 + c] = 0.25f + 0.5f * (float)((i + c) % 3) / 2.0f;
+        opaque[i * 4 + 3] = 1.0f;
+    }
+    ddof_camera cam = test_camera();
+    double big[4][3], small[4][3];
+    for (int k = 0; k < 4; k++) {
+        big[k][0] = fronto[k][0] * 3.0; /* the focus plane, wider than the frame */
+        big[k][1] = fronto[k][1] * 3.0;
+        big[k][2] = -0.5;
+        small[k][0] = fronto[k][0] * 0.5;
+        small[k][1] = fronto[k][1] * 0.5;
+        small[k][2] = -2.0;
+    }
+    ddof_card cards[2] = {rect_card(big, opaque), rect_card(small, texture_a)};
+    CHECK_EQ_INT(render(ctx, NULL, &cam, cards, 1, front), DDOF_OK);
+    CHECK_EQ_INT(render(ctx, NULL, &cam, cards, 2, both), DDOF_OK);
+    CHECK(memcmp(front, both, sizeof front) == 0);
+    /* The front card with a transparent texel column: the card behind shows through it. */
+    for (int j = 0; j < TH; j++)
+        for (int c = 0; c < 4; c++)
+            opaque[(j * TW + TW / 2) * 4 + c] = 0.0f;
+    CHECK_EQ_INT(render(ctx, NULL, &cam, cards, 1, front), DDOF_OK);
+    CHECK_EQ_INT(render(ctx, NULL, &cam, cards, 2, both), DDOF_OK);
+    CHECK(memcmp(front, both, sizeof front) != 0);
+}
+
 /* Card at 1 cm from an f/1 lens: CoC clamped, output finite, alpha within 0..1. */
 static void test_huge_coc(ddof_context *ctx)
 {
@@ -383,6 +418,7 @@ int main(void)
     test_against_reference(ctx);
     test_in_focus(ctx);
     test_order(ctx);
+    test_hidden_card(ctx);
     test_huge_coc(ctx);
     test_bad_input(ctx);
     test_edge_on(ctx);
