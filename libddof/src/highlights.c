@@ -467,8 +467,6 @@ static float rim_weight(const shape *s, const highlight *h, const disc_row *row,
         w = image_weight(s, h, row, dx);
     else if (s->sides)
         w = 0.5f - polygon_distance(s, h, (float)dx, row->v, s->aspect != 1.0f);
-    else if (s->aspect == 1.0f)
-        w = radius_of(h) + 0.5f - sqrtf((float)(dx * dx) + row->v2);
     else
         w = circle_weight(s->aspect, radius_of(h), (float)dx, row->v);
     if (row->clipped)
