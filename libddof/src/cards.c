@@ -9,8 +9,6 @@
 #include <math.h>
 #include <string.h>
 
-#define CARDS_MAX_STRIPS 64u
-
 void ddof_cards_params_init(ddof_cards_params *params)
 {
     if (!params)
@@ -111,11 +109,14 @@ ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *pa
     if (status == DDOF_OK) {
         for (uint32_t y = 0; y < out->height; y++)
             memset(out->pixels + (size_t)y * out_stride, 0, (size_t)out->width * 4 * sizeof(float));
-        /* Near to far, each card under the nearer ones (cards_draw.c). */
+        /* Near to far, each card under the nearer ones (cards_draw.c); one table allocation
+         * serves every card. */
+        card_table table = {0};
         for (uint32_t i = card_count; status == DDOF_OK && i-- > 0;)
             if (setups[order[i]].visible)
-                status = cards_draw(context, &view, &p, &setups[order[i]], out->pixels,
+                status = cards_draw(context, &view, &p, &setups[order[i]], &table, out->pixels,
                                     out_stride);
+        cards_table_free(context, &table);
     }
     ddof_free(&context->allocator, setups);
     ddof_free(&context->allocator, order);

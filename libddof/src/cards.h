@@ -10,6 +10,8 @@
 #endif
 #include "internal.h"
 
+#define CARDS_MAX_STRIPS 64u /* ddof_cards_params.strips at most */
+
 /* The screen: continuous pixel coordinates (x right, y down, pixel (i, j) covers
  * [i, i+1) x [j, j+1)) and the camera's CoC. A ray through screen point (x, y) has the
  * direction (ray_a x + ray_bx, -(ray_c y) + ray_by, -1), so planar depth Z = n.O / n.D. */
@@ -50,10 +52,22 @@ void cards_expand(const cards_view *view, const ddof_cards_params *params, card_
 ddof_status cards_order(ddof_context *context, const card_setup *cards, uint32_t count,
                         uint32_t *order);
 
-/* Composites card `s` over `out` (premultiplied RGBA, stride in floats). */
+/* A card's summed-area tables (cards_table.c), kept from card to card of one frame. */
+typedef struct card_table {
+    double *sum;     /* (tw + 1) x (th + 1) x 4: texels in rows < j, columns < i */
+    uint32_t *count; /* (tw + 1) x (th + 1): of those, texels not wholly zero */
+    size_t capacity; /* cells allocated */
+    uint32_t tw, th;
+} card_table;
+
+/* Builds card `c`'s tables into `t`, growing it as needed. */
+ddof_status cards_table_build(ddof_context *context, const card_setup *c, card_table *t);
+void cards_table_free(ddof_context *context, card_table *t);
+
+/* Draws card `s` under `out` (premultiplied RGBA, stride in floats), using `table`. */
 ddof_status cards_draw(ddof_context *context, const cards_view *view,
-                       const ddof_cards_params *params, const card_setup *s, float *out,
-                       size_t out_stride);
+                       const ddof_cards_params *params, const card_setup *s,
+                       card_table *table, float *out, size_t out_stride);
 
 /* CoC radius in horizontal pixels at planar depth z metres. */
 double cards_radius(const cards_view *view, double z);

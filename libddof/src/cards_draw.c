@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* cards_draw.c - one card composited over the image: its texture's summed-area table (double,
- * texels outside the uv polygon transparent), then per pixel of the expanded polygon the ray's
+/* cards_draw.c - one card drawn under the image: per pixel of the expanded polygon the ray's
  * point on the card's plane (perspective-correct depth and uv), the CoC radius of that depth,
  * and the texture's average over that disc mapped into texels by the local projection, as
- * `strips` rectangles of the disc's exact slice areas. */
+ * `strips` rectangles of the disc's exact slice areas read from the summed-area table
+ * (cards_table.c). */
 #include "cards.h"
 
+#include "float_ops.h"
 #include "parallel_rows.h"
 
 #include <math.h>
@@ -14,79 +15,18 @@
 #define CARDS_PI 3.14159265358979323846
 #define CARDS_MIN_RADIUS_PX 0.5 /* an in-focus pixel averages its own footprint */
 
-typedef struct card_table {
-    double *sum;        /* (tw + 1) x (th + 1) x 4: texels in rows < j, columns < i */
-    uint32_t tw, th;
-} card_table;
-
-/* Whether texel (i, j)'s centre lies in the card's uv polygon (row 0 at the top: v = 1). */
-static int texel_in_card(const card_setup *c, double orientation, const card_table *t,
-                         uint32_t i, uint32_t j)
-{
-    const double u = (i + 0.5) / t->tw, v = 1.0 - (j + 0.5) / t->th;
-    for (uint32_t k = 0; k < c->n; k++) {
-        const double *a = c->uv[k], *b = c->uv[(k + 1) % c->n];
-        if (orientation * ((b[0] - a[0]) * (v - a[1]) - (b[1] - a[1]) * (u - a[0])) < -1e-12)
-            return 0;
-    }
-    return 1;
-}
-
-static void build_table(const card_setup *c, card_table *t)
-{
-    double area = 0.0;
-    for (uint32_t k = 0; k < c->n; k++) {
-        const double *a = c->uv[k], *b = c->uv[(k + 1) % c->n];
-        area += a[0] * b[1] - b[0] * a[1];
-    }
-    const double orientation = area >= 0.0 ? 1.0 : -1.0;
-    const size_t row = (size_t)(t->tw + 1) * 4;
-    memset(t->sum, 0, row * sizeof *t->sum);
-    for (uint32_t j = 0; j < t->th; j++) {
-        const float *texel = c->texture.pixels + (size_t)j * c->texture_stride;
-        double *above = t->sum + (size_t)j * row, *here = above + row;
-        double run[4] = {0, 0, 0, 0};
-        memset(here, 0, 4 * sizeof *here);
-        for (uint32_t i = 0; i < t->tw; i++) {
-            const int in = texel_in_card(c, orientation, t, i, j);
-            for (int ch = 0; ch < 4; ch++) {
-                run[ch] += in ? texel[(size_t)i * 4 + ch] : 0.0;
-                here[(i + 1) * 4 + ch] = above[(i + 1) * 4 + ch] + run[ch];
-            }
-        }
-    }
-}
-
-/* The integral of the texture over [0, x] x [0, y] (texels), x and y clamped to it: exact for
- * piecewise-constant texels, as the bilinear blend of the table's corners. */
-static void integral(const card_table *t, double x, double y, double out[4])
-{
-    x = x < 0.0 ? 0.0 : x > t->tw ? t->tw : x;
-    y = y < 0.0 ? 0.0 : y > t->th ? t->th : y;
-    uint32_t i = (uint32_t)x, j = (uint32_t)y;
-    i = i >= t->tw ? t->tw - 1 : i;
-    j = j >= t->th ? t->th - 1 : j;
-    const double fx = x - i, fy = y - j;
-    const size_t row = (size_t)(t->tw + 1) * 4;
-    const double *s00 = t->sum + j * row + (size_t)i * 4, *s10 = s00 + 4, *s01 = s00 + row,
-                 *s11 = s01 + 4;
-    for (int ch = 0; ch < 4; ch++)
-        out[ch] = (1 - fy) * ((1 - fx) * s00[ch] + fx * s10[ch]) +
-                  fy * ((1 - fx) * s01[ch] + fx * s11[ch]);
-}
-
 typedef struct draw_job {
     const cards_view *view;
     const card_setup *card;
-    card_table table;
+    const card_table *table;
     uint32_t strips;
-    double slice[64];   /* unit-disc area of each strip (sums to pi) */
+    double slice[CARDS_MAX_STRIPS];   /* unit-disc area of each strip (sums to pi) */
     uint32_t x0, x1, y0;
     float *out;
     size_t out_stride;
 } draw_job;
 
-static int inside_expanded(const card_setup *c, double x, double y)
+static DDOF_ALWAYS_INLINE int inside_expanded(const card_setup *c, double x, double y)
 {
     for (uint32_t k = 0; k < c->n; k++) {
         const double *a = c->expanded[k], *b = c->expanded[(k + 1) % c->n];
@@ -98,8 +38,8 @@ static int inside_expanded(const card_setup *c, double x, double y)
 
 /* The card at screen point (x, y): texel position and its derivatives along x and y, and the
  * CoC radius; 0 where the ray misses the card's plane. */
-static int card_at(const draw_job *job, double x, double y, double tex[2], double jac[2][2],
-                   double *radius)
+static DDOF_ALWAYS_INLINE int card_at(const draw_job *job, double x, double y, double tex[2],
+                                      double jac[2][2], double *radius)
 {
     const cards_view *v = job->view;
     const card_setup *c = job->card;
@@ -118,10 +58,10 @@ static int card_at(const draw_job *job, double x, double y, double tex[2], doubl
         dsq[a][0] = dzx * de + z * v->ray_a * e[0];
         dsq[a][1] = dzy * de - z * v->ray_c * e[1];
     }
-    const double scale[2] = {job->table.tw, -(double)job->table.th};
+    const double scale[2] = {job->table->tw, -(double)job->table->th};
     for (int t = 0; t < 2; t++) {
         const double *m = c->uv_affine[t];
-        tex[t] = scale[t] * (m[0] + m[1] * sq[0] + m[2] * sq[1]) + (t ? job->table.th : 0.0);
+        tex[t] = scale[t] * (m[0] + m[1] * sq[0] + m[2] * sq[1]) + (t ? job->table->th : 0.0);
         for (int a = 0; a < 2; a++)
             jac[t][a] = scale[t] * (m[1] * dsq[0][a] + m[2] * dsq[1][a]);
     }
@@ -130,9 +70,50 @@ static int card_at(const draw_job *job, double x, double y, double tex[2], doubl
            isfinite(jac[0][1]) && isfinite(jac[1][0]) && isfinite(jac[1][1]);
 }
 
+/* A position along the table's x (or y) axis: the cell and the fraction into it, clamped to
+ * the texture (the table is constant beyond it: outside the card is transparent). */
+static DDOF_ALWAYS_INLINE void table_at(double x, uint32_t size, uint32_t *cell, double *frac)
+{
+    x = x < 0.0 ? 0.0 : x > size ? size : x;
+    uint32_t i = (uint32_t)x;
+    i = i >= size ? size - 1 : i;
+    *cell = i;
+    *frac = x - i;
+}
+
+/* Row r of the table at x = (ib, fb) minus at x = (ia, fa), times w, added to acc: the
+ * integral of the texture over [xa, xb] x [0, row), each position linear between its cells
+ * (exact for piecewise-constant texels). */
+static DDOF_ALWAYS_INLINE void add_row_span(const double *r, uint32_t ia, double fa, uint32_t ib,
+                                            double fb, double w, double acc[4])
+{
+    const double *a = r + (size_t)ia * 4, *b = r + (size_t)ib * 4;
+    for (int ch = 0; ch < 4; ch++)
+        acc[ch] += w * ((b[ch] + fb * (b[ch + 4] - b[ch])) - (a[ch] + fa * (a[ch + 4] - a[ch])));
+}
+
+/* Whether the texture is wholly zero over the texels the box [x0, x1] x [y0, y1] touches: the
+ * count table, 4 reads. The strips' rectangles lie in the disc's bounding box (each is as wide
+ * as its slice's mean chord, centred on the slice's mean centre), so such a disc averages 0. */
+static DDOF_ALWAYS_INLINE int texture_empty(const card_table *t, double x0, double x1,
+                                            double y0, double y1)
+{
+    const double tw = t->tw, th = t->th;
+    const size_t i0 = (size_t)fmax(0.0, floor(x0 - 1e-6));
+    const size_t j0 = (size_t)fmax(0.0, floor(y0 - 1e-6));
+    const size_t i1 = (size_t)fmin(tw, fmax(0.0, ceil(x1 + 1e-6)));
+    const size_t j1 = (size_t)fmin(th, fmax(0.0, ceil(y1 + 1e-6)));
+    if (i0 >= i1 || j0 >= j1)
+        return 1;
+    const size_t row = (size_t)t->tw + 1;
+    const uint32_t *c = t->count;
+    return c[j1 * row + i1] - c[j1 * row + i0] - c[j0 * row + i1] + c[j0 * row + i0] == 0;
+}
+
 /* The texture's average over the disc of radius r pixels (r * aspect rows) about screen point
- * (x, y), premultiplied RGBA; 0 where the card is not there. */
-static int disc_average(const draw_job *job, double x, double y, double avg[4])
+ * (x, y), premultiplied RGBA; 0 where the card is not there or its texture there is empty. */
+static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, double x, double y,
+                                           double avg[4])
 {
     double tex[2], jac[2][2], r;
     if (!card_at(job, x, y, tex, jac, &r))
@@ -145,20 +126,33 @@ static int disc_average(const draw_job *job, double x, double y, double avg[4])
     const double area = CARDS_PI * r * r * det;
     if (!(area > 1e-12) || !(bb > 0.0))
         return 0;
-    const double reach_y = r * sqrt(bb), shear = (a0 * b0 + a1 * b1) / bb;
+    const double reach_y = r * sqrt(bb), reach_x = r * sqrt(a0 * a0 + a1 * a1);
+    if (texture_empty(job->table, tex[0] - reach_x, tex[0] + reach_x, tex[1] - reach_y,
+                  tex[1] + reach_y))
+        return 0;
+    const double shear = (a0 * b0 + a1 * b1) / bb;
+    const card_table *t = job->table;
+    const size_t row = (size_t)(t->tw + 1) * 4;
+    /* The strips' edges: strip k lies between lines k and k + 1. */
+    uint32_t line_cell[CARDS_MAX_STRIPS + 1];
+    double line_frac[CARDS_MAX_STRIPS + 1];
+    for (uint32_t k = 0; k <= job->strips; k++)
+        table_at(tex[1] + reach_y * (-1.0 + 2.0 * k / job->strips), t->th, &line_cell[k],
+                 &line_frac[k]);
     double total[4] = {0, 0, 0, 0};
     for (uint32_t k = 0; k < job->strips; k++) {
-        const double ta = -1.0 + 2.0 * k / job->strips, tb = ta + 2.0 / job->strips;
-        const double y0 = tex[1] + reach_y * ta, y1 = tex[1] + reach_y * tb;
-        const double xc = tex[0] + shear * reach_y * 0.5 * (ta + tb);
-        const double half = 0.5 * r * r * det * job->slice[k] / (y1 - y0);
-        double f00[4], f10[4], f01[4], f11[4];
-        integral(&job->table, xc - half, y0, f00);
-        integral(&job->table, xc + half, y0, f10);
-        integral(&job->table, xc - half, y1, f01);
-        integral(&job->table, xc + half, y1, f11);
-        for (int ch = 0; ch < 4; ch++)
-            total[ch] += f11[ch] - f10[ch] - f01[ch] + f00[ch];
+        const double tmid = -1.0 + (2.0 * k + 1.0) / job->strips;
+        const double xc = tex[0] + shear * reach_y * tmid;
+        const double half = 0.5 * r * r * det * job->slice[k] / (2.0 * reach_y / job->strips);
+        uint32_t ia, ib;
+        double fa, fb;
+        table_at(xc - half, t->tw, &ia, &fa);
+        table_at(xc + half, t->tw, &ib, &fb);
+        const double *lo = t->sum + line_cell[k] * row, *hi = t->sum + line_cell[k + 1] * row;
+        add_row_span(hi, ia, fa, ib, fb, 1.0 - line_frac[k + 1], total);
+        add_row_span(hi + row, ia, fa, ib, fb, line_frac[k + 1], total);
+        add_row_span(lo, ia, fa, ib, fb, line_frac[k] - 1.0, total);
+        add_row_span(lo + row, ia, fa, ib, fb, -line_frac[k], total);
     }
     for (int ch = 0; ch < 4; ch++)
         avg[ch] = total[ch] / area;
@@ -170,17 +164,55 @@ static int disc_average(const draw_job *job, double x, double y, double avg[4])
  * cards behind it, which then change it by at most 1e-6 of their value. */
 #define CARDS_OPAQUE (1.0f - 1e-6f)
 
-static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
+/* The pixels of row y whose centres lie in the expanded polygon: an interval, its ends from
+ * the edges' half-planes, then settled by inside_expanded itself (the same pixels as testing
+ * each one). */
+static void row_span(const draw_job *job, double y, uint32_t *first, uint32_t *end)
+{
+    const card_setup *c = job->card;
+    double lo = job->x0, hi = job->x1; /* pixel indices: x = i + 0.5 */
+    for (uint32_t k = 0; k < c->n; k++) {
+        const double *a = c->expanded[k], *b = c->expanded[(k + 1) % c->n];
+        /* (b0 - a0)(y - a1) - (b1 - a1)(x - a0) >= 0 */
+        const double q = b[1] - a[1], p = (b[0] - a[0]) * (y - a[1]) + q * a[0];
+        if (q > 0.0)
+            hi = fmin(hi, p / q + 0.5);
+        else if (q < 0.0)
+            lo = fmax(lo, p / q - 0.5);
+        else if (p < 0.0)
+            lo = hi;
+    }
+    uint32_t a = lo <= job->x0 ? job->x0 : lo >= job->x1 ? job->x1 : (uint32_t)lo;
+    uint32_t e = hi <= job->x0 ? job->x0 : hi >= job->x1 ? job->x1 : (uint32_t)ceil(hi);
+    e = e < a ? a : e;
+    while (a > job->x0 && inside_expanded(c, a - 0.5, y))
+        a--;
+    while (a < e && !inside_expanded(c, a + 0.5, y))
+        a++;
+    if (a == e) /* the estimate missed (an edge along the row): test the row */
+        while (a < job->x1 && !inside_expanded(c, a + 0.5, y))
+            a++;
+    e = e < a ? a : e;
+    while (e < job->x1 && inside_expanded(c, e + 0.5, y))
+        e++;
+    while (e > a && !inside_expanded(c, e - 0.5, y))
+        e--;
+    *first = a;
+    *end = e;
+}
+
+DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
 {
     (void)chunk;
     const draw_job *job = user;
     for (uint32_t y = job->y0 + r0; y < job->y0 + r1; y++) {
         float *row = job->out + (size_t)y * job->out_stride;
-        for (uint32_t x = job->x0; x < job->x1; x++) {
+        uint32_t first, end;
+        row_span(job, y + 0.5, &first, &end);
+        for (uint32_t x = first; x < end; x++) {
             float *px = row + (size_t)x * 4;
             double avg[4];
-            if (px[3] >= CARDS_OPAQUE || !inside_expanded(job->card, x + 0.5, y + 0.5) ||
-                !disc_average(job, x + 0.5, y + 0.5, avg))
+            if (px[3] >= CARDS_OPAQUE || !disc_average(job, x + 0.5, y + 0.5, avg))
                 continue;
             const double keep = 1.0 - px[3];
             for (int ch = 0; ch < 4; ch++)
@@ -208,13 +240,11 @@ static double unit_disc_below(double t) /* area of the unit disc's part below he
 }
 
 ddof_status cards_draw(ddof_context *context, const cards_view *view,
-                       const ddof_cards_params *params, const card_setup *s, float *out,
-                       size_t out_stride)
+                       const ddof_cards_params *params, const card_setup *s, card_table *table,
+                       float *out, size_t out_stride)
 {
-    draw_job job = {.view = view, .card = s, .strips = params->strips, .out = out,
-                    .out_stride = out_stride};
-    job.table.tw = s->texture.width;
-    job.table.th = s->texture.height;
+    draw_job job = {.view = view, .card = s, .table = table, .strips = params->strips,
+                    .out = out, .out_stride = out_stride};
     job.x0 = (uint32_t)fmax(0.0, floor(s->box[0]));
     job.y0 = (uint32_t)fmax(0.0, floor(s->box[1]));
     job.x1 = (uint32_t)fmin((double)view->width, ceil(s->box[2]));
@@ -224,14 +254,8 @@ ddof_status cards_draw(ddof_context *context, const cards_view *view,
     for (uint32_t k = 0; k < job.strips; k++)
         job.slice[k] = unit_disc_below(-1.0 + 2.0 * (k + 1) / job.strips) -
                        unit_disc_below(-1.0 + 2.0 * k / job.strips);
-    const size_t cells = (size_t)(job.table.tw + 1) * (job.table.th + 1) * 4;
-    job.table.sum = ddof_alloc(&context->allocator, cells * sizeof(double));
-    if (!job.table.sum)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "no memory for card %u's summed-area table (%zu bytes)", s->index,
-                         cells * sizeof(double));
-    build_table(s, &job.table);
-    ddof_parallel_rows(context, y1 - job.y0, draw_rows, &job);
-    ddof_free(&context->allocator, job.table.sum);
-    return DDOF_OK;
+    ddof_status status = cards_table_build(context, s, table);
+    if (status == DDOF_OK)
+        ddof_parallel_rows(context, y1 - job.y0, draw_rows, &job);
+    return status;
 }
