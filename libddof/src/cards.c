@@ -16,7 +16,7 @@ void ddof_cards_params_init(ddof_cards_params *params)
     memset(params, 0, sizeof *params);
     params->struct_size = sizeof *params;
     params->expansion = DDOF_CARDS_EXPAND_OFFSET;
-    params->strips = 8;
+    params->strips = CARDS_DEFAULT_STRIPS;
 }
 
 double cards_radius(const cards_view *view, double z)

@@ -10,7 +10,8 @@
 #endif
 #include "internal.h"
 
-#define CARDS_MAX_STRIPS 64u /* ddof_cards_params.strips at most */
+#define CARDS_MAX_STRIPS 64u    /* ddof_cards_params.strips at most */
+#define CARDS_DEFAULT_STRIPS 8u /* and by default */
 
 /* The screen: continuous pixel coordinates (x right, y down, pixel (i, j) covers
  * [i, i+1) x [j, j+1)) and the camera's CoC. A ray through screen point (x, y) has the
@@ -32,6 +33,8 @@ typedef struct card_setup {
     double e1[3], e2[3];             /* the plane's axes */
     double uv[DDOF_CARD_MAX_VERTICES][2]; /* the caller's texture coordinates */
     double uv_affine[2][3];          /* u, v = a0 + a1 s + a2 q with s, q along e1, e2 */
+    double texel_reach_m;            /* half a texel's diagonal on the card, metres: how far a
+                                        texel whose centre is in the card reaches out of it */
     double screen[DDOF_CARD_MAX_VERTICES][2]; /* projected vertices */
     double expanded[DDOF_CARD_MAX_VERTICES][2]; /* counter-clockwise on screen (y down) */
     double box[4];                   /* expanded bounds: x0, y0, x1, y1 */

@@ -21,6 +21,8 @@ typedef struct draw_job {
     const card_table *table;
     uint32_t strips;
     double slice[CARDS_MAX_STRIPS];   /* unit-disc area of each strip (sums to pi) */
+    double line[CARDS_MAX_STRIPS + 1]; /* strip edges on the unit disc: -1 + 2 k / strips */
+    double mid[CARDS_MAX_STRIPS];      /* strip middles */
     uint32_t x0, x1, y0;
     float *out;
     size_t out_stride;
@@ -45,11 +47,11 @@ static DDOF_ALWAYS_INLINE int card_at(const draw_job *job, double x, double y, d
     const card_setup *c = job->card;
     const double d[3] = {v->ray_a * x + v->ray_bx, v->ray_by - v->ray_c * y, -1.0};
     const double *nr = c->normal, *o = c->origin;
-    const double w = nr[0] * d[0] + nr[1] * d[1] + nr[2] * d[2];
-    const double z = (nr[0] * o[0] + nr[1] * o[1] + nr[2] * o[2]) / w;
+    const double w = nr[0] * d[0] + nr[1] * d[1] + nr[2] * d[2], inv_w = 1.0 / w;
+    const double z = (nr[0] * o[0] + nr[1] * o[1] + nr[2] * o[2]) * inv_w;
     if (!(z > 0.0) || !isfinite(z))
         return 0;
-    const double dzx = -z * nr[0] * v->ray_a / w, dzy = z * nr[1] * v->ray_c / w;
+    const double dzx = -z * nr[0] * v->ray_a * inv_w, dzy = z * nr[1] * v->ray_c * inv_w;
     double sq[2], dsq[2][2];
     for (int a = 0; a < 2; a++) {
         const double *e = a ? c->e2 : c->e1;
@@ -111,9 +113,10 @@ static DDOF_ALWAYS_INLINE int texture_empty(const card_table *t, double x0, doub
 }
 
 /* The texture's average over the disc of radius r pixels (r * aspect rows) about screen point
- * (x, y), premultiplied RGBA; 0 where the card is not there or its texture there is empty. */
-static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, double x, double y,
-                                           double avg[4])
+ * (x, y), premultiplied RGBA; 0 where the card is not there or its texture there is empty.
+ * `strips` is job->strips, passed so that the default's loops are unrolled at compile time. */
+static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, uint32_t strips, double x,
+                                           double y, double avg[4])
 {
     double tex[2], jac[2][2], r;
     if (!card_at(job, x, y, tex, jac, &r))
@@ -128,22 +131,22 @@ static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, double x, double
         return 0;
     const double reach_y = r * sqrt(bb), reach_x = r * sqrt(a0 * a0 + a1 * a1);
     if (texture_empty(job->table, tex[0] - reach_x, tex[0] + reach_x, tex[1] - reach_y,
-                  tex[1] + reach_y))
+                      tex[1] + reach_y))
         return 0;
     const double shear = (a0 * b0 + a1 * b1) / bb;
+    /* Strip k's rectangle: half as wide as its slice's area over its height 2 reach_y / strips. */
+    const double half_per_slice = 0.25 * strips * r * r * det / reach_y;
     const card_table *t = job->table;
     const size_t row = (size_t)(t->tw + 1) * 4;
     /* The strips' edges: strip k lies between lines k and k + 1. */
     uint32_t line_cell[CARDS_MAX_STRIPS + 1];
     double line_frac[CARDS_MAX_STRIPS + 1];
-    for (uint32_t k = 0; k <= job->strips; k++)
-        table_at(tex[1] + reach_y * (-1.0 + 2.0 * k / job->strips), t->th, &line_cell[k],
-                 &line_frac[k]);
+    for (uint32_t k = 0; k <= strips; k++)
+        table_at(tex[1] + reach_y * job->line[k], t->th, &line_cell[k], &line_frac[k]);
     double total[4] = {0, 0, 0, 0};
-    for (uint32_t k = 0; k < job->strips; k++) {
-        const double tmid = -1.0 + (2.0 * k + 1.0) / job->strips;
-        const double xc = tex[0] + shear * reach_y * tmid;
-        const double half = 0.5 * r * r * det * job->slice[k] / (2.0 * reach_y / job->strips);
+    for (uint32_t k = 0; k < strips; k++) {
+        const double xc = tex[0] + shear * reach_y * job->mid[k];
+        const double half = half_per_slice * job->slice[k];
         uint32_t ia, ib;
         double fa, fb;
         table_at(xc - half, t->tw, &ia, &fa);
@@ -154,8 +157,9 @@ static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, double x, double
         add_row_span(lo, ia, fa, ib, fb, line_frac[k] - 1.0, total);
         add_row_span(lo + row, ia, fa, ib, fb, -line_frac[k], total);
     }
+    const double inv_area = 1.0 / area;
     for (int ch = 0; ch < 4; ch++)
-        avg[ch] = total[ch] / area;
+        avg[ch] = total[ch] * inv_area;
     return 1;
 }
 
@@ -201,24 +205,41 @@ static void row_span(const draw_job *job, double y, uint32_t *first, uint32_t *e
     *end = e;
 }
 
+/* Pixels are taken in blocks CARDS_BLOCK wide across the chunk's rows: the table rows that
+ * neighbouring discs read then stay in the core's cache (row by row, a wide card's discs
+ * sweep more table than the cache holds before the next pixel row reads it again). */
+#define CARDS_BLOCK 64u
+
 DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
 {
     (void)chunk;
     const draw_job *job = user;
-    for (uint32_t y = job->y0 + r0; y < job->y0 + r1; y++) {
-        float *row = job->out + (size_t)y * job->out_stride;
-        uint32_t first, end;
-        row_span(job, y + 0.5, &first, &end);
-        for (uint32_t x = first; x < end; x++) {
-            float *px = row + (size_t)x * 4;
-            double avg[4];
-            if (px[3] >= CARDS_OPAQUE || !disc_average(job, x + 0.5, y + 0.5, avg))
-                continue;
-            const double keep = 1.0 - px[3];
-            for (int ch = 0; ch < 4; ch++)
-                px[ch] = (float)(px[ch] + keep * avg[ch]);
-        }
+    uint32_t first[DDOF_ROWS_PER_CHUNK], end[DDOF_ROWS_PER_CHUNK], lo = job->x1, hi = job->x0;
+    for (uint32_t r = r0; r < r1; r++) {
+        row_span(job, job->y0 + r + 0.5, &first[r - r0], &end[r - r0]);
+        lo = first[r - r0] < end[r - r0] && first[r - r0] < lo ? first[r - r0] : lo;
+        hi = end[r - r0] > hi ? end[r - r0] : hi;
     }
+    for (uint32_t bx = lo; bx < hi; bx += CARDS_BLOCK)
+        for (uint32_t r = r0; r < r1; r++) {
+            const uint32_t y = job->y0 + r;
+            float *row = job->out + (size_t)y * job->out_stride;
+            const uint32_t x0 = first[r - r0] > bx ? first[r - r0] : bx;
+            const uint32_t x1 = end[r - r0] < bx + CARDS_BLOCK ? end[r - r0] : bx + CARDS_BLOCK;
+            for (uint32_t x = x0; x < x1; x++) {
+                float *px = row + (size_t)x * 4;
+                double avg[4];
+                if (px[3] >= CARDS_OPAQUE)
+                    continue;
+                if (!(job->strips == CARDS_DEFAULT_STRIPS
+                          ? disc_average(job, CARDS_DEFAULT_STRIPS, x + 0.5, y + 0.5, avg)
+                          : disc_average(job, job->strips, x + 0.5, y + 0.5, avg)))
+                    continue;
+                const double keep = 1.0 - px[3];
+                for (int ch = 0; ch < 4; ch++)
+                    px[ch] = (float)(px[ch] + keep * avg[ch]);
+            }
+        }
 }
 
 /* Whether every pixel of the card's box is already opaque (a card wholly hidden by nearer
@@ -251,9 +272,12 @@ ddof_status cards_draw(ddof_context *context, const cards_view *view,
     const uint32_t y1 = (uint32_t)fmin((double)view->height, ceil(s->box[3]));
     if (job.x0 >= job.x1 || job.y0 >= y1 || box_opaque(&job, y1))
         return DDOF_OK;
-    for (uint32_t k = 0; k < job.strips; k++)
-        job.slice[k] = unit_disc_below(-1.0 + 2.0 * (k + 1) / job.strips) -
-                       unit_disc_below(-1.0 + 2.0 * k / job.strips);
+    for (uint32_t k = 0; k <= job.strips; k++)
+        job.line[k] = -1.0 + 2.0 * k / job.strips;
+    for (uint32_t k = 0; k < job.strips; k++) {
+        job.mid[k] = -1.0 + (2.0 * k + 1.0) / job.strips;
+        job.slice[k] = unit_disc_below(job.line[k + 1]) - unit_disc_below(job.line[k]);
+    }
     ddof_status status = cards_table_build(context, s, table);
     if (status == DDOF_OK)
         ddof_parallel_rows(context, y1 - job.y0, draw_rows, &job);
