@@ -22,8 +22,16 @@ void cards_expand(const cards_view *view, const ddof_cards_params *params, card_
         const uint32_t src = area >= 0.0 ? k : n - 1 - k;
         v[k][0] = c->screen[src][0];
         v[k][1] = c->screen[src][1];
-        reach[k] = cards_radius(view, -c->p[src][2]) * fmax(1.0, view->aspect) +
-                   CARDS_EDGE_MARGIN_PX;
+        /* and, for the exact offset, a texel straddling the edge: its overhang on screen,
+         * bounded by the projection's largest stretch at that depth (1 + the ray's slope) in
+         * the finer pixel axis (the patent's push is kept as the patent has it, measured) */
+        const double z = -c->p[src][2], slope = hypot(c->p[src][0], c->p[src][1]) / z;
+        const double overhang = params->expansion == DDOF_CARDS_EXPAND_CENTROID
+                                    ? 0.0
+                                    : c->texel_reach_m * (1.0 + slope) /
+                                          (z * fmin(view->ray_a, view->ray_c));
+        reach[k] = cards_radius(view, z) * fmax(1.0, view->aspect) + CARDS_EDGE_MARGIN_PX +
+                   overhang;
     }
     if (params->expansion == DDOF_CARDS_EXPAND_CENTROID) {
         double cx = 0.0, cy = 0.0;

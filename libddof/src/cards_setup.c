@@ -163,6 +163,16 @@ static ddof_status card_texture(ddof_context *context, const ddof_card *card, ca
                          "card %u texture: %g at (%u, %u) channel %u", c->index,
                          (double)bad.value, bad.x, bad.y, bad.channel);
     c->texture = *t;
+    /* A texel is in or out of the card whole (by its centre), so one on the uv polygon's edge
+     * overhangs the card by up to half its diagonal: (+-0.5 / tw, +-0.5 / th) in uv, mapped
+     * back onto the plane through the inverse of the uv map. */
+    const double a1 = c->uv_affine[0][1], a2 = c->uv_affine[0][2];
+    const double b1 = c->uv_affine[1][1], b2 = c->uv_affine[1][2], det = a1 * b2 - a2 * b1;
+    const double du = 0.5 / t->width, dv = 0.5 / t->height;
+    for (int sign = -1; sign <= 1; sign += 2) {
+        const double s = (b2 * du - a2 * sign * dv) / det, q = (a1 * sign * dv - b1 * du) / det;
+        c->texel_reach_m = fmax(c->texel_reach_m, hypot(s, q));
+    }
     return DDOF_OK;
 }
 
