@@ -112,11 +112,21 @@ ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *pa
         /* Near to far, each card under the nearer ones (cards_draw.c); one table allocation
          * serves every card. */
         card_table table = {0};
+        cards_coverage coverage = {NULL, (out->width + CARDS_TILE - 1) / CARDS_TILE,
+                                   (out->height + CARDS_TILE - 1) / CARDS_TILE};
+        const size_t tiles = (size_t)coverage.tiles_x * coverage.tiles_y;
+        coverage.opaque = card_count ? ddof_alloc(&context->allocator, tiles) : NULL;
+        if (card_count && !coverage.opaque)
+            status = ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "no memory for %zu tiles",
+                               tiles);
+        else if (coverage.opaque)
+            memset(coverage.opaque, 0, tiles);
         for (uint32_t i = card_count; status == DDOF_OK && i-- > 0;)
             if (setups[order[i]].visible)
-                status = cards_draw(context, &view, &p, &setups[order[i]], &table, out->pixels,
-                                    out_stride);
+                status = cards_draw(context, &view, &p, &setups[order[i]], &table, &coverage,
+                                    out->pixels, out_stride);
         cards_table_free(context, &table);
+        ddof_free(&context->allocator, coverage.opaque);
     }
     ddof_free(&context->allocator, setups);
     ddof_free(&context->allocator, order);

@@ -67,10 +67,20 @@ typedef struct card_table {
 ddof_status cards_table_build(ddof_context *context, const card_setup *c, card_table *t);
 void cards_table_free(ddof_context *context, card_table *t);
 
+/* Which CARDS_TILE x CARDS_TILE tiles of the image are known to be opaque: found so while a
+ * card's pixels are checked (a pixel only grows more opaque as cards go under it), then
+ * skipped by every card behind. 0 or 1 per tile, row-major. */
+#define CARDS_TILE 16u
+typedef struct cards_coverage {
+    unsigned char *opaque;
+    uint32_t tiles_x, tiles_y;
+} cards_coverage;
+
 /* Draws card `s` under `out` (premultiplied RGBA, stride in floats), using `table`. */
 ddof_status cards_draw(ddof_context *context, const cards_view *view,
                        const ddof_cards_params *params, const card_setup *s,
-                       card_table *table, float *out, size_t out_stride);
+                       card_table *table, cards_coverage *coverage, float *out,
+                       size_t out_stride);
 
 /* CoC radius in horizontal pixels at planar depth z metres. */
 double cards_radius(const cards_view *view, double z);

@@ -14,11 +14,16 @@
 
 #define CARDS_PI 3.14159265358979323846
 #define CARDS_MIN_RADIUS_PX 0.5 /* an in-focus pixel averages its own footprint */
+/* Pixels are taken in blocks CARDS_BLOCK wide across the chunk's rows: the table rows that
+ * neighbouring discs read then stay in the core's cache (row by row, a wide card's discs
+ * sweep more table than the cache holds before the next pixel row reads it again). */
+#define CARDS_BLOCK 64u
 
 typedef struct draw_job {
     const cards_view *view;
     const card_setup *card;
     const card_table *table;
+    const cards_coverage *coverage;
     uint32_t strips;
     double slice[CARDS_MAX_STRIPS];   /* unit-disc area of each strip (sums to pi) */
     double line[CARDS_MAX_STRIPS + 1]; /* strip edges on the unit disc: -1 + 2 k / strips */
@@ -38,38 +43,74 @@ static DDOF_ALWAYS_INLINE int inside_expanded(const card_setup *c, double x, dou
     return 1;
 }
 
-/* The card at screen point (x, y): texel position and its derivatives along x and y, and the
- * CoC radius; 0 where the ray misses the card's plane. */
-static DDOF_ALWAYS_INLINE int card_at(const draw_job *job, double x, double y, double tex[2],
-                                      double jac[2][2], double *radius)
+/* The discs of `count` pixels of row y (centres xs, at most CARDS_BLOCK), one array per quantity so
+ * that the loop computing them vectorises (its divisions and roots are most of a pixel's
+ * arithmetic). Each pixel's ray meets the card's plane at depth z = n.o / n.d (1/z linear on
+ * screen: perspective-correct); the plane's point gives the texel position and its
+ * derivatives along x and y; the Cycles CoC of z gives the radius r (at least
+ * CARDS_MIN_RADIUS_PX); the screen disc {|e| <= r} (r * aspect rows) maps through
+ * A = jac * diag(1, aspect) to an ellipse in texels. `valid` is 0 where the ray misses the
+ * plane or the ellipse is degenerate. */
+typedef struct pixel_discs {
+    double tex0[CARDS_BLOCK], tex1[CARDS_BLOCK]; /* the centre, texels */
+    double reach_x[CARDS_BLOCK], reach_y[CARDS_BLOCK]; /* half the bounding box */
+    double shear[CARDS_BLOCK];      /* x shift of a chord's centre per unit of height */
+    double half_width[CARDS_BLOCK]; /* r^2 |det A| / (4 reach_y): x slice[k] x strips is strip
+                                       k's half width */
+    double inv_area[CARDS_BLOCK];   /* 1 / (pi r^2 |det A|), texels^-2 */
+    int valid[CARDS_BLOCK];
+} pixel_discs;
+
+static DDOF_ALWAYS_INLINE int finite_value(double v)
+{
+    return v - v == 0.0; /* NaN and +-inf give NaN; isfinite may not vectorise */
+}
+
+static DDOF_ALWAYS_INLINE void pixel_discs_of(const draw_job *job, double y, const double *xs,
+                                              uint32_t count, pixel_discs *d)
 {
     const cards_view *v = job->view;
     const card_setup *c = job->card;
-    const double d[3] = {v->ray_a * x + v->ray_bx, v->ray_by - v->ray_c * y, -1.0};
-    const double *nr = c->normal, *o = c->origin;
-    const double w = nr[0] * d[0] + nr[1] * d[1] + nr[2] * d[2], inv_w = 1.0 / w;
-    const double z = (nr[0] * o[0] + nr[1] * o[1] + nr[2] * o[2]) * inv_w;
-    if (!(z > 0.0) || !isfinite(z))
-        return 0;
-    const double dzx = -z * nr[0] * v->ray_a * inv_w, dzy = z * nr[1] * v->ray_c * inv_w;
-    double sq[2], dsq[2][2];
-    for (int a = 0; a < 2; a++) {
-        const double *e = a ? c->e2 : c->e1;
-        const double de = d[0] * e[0] + d[1] * e[1] + d[2] * e[2];
-        sq[a] = z * de - (o[0] * e[0] + o[1] * e[1] + o[2] * e[2]);
-        dsq[a][0] = dzx * de + z * v->ray_a * e[0];
-        dsq[a][1] = dzy * de - z * v->ray_c * e[1];
+    const double *nr = c->normal, *o = c->origin, *e1 = c->e1, *e2 = c->e2;
+    const double *mu = c->uv_affine[0], *mv = c->uv_affine[1];
+    const double n_o = nr[0] * o[0] + nr[1] * o[1] + nr[2] * o[2];
+    const double e1_o = o[0] * e1[0] + o[1] * e1[1] + o[2] * e1[2];
+    const double e2_o = o[0] * e2[0] + o[1] * e2[1] + o[2] * e2[2];
+    const double dy = v->ray_by - v->ray_c * y, tw = job->table->tw, th = job->table->th;
+    const double aspect = v->aspect, focus_over_n_o = v->focus_m / n_o;
+    for (uint32_t i = 0; i < count; i++) {
+        const double dx = v->ray_a * xs[i] + v->ray_bx;
+        const double w = nr[0] * dx + nr[1] * dy - nr[2], inv_w = 1.0 / w;
+        const double z = n_o * inv_w;
+        const double dzx = -z * nr[0] * v->ray_a * inv_w, dzy = z * nr[1] * v->ray_c * inv_w;
+        const double de1 = dx * e1[0] + dy * e1[1] - e1[2], de2 = dx * e2[0] + dy * e2[1] - e2[2];
+        const double s = z * de1 - e1_o, q = z * de2 - e2_o;
+        const double s_x = dzx * de1 + z * v->ray_a * e1[0], s_y = dzy * de1 - z * v->ray_c * e1[1];
+        const double q_x = dzx * de2 + z * v->ray_a * e2[0], q_y = dzy * de2 - z * v->ray_c * e2[1];
+        /* texels: u * tw across, (1 - v) * th down */
+        const double t0 = tw * (mu[0] + mu[1] * s + mu[2] * q);
+        const double t1 = th - th * (mv[0] + mv[1] * s + mv[2] * q);
+        const double a0 = tw * (mu[1] * s_x + mu[2] * q_x);
+        const double a1 = tw * (mu[1] * s_y + mu[2] * q_y) * aspect;
+        const double b0 = -th * (mv[1] * s_x + mv[2] * q_x);
+        const double b1 = -th * (mv[1] * s_y + mv[2] * q_y) * aspect;
+        /* the CoC radius: k_px |1 - S1 / z| / 2, S1 / z = S1 w / n.o */
+        double coc = v->k_px * fabs(1.0 - focus_over_n_o * w);
+        coc = coc < DDOF_MAX_COC_PX ? coc : DDOF_MAX_COC_PX;
+        const double r = 0.5 * coc > CARDS_MIN_RADIUS_PX ? 0.5 * coc : CARDS_MIN_RADIUS_PX;
+        const double det = fabs(a0 * b1 - a1 * b0), bb = b0 * b0 + b1 * b1;
+        const double r2det = r * r * det;
+        const double reach_y = r * sqrt(bb);
+        d->tex0[i] = t0;
+        d->tex1[i] = t1;
+        d->reach_x[i] = r * sqrt(a0 * a0 + a1 * a1);
+        d->reach_y[i] = reach_y;
+        d->shear[i] = (a0 * b0 + a1 * b1) / bb;
+        d->half_width[i] = 0.25 * r2det / reach_y;
+        d->inv_area[i] = 1.0 / (CARDS_PI * r2det);
+        d->valid[i] = (z > 0.0) & finite_value(z) & finite_value(t0) & finite_value(t1) &
+                      finite_value(a0 + a1 + b0 + b1) & (CARDS_PI * r2det > 1e-12) & (bb > 0.0);
     }
-    const double scale[2] = {job->table->tw, -(double)job->table->th};
-    for (int t = 0; t < 2; t++) {
-        const double *m = c->uv_affine[t];
-        tex[t] = scale[t] * (m[0] + m[1] * sq[0] + m[2] * sq[1]) + (t ? job->table->th : 0.0);
-        for (int a = 0; a < 2; a++)
-            jac[t][a] = scale[t] * (m[1] * dsq[0][a] + m[2] * dsq[1][a]);
-    }
-    *radius = cards_radius(v, z);
-    return isfinite(tex[0]) && isfinite(tex[1]) && isfinite(jac[0][0]) &&
-           isfinite(jac[0][1]) && isfinite(jac[1][0]) && isfinite(jac[1][1]);
 }
 
 /* A position along the table's x (or y) axis: the cell and the fraction into it, clamped to
@@ -112,41 +153,28 @@ static DDOF_ALWAYS_INLINE int texture_empty(const card_table *t, double x0, doub
     return c[j1 * row + i1] - c[j1 * row + i0] - c[j0 * row + i1] + c[j0 * row + i0] == 0;
 }
 
-/* The texture's average over the disc of radius r pixels (r * aspect rows) about screen point
- * (x, y), premultiplied RGBA; 0 where the card is not there or its texture there is empty.
- * `strips` is job->strips, passed so that the default's loops are unrolled at compile time. */
-static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, uint32_t strips, double x,
-                                           double y, double avg[4])
+/* The texture's average over pixel i's disc (pixel_discs), premultiplied RGBA; 0 where its
+ * texture is empty. `strips` is job->strips, passed so that the default's loops are unrolled
+ * at compile time. */
+static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, uint32_t strips,
+                                           const pixel_discs *d, uint32_t i, double avg[4])
 {
-    double tex[2], jac[2][2], r;
-    if (!card_at(job, x, y, tex, jac, &r))
+    const double tex0 = d->tex0[i], tex1 = d->tex1[i], reach_y = d->reach_y[i];
+    if (texture_empty(job->table, tex0 - d->reach_x[i], tex0 + d->reach_x[i], tex1 - reach_y,
+                      tex1 + reach_y))
         return 0;
-    r = fmax(r, CARDS_MIN_RADIUS_PX);
-    /* The disc's image in texels: {A e : |e| <= r}, A = jac * diag(1, aspect). */
-    const double a0 = jac[0][0], a1 = jac[0][1] * job->view->aspect;
-    const double b0 = jac[1][0], b1 = jac[1][1] * job->view->aspect;
-    const double det = fabs(a0 * b1 - a1 * b0), bb = b0 * b0 + b1 * b1;
-    const double area = CARDS_PI * r * r * det;
-    if (!(area > 1e-12) || !(bb > 0.0))
-        return 0;
-    const double reach_y = r * sqrt(bb), reach_x = r * sqrt(a0 * a0 + a1 * a1);
-    if (texture_empty(job->table, tex[0] - reach_x, tex[0] + reach_x, tex[1] - reach_y,
-                      tex[1] + reach_y))
-        return 0;
-    const double shear = (a0 * b0 + a1 * b1) / bb;
-    /* Strip k's rectangle: half as wide as its slice's area over its height 2 reach_y / strips. */
-    const double half_per_slice = 0.25 * strips * r * r * det / reach_y;
+    const double shear_reach = d->shear[i] * reach_y, half_width = d->half_width[i] * strips;
     const card_table *t = job->table;
     const size_t row = (size_t)(t->tw + 1) * 4;
     /* The strips' edges: strip k lies between lines k and k + 1. */
     uint32_t line_cell[CARDS_MAX_STRIPS + 1];
     double line_frac[CARDS_MAX_STRIPS + 1];
     for (uint32_t k = 0; k <= strips; k++)
-        table_at(tex[1] + reach_y * job->line[k], t->th, &line_cell[k], &line_frac[k]);
+        table_at(tex1 + reach_y * job->line[k], t->th, &line_cell[k], &line_frac[k]);
     double total[4] = {0, 0, 0, 0};
     for (uint32_t k = 0; k < strips; k++) {
-        const double xc = tex[0] + shear * reach_y * job->mid[k];
-        const double half = half_per_slice * job->slice[k];
+        const double xc = tex0 + shear_reach * job->mid[k];
+        const double half = half_width * job->slice[k];
         uint32_t ia, ib;
         double fa, fb;
         table_at(xc - half, t->tw, &ia, &fa);
@@ -157,9 +185,8 @@ static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, uint32_t strips,
         add_row_span(lo, ia, fa, ib, fb, line_frac[k] - 1.0, total);
         add_row_span(lo + row, ia, fa, ib, fb, -line_frac[k], total);
     }
-    const double inv_area = 1.0 / area;
     for (int ch = 0; ch < 4; ch++)
-        avg[ch] = total[ch] * inv_area;
+        avg[ch] = total[ch] * d->inv_area[i];
     return 1;
 }
 
@@ -167,6 +194,13 @@ static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, uint32_t strips,
  * the same image as far to near with `over`); a pixel this opaque takes nothing more from the
  * cards behind it, which then change it by at most 1e-6 of their value. */
 #define CARDS_OPAQUE (1.0f - 1e-6f)
+
+/* Whether pixel x of row y lies in a tile known to be opaque. */
+static DDOF_ALWAYS_INLINE int tile_opaque(const cards_coverage *c, uint32_t x, uint32_t y)
+{
+    return c->opaque[(size_t)(y / CARDS_TILE) * c->tiles_x + x / CARDS_TILE];
+}
+
 
 /* The pixels of row y whose centres lie in the expanded polygon: an interval, its ends from
  * the edges' half-planes, then settled by inside_expanded itself (the same pixels as testing
@@ -205,10 +239,6 @@ static void row_span(const draw_job *job, double y, uint32_t *first, uint32_t *e
     *end = e;
 }
 
-/* Pixels are taken in blocks CARDS_BLOCK wide across the chunk's rows: the table rows that
- * neighbouring discs read then stay in the core's cache (row by row, a wide card's discs
- * sweep more table than the cache holds before the next pixel row reads it again). */
-#define CARDS_BLOCK 64u
 
 DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
 {
@@ -226,14 +256,30 @@ DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, ui
             float *row = job->out + (size_t)y * job->out_stride;
             const uint32_t x0 = first[r - r0] > bx ? first[r - r0] : bx;
             const uint32_t x1 = end[r - r0] < bx + CARDS_BLOCK ? end[r - r0] : bx + CARDS_BLOCK;
+            /* the pixels still open, then their discs together */
+            double xs[CARDS_BLOCK];
+            uint32_t open[CARDS_BLOCK], count = 0;
             for (uint32_t x = x0; x < x1; x++) {
-                float *px = row + (size_t)x * 4;
-                double avg[4];
-                if (px[3] >= CARDS_OPAQUE)
+                if (tile_opaque(job->coverage, x, y)) { /* the rest of the tile too */
+                    x |= CARDS_TILE - 1;
                     continue;
-                if (!(job->strips == CARDS_DEFAULT_STRIPS
-                          ? disc_average(job, CARDS_DEFAULT_STRIPS, x + 0.5, y + 0.5, avg)
-                          : disc_average(job, job->strips, x + 0.5, y + 0.5, avg)))
+                }
+                if (row[(size_t)x * 4 + 3] < CARDS_OPAQUE) {
+                    open[count] = x;
+                    xs[count++] = x + 0.5;
+                }
+            }
+            if (!count)
+                continue;
+            pixel_discs discs;
+            pixel_discs_of(job, y + 0.5, xs, count, &discs);
+            for (uint32_t i = 0; i < count; i++) {
+                float *px = row + (size_t)open[i] * 4;
+                double avg[4];
+                if (!discs.valid[i] ||
+                    !(job->strips == CARDS_DEFAULT_STRIPS
+                          ? disc_average(job, CARDS_DEFAULT_STRIPS, &discs, i, avg)
+                          : disc_average(job, job->strips, &discs, i, avg)))
                     continue;
                 const double keep = 1.0 - px[3];
                 for (int ch = 0; ch < 4; ch++)
@@ -242,16 +288,50 @@ DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, ui
         }
 }
 
-/* Whether every pixel of the card's box is already opaque (a card wholly hidden by nearer
- * ones: its table is not even built). */
-static int box_opaque(const draw_job *job, uint32_t y1)
+/* Whether every pixel of tile (tx, ty) is opaque (scanned whole, so that it vectorises). */
+DDOF_MULTIVERSION static int tile_scan(const draw_job *job, uint32_t tx, uint32_t ty,
+                                       uint32_t height)
 {
-    for (uint32_t y = job->y0; y < y1; y++) {
+    const uint32_t x0 = tx * CARDS_TILE, y0 = ty * CARDS_TILE;
+    const uint32_t x1 = x0 + CARDS_TILE < job->view->width ? x0 + CARDS_TILE : job->view->width;
+    const uint32_t y1 = y0 + CARDS_TILE < height ? y0 + CARDS_TILE : height;
+    int open = 0;
+    for (uint32_t y = y0; y < y1; y++) {
         const float *row = job->out + (size_t)y * job->out_stride;
-        for (uint32_t x = job->x0; x < job->x1; x++)
-            if (row[(size_t)x * 4 + 3] < CARDS_OPAQUE)
-                return 0;
+        for (uint32_t x = x0; x < x1; x++)
+            open |= row[(size_t)x * 4 + 3] < CARDS_OPAQUE;
     }
+    return !open;
+}
+
+/* Whether every pixel the card would draw is already opaque (a card wholly hidden by nearer
+ * ones: its table is not even built). Tile by tile over its box: a tile found opaque is
+ * marked so for the cards behind; in a tile that is not, the card's own pixels are checked. */
+static int spans_opaque(const draw_job *job, cards_coverage *coverage, uint32_t y1)
+{
+    const uint32_t height = job->view->height;
+    for (uint32_t ty = job->y0 / CARDS_TILE; ty * CARDS_TILE < y1; ty++)
+        for (uint32_t tx = job->x0 / CARDS_TILE; tx * CARDS_TILE < job->x1; tx++) {
+            unsigned char *mark = &coverage->opaque[(size_t)ty * coverage->tiles_x + tx];
+            if (*mark)
+                continue;
+            if (tile_scan(job, tx, ty, height)) {
+                *mark = 1;
+                continue;
+            }
+            const uint32_t ya = ty * CARDS_TILE > job->y0 ? ty * CARDS_TILE : job->y0;
+            const uint32_t yb = (ty + 1) * CARDS_TILE < y1 ? (ty + 1) * CARDS_TILE : y1;
+            for (uint32_t y = ya; y < yb; y++) {
+                const float *row = job->out + (size_t)y * job->out_stride;
+                uint32_t first, end;
+                row_span(job, y + 0.5, &first, &end);
+                first = first > tx * CARDS_TILE ? first : tx * CARDS_TILE;
+                end = end < (tx + 1) * CARDS_TILE ? end : (tx + 1) * CARDS_TILE;
+                for (uint32_t x = first; x < end; x++)
+                    if (row[(size_t)x * 4 + 3] < CARDS_OPAQUE)
+                        return 0;
+            }
+        }
     return 1;
 }
 
@@ -262,15 +342,15 @@ static double unit_disc_below(double t) /* area of the unit disc's part below he
 
 ddof_status cards_draw(ddof_context *context, const cards_view *view,
                        const ddof_cards_params *params, const card_setup *s, card_table *table,
-                       float *out, size_t out_stride)
+                       cards_coverage *coverage, float *out, size_t out_stride)
 {
-    draw_job job = {.view = view, .card = s, .table = table, .strips = params->strips,
-                    .out = out, .out_stride = out_stride};
+    draw_job job = {.view = view, .card = s, .table = table, .coverage = coverage,
+                    .strips = params->strips, .out = out, .out_stride = out_stride};
     job.x0 = (uint32_t)fmax(0.0, floor(s->box[0]));
     job.y0 = (uint32_t)fmax(0.0, floor(s->box[1]));
     job.x1 = (uint32_t)fmin((double)view->width, ceil(s->box[2]));
     const uint32_t y1 = (uint32_t)fmin((double)view->height, ceil(s->box[3]));
-    if (job.x0 >= job.x1 || job.y0 >= y1 || box_opaque(&job, y1))
+    if (job.x0 >= job.x1 || job.y0 >= y1 || spans_opaque(&job, coverage, y1))
         return DDOF_OK;
     for (uint32_t k = 0; k <= job.strips; k++)
         job.line[k] = -1.0 + 2.0 * k / job.strips;
