@@ -80,6 +80,11 @@ LAYER_OFF = 1
 LAYER_ON = 2
 LAYER_MODES = {"AUTO": LAYER_AUTO, "OFF": LAYER_OFF, "ON": LAYER_ON}
 
+# Cards (the experimental ddof_render_cards, docs/cards.md)
+CARD_MAX_VERTICES = 8
+CARDS_EXPAND_OFFSET = 0
+CARDS_EXPAND_CENTROID = 1
+
 EFFECT_MIDGROUND = 1
 EFFECT_BACKGROUND = 2
 EFFECT_FOREGROUND = 4
@@ -259,11 +264,28 @@ class BackendInfo(ctypes.Structure):
                 ("note", ctypes.c_char * 256)]
 
 
+class Card(ctypes.Structure):
+    """ddof_card: a convex polygon in camera space (metres, looking down -z), its uv (0, 0 the
+    texture's bottom-left) and its premultiplied RGBA texture, row 0 at the top."""
+    _fields_ = [("vertex_count", ctypes.c_uint32),
+                ("position", (ctypes.c_float * 3) * CARD_MAX_VERTICES),
+                ("uv", (ctypes.c_float * 2) * CARD_MAX_VERTICES),
+                ("texture", ImageIn)]
+
+
+class CardsParams(ctypes.Structure):
+    """ddof_cards_params."""
+    _fields_ = [("struct_size", ctypes.c_uint32),
+                ("expansion", _enum),
+                ("strips", ctypes.c_uint32)]
+
+
 # Every struct by its C name, for the ABI check (tests/blender/check_abi.py).
 STRUCTS = {"ddof_image": Image, "ddof_image_in": ImageIn, "ddof_allocator": Allocator,
            "ddof_context_options": ContextOptions, "ddof_camera": Camera, "ddof_curve": Curve,
            "ddof_params": Params, "ddof_stats": Stats, "ddof_foreground": Foreground,
-           "ddof_frame": Frame, "ddof_backend_info": BackendInfo}
+           "ddof_frame": Frame, "ddof_backend_info": BackendInfo, "ddof_card": Card,
+           "ddof_cards_params": CardsParams}
 
 _c_ctx = ctypes.c_void_p  # ddof_context *
 
@@ -294,6 +316,9 @@ _PROTOTYPES = {
     "ddof_frame_init_sized": (None, [ctypes.POINTER(Frame), ctypes.c_size_t]),
     "ddof_render_frame": (_enum, [_c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Frame),
                                   ctypes.POINTER(Image), ctypes.POINTER(Stats)]),
+    "ddof_cards_params_init": (None, [ctypes.POINTER(CardsParams)]),
+    "ddof_render_cards": (_enum, [_c_ctx, ctypes.POINTER(CardsParams), ctypes.POINTER(Camera),
+                                  ctypes.POINTER(Card), ctypes.c_uint32, ctypes.POINTER(Image)]),
 }
 
 # ---------------------------------------------------------------------------------------------
@@ -668,6 +693,44 @@ class Session:
         del callback
         self.library._check(self._ctx, status, "depth of field")
         return out, self._stats_dict(stats)
+
+    def render_cards(self, width, height, camera, cards, strips=None):
+        """Cards (docs/cards.md) seen through `camera` (a dict, Library.make_camera) into a
+        width x height premultiplied RGBA image, in one ddof_render_cards call.
+
+        cards: a list of dicts with 'positions' (3 to 8 (x, y, z) in camera space, metres,
+        every z < 0), 'uv' (as many (u, v), (0, 0) the texture's bottom-left) and 'texture'
+        (array.array('f'), premultiplied RGBA, row 0 at the top) with 'width' and 'height'.
+        Returns an array.array('f') of width * height * 4, row 0 at the top. Raises DdofError
+        with the library's message (naming the card) on bad input.
+        """
+        c_cards = (Card * max(1, len(cards)))()
+        for card, c in zip(cards, c_cards):
+            n = len(card["positions"])
+            if not 3 <= n <= CARD_MAX_VERTICES or len(card["uv"]) != n:
+                raise ValueError("a card needs 3 to %d positions and as many uv"
+                                 % CARD_MAX_VERTICES)
+            if len(card["texture"]) != card["width"] * card["height"] * 4:
+                raise ValueError("a card's texture does not match %dx%d RGBA"
+                                 % (card["width"], card["height"]))
+            c.vertex_count = n
+            for k in range(n):
+                for a in range(3):
+                    c.position[k][a] = card["positions"][k][a]
+                c.uv[k][0], c.uv[k][1] = card["uv"][k]
+            c.texture = ImageIn(_buffer_pointer(card["texture"]), card["width"],
+                                card["height"], 4, 0)
+        params = CardsParams()
+        self._dll.ddof_cards_params_init(ctypes.byref(params))
+        if strips is not None:
+            params.strips = strips
+        cam = self.library.make_camera(camera)
+        out = new_buffer(width * height * 4)
+        out_img = Image(_buffer_pointer(out), width, height, 4, 0)
+        status = self._dll.ddof_render_cards(self._ctx, ctypes.byref(params), ctypes.byref(cam),
+                                             c_cards, len(cards), ctypes.byref(out_img))
+        self.library._check(self._ctx, status, "cards")
+        return out
 
     def _stats_dict(self, stats):
         info = self._info

@@ -3,6 +3,9 @@
  *   <struct> <sizeof> <field>:<offset>:<size> ...
  * check_abi.py compares them with the ctypes mirror in blender_addon/diffusion_dof/binding.py,
  * and the enum values, so a field added to ddof.h without the add-on following fails a test. */
+#ifndef DDOF_EXPERIMENTAL /* the cards' structs (the build may define it already) */
+#define DDOF_EXPERIMENTAL
+#endif
 #include <ddof.h>
 
 #include <stddef.h>
@@ -84,6 +87,13 @@ int main(void)
     F(ddof_foreground, struct_size); F(ddof_foreground, color); F(ddof_foreground, coc);
     F(ddof_foreground, premultiplied);
     END();
+    BEGIN(ddof_card);
+    F(ddof_card, vertex_count); F(ddof_card, position); F(ddof_card, uv); F(ddof_card, texture);
+    END();
+    BEGIN(ddof_cards_params);
+    F(ddof_cards_params, struct_size); F(ddof_cards_params, expansion);
+    F(ddof_cards_params, strips);
+    END();
     BEGIN(ddof_backend_info);
     F(ddof_backend_info, struct_size); F(ddof_backend_info, kind); F(ddof_backend_info, hardware);
     F(ddof_backend_info, renderer); F(ddof_backend_info, note);
@@ -110,6 +120,7 @@ int main(void)
     E(DDOF_EFFECT_MIDGROUND); E(DDOF_EFFECT_BACKGROUND); E(DDOF_EFFECT_FOREGROUND);
     E(DDOF_EFFECT_NEAR_SPREAD);
     E(DDOF_EFFECT_HIGHLIGHTS); E(DDOF_EFFECT_NEAR_LAYER);
+    E(DDOF_CARDS_EXPAND_OFFSET); E(DDOF_CARDS_EXPAND_CENTROID); E(DDOF_CARD_MAX_VERTICES);
     printf("version %u\n", (unsigned)DDOF_VERSION_NUMBER);
     return 0;
 }

@@ -119,6 +119,9 @@ def main():
         "DDOF_EFFECT_NEAR_SPREAD": b.EFFECT_NEAR_SPREAD,
         "DDOF_EFFECT_HIGHLIGHTS": b.EFFECT_HIGHLIGHTS,
         "DDOF_EFFECT_NEAR_LAYER": b.EFFECT_NEAR_LAYER,
+        "DDOF_CARDS_EXPAND_OFFSET": b.CARDS_EXPAND_OFFSET,
+        "DDOF_CARDS_EXPAND_CENTROID": b.CARDS_EXPAND_CENTROID,
+        "DDOF_CARD_MAX_VERTICES": b.CARD_MAX_VERTICES,
     }
     # Every status by name, in order.
     for value, name in enumerate(b.STATUS_NAMES):
@@ -255,6 +258,30 @@ def main():
         if "depth" not in str(err) or "(5, 0)" not in str(err):
             failures.append("unclear error: %s" % err)
     depth[5] = 2.0
+    # Cards through the binding: an in-focus card whose texture's top half is 0.8 and bottom
+    # half 0.2 (row 0 at the top) covers the frame's middle: above the middle reads 0.8, below
+    # 0.2, a corner nothing; a card behind the camera is an error naming it.
+    tex = b.new_buffer(4 * 4 * 4)
+    for i in range(16):
+        tex[4 * i:4 * i + 4] = b.array.array("f", [0.8 if i < 8 else 0.2, 0.0, 0.0, 1.0])
+    half = 0.5 * 36.0 / 100.0 * 2.0 * 0.4  # 40 % of the frame's half width at 2 m
+    card = {"positions": [(-half, -half, -2.0), (half, -half, -2.0), (half, half, -2.0),
+                          (-half, half, -2.0)],
+            "uv": [(0, 0), (1, 0), (1, 1), (0, 1)], "texture": tex, "width": 4, "height": 4}
+    with lib.session() as session:
+        cards_out = session.render_cards(w, h, camera, [card])
+        above, below = cards_out[4 * ((h // 2 - 3) * w + w // 2)], \
+            cards_out[4 * ((h // 2 + 2) * w + w // 2)]
+        if abs(above - 0.8) > 1e-5 or abs(below - 0.2) > 1e-5 or cards_out[3] != 0.0:
+            failures.append("cards: above %g below %g corner alpha %g" % (above, below,
+                                                                       cards_out[3]))
+        behind = dict(card, positions=[(x, y, 1.0) for x, y, _ in card["positions"]])
+        try:
+            session.render_cards(w, h, camera, [card, behind])
+            failures.append("a card behind the camera was drawn")
+        except b.DdofError as err:
+            if "card 1" not in str(err):
+                failures.append("cards error: %s" % err)
     fg_color = b.new_buffer(w * h * 4)
     fg_depth = b.array.array("f", [1e10] * (w * h))
     for y in range(8, 16):
