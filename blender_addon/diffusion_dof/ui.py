@@ -145,6 +145,7 @@ def draw_output(layout, context):
     layout.prop(s, "show_result")
     layout.prop(s, "keep_inputs")
     layout.operator("diffusion_dof.apply_images_dialog", icon="IMAGE_DATA")
+    layout.operator("diffusion_dof.render_cards", icon="IMAGE_PLANE")
 
 
 class DIFFUSION_DOF_OT_apply_images_dialog(bpy.types.Operator):
