@@ -57,20 +57,21 @@ def texture_of(image):
 
 
 def image_planes(scene, cam_obj, depsgraph):
-    """(cards for Session.render_cards, names of the objects used, faces skipped): every
-    visible mesh face of 3 to 8 vertices whose object's material shows an image, in the
-    camera's space (scene units times the unit scale, metres), with the face's uv. Faces with
-    a vertex at or behind the camera's plane are skipped (the library refuses them)."""
+    """(cards for Session.render_cards, names of the objects used, faces skipped): every mesh
+    face of 3 to 8 vertices the depsgraph shows (and rendering does not hide) whose object's
+    material shows an image, in the camera's space (scene units times the unit scale, metres),
+    with the face's uv. Faces with a vertex at or behind the camera's plane are skipped (the
+    library refuses them)."""
     unit = scene.unit_settings.scale_length or 1.0
-    to_camera = cam_obj.matrix_world.inverted()
+    to_camera = cam_obj.evaluated_get(depsgraph).matrix_world.inverted()
     textures, cards, used, skipped = {}, [], [], 0
-    for obj in scene.objects:
-        if obj.type != "MESH" or not obj.visible_get() or obj.hide_render:
+    for evaluated in depsgraph.objects:
+        if evaluated.type != "MESH" or evaluated.original.hide_render:
             continue
+        obj = evaluated
         image = plane_image(obj)
         if image is None:
             continue
-        evaluated = obj.evaluated_get(depsgraph)
         mesh = evaluated.to_mesh()
         try:
             uv_layer = mesh.uv_layers.active
@@ -110,6 +111,30 @@ def flipped_rows(pixels, width, height, channels=4):
     return out
 
 
+def render_scene(scene, depsgraph):
+    """(out, width, height, message): the scene's image planes as cards at its render size,
+    out premultiplied RGBA with Blender's rows (bottom first). Raises SetupError, DdofError."""
+    settings = settings_mod.get(scene)
+    cam, info = camera_mod.camera_settings(scene, settings, depsgraph)
+    cam_obj = camera_mod.camera_object(scene, depsgraph)
+    cards, used, skipped = image_planes(scene, cam_obj, depsgraph)
+    if not cards:
+        raise SetupError("No image planes in view: the cards are mesh faces whose material "
+                         "has an Image Texture node, in front of the camera.")
+    r = scene.render
+    width = max(1, r.resolution_x * r.resolution_percentage // 100)
+    height = max(1, r.resolution_y * r.resolution_percentage // 100)
+    since = time.perf_counter()
+    with binding.get_library().session(settings.threads) as session:
+        out = session.render_cards(width, height, cam, cards)
+    seconds = time.perf_counter() - since
+    message = "%d cards from %d image planes in %.0f ms (%s)%s" % (
+        len(cards), len(used), 1e3 * seconds, camera_mod.describe(cam, info),
+        "; %d face(s) skipped (behind the camera or over 8 vertices)" % skipped
+        if skipped else "")
+    return flipped_rows(out, width, height), width, height, message
+
+
 class DIFFUSION_DOF_OT_render_cards(bpy.types.Operator):
     """Render the scene's image planes (mesh faces whose material shows an image texture) as
     cards blurred by their own depth, with the scene camera's lens and the Diffusion DOF
@@ -120,41 +145,59 @@ class DIFFUSION_DOF_OT_render_cards(bpy.types.Operator):
 
     def execute(self, context):
         scene = context.scene
-        settings = settings_mod.get(scene)
         ok, text = binding.library_status()
         if not ok:
             self.report({"ERROR"}, text)
             return {"CANCELLED"}
         try:
-            depsgraph = context.evaluated_depsgraph_get()
-            cam, info = camera_mod.camera_settings(scene, settings, depsgraph)
-            cam_obj = camera_mod.camera_object(scene, depsgraph)
-            cards, used, skipped = image_planes(scene, cam_obj, depsgraph)
-            if not cards:
-                raise SetupError("No image planes in view: the cards are mesh faces whose "
-                                 "material has an Image Texture node, in front of the camera.")
-            r = scene.render
-            width = max(1, r.resolution_x * r.resolution_percentage // 100)
-            height = max(1, r.resolution_y * r.resolution_percentage // 100)
-            since = time.perf_counter()
-            with binding.get_library().session(settings.threads) as session:
-                out = session.render_cards(width, height, cam, cards)
-            seconds = time.perf_counter() - since
+            out, width, height, message = render_scene(scene, context.evaluated_depsgraph_get())
         except (SetupError, binding.DdofError, binding.LibraryError, ValueError) as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        image = render.store_result(RESULT_IMAGE, width, height, 4,
-                                    flipped_rows(out, width, height))
+        image = render.store_result(RESULT_IMAGE, width, height, 4, out)
         image.alpha_mode = "PREMUL"
-        message = "%d cards from %d image planes in %.0f ms (%s)%s" % (
-            len(cards), len(used), 1e3 * seconds, camera_mod.describe(cam, info),
-            "; %d face(s) skipped (behind the camera or over 8 vertices)" % skipped
-            if skipped else "")
         render.log(message)
         self.report({"INFO"}, message)
         return {"FINISHED"}
 
 
-CLASSES = (DIFFUSION_DOF_OT_render_cards,)
+class DIFFUSION_DOF_RE_cards(bpy.types.RenderEngine):
+    """The render option: a render engine that renders the scene's image planes as cards
+    (Render Properties > Render Engine > Diffusion DOF Cards), so that F12, animations and the
+    command line's `blender -b file -a` take milliseconds a frame instead of a Cycles render.
+    The Combined pass only; the compositor runs after it as after any engine."""
+    bl_idname = "DIFFUSION_DOF_CARDS"
+    bl_label = "Diffusion DOF Cards"
+    bl_use_preview = False
+    bl_use_postprocess = True
+
+    def render(self, depsgraph):
+        scene = depsgraph.scene
+        try:
+            out, width, height, message = render_scene(scene, depsgraph)
+        except (SetupError, binding.DdofError, binding.LibraryError, ValueError) as err:
+            self.report({"ERROR"}, str(err))
+            return
+        result = self.begin_result(0, 0, width, height)
+        set_rect(result.layers[0].passes["Combined"], out, width * height)
+        self.end_result(result)
+        render.log(message)
+
+
+def set_rect(render_pass, pixels, count):
+    """A render pass's pixels from a flat RGBA buffer: foreach_set takes it flat in recent
+    Blenders and as (pixels, 4) in older ones; assignment is the slow last resort."""
+    import numpy as np
+    flat = np.frombuffer(pixels, np.float32)
+    for shaped in (flat, flat.reshape(count, 4)):
+        try:
+            render_pass.rect.foreach_set(shaped)
+            return
+        except (TypeError, ValueError, RuntimeError):
+            pass
+    render_pass.rect = flat.reshape(count, 4)
+
+
+CLASSES = (DIFFUSION_DOF_OT_render_cards, DIFFUSION_DOF_RE_cards)
 
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

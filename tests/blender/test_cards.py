@@ -3,9 +3,10 @@
 the scene camera. Scene: a camera at the origin looking along +Y, 50 mm f/1.4 focused at 3 m;
 a 0.6 m plane at 3 m (in focus) whose 2x2 image is green on top and red below; a 24 x 14 m blue
 plane at 12 m behind it; a plane behind the camera (skipped). Checks: the in-focus plane shows
-its image the right way up at the right place, the far plane fills the corner, and the whole
+its image the right way up at the right place, the far plane fills the corner, the whole
 image equals ddof_render_cards called through the binding with the camera-space corners
-written here by hand (camera space of this camera: (x, y, z) -> (x, z, -y))."""
+written here by hand (camera space of this camera: (x, y, z) -> (x, z, -y)), and the render
+engine (the render option) renders the same image."""
 
 import os
 import sys
@@ -110,6 +111,18 @@ with binding.get_library().session() as session:
     direct = cards_mod.flipped_rows(session.render_cards(w, h, camera, by_hand), w, h)
 worst = max(abs(a - b) for a, b in zip(direct, got))
 checks.check(worst <= 1e-5, "the operator and the binding by hand differ by %g" % worst)
+
+# The render option: the same image as the scene's render, through the engine (an EXR keeps
+# the linear, premultiplied values).
+scene.render.engine = "DIFFUSION_DOF_CARDS"
+settings = scene.render.image_settings
+settings.file_format, settings.color_mode, settings.color_depth = "OPEN_EXR", "RGBA", "32"
+scene.render.filepath = os.path.join(u.scratch_dir("cards"), "engine.exr")
+bpy.ops.render.render(write_still=True)
+rendered, rw, rh, rc = u.load_file(scene.render.filepath)
+checks.check((rw, rh, rc) == (w, h, 4), "engine render %dx%d, %d channels" % (rw, rh, rc))
+worst = max(abs(a - b) for a, b in zip(rendered, got)) if len(rendered) == len(got) else 1.0
+checks.check(worst <= 1e-5, "the engine's render and the operator's differ by %g" % worst)
 
 u.unload_addon(addon)
 checks.finish()
