@@ -131,6 +131,38 @@ typedef struct adi_layers_report {
     double seconds_foreground; /* the foreground element or the near spread                  */
 } adi_layers_report;
 
+/* ---- cards (ddof_render_cards, docs/cards.md) -------------------------------------------- */
+
+/* One card as the device draws it, prepared by the core: its expanded screen polygon (pixels,
+ * x right, y down, counter-clockwise), its plane and uv map, and its texture's summed-area
+ * table in two float parts: `table_hi` holds each sum rounded to a multiple of a power of two
+ * chosen so that every value and every difference of four stays exact in float, `table_lo`
+ * the rest (small), so a box's sum from the four corners is exact in float arithmetic. */
+typedef struct adi_card {
+    uint32_t vertex_count;
+    float expanded[8][2];
+    double normal[3], origin[3], e1[3], e2[3]; /* unit normal, centroid, the plane's axes */
+    double uv_affine[2][3];                    /* u, v = a0 + a1 s + a2 q, s, q along e1, e2 */
+    const float *table_hi, *table_lo;          /* (tw + 1) x (th + 1) RGBA, row j: rows < j */
+    uint32_t tw, th;
+} adi_card;
+
+/* A frame of cards: drawn near to far, each under what is there (out += (1 - out.a) card). */
+typedef struct adi_cards_request {
+    uint32_t width, height;
+    float *out;          /* premultiplied RGBA, row 0 at the top */
+    size_t out_stride;   /* floats */
+    /* the view (libddof/src/cards.h's cards_view) */
+    double ray_a, ray_bx, ray_c, ray_by, k_px, focus_m, aspect;
+    float max_radius_px, min_radius_px;
+    uint32_t strips;
+    float line[65], mid[64], slice[64]; /* strip edges, middles, unit-disc areas */
+    uint32_t card_count;
+    /* Fills card i (0: the nearest); what it points to stays valid until the next call. */
+    ddof_status (*card)(void *user, uint32_t i, adi_card *card);
+    void *user;
+} adi_cards_request;
+
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
@@ -180,6 +212,13 @@ typedef struct ddof_backend_table {
      * layers itself, one run() per diffusion. */
     ddof_status (*run_layers)(ddof_device *device, const adi_layers_request *request,
                               adi_layers_report *report, char *message, size_t message_size);
+
+    /* Cards on the device (the patent's path: a vertex shader places the expanded polygon,
+     * the rasteriser covers its pixels, a fragment shader averages the texture over each
+     * pixel's disc, blending composites). Each card's table is uploaded once. The same image
+     * as the core's within float rounding; out untouched on failure. NULL: the core draws. */
+    ddof_status (*render_cards)(ddof_device *device, const adi_cards_request *request,
+                                char *message, size_t message_size);
 } ddof_backend_table;
 
 /* The smallest table of this ABI: the fields up to run(). */

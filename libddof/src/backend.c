@@ -302,3 +302,23 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_re
                          why[0] ? why : ddof_status_string(status));
     return DDOF_OK;
 }
+
+int ddof_backend_runs_cards(const ddof_context *context)
+{
+    const ddof_backend_state *b = &context->backend;
+    const ddof_backend_table *t = b->table;
+    return b->device &&
+           t->table_size >= offsetof(ddof_backend_table, render_cards) + sizeof t->render_cards &&
+           t->render_cards;
+}
+
+ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_request *request)
+{
+    ddof_backend_state *b = &context->backend;
+    char why[512] = "";
+    ddof_status status = b->table->render_cards(b->device, request, why, sizeof why);
+    if (status != DDOF_OK && !context->last_error[0]) /* else the core said why (a card) */
+        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+                         why[0] ? why : ddof_status_string(status));
+    return status;
+}

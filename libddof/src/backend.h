@@ -33,6 +33,10 @@ int ddof_backend_runs_layers(const ddof_context *context, const adi_request *req
 ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
                                       adi_layers_report *report);
 
+/* Whether the context's device draws cards (ddof_render_cards), and the call. */
+int ddof_backend_runs_cards(const ddof_context *context);
+ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_request *request);
+
 /* Releases the loaded plugin and device (context teardown). */
 void ddof_backend_release(ddof_context *context);
 

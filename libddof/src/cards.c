@@ -3,6 +3,7 @@
  * its uv map and its expanded screen polygon (docs/cards.md). */
 #include "cards.h"
 
+#include "backend.h"
 #include "coc.h"
 #include "ddof_camera_terms.h"
 
@@ -106,7 +107,10 @@ ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *pa
         status = cards_setup(context, &view, &p, &cards[i], i, &setups[i]);
     if (status == DDOF_OK)
         status = cards_order(context, setups, card_count, order);
-    if (status == DDOF_OK) {
+    if (status == DDOF_OK && ddof_backend_runs_cards(context)) {
+        status = cards_render_on_device(context, &view, &p, setups, order, card_count, out,
+                                        out_stride);
+    } else if (status == DDOF_OK) {
         for (uint32_t y = 0; y < out->height; y++)
             memset(out->pixels + (size_t)y * out_stride, 0, (size_t)out->width * 4 * sizeof(float));
         /* Near to far, each card under the nearer ones (cards_draw.c); one table allocation

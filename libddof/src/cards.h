@@ -82,6 +82,13 @@ ddof_status cards_draw(ddof_context *context, const cards_view *view,
                        card_table *table, cards_coverage *coverage, float *out,
                        size_t out_stride);
 
+/* The visible cards of `order` (far to near) drawn by the context's GL device
+ * (cards_device.c) into out, which the device writes whole. */
+ddof_status cards_render_on_device(ddof_context *context, const cards_view *view,
+                                   const ddof_cards_params *params, const card_setup *setups,
+                                   const uint32_t *order, uint32_t count, const ddof_image *out,
+                                   size_t out_stride);
+
 /* CoC radius in horizontal pixels at planar depth z metres. */
 double cards_radius(const cards_view *view, double z);
 

@@ -1,8 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* backend_table.c - the plugin's one exported symbol: the table libddof/src/backend.c loads
- * (open, close, describe, supports, run, supports_disc, run_layers), and run() itself: upload,
- * ADI (heat or disc kernel), read back, with the device's context current only for the call;
- * run_layers the same bracket around gl_layers.c. */
+ * (open, close, describe, supports, run, supports_disc, run_layers, render_cards), and run()
+ * itself: upload, ADI (heat or disc kernel), read back, with the device's context current only
+ * for the call; run_layers and render_cards the same bracket around gl_layers.c and
+ * gl_cards.c. */
+#include "gl_cards.h"
 #include "gl_io.h"
 #include "gl_layers.h"
 
@@ -153,9 +155,21 @@ static ddof_status table_run_layers(ddof_device *device, const adi_layers_reques
     return end_call(device, &q->base, status, &report->adi, message, size);
 }
 
+/* The cards (gl_cards.c), bracketed as run() is. */
+static ddof_status table_render_cards(ddof_device *device, const adi_cards_request *q,
+                                      char *message, size_t size)
+{
+    if (!begin_call(device, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    const adi_request none = {0}; /* no progress to report */
+    adi_report report;
+    ddof_status status = gl_cards_render(device, q, message, size);
+    return end_call(device, &none, status, &report, message, size);
+}
+
 static const ddof_backend_table table = {
     DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
-    table_supports, table_run, table_supports_disc, table_run_layers,
+    table_supports, table_run, table_supports_disc, table_run_layers, table_render_cards,
 };
 
 DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);

@@ -84,6 +84,8 @@ void gl_device_close(ddof_device *d)
     /* GL objects go with their context, but a host's context lives on: delete ours. */
     if (d->context->ops->make_current(d->context)) {
         gl_programs_free(&d->gl, &d->programs);
+        if (d->cards_program)
+            d->gl.DeleteProgram(d->cards_program);
         gl_buffers_free(&d->gl, &d->buffers);
         d->context->ops->release(d->context);
     }

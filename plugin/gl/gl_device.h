@@ -21,6 +21,7 @@ struct ddof_device {
     /* Host <-> device image transfers of the current call (adi_report's uploads and
      * readbacks): counted where they happen (gl_io.c), so no path can transfer uncounted. */
     uint32_t uploads, readbacks;
+    GLuint cards_program; /* gl_cards.c's vertex and fragment program, built on first use */
 };
 
 /* Opens a device on a new (or, for HOST_GL, the current) context; the context is released

@@ -50,7 +50,36 @@
     X(PFNGLBINDTEXTUREPROC, BindTexture)                                                   \
     X(PFNGLBINDIMAGETEXTUREPROC, BindImageTexture)                                         \
     X(PFNGLGETTEXLEVELPARAMETERIVPROC, GetTexLevelParameteriv)                             \
-    X(PFNGLISTEXTUREPROC, IsTexture)
+    X(PFNGLISTEXTUREPROC, IsTexture)                                                       \
+    X(PFNGLGENTEXTURESPROC, GenTextures)                                                   \
+    X(PFNGLDELETETEXTURESPROC, DeleteTextures)                                             \
+    X(PFNGLTEXIMAGE2DPROC, TexImage2D)                                                     \
+    X(PFNGLTEXPARAMETERIPROC, TexParameteri)                                               \
+    X(PFNGLGENFRAMEBUFFERSPROC, GenFramebuffers)                                           \
+    X(PFNGLBINDFRAMEBUFFERPROC, BindFramebuffer)                                           \
+    X(PFNGLFRAMEBUFFERTEXTURE2DPROC, FramebufferTexture2D)                                 \
+    X(PFNGLCHECKFRAMEBUFFERSTATUSPROC, CheckFramebufferStatus)                             \
+    X(PFNGLDELETEFRAMEBUFFERSPROC, DeleteFramebuffers)                                     \
+    X(PFNGLGENVERTEXARRAYSPROC, GenVertexArrays)                                           \
+    X(PFNGLBINDVERTEXARRAYPROC, BindVertexArray)                                           \
+    X(PFNGLDELETEVERTEXARRAYSPROC, DeleteVertexArrays)                                     \
+    X(PFNGLVERTEXATTRIBPOINTERPROC, VertexAttribPointer)                                   \
+    X(PFNGLENABLEVERTEXATTRIBARRAYPROC, EnableVertexAttribArray)                           \
+    X(PFNGLDRAWARRAYSPROC, DrawArrays)                                                     \
+    X(PFNGLVIEWPORTPROC, Viewport)                                                         \
+    X(PFNGLENABLEPROC, Enable)                                                             \
+    X(PFNGLDISABLEPROC, Disable)                                                           \
+    X(PFNGLBLENDFUNCPROC, BlendFunc)                                                       \
+    X(PFNGLCLEARCOLORPROC, ClearColor)                                                     \
+    X(PFNGLCLEARPROC, Clear)                                                               \
+    X(PFNGLREADPIXELSPROC, ReadPixels)                                                     \
+    X(PFNGLPIXELSTOREIPROC, PixelStorei)                                                   \
+    X(PFNGLPROGRAMUNIFORM1IPROC, ProgramUniform1i)                                         \
+    X(PFNGLPROGRAMUNIFORM2IPROC, ProgramUniform2i)                                         \
+    X(PFNGLPROGRAMUNIFORM2FPROC, ProgramUniform2f)                                         \
+    X(PFNGLPROGRAMUNIFORM3FPROC, ProgramUniform3f)                                         \
+    X(PFNGLPROGRAMUNIFORM4FPROC, ProgramUniform4f)                                         \
+    X(PFNGLPROGRAMUNIFORM1FVPROC, ProgramUniform1fv)
 
 typedef struct gl_functions {
 #define GL_FUNCTION_MEMBER(type, name) type name;
