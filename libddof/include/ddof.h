@@ -910,7 +910,9 @@ DDOF_API void ddof_cards_params_init(ddof_cards_params *params);
  * them (split them). Card errors (DDOF_ERROR_BAD_PARAMETER: vertex count, NaN/inf position or
  * uv, z >= 0, a degenerate, non-planar or concave polygon, uv not affine; DDOF_ERROR_BAD_COLOR:
  * NaN/inf texel; the texture's size and channel codes) name the card; nothing is written. A
- * card seen exactly edge-on draws nothing. */
+ * card seen exactly edge-on draws nothing. On a context whose backend is GL (EGL, OSMesa) the
+ * device draws the cards (vertex and fragment shaders, blending), within float rounding of the
+ * CPU; a device failure is DDOF_ERROR_BACKEND_FAILED with its reason. */
 DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
                                        const ddof_camera *camera, const ddof_card *cards,
                                        uint32_t card_count, const ddof_image *out);
