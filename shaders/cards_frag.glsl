@@ -7,7 +7,7 @@
 // holds multiples of a power of two that stay exact in float through a box's four corners,
 // `table_lo` the small rest, so an integer box's sum is exact; a rectangle's fractional edges
 // are weighted single-column and single-row boxes. Blending composites the result under the
-// nearer cards already drawn.
+// nearer cards already drawn; a pixel they made opaque is skipped first.
 uniform vec2 frame;          // width, height
 uniform vec4 ray;            // ray_a, ray_bx, ray_c, ray_by (libddof/src/cards.h)
 uniform vec4 lens;           // k_px, focus (m), pixel aspect, unused
@@ -19,6 +19,10 @@ uniform int strips;
 uniform float line[65], mid[64], slice[64];
 layout(binding = 0) uniform sampler2D table_hi;
 layout(binding = 1) uniform sampler2D table_lo;
+// The frame so far (the framebuffer's own texture, read under glTextureBarrier: each pixel is
+// read and then written once per card, as ARB_texture_barrier allows): a pixel this opaque
+// takes nothing from the cards behind, as on the CPU (cards_draw.c, CARDS_OPAQUE).
+layout(binding = 2) uniform sampler2D frame_so_far;
 layout(location = 0) out vec4 color;
 
 // x (or y) clamped to the texture as a cell and the fraction into it (cards_draw.c table_at).
@@ -66,6 +70,8 @@ vec4 rectangle(float xa, float xb, float ya, float yb)
 
 void main()
 {
+    if (texelFetch(frame_so_far, ivec2(gl_FragCoord.xy), 0).a >= 1.0 - 1e-6)
+        discard;
     const float x = gl_FragCoord.x, y = frame.y - gl_FragCoord.y; // pixels, y down
     const vec3 d = vec3(ray.x * x + ray.y, ray.w - ray.z * y, -1.0);
     const float w = dot(normal, d), inv_w = 1.0 / w, n_o = dot(normal, origin);

@@ -4,8 +4,9 @@
  * rasteriser covering its pixels, a fragment shader averaging the card's texture over each
  * pixel's disc (shaders/cards_frag.glsl), blending compositing the cards near to far, each
  * under the ones already drawn (source factor 1 - destination alpha, destination factor 1:
- * out += (1 - out.a) card, the CPU's operator). A float RGBA framebuffer holds the frame; each
- * card's table is uploaded once; one read-back at the end. */
+ * out += (1 - out.a) card, the CPU's operator), a pixel already opaque skipped by the shader
+ * reading the frame so far (glTextureBarrier between cards). A float RGBA framebuffer holds
+ * the frame; each card's table is uploaded once; one read-back at the end. */
 #include "gl_cards.h"
 
 #include "gl_shader_sources.h"
@@ -160,6 +161,8 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
     gl->BindTexture(GL_TEXTURE_2D, target);
     gl->TexImage2D(GL_TEXTURE_2D, 0, GL_RGBA32F, (GLsizei)r->width, (GLsizei)r->height, 0,
                    GL_RGBA, GL_FLOAT, NULL);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+    gl->TexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
     gl->GenFramebuffers(1, &fbo);
     gl->BindFramebuffer(GL_FRAMEBUFFER, fbo);
     gl->FramebufferTexture2D(GL_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, target, 0);
@@ -188,8 +191,13 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
     for (uint32_t i = 0; status == DDOF_OK && i < r->card_count; i++) {
         adi_card card;
         status = r->card(r->user, i, &card);
-        if (status == DDOF_OK)
-            draw_card(gl, program, textures, vbo, &card);
+        if (status != DDOF_OK)
+            break;
+        /* the frame so far, read by the shader to skip opaque pixels (cards_frag.glsl) */
+        gl->ActiveTexture(GL_TEXTURE2);
+        gl->BindTexture(GL_TEXTURE_2D, target);
+        draw_card(gl, program, textures, vbo, &card);
+        gl->TextureBarrier(); /* the next card reads what this one wrote */
     }
     gl->Disable(GL_BLEND);
     if (status == DDOF_OK)

@@ -79,7 +79,8 @@
     X(PFNGLPROGRAMUNIFORM2FPROC, ProgramUniform2f)                                         \
     X(PFNGLPROGRAMUNIFORM3FPROC, ProgramUniform3f)                                         \
     X(PFNGLPROGRAMUNIFORM4FPROC, ProgramUniform4f)                                         \
-    X(PFNGLPROGRAMUNIFORM1FVPROC, ProgramUniform1fv)
+    X(PFNGLPROGRAMUNIFORM1FVPROC, ProgramUniform1fv)                                       \
+    X(PFNGLTEXTUREBARRIERPROC, TextureBarrier)
 
 typedef struct gl_functions {
 #define GL_FUNCTION_MEMBER(type, name) type name;

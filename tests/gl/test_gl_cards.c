@@ -3,7 +3,8 @@
  * shader places each expanded polygon, the rasteriser covers it, a fragment shader averages
  * the texture, blending composites) against the CPU path on the same cards: every pixel
  * within TOL_CARDS. Scenes: three overlapping cards (a far wall, a slanted card, a near card
- * whose texture is partly transparent) on small random textures; a triangle whose uv lies
+ * whose texture is partly transparent) on small random textures; an opaque card in front of a
+ * wall (the pixels it makes opaque skipped by the device, as by the CPU); a triangle whose uv lies
  * inside its texture; and a 512x512 texture, whose summed-area table reaches 2^18 where a
  * plain float table would be off by up to 1/64 (the device's table is split to stay exact).
  * Run as `test_gl_cards osmesa|egl`. */
@@ -102,6 +103,28 @@ static void overlapping(void)
     free(t3);
 }
 
+/* An opaque card in front of another: the device skips the pixels it made opaque (reading
+ * the frame so far), as the CPU does; the image is the same. */
+static void hidden(void)
+{
+    float *t1 = random_texture(24, 16, 6, 0), *t2 = random_texture(16, 16, 7, 0);
+    for (int i = 0; i < 16 * 16; i++) { /* opaque */
+        for (int c = 0; c < 3; c++)
+            t2[i * 4 + c] /= t2[i * 4 + 3];
+        t2[i * 4 + 3] = 1.0f;
+    }
+    static const double wall[4][3] = {{-0.9, -0.6, -3}, {0.9, -0.6, -3}, {0.9, 0.6, -3},
+                                      {-0.9, 0.6, -3}};
+    static const double front[4][3] = {{-0.2, -0.15, -0.8}, {0.2, -0.15, -0.8},
+                                       {0.2, 0.15, -0.8}, {-0.2, 0.15, -0.8}};
+    static const double square[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const ddof_card cards[2] = {card_of(wall, square, 4, t1, 24, 16),
+                                card_of(front, square, 4, t2, 16, 16)};
+    compare("an opaque card in front of another", cards, 2);
+    free(t1);
+    free(t2);
+}
+
 static void triangle(void)
 {
     float *t = random_texture(24, 16, 4, 1);
@@ -130,6 +153,7 @@ int main(int argc, char **argv)
         return GL_TEST_SKIP;
     cpu = make_context(0);
     overlapping();
+    hidden();
     triangle();
     large_texture();
     ddof_context_free(cpu);
