@@ -303,11 +303,13 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_re
     return DDOF_OK;
 }
 
+/* Not on the host's own context (HOST_GL): drawing sets a framebuffer, blending, the viewport
+ * and texture units that the host's renderer owns; the CPU draws there. */
 int ddof_backend_runs_cards(const ddof_context *context)
 {
     const ddof_backend_state *b = &context->backend;
     const ddof_backend_table *t = b->table;
-    return b->device &&
+    return b->device && b->kind != DDOF_BACKEND_HOST_GL &&
            t->table_size >= offsetof(ddof_backend_table, render_cards) + sizeof t->render_cards &&
            t->render_cards;
 }
