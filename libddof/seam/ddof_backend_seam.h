@@ -140,7 +140,7 @@ typedef struct adi_layers_report {
  * the rest (small), so a box's sum from the four corners is exact in float arithmetic. */
 typedef struct adi_card {
     uint32_t vertex_count;
-    float expanded[8][2];
+    float expanded[DDOF_CARD_MAX_VERTICES][2];
     double normal[3], origin[3], e1[3], e2[3]; /* unit normal, centroid, the plane's axes */
     double uv_affine[2][3];                    /* u, v = a0 + a1 s + a2 q, s, q along e1, e2 */
     const float *table_hi, *table_lo;          /* (tw + 1) x (th + 1) RGBA, row j: rows < j */
