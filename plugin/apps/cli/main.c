@@ -641,6 +641,15 @@ static int run_cards(const cli_options *o)
             rc = CLI_EXIT_FAILED;
         }
     }
+    /* Cards go to a GL device only when one is named (--backend egl|osmesa): auto keeps them
+     * on the CPU, whose image is the reference. */
+    if (rc == CLI_EXIT_OK &&
+        (o->backend == DDOF_BACKEND_EGL || o->backend == DDOF_BACKEND_OSMESA) &&
+        ddof_context_set_backend(context, o->backend, o->gl_plugin) != DDOF_OK) {
+        fprintf(stderr, "ddof: --backend %s is not available: %s. Use --backend cpu.\n",
+                ddof_backend_name(o->backend), ddof_context_last_error(context));
+        rc = CLI_EXIT_BACKEND;
+    }
     if (rc == CLI_EXIT_OK) {
         const ddof_image out = {rgba, scene.width, scene.height, 4, 0};
         const ddof_status status =
