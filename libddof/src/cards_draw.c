@@ -239,7 +239,6 @@ static void row_span(const draw_job *job, double y, uint32_t *first, uint32_t *e
     *end = e;
 }
 
-
 DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, uint32_t chunk)
 {
     (void)chunk;
