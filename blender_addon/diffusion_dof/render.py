@@ -29,7 +29,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import camera as camera_mod
-from . import binding, compat, frame_region, passes
+from . import binding, compat, composite, frame_region, overscan, passes
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -50,11 +50,13 @@ _session = None     # binding.Session: one ddof context for the frames of a rend
 
 
 class Job:
-    def __init__(self, scene, frame, foreground):
+    def __init__(self, scene, frame, foreground, extra=(), plan=None):
         self.scene_name = scene.name
         self.frame = frame
-        self.files = passes.frame_files(scene, frame, foreground)
+        self.extra = list(extra)  # the passes the user's compositing reads (their slots)
+        self.files = passes.frame_files(scene, frame, foreground, self.extra)
         self.foreground = foreground
+        self.overscan = plan      # overscan.Plan of the render, or None
         self.camera = None
         self.error = None
         self.lens_dof_on = False
@@ -73,7 +75,8 @@ def log(message):
 
 def _enabled(scene):
     s = settings_mod.get(scene)
-    return s if s is not None and s.enabled else None
+    # The copy that runs the user's compositing (composite.py) carries the settings too.
+    return s if s is not None and s.enabled and not composite.is_copy(scene) else None
 
 
 def set_report(scene_name, ok, message, frame=None, stats=None, camera_line=None, path=None):
@@ -206,6 +209,100 @@ def write_frame(scene, image, frame, since):
         if os.path.exists(partial):
             os.remove(partial)
     return path
+
+
+# ---------------------------------------------------------------------------------------------
+# Overscan (overscan.py): the render grows by a margin for the render's duration
+
+# On the scene while its render is grown: what to put back. Stored in the scene, not only in
+# memory, so that a file saved mid-render (or an add-on reloaded) is put back on load.
+OVERSCAN_KEY = "diffusion_dof_overscan_restore"
+_SAVED_RENDER = ("resolution_x", "resolution_y", "resolution_percentage")
+_SAVED_CAMERA = ("sensor_fit", "sensor_width", "sensor_height", "shift_x", "shift_y")
+
+
+def overscan_plan(scene, settings):
+    """(overscan.Plan or None, why there is none or ''): the margin this scene's render gets.
+    Raises SetupError when the camera cannot drive depth of field."""
+    if settings.overscan == "OFF":
+        return None, "off"
+    r = scene.render
+    if r.use_border:
+        return None, "not with a render border"
+    cam, _info = camera_mod.camera_settings(scene, settings)
+    data = scene.camera.data
+    width, height = frame_region.full_size(r.resolution_x, r.resolution_y,
+                                           r.resolution_percentage)
+    fit = data.sensor_fit
+    plan = overscan.plan(
+        width, height, fit, data.sensor_height if fit == "VERTICAL" else data.sensor_width,
+        cam["focal_length_mm"], cam["fstop"], cam["focus_distance_m"], r.pixel_aspect_x,
+        r.pixel_aspect_y, settings.overscan_margin if settings.overscan == "MANUAL" else None,
+        settings.lens_model == "THIN_LENS")
+    return plan, "" if plan is not None else "no margin needed"
+
+
+def apply_overscan(scene, plan):
+    """Grows the render and its camera by the plan's margin (main thread); restore_overscan
+    puts them back."""
+    r, data = scene.render, scene.camera.data
+    saved = {"camera": data.name}
+    saved.update({"render." + k: getattr(r, k) for k in _SAVED_RENDER})
+    saved.update({"camera." + k: getattr(data, k) for k in _SAVED_CAMERA})
+    scene[OVERSCAN_KEY] = saved
+    plan.source_fit = data.sensor_fit
+    plan.source_sensor = data.sensor_height if data.sensor_fit == "VERTICAL" else \
+        data.sensor_width
+    try:
+        r.resolution_percentage = 100
+        r.resolution_x, r.resolution_y = plan.full_width, plan.full_height
+        data.sensor_fit = plan.fit  # explicit: Auto could pick the other axis once grown
+        if plan.fit == "HORIZONTAL":
+            data.sensor_width = plan.sensor_mm
+        else:
+            data.sensor_height = plan.sensor_mm
+        data.shift_x, data.shift_y = plan.shift(data.shift_x), plan.shift(data.shift_y)
+    except (AttributeError, TypeError, ValueError) as err:  # e.g. a linked, read-only camera
+        restore_overscan(scene)
+        raise SetupError("cannot grow the render for overscan (%s): rendered without it; set "
+                         "Diffusion DOF > Overscan to Off" % err) from None
+
+
+def restore_overscan(scene):
+    """Puts back what apply_overscan changed (main thread). Returns whether it did."""
+    saved = scene.get(OVERSCAN_KEY)
+    if saved is None:
+        return False
+    saved = saved.to_dict()
+    del scene[OVERSCAN_KEY]
+    data = bpy.data.cameras.get(saved.pop("camera"))
+    for key, value in saved.items():
+        kind, name = key.split(".", 1)
+        target = scene.render if kind == "render" else data
+        if target is not None and getattr(target, name) != value:
+            setattr(target, name, value)
+    return True
+
+
+def _start_overscan(scene, settings, state):
+    """Grows the render when the scene asks for overscan (main thread only: with the UI the
+    render has read the scene before its handlers run)."""
+    try:
+        plan, why = overscan_plan(scene, settings)
+        if plan is not None:
+            apply_overscan(scene, plan)
+            log("overscan: " + plan.describe())
+        elif settings.overscan != "OFF":
+            log("overscan: none (%s)" % why)
+        state["overscan"] = plan
+    except SetupError as err:
+        log("overscan: none: %s" % err)
+
+
+def crop_frame(plan, buf, channels):
+    """The frame's pixels of a grown render's buffer."""
+    return frame_region.crop(buf, plan.full_width, channels, plan.margin_x, plan.margin_y,
+                             plan.width, plan.height)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -347,6 +444,64 @@ class _Call(threading.Thread):
         return self._result
 
 
+def overscan_camera(plan, settings, cam, width, height):
+    """The camera of a grown render for the library: the frame's own sensor (the snapshot read
+    the grown one) and the frame as the window's frame, so every pixel gets the CoC it has in
+    the frame and the margin the CoC it would have outside it."""
+    if (width, height) != (plan.full_width, plan.full_height):
+        raise SetupError("the render is %dx%d, not the %dx%d overscan asked for (was the "
+                         "resolution changed during the render?)"
+                         % (width, height, plan.full_width, plan.full_height))
+    cam = dict(cam, **plan.camera_fields())
+    if not settings.override_sensor:
+        cam["sensor_fit"], cam["sensor_width_mm"] = plan.source_fit, plan.source_sensor
+    return cam
+
+
+def composite_frame(scene, settings, job, out, width, height, channels):
+    """The user's compositing run on the depth-of-field image `out` (composite.py), with the
+    other passes it reads as rendered (cropped like the frame); returns its pixels."""
+    images = {composite.DOF_KEY: store_result(composite.RAW_IMAGE, width, height, channels, out)}
+    for slot in job.extra:
+        data = read_exr(job.files[slot])
+        if data is None:
+            raise SetupError("a pass your compositing reads (%s) was not written: click Set Up "
+                             "Passes and render again" % os.path.basename(job.files[slot]))
+        buf, w, h, c = data
+        if job.overscan is not None:
+            buf, w, h = crop_frame(job.overscan, buf, c), job.overscan.width, \
+                job.overscan.height
+        images[slot] = store_result(composite.PASS_IMAGE % slot, w, h, c, buf)
+    path = composite.run(scene, settings, job.frame, images, width, height)
+    try:
+        result = read_exr(path)
+    finally:
+        if os.path.exists(path):
+            os.remove(path)
+    if result is None or result[1:] != (width, height, channels):
+        raise SetupError("your compositing gave %s, not a %dx%d image"
+                         % ("nothing" if result is None else "%dx%d with %d channels"
+                            % result[1:], width, height))
+    return result[0]
+
+
+def _write_fallback(scene, job, fallback):
+    """A grown (overscan) frame that got no depth of field is still written at the frame's size:
+    the frame as rendered, cropped. Returns what it did, as words for the report."""
+    if fallback is None or not job.write:
+        return ""
+    settings = settings_mod.get(scene)
+    if settings is None or not settings.write_frames:
+        return ""
+    try:
+        buf, width, height, channels = fallback
+        image = store_result(RESULT_IMAGE, width, height, channels, buf)
+        return "; the frame as rendered, cropped to its size, -> %s" % write_frame(
+            scene, image, job.frame, job.started)
+    except Exception as err:  # the report says what failed first; this is the aftermath
+        return "; the overscan margin could not be cropped off the written file (%s)" % err
+
+
 def process_job(job):
     """Processes one frame on this (the main) thread, start to end."""
     for _ in job_steps(job, worker=False):
@@ -357,6 +512,7 @@ def job_steps(job, worker):
     """Processes one frame: a generator that, with worker=True, runs the library call on a
     worker thread and yields while it runs (the main thread's timer resumes it)."""
     scene = bpy.data.scenes.get(job.scene_name)
+    fallback = None  # with overscan: the frame as rendered, cropped, to write if this fails
     try:
         if scene is None:
             return
@@ -407,7 +563,13 @@ def job_steps(job, worker):
                                      % job.frame)
                 foreground = {"color": fg_color[0], "depth": fg_depth[0],
                               "depth_channels": fg_depth[3]}
-            region = scene_region(scene, width, height)
+            plan = job.overscan
+            if plan is not None:
+                cam = overscan_camera(plan, settings, cam, width, height)
+                region = None
+                fallback = (crop_frame(plan, buf, channels), plan.width, plan.height, channels)
+            else:
+                region = scene_region(scene, width, height)
             call = _Call(run_region, (scene, settings, width, height, buf, channels, depth_buf,
                                       dchannels, cam, foreground, region),
                          {"options": library_options(settings)})
@@ -422,7 +584,19 @@ def job_steps(job, worker):
             else:
                 call.run()
             out, stats = call.value()
-            image = store_result(RESULT_IMAGE, width, height, channels, out)
+            if plan is not None:  # the frame out of the grown render
+                out, buf, depth_buf = (crop_frame(plan, out, channels), fallback[0],
+                                       crop_frame(plan, depth_buf, dchannels))
+                if foreground is not None:
+                    foreground = {"color": crop_frame(plan, foreground["color"], 4),
+                                  "depth": crop_frame(plan, foreground["depth"],
+                                                      foreground["depth_channels"]),
+                                  "depth_channels": foreground["depth_channels"]}
+                width, height = plan.width, plan.height
+            pixels = out
+            if composite.has_compositing(scene, settings):
+                pixels = composite_frame(scene, settings, job, out, width, height, channels)
+            image = store_result(RESULT_IMAGE, width, height, channels, pixels)
             if settings.keep_inputs:
                 store_result(INPUT_IMAGE, width, height, channels, buf)
                 store_result(DEPTH_IMAGE, width, height, dchannels, depth_buf, data=True)
@@ -449,10 +623,11 @@ def job_steps(job, worker):
                 job.frame, stats, camera_line, path)
         except binding.Cancelled:
             set_report(scene.name, False, "frame %d: cancelled (Esc): left as rendered, without "
-                       "depth of field" % job.frame, job.frame)
-        except (SetupError, binding.LibraryError, binding.DdofError) as err:
-            set_report(scene.name, False, "frame %d not processed: %s" % (job.frame, err),
+                       "depth of field%s" % (job.frame, _write_fallback(scene, job, fallback)),
                        job.frame)
+        except (SetupError, binding.LibraryError, binding.DdofError) as err:
+            set_report(scene.name, False, "frame %d not processed: %s%s" % (
+                job.frame, err, _write_fallback(scene, job, fallback)), job.frame)
         except Exception as err:  # a bug: say so, keep Blender and the render going
             traceback.print_exc()
             set_report(scene.name, False, "frame %d not processed: internal error: %s"
@@ -523,6 +698,7 @@ def process_ready():
     if idle:
         close_session()
         free_spent_images()
+        composite.remove_copies()
 
 
 def _start_escape_watch():
@@ -554,11 +730,14 @@ def _timer():
 
 @persistent
 def on_render_init(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     settings = _enabled(scene)
     if settings is None:
         return
     cancel_event.clear()
-    state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time()}
+    state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time(),
+             "overscan": None, "extra": []}
     main = _is_main_thread()
     try:
         if main:
@@ -569,9 +748,12 @@ def on_render_init(scene, _depsgraph=None):
             if problem:
                 raise SetupError("this render cannot get depth of field (%s): click Set Up "
                                  "Passes in the Diffusion DOF panel and render again." % problem)
+        state["extra"] = passes.extra_slots(scene)
     except SetupError as err:
         state["error"] = str(err)
         log(str(err))
+    if main and state["error"] is None:
+        _start_overscan(scene, settings, state)
     cam = scene.camera
     if cam is not None and cam.type == "CAMERA" and cam.data.dof.use_dof:
         if main:
@@ -587,6 +769,8 @@ def on_render_init(scene, _depsgraph=None):
 
 @persistent
 def on_frame_change_post(scene, depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     if depsgraph is None or depsgraph.mode != "RENDER" or scene.name not in _render_state:
         return
     settings = _enabled(scene)
@@ -602,11 +786,14 @@ def on_frame_change_post(scene, depsgraph=None):
 
 @persistent
 def on_render_post(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     state = _render_state.get(scene.name)
     settings = _enabled(scene)
     if state is None or settings is None:
         return
-    job = Job(scene, scene.frame_current, settings.foreground_collection is not None)
+    job = Job(scene, scene.frame_current, settings.foreground_collection is not None,
+              state["extra"], state["overscan"])
     job.error = state["error"]
     job.lens_dof_on = state["lens_dof_on"]
     job.started = state["started"]
@@ -617,6 +804,8 @@ def on_render_post(scene, _depsgraph=None):
 
 @persistent
 def on_render_write(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     if scene.name not in _render_state:
         return
     with _lock:
@@ -642,6 +831,8 @@ def _finish(scene, cancelled):
                     job.ready = True
         for key in [k for k in _snapshots if k[0] == scene.name]:
             del _snapshots[key]
+    if _is_main_thread() and restore_overscan(scene):
+        log("overscan: the resolution and the camera are back as they were")
     if state and state["restore_dof"] and _is_main_thread():
         cam_data = bpy.data.cameras.get(state["restore_dof"])
         if cam_data is not None:
@@ -652,11 +843,15 @@ def _finish(scene, cancelled):
 
 @persistent
 def on_render_complete(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     _finish(scene, cancelled=False)
 
 
 @persistent
 def on_render_cancel(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     if scene.name in _render_state:
         request_cancel()  # Esc during the render: the frame being processed stops too
     _finish(scene, cancelled=True)
@@ -666,7 +861,11 @@ def on_render_cancel(scene, _depsgraph=None):
 def on_load_post(*_args):
     reports.clear()
     _spent.clear()  # the file they were in is gone
+    composite.remove_copies()  # a file saved during a render may hold one
     for scene in bpy.data.scenes:
+        if restore_overscan(scene):
+            log("%s: put back the resolution and camera of an interrupted overscan render"
+                % scene.name)
         if _enabled(scene) is None:
             continue
         try:
@@ -678,6 +877,8 @@ def on_load_post(*_args):
 
 @persistent
 def on_depsgraph_update_post(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     # Keeps the foreground companion scene in step with edits made in the UI.
     settings = _enabled(scene)
     if settings is None or settings.foreground_collection is None:
@@ -736,4 +937,10 @@ def unregister():
     reports.clear()
     close_session()
     free_spent_images()
+    try:
+        for scene in bpy.data.scenes:
+            restore_overscan(scene)
+        composite.remove_copies()
+    except AttributeError:  # bpy.data is not readable while Blender quits
+        pass
     escape_watch["on"] = False
