@@ -1,0 +1,143 @@
+# SPDX-License-Identifier: GPL-3.0-or-later
+"""Overscan (issue 31): a light near the frame's top edge keeps the energy a lens gives it.
+
+Night scene: a black world, a small bright square at 20 m whose top edge is 1 px inside the top
+of the frame, defocused to a 15 px disc (100 mm f/1.4 focused at 2 m), and a checker card in
+focus. The truth is a wider render's crop: the same lens and pixel pitch, 40 px more on every
+side (resolution and sensor grown by the test), depth of field run on it with no overscan, the
+frame cropped out. Without overscan the library keeps inside the frame the light the lens spreads
+out of it: the top band is far too bright. With overscan Auto (the default) it is within 5%.
+The overscan render's input, cropped, is the plain render's pixels (same framing, also with a
+camera shift), the written file and the result image have the frame's size, and the resolution
+and camera are exactly as before. A render border keeps working (no overscan there).
+"""
+
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test_util as u  # noqa: E402
+
+import bpy  # noqa: E402
+
+checks = u.Checks("test_overscan")
+out_dir = u.scratch_dir("overscan")
+addon = u.load_addon()
+
+scene = u.clear_scene()
+bg = scene.world.node_tree.nodes["Background"]
+bg.inputs["Strength"].default_value = 0.0
+W, H, GROW, BAND = u.WIDTH, u.HEIGHT, 40, 24
+# Frame half-height at 20 m: 36 mm * 90 / 160 / 2 on the sensor, times 20 m / 100 mm.
+top = 36.0 * H / W / 2.0 * 20.0 / 100.0
+size = 0.4
+u.add_plane(scene, "Light", (size, size), (0.6, 20.0, top - 0.5 * size - 0.01),
+            u.emission_checker("LightMat", (4.0, 3.2, 2.0, 1), (4.0, 3.2, 2.0, 1), 1.0))
+u.add_plane(scene, "Card", (0.3, 0.15), (-0.1, 2.0, -0.05),
+            u.emission_checker("CardMat", (0.9, 0.9, 0.9, 1), (0.1, 0.1, 0.1, 1), 60.0))
+cam = u.add_camera(scene, lens=100.0, fstop=1.4, focus=2.0)
+u.configure(scene, samples=16)
+s = scene.diffusion_dof
+s.enabled = True
+s.write_frames = True
+s.keep_inputs = True
+
+
+def state():
+    r, d = scene.render, cam.data
+    return (r.resolution_x, r.resolution_y, r.resolution_percentage, d.sensor_fit,
+            d.sensor_width, d.sensor_height, d.shift_x, d.shift_y, r.use_border)
+
+
+def render(name):
+    before = state()
+    buf, w, h, _ = u.render_still(scene, os.path.join(out_dir, name + ".exr"))
+    checks.check(state() == before, "%s: resolution or camera not restored: %r -> %r"
+                 % (name, before, state()))
+    report = addon.render.reports.get(scene.name)
+    checks.check(report is not None and report["ok"], "%s: %r" % (name, report and
+                                                                 report["message"]))
+    return buf, w, h
+
+
+def band_energy(buf, width, height):
+    """Sum of RGB over the top BAND rows (Blender rows run bottom-up)."""
+    return sum(sum(buf[(y * width + x) * 4:(y * width + x) * 4 + 3])
+               for y in range(height - BAND, height) for x in range(width))
+
+
+def crop(buf, width, x, y, w, h):
+    out = []
+    for r in range(y, y + h):
+        out.extend(buf[(r * width + x) * 4:(r * width + x + w) * 4])
+    return out
+
+
+# The truth: a wider render, cropped.
+s.overscan = "OFF"
+scene.render.resolution_x, scene.render.resolution_y = W + 2 * GROW, H + 2 * GROW
+cam.data.sensor_fit = "HORIZONTAL"
+cam.data.sensor_width = 36.0 * (W + 2 * GROW) / W
+wide, ww, wh = render("wide")
+truth = crop(wide, ww, GROW, GROW, W, H)
+scene.render.resolution_x, scene.render.resolution_y = W, H
+cam.data.sensor_fit, cam.data.sensor_width = "AUTO", 36.0
+
+e_truth = band_energy(truth, W, H)
+results = {}
+for mode in ("OFF", "AUTO"):
+    s.overscan = mode
+    buf, w, h = render("frame_" + mode)
+    if not checks.check((w, h) == (W, H), "%s: written %dx%d" % (mode, w, h)):
+        continue
+    result = u.pixels(bpy.data.images[addon.render.RESULT_IMAGE])
+    checks.check(len(result) == len(buf) and max(abs(a - b) for a, b in zip(result, buf)) < 1e-6,
+                 "%s: the result image is not the written frame" % mode)
+    results[mode] = band_energy(buf, W, H) / e_truth
+    print("overscan %s: top %d rows hold %.4f of the wider render's light; whole frame PSNR "
+          "vs the wider render's crop %.2f dB" % (mode, BAND, results[mode],
+                                                 u.psnr(buf, truth, peak=4.0)), flush=True)
+if results:
+    checks.check(results.get("OFF", 1.0) > 1.05, "without overscan the top band should be too "
+                 "bright (%.3f of the truth): is the light near the edge?" % results.get("OFF", 0))
+    # Before: no overscan at all (the OFF figure, about 1.5).
+    checks.check(abs(results.get("AUTO", 0.0) - 1.0) < 0.05, "overscan Auto: the top band holds "
+                 "%.3f of the wider render's light (want within 5%%)" % results.get("AUTO", 0.0))
+
+# Framing: the overscan render's input (cropped) is the plain render, also with a camera shift.
+cam.data.shift_x, cam.data.shift_y = 0.1, -0.05
+for mode in ("OFF", "AUTO"):
+    s.overscan = mode
+    render("shift_" + mode)
+    results[mode] = u.pixels(bpy.data.images[addon.render.INPUT_IMAGE])
+if len(results.get("OFF", ())) == len(results.get("AUTO", ())) == W * H * 4:
+    d = sum(abs(a - b) for a, b in zip(results["OFF"], results["AUTO"])) / (W * H * 4)
+    checks.check(d < 0.01, "overscan moved the picture (mean difference %.4f)" % d)
+else:
+    checks.check(False, "shifted inputs have other sizes")
+cam.data.shift_x = cam.data.shift_y = 0.0
+
+# Manual: the margin as set (logged), the frame written at its size.
+s.overscan, s.overscan_margin = "MANUAL", 12
+lines = []
+real_log = addon.render.log
+addon.render.log = lambda message: (lines.append(message), real_log(message))
+try:
+    buf, w, h = render("manual")
+finally:
+    addon.render.log = real_log
+checks.check(any("12 x 12 px margin: renders 184x114" in l for l in lines) and (w, h) == (W, H),
+             "manual margin: %r, %dx%d" % ([l for l in lines if "overscan" in l], w, h))
+
+# A render border with crop: as before (no overscan), the border's size.
+s.overscan = "AUTO"
+r = scene.render
+r.use_border, r.use_crop_to_border = True, True
+r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5, 1.0
+buf, w, h = render("border")
+checks.check((w, h) == (80, 45), "border with crop written %dx%d" % (w, h))
+r.use_border = False
+
+u.unload_addon(addon)
+checks.finish()
