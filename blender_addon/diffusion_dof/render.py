@@ -595,6 +595,13 @@ def job_steps(job, worker):
                 width, height = plan.width, plan.height
             pixels = out
             if composite.has_compositing(scene, settings):
+                # With the UI the compositing pass waits for a running render (Ctrl F12's next
+                # frame): it is a render itself, and two at once share the compositor.
+                while worker and bpy.app.is_job_running("RENDER"):
+                    yield
+                scene = bpy.data.scenes.get(job.scene_name)
+                if scene is None:
+                    return
                 pixels = composite_frame(scene, settings, job, out, width, height, channels)
             image = store_result(RESULT_IMAGE, width, height, channels, pixels)
             if settings.keep_inputs:
