@@ -234,12 +234,43 @@ def overscan_plan(scene, settings):
     width, height = frame_region.full_size(r.resolution_x, r.resolution_y,
                                            r.resolution_percentage)
     fit = data.sensor_fit
+    thin = settings.lens_model == "THIN_LENS"
+    focal, fstop, focus_m = max(_lenses_of_range(scene, settings, cam),
+                                key=lambda lens: overscan.coc_infinity_mm(*lens, thin_lens=thin))
     plan = overscan.plan(
         width, height, fit, data.sensor_height if fit == "VERTICAL" else data.sensor_width,
-        cam["focal_length_mm"], cam["fstop"], cam["focus_distance_m"], r.pixel_aspect_x,
-        r.pixel_aspect_y, settings.overscan_margin if settings.overscan == "MANUAL" else None,
-        settings.lens_model == "THIN_LENS")
+        focal, fstop, focus_m, r.pixel_aspect_x, r.pixel_aspect_y,
+        settings.overscan_margin if settings.overscan == "MANUAL" else None, thin)
     return plan, "" if plan is not None else "no margin needed"
+
+
+MAX_SAMPLED_FRAMES = 1000
+
+
+def _lenses_of_range(scene, settings, cam):
+    """[(focal mm, f-stop, focus m)] of the camera over the scene's frame range, from the camera
+    data's F-curves (a focus pull), so that one margin serves every frame of an animation; the
+    panel's overrides win. A focus object is read at the current frame only (its motion would
+    need the whole scene evaluated at every frame)."""
+    lens = (cam["focal_length_mm"], cam["fstop"], cam["focus_distance_m"])
+    curves = compat.fcurves(scene.camera.data)
+    paths = {"lens": not settings.override_focal_length,
+             "dof.aperture_fstop": not settings.override_fstop,
+             "dof.focus_distance": not settings.override_focus
+             and scene.camera.data.dof.focus_object is None}
+    curves = {k: v for k, v in curves.items() if paths.get(k)}
+    if not curves:
+        return [lens]
+    unit = scene.unit_settings.scale_length or 1.0
+    step = max(1, scene.frame_step,
+               (scene.frame_end - scene.frame_start + 1) // MAX_SAMPLED_FRAMES)
+    lenses = [lens]
+    for frame in range(scene.frame_start, scene.frame_end + 1, step):
+        value = {k: fc.evaluate(frame) for k, fc in curves.items()}
+        lenses.append((value.get("lens", lens[0]), value.get("dof.aperture_fstop", lens[1]),
+                       value["dof.focus_distance"] * unit if "dof.focus_distance" in value
+                       else lens[2]))
+    return lenses
 
 
 def apply_overscan(scene, plan):

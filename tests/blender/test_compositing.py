@@ -140,10 +140,21 @@ def animation(name):
     folder = os.path.join(out_dir, name)
     shutil.rmtree(folder, ignore_errors=True)
     scene.render.filepath = os.path.join(folder, "f_####")
-    scene.frame_set(1)  # the Auto margin is read at the render's start: the same for both
+    scene.frame_set(2)  # the Auto margin serves the whole range, whatever the current frame
     before = scene_state()
-    bpy.ops.render.render(animation=True)
+    lines = []
+    real_log = addon.render.log
+    addon.render.log = lambda message: (lines.append(message), real_log(message))
+    try:
+        bpy.ops.render.render(animation=True)
+    finally:
+        addon.render.log = real_log
     checks.check(scene_state() == before, "%s: the scene or its tree changed" % name)
+    # The margin is frame 1's (focus 3 m: 7 px), the larger blur, though the render starts
+    # at frame 2 (focus 12 m alone would give 3 px).
+    margins = [l for l in lines if "px margin" in l]
+    checks.check(len(margins) == 1 and "7 x 7 px margin" in margins[0],
+                 "%s: the margin does not serve the whole focus pull: %r" % (name, margins))
     return [u.load_file(os.path.join(folder, "f_%04d.exr" % f))[0] for f in (1, 2)]
 
 
