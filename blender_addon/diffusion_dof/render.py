@@ -229,6 +229,11 @@ def overscan_plan(scene, settings):
     r = scene.render
     if r.use_border:
         return None, "not with a render border"
+    # The files Blender writes are grown: only the add-on's replacement has the frame's size.
+    if not settings.write_frames:
+        return None, "Replace Written Frames is off, so Blender's files would keep the margin"
+    if r.image_settings.file_format in MOVIE_FORMATS:
+        return None, "not with a movie output, whose frames cannot be replaced"
     cam, _info = camera_mod.camera_settings(scene, settings)
     data = scene.camera.data
     width, height = frame_region.full_size(r.resolution_x, r.resolution_y,

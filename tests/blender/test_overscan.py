@@ -9,7 +9,8 @@ frame cropped out. Without overscan the library keeps inside the frame the light
 out of it: the top band is far too bright. With overscan Auto (the default) it is within 5%.
 The overscan render's input, cropped, is the plain render's pixels (same framing, also with a
 camera shift), the written file and the result image have the frame's size, and the resolution
-and camera are exactly as before. A render border keeps working (no overscan there).
+and camera are exactly as before. A render border keeps working (no overscan there); a failed render puts the resolution and
+camera back; Replace Written Frames off renders no margin.
 """
 
 import math
@@ -138,6 +139,26 @@ r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5
 buf, w, h = render("border")
 checks.check((w, h) == (80, 45), "border with crop written %dx%d" % (w, h))
 r.use_border = False
+
+# A render that fails (its output cannot be written) still puts everything back.
+before = state()
+scene.frame_start, scene.frame_end = 1, 2
+blocker = os.path.join(out_dir, "a_file")
+with open(blocker, "w") as f:
+    f.write("not a folder")
+scene.render.filepath = os.path.join(blocker, "f_####")
+try:
+    bpy.ops.render.render(animation=True)
+except RuntimeError as err:
+    print("the failing render: %s" % str(err).strip())
+checks.check(state() == before and addon.render.OVERSCAN_KEY not in scene,
+             "a failed render left the overscan in place: %r -> %r" % (before, state()))
+
+# Replace Written Frames off: Blender's own files would keep the margin, so none is rendered.
+s.write_frames = False
+plan, why = addon.render.overscan_plan(scene, s)
+checks.check(plan is None and "Replace Written Frames" in why, "write frames off: %r" % why)
+s.write_frames = True
 
 u.unload_addon(addon)
 checks.finish()
