@@ -508,7 +508,12 @@ def composite_frame(scene, settings, job, out, width, height, channels):
             buf, w, h = crop_frame(job.overscan, buf, c), job.overscan.width, \
                 job.overscan.height
         images[slot] = store_result(composite.PASS_IMAGE % slot, w, h, c, buf)
-    path = composite.run(scene, settings, job.frame, images, width, height)
+    try:
+        path = composite.run(scene, settings, job.frame, images, width, height)
+    finally:
+        for key, image in images.items():  # their pixels are in the composited frame now
+            if key != composite.DOF_KEY:
+                retire_image(image)
     try:
         result = read_exr(path)
     finally:
