@@ -480,6 +480,31 @@ class _Call(threading.Thread):
         return self._result
 
 
+def keep_inputs(width, height, color, depth, foreground):
+    """Keeps a frame's passes ((buffer, channels) each) for Re-apply and the focus tools."""
+    store_result(INPUT_IMAGE, width, height, color[1], color[0])
+    store_result(DEPTH_IMAGE, width, height, depth[1], depth[0], data=True)
+    if foreground is not None:
+        store_result(FG_INPUT_IMAGE, width, height, 4, foreground["color"])
+        store_result(FG_DEPTH_IMAGE, width, height, foreground["depth_channels"],
+                     foreground["depth"], data=True)
+    else:
+        for name in (FG_INPUT_IMAGE, FG_DEPTH_IMAGE):
+            if name in bpy.data.images:
+                retire_image(bpy.data.images[name])
+
+
+def _crop_all(plan, out, color_cropped, depth, foreground):
+    """The frame's part of a grown render's result, input (already cropped), depth and
+    foreground element: (out, color, depth, foreground)."""
+    if foreground is not None:
+        foreground = {"color": crop_frame(plan, foreground["color"], 4),
+                      "depth": crop_frame(plan, foreground["depth"],
+                                          foreground["depth_channels"]),
+                      "depth_channels": foreground["depth_channels"]}
+    return (crop_frame(plan, *out), color_cropped, crop_frame(plan, *depth), foreground)
+
+
 def overscan_camera(plan, settings, cam, width, height):
     """The camera of a grown render for the library: the frame's own sensor (the snapshot read
     the grown one) and the frame as the window's frame, so every pixel gets the CoC it has in
@@ -524,6 +549,18 @@ def composite_frame(scene, settings, job, out, width, height, channels):
                          % ("nothing" if result is None else "%dx%d with %d channels"
                             % result[1:], width, height))
     return result[0]
+
+
+def _composited(job, settings, out, width, height, channels, worker):
+    """composite_frame() as a step of job_steps(): with the UI it waits for a running render
+    (Ctrl F12's next frame), since it is a render itself and two at once share the compositor.
+    None when the scene is gone."""
+    while worker and bpy.app.is_job_running("RENDER"):
+        yield
+    scene = bpy.data.scenes.get(job.scene_name)
+    if scene is None:
+        return None
+    return composite_frame(scene, settings, job, out, width, height, channels)
 
 
 def _write_fallback(scene, job, fallback):
@@ -626,36 +663,18 @@ def job_steps(job, worker):
                 call.run()
             out, stats = call.value()
             if plan is not None:  # the frame out of the grown render
-                out, buf, depth_buf = (crop_frame(plan, out, channels), fallback[0],
-                                       crop_frame(plan, depth_buf, dchannels))
-                if foreground is not None:
-                    foreground = {"color": crop_frame(plan, foreground["color"], 4),
-                                  "depth": crop_frame(plan, foreground["depth"],
-                                                      foreground["depth_channels"]),
-                                  "depth_channels": foreground["depth_channels"]}
+                out, buf, depth_buf, foreground = _crop_all(
+                    plan, (out, channels), fallback[0], (depth_buf, dchannels), foreground)
                 width, height = plan.width, plan.height
             pixels = out
             if composite.has_compositing(scene, settings):
-                # With the UI the compositing pass waits for a running render (Ctrl F12's next
-                # frame): it is a render itself, and two at once share the compositor.
-                while worker and bpy.app.is_job_running("RENDER"):
-                    yield
-                scene = bpy.data.scenes.get(job.scene_name)
-                if scene is None:
+                pixels = yield from _composited(job, settings, out, width, height, channels,
+                                                worker)
+                if pixels is None:  # the scene was removed meanwhile
                     return
-                pixels = composite_frame(scene, settings, job, out, width, height, channels)
             image = store_result(RESULT_IMAGE, width, height, channels, pixels)
             if settings.keep_inputs:
-                store_result(INPUT_IMAGE, width, height, channels, buf)
-                store_result(DEPTH_IMAGE, width, height, dchannels, depth_buf, data=True)
-                if foreground is not None:
-                    store_result(FG_INPUT_IMAGE, width, height, 4, foreground["color"])
-                    store_result(FG_DEPTH_IMAGE, width, height, foreground["depth_channels"],
-                                 foreground["depth"], data=True)
-                else:
-                    for name in (FG_INPUT_IMAGE, FG_DEPTH_IMAGE):
-                        if name in bpy.data.images:
-                            retire_image(bpy.data.images[name])
+                keep_inputs(width, height, (buf, channels), (depth_buf, dchannels), foreground)
             path = None
             if job.write and settings.write_frames:
                 try:
