@@ -946,13 +946,34 @@ def on_load_post(*_args):
 def on_depsgraph_update_post(scene, _depsgraph=None):
     if composite.running:  # the compositing pass's own render
         return
-    # Keeps the foreground companion scene in step with edits made in the UI.
     settings = _enabled(scene)
-    if settings is None or settings.foreground_collection is None:
+    if settings is None:
+        return
+    _sync_pass_slots(scene, settings)
+    # Keeps the foreground companion scene in step with edits made in the UI.
+    if settings.foreground_collection is None:
         return
     companion = passes.companion_scene(scene)
     if companion is not None:
         passes.sync_companion(scene, companion)
+
+
+def _sync_pass_slots(scene, settings):
+    """After an edit of the compositor in the UI: the managed File Output node writes the passes
+    the user's compositing now reads (a render with the UI cannot set that up itself: its
+    handlers run on the render thread). Only between renders, on the main thread."""
+    if _render_state or not _is_main_thread():
+        return
+    try:
+        tree = passes.node_tree(scene)
+        wanted = [e[0] for e in composite.pass_slots(scene, settings, tree)] if tree else []
+        if tree is not None and tree.nodes.get(passes.OUTPUT_NODE) is not None \
+                and passes.extra_slots(scene) != wanted:
+            for line in passes.ensure_setup(scene):
+                log(line)
+            log("the passes your compositing reads are written for the add-on now")
+    except SetupError as err:
+        log(str(err))
 
 
 HANDLERS = (

@@ -5,7 +5,7 @@ Esc watcher runs; Esc pressed while the library call runs cancels it (the frame 
 rendered, the report says so); the next F12 is processed; Pick Focus, clicked on a pixel of the
 kept Depth pass in an image editor, sets the camera's focus to that pixel's depth. An F12 with
 an Invert node in the compositor gets the inverted depth-of-field image (the compositing run by
-the main thread's timer).
+the main thread's timer); adding a node that reads Depth makes the add-on write that pass.
 
     xvfb-run blender --factory-startup --enable-event-simulate --python test_ui.py
 
@@ -116,11 +116,20 @@ def tick():
             rl = u.render_layers_node(scene)
             invert = u.compositor_tree(scene).nodes.new("CompositorNodeInvert")
             u.compositor_tree(scene).links.new(rl.outputs["Image"], invert.inputs["Color"])
+            # A node reading Depth too: the edit makes the managed File Output node write it.
+            math = u.compositor_tree(scene).nodes.new("CompositorNodeMath")
+            u.compositor_tree(scene).links.new(rl.outputs["Depth"], math.inputs[0])
             u.composite_from(scene, invert.outputs[0])
-            state["invert"], state["rl"] = invert, rl
-            render.reports.clear()
-            f12()
-            state["step"] = "composite"
+            state["invert"], state["rl"], state["math"] = invert, rl, math
+            state["step"] = "render3"
+            return 0.5  # the edit's depsgraph update runs first, as after a user's edit
+    elif step == "render3":
+        slots = addon.passes.extra_slots(scene)
+        checks.check(slots == [addon.composite.slot_name(state["rl"].name, "Depth")],
+                     "the Depth pass the compositing reads is not written: %r" % slots)
+        render.reports.clear()
+        f12()
+        state["step"] = "composite"
     elif step == "composite":
         report = render.reports.get(scene.name)
         if report is not None and not render.busy():
@@ -135,6 +144,7 @@ def tick():
             print("UI: compositing after the depth of field, max difference %.2g" % worst,
                   flush=True)
             u.compositor_tree(scene).nodes.remove(state["invert"])
+            u.compositor_tree(scene).nodes.remove(state["math"])
             u.composite_from(scene, state["rl"].outputs["Image"])
             area = image_editor()
             state["area"] = area
