@@ -198,7 +198,7 @@ def run(scene, settings, frame, images, width, height):
                          % str(err).strip()) from None
     finally:
         running = False
-    rendered = bpy.data.images.get("Render Result")
+    rendered = next((i for i in bpy.data.images if i.type == "RENDER_RESULT"), None)
     if "FINISHED" not in result or rendered is None:
         raise SetupError("your compositing did not run on the depth-of-field image (%s)"
                          % ", ".join(sorted(result)))
