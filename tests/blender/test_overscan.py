@@ -7,8 +7,8 @@ focus. The truth is a wider render's crop: the same lens and pixel pitch, 40 px 
 side (resolution and sensor grown by the test), depth of field run on it with no overscan, the
 frame cropped out. Without overscan the library keeps inside the frame the light the lens spreads
 out of it: the top band is far too bright. With overscan Auto (the default) it is within 5%.
-The overscan render's input, cropped, is the plain render's pixels (same framing, also with a
-camera shift), the written file and the result image have the frame's size, and the resolution
+The overscan render's Depth pass, cropped, is the plain render's (same framing, also with a
+camera shift, and with 2:1 pixels on a vertical sensor fit), the written file and the result image have the frame's size, and the resolution
 and camera are exactly as before. A render border keeps working (no overscan there); a failed render puts the resolution and
 camera back; Replace Written Frames off renders no margin.
 """
@@ -106,17 +106,24 @@ if results:
     checks.check(abs(results.get("AUTO", 0.0) - 1.0) < 0.05, "overscan Auto: the top band holds "
                  "%.3f of the wider render's light (want within 5%%)" % results.get("AUTO", 0.0))
 
-# Framing: the overscan render's input (cropped) is the plain render, also with a camera shift.
+# Framing: the overscan render's kept Depth pass (cropped) is the plain render's, exactly
+# (depth has no anti-aliasing noise), with a camera shift, and with 2:1 pixels on a vertical fit.
 cam.data.shift_x, cam.data.shift_y = 0.1, -0.05
-for mode in ("OFF", "AUTO"):
-    s.overscan = mode
-    render("shift_" + mode)
-    results[mode] = u.pixels(bpy.data.images[addon.render.INPUT_IMAGE])
-if len(results.get("OFF", ())) == len(results.get("AUTO", ())) == W * H * 4:
-    d = sum(abs(a - b) for a, b in zip(results["OFF"], results["AUTO"])) / (W * H * 4)
-    checks.check(d < 0.01, "overscan moved the picture (mean difference %.4f)" % d)
-else:
-    checks.check(False, "shifted inputs have other sizes")
+for label, aspect, fit in (("shift", 1.0, "AUTO"), ("shift, 2:1 pixels, vertical fit", 2.0,
+                                                    "VERTICAL")):
+    scene.render.pixel_aspect_x, cam.data.sensor_fit = aspect, fit
+    depths = {}
+    for mode in ("OFF", "AUTO"):
+        s.overscan = mode
+        render("framing_" + mode)
+        depths[mode] = u.pixels(bpy.data.images[addon.render.DEPTH_IMAGE])
+    if len(depths["OFF"]) == len(depths["AUTO"]) == W * H * len(depths["OFF"]) // (W * H):
+        d = max(abs(a - b) / max(1.0, abs(a)) for a, b in zip(depths["OFF"], depths["AUTO"]))
+        checks.check(d < 1e-4, "%s: overscan moved the picture (depth differs by %.4g)"
+                     % (label, d))
+    else:
+        checks.check(False, "%s: kept depth of another size" % label)
+scene.render.pixel_aspect_x, cam.data.sensor_fit = 1.0, "AUTO"
 cam.data.shift_x = cam.data.shift_y = 0.0
 
 # Manual: the margin as set (logged), the frame written at its size.
