@@ -96,9 +96,12 @@ for mode in ("OFF", "AUTO"):
     checks.check(len(result) == len(buf) and max(abs(a - b) for a, b in zip(result, buf)) < 1e-6,
                  "%s: the result image is not the written frame" % mode)
     results[mode] = band_energy(buf, W, H) / e_truth
-    print("overscan %s: top %d rows hold %.4f of the wider render's light; whole frame PSNR "
-          "vs the wider render's crop %.2f dB" % (mode, BAND, results[mode],
-                                                 u.psnr(buf, truth, peak=4.0)), flush=True)
+    disc = [sum(truth[4 * i:4 * i + 3]) > 0.01 and i >= W * (H - BAND) for i in range(W * H)]
+    in_disc = sum(sum(buf[4 * i:4 * i + 3]) for i in range(W * H) if disc[i]) / \
+        sum(sum(truth[4 * i:4 * i + 3]) for i in range(W * H) if disc[i])
+    print("overscan %s: top %d rows hold %.4f of the wider render's light (%.4f over the "
+          "light's disc); whole frame PSNR vs the wider render's crop %.2f dB"
+          % (mode, BAND, results[mode], in_disc, u.psnr(buf, truth, peak=4.0)), flush=True)
 if results:
     checks.check(results.get("OFF", 1.0) > 1.05, "without overscan the top band should be too "
                  "bright (%.3f of the truth): is the light near the edge?" % results.get("OFF", 0))
