@@ -5,7 +5,8 @@ Scene: a checker wall at 12 m behind a card in focus at 3 m (100 mm f/1.4). The 
 with the compositor plain (Render Layers -> output) are the depth-of-field image D; with an
 Invert node between, every written frame must be 1 - D (before: D, the inversion dropped), still
 and animation; with the tree reading the Depth pass (times 0.05) the written frame is that pass
-as rendered (before: D). The user's tree, the scene's resolution and camera are exactly as
+as rendered (before: D); an Alpha Over of a second view layer at factor 0.5 is half the
+depth-of-field image and half that layer as rendered. The user's tree, the scene's resolution and camera are exactly as
 before each render, and no helper scene is left.
 """
 
@@ -126,6 +127,30 @@ err = max(abs(depth_frame[i * 4] - 0.05 * kept[i * channels]) for i in range(W *
 checks.check(err < 1e-5, "the Depth pass did not reach the compositing as rendered (max error "
              "%.4g; wall pixel %.4f, expected 0.6)" % (err, depth_frame[4 * (W * 5 + 5)]))
 tree.nodes.remove(math)
+
+# An Alpha Over of view layers at factor 0.5: the depth-of-field layer's image under a second
+# view layer's, which stays as rendered (it renders the same scene: the pinhole input).
+overlay_layer = scene.view_layers.new("Overlay")
+overlay = tree.nodes.new("CompositorNodeRLayers")
+overlay.layer = overlay_layer.name
+over = new_node("CompositorNodeAlphaOver")
+background = over.inputs.get("Background") or over.inputs[1]
+foreground = over.inputs.get("Foreground") or over.inputs[2]
+next(i for i in over.inputs if i.identifier == "Fac").default_value = 0.5
+tree.links.new(rl.outputs["Image"], background)
+tree.links.new(overlay.outputs["Image"], foreground)
+u.composite_from(scene, over.outputs[0])
+layered, w, h, _ = render("view_layers")
+raw = u.pixels(bpy.data.images[addon.composite.RAW_IMAGE])
+kept_input = u.pixels(bpy.data.images[addon.render.INPUT_IMAGE])
+expected = [0.5 * a + 0.5 * b for a, b in zip(raw, kept_input)]
+d = max_diff(layered, expected) if (w, h) == (W, H) else float("inf")
+checks.check(d < 1e-3, "Alpha Over of view layers: not half the depth-of-field image and half "
+             "the other layer as rendered (max difference %.4g; half the depth-of-field image "
+             "alone: %.4g)" % (d, max_diff(layered, raw)))
+for node in (over, overlay):
+    tree.nodes.remove(node)
+scene.view_layers.remove(overlay_layer)
 
 # An animation: every frame written with depth of field, then inverted (focus pulled so that
 # the frames differ).
