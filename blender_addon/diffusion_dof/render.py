@@ -565,19 +565,24 @@ def _composited(job, settings, out, width, height, channels, worker):
 
 def _write_fallback(scene, job, fallback):
     """A grown (overscan) frame that got no depth of field is still written at the frame's size:
-    the frame as rendered, cropped. Returns what it did, as words for the report."""
-    if fallback is None or not job.write:
-        return ""
+    the frame as rendered, cropped (`fallback`, or the Combined pass read now when the frame
+    failed before reading it). Returns what it did, as words for the report."""
+    plan = job.overscan
     settings = settings_mod.get(scene)
-    if settings is None or not settings.write_frames:
+    if plan is None or not job.write or settings is None or not settings.write_frames:
         return ""
     try:
+        if fallback is None:
+            color = read_exr(job.files[passes.SLOT_COLOR])
+            if color is None or color[1:3] != (plan.full_width, plan.full_height):
+                raise SetupError("no Combined pass of the grown size")
+            fallback = (crop_frame(plan, color[0], color[3]), plan.width, plan.height, color[3])
         buf, width, height, channels = fallback
         image = store_result(RESULT_IMAGE, width, height, channels, buf)
-        return "; the frame as rendered, cropped to its size, -> %s" % write_frame(
+        return " (written as rendered, cropped to the frame: %s)" % write_frame(
             scene, image, job.frame, job.started)
     except Exception as err:  # the report says what failed first; this is the aftermath
-        return "; the overscan margin could not be cropped off the written file (%s)" % err
+        return " (the overscan margin could not be cropped off the written file: %s)" % err
 
 
 def process_job(job):

@@ -10,7 +10,7 @@ out of it: the top band is far too bright. With overscan Auto (the default) it i
 The overscan render's Depth pass, cropped, is the plain render's (same framing, also with a
 camera shift, and with 2:1 pixels on a vertical sensor fit), the written file and the result image have the frame's size, and the resolution
 and camera are exactly as before. A render border keeps working (no overscan there); a failed render puts the resolution and
-camera back; Replace Written Frames off renders no margin.
+camera back; a frame without depth of field (no library) is written cropped, as rendered; Replace Written Frames off renders no margin.
 """
 
 import math
@@ -163,6 +163,23 @@ except RuntimeError as err:
     print("the failing render: %s" % str(err).strip())
 checks.check(state() == before and addon.render.OVERSCAN_KEY not in scene,
              "a failed render left the overscan in place: %r -> %r" % (before, state()))
+
+# A frame that gets no depth of field (here: no library) is still written at the frame's size,
+# as rendered, cropped.
+scene.render.filepath = os.path.join(out_dir, "no_library.exr")
+real_library = os.environ.get("DDOF_LIBRARY", "")
+os.environ["DDOF_LIBRARY"] = "/nonexistent/libddof.so"
+addon.binding.library_status(reload=True)
+try:
+    buf, w, h, _ = u.render_still(scene, os.path.join(out_dir, "no_library.exr"))
+finally:
+    os.environ["DDOF_LIBRARY"] = real_library
+    addon.binding.library_status(reload=True)
+report = addon.render.reports.get(scene.name)
+checks.check((w, h) == (W, H) and report is not None and not report["ok"]
+             and "cropped to the frame" in report["message"],
+             "a failed frame with overscan: written %dx%d, %r" % (w, h, report and
+                                                                  report["message"]))
 
 # Replace Written Frames off: Blender's own files would keep the margin, so none is rendered.
 s.write_frames = False
