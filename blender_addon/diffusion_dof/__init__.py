@@ -15,15 +15,15 @@ bl_info = {
 
 if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency order
     import importlib
-    for _name in ("errors", "binding", "compat", "frame_region", "focus_map", "settings",
-                  "camera", "passes", "render", "ops", "cards", "ui"):
+    for _name in ("errors", "binding", "compat", "frame_region", "focus_map", "overscan",
+                  "settings", "camera", "passes", "composite", "render", "ops", "cards", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
 import bpy  # noqa: E402
 
-from . import errors, binding, compat, frame_region, focus_map  # noqa: E402,F401
-from . import settings, camera, passes, render, ops, cards, ui  # noqa: E402,F401
+from . import errors, binding, compat, frame_region, focus_map, overscan  # noqa: E402,F401
+from . import settings, camera, passes, composite, render, ops, cards, ui  # noqa: E402,F401
 
 _MODULES = (settings, ops, cards, ui, render)
 

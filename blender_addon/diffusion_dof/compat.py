@@ -16,6 +16,8 @@ only there: the rest of the add-on has one code path.
   has view_layers[0].layer_collection None until something syncs it.
 - The File Output node's file names: up to 5.0 they end in ".exr" only while the scene's
   Output > File Extensions is on; 5.2 always adds it.
+- F-curves: an action's own `fcurves` up to 4.x; 4.4 put them in channel bags (per action slot)
+  and 5.0 removed `Action.fcurves`.
 - Removing an ID while an animation renders: 5.2 re-evaluates the render's depsgraph between
   frames and crashes on a removed image (render.py frees images after the render instead).
 """
@@ -230,3 +232,26 @@ def copy_settings_group(source, target, key):
     if group is None:
         return
     _set_rna_values(getattr(target, key), _rna_values(group))
+
+
+# -- animation -----------------------------------------------------------------------------
+
+
+def fcurves(id_data):
+    """The F-curves animating an ID ({data_path: FCurve}); empty when it has none."""
+    ad = getattr(id_data, "animation_data", None)
+    action = ad.action if ad is not None else None
+    if action is None:
+        return {}
+    slot = getattr(ad, "action_slot", None)
+    curves = None
+    if slot is not None:  # 4.4+: slotted actions
+        try:
+            from bpy_extras import anim_utils
+            bag = anim_utils.action_get_channelbag_for_slot(action, slot)
+            curves = bag.fcurves if bag is not None else []
+        except (ImportError, AttributeError):
+            curves = None
+    if curves is None:
+        curves = getattr(action, "fcurves", [])
+    return {fc.data_path: fc for fc in curves if fc.array_index == 0}

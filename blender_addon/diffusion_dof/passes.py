@@ -53,7 +53,7 @@ def temp_dir(scene):
     return os.path.join(base, "diffusion_dof", "%s_%06x" % (safe, tag))
 
 
-def frame_files(scene, frame, foreground=False):
+def frame_files(scene, frame, foreground=False, extra=()):
     """{slot: path} of the files the File Output node wrote for a frame (called once they are
     written). Whether their names end in ".exr" depends on the Blender version and the scene's
     Output properties > File Extensions (compat.file_output_extension): the name that exists
@@ -64,7 +64,8 @@ def frame_files(scene, frame, foreground=False):
     else:
         number = "%0*d" % (FRAME_DIGITS, frame)
     expected = compat.file_output_extension(scene)
-    slots = [SLOT_COLOR, SLOT_DEPTH] + ([SLOT_FG_COLOR, SLOT_FG_DEPTH] if foreground else [])
+    slots = [SLOT_COLOR, SLOT_DEPTH] + ([SLOT_FG_COLOR, SLOT_FG_DEPTH] if foreground else []) \
+        + list(extra)
     files = {}
     for slot in slots:
         stem = os.path.join(folder, slot + number)
@@ -202,6 +203,8 @@ def missing_setup(scene, settings):
             os.path.normpath(temp_dir(scene)):
         return ("the managed File Output node writes to another folder (another Blender "
                 "session or scene name)")
+    if compat.file_output_paths(out) != _slot_paths(_main_slots(scene, settings, tree)[0]):
+        return "the passes your compositing reads are not all written for the add-on"
     want_fg = settings.foreground_collection is not None
     if want_fg != (tree.nodes.get(FG_OUTPUT_NODE) is not None):
         return "the foreground setup is out of date"
@@ -292,10 +295,14 @@ def _ensure_setup(scene):
         raise SetupError(f"Diffusion DOF cannot create its folder for the render passes "
                          f"({folder}): {err.strerror}. Check the temporary folder in "
                          f"Preferences > File Paths.") from err
+    slots, kinds, sources = _main_slots(scene, settings, tree)
     out = _output_node(tree, OUTPUT_NODE, "Diffusion DOF: passes to the add-on",
-                       (x0 + 320.0, y0), frame, folder, (SLOT_COLOR, SLOT_DEPTH))
+                       (x0 + 320.0, y0), frame, folder, slots, kinds)
     depth_socket = _depth_socket(rl)
     links = [(rl.outputs["Image"], out.inputs[0]), (depth_socket, out.inputs[1])]
+    # The other passes the user's compositing reads, as rendered (composite.py).
+    links += [(tree.nodes[node].outputs[socket], out.inputs[2 + i])
+              for i, (node, socket) in enumerate(sources)]
 
     fg_collection = settings.foreground_collection
     if fg_collection is not None:
@@ -307,7 +314,7 @@ def _ensure_setup(scene):
         fg_rl.layer = companion.view_layers[0].name
         fg_out = _output_node(tree, FG_OUTPUT_NODE, "Diffusion DOF: foreground to the add-on",
                               (x0 + 320.0, y0 - 420.0), frame, folder,
-                              (SLOT_FG_COLOR, SLOT_FG_DEPTH))
+                              (SLOT_FG_COLOR, SLOT_FG_DEPTH), ("RGBA", "FLOAT"))
         fg_depth = _depth_socket(fg_rl)
         links += [(fg_rl.outputs["Image"], fg_out.inputs[0]), (fg_depth, fg_out.inputs[1])]
     else:
@@ -332,18 +339,41 @@ def _depth_socket(node):
     return socket
 
 
-def _output_node(tree, name, label, location, parent, folder, slots):
-    """A File Output node writing float EXRs of `slots` into folder. Slots are only ever added
-    (Blender 3.4 leaks memory when a file slot is removed): a node with other slots is replaced
-    as a whole."""
-    wanted = [slot + "#" * FRAME_DIGITS for slot in slots]
+def _slot_paths(slots):
+    return [slot + "#" * FRAME_DIGITS for slot in slots]
+
+
+def _main_slots(scene, settings, tree):
+    """(slots, socket kinds, [(node, socket)] of the extra passes) of the main File Output node:
+    Combined and Depth, then the passes the user's compositing reads (composite.pass_slots)."""
+    from . import composite  # composite imports this module
+    extra = composite.pass_slots(scene, settings, tree)
+    return ((SLOT_COLOR, SLOT_DEPTH) + tuple(e[0] for e in extra),
+            ("RGBA", "FLOAT") + tuple(e[3] for e in extra), [(e[1], e[2]) for e in extra])
+
+
+def extra_slots(scene):
+    """The slots of the main File Output node beyond Combined and Depth (the passes the user's
+    compositing reads), as it is set up now; read-only, so safe on the render thread."""
+    tree = node_tree(scene)
+    out = tree.nodes.get(OUTPUT_NODE) if tree is not None else None
+    if out is None:
+        return []
+    return [p[:-FRAME_DIGITS] for p in compat.file_output_paths(out)[2:]]
+
+
+def _output_node(tree, name, label, location, parent, folder, slots, kinds):
+    """A File Output node writing float EXRs of `slots` (socket kinds `kinds`) into folder.
+    Slots are only ever added (Blender 3.4 leaks memory when a file slot is removed): a node
+    with other slots is replaced as a whole."""
+    wanted = _slot_paths(slots)
     node = tree.nodes.get(name)
     if node is not None and (node.bl_idname != "CompositorNodeOutputFile"
                              or compat.file_output_paths(node) != wanted):
         tree.nodes.remove(node)
     node = _new_node(tree, "CompositorNodeOutputFile", name, label, location, parent)
     if compat.file_output_paths(node) != wanted:
-        compat.set_file_output_paths(node, wanted, ["RGBA", "FLOAT"])
+        compat.set_file_output_paths(node, wanted, list(kinds))
     compat.set_file_output_folder(node, folder + os.sep)
     _configure_format(node.format)
     return node

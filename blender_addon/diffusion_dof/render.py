@@ -29,7 +29,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import camera as camera_mod
-from . import binding, compat, frame_region, passes
+from . import binding, compat, composite, frame_region, overscan, passes
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -50,11 +50,13 @@ _session = None     # binding.Session: one ddof context for the frames of a rend
 
 
 class Job:
-    def __init__(self, scene, frame, foreground):
+    def __init__(self, scene, frame, foreground, extra=(), plan=None):
         self.scene_name = scene.name
         self.frame = frame
-        self.files = passes.frame_files(scene, frame, foreground)
+        self.extra = list(extra)  # the passes the user's compositing reads (their slots)
+        self.files = passes.frame_files(scene, frame, foreground, self.extra)
         self.foreground = foreground
+        self.overscan = plan      # overscan.Plan of the render, or None
         self.camera = None
         self.error = None
         self.lens_dof_on = False
@@ -73,7 +75,8 @@ def log(message):
 
 def _enabled(scene):
     s = settings_mod.get(scene)
-    return s if s is not None and s.enabled else None
+    # The copy that runs the user's compositing (composite.py) carries the settings too.
+    return s if s is not None and s.enabled and not composite.is_copy(scene) else None
 
 
 def set_report(scene_name, ok, message, frame=None, stats=None, camera_line=None, path=None):
@@ -206,6 +209,136 @@ def write_frame(scene, image, frame, since):
         if os.path.exists(partial):
             os.remove(partial)
     return path
+
+
+# ---------------------------------------------------------------------------------------------
+# Overscan (overscan.py): the render grows by a margin for the render's duration
+
+# On the scene while its render is grown: what to put back. Stored in the scene, not only in
+# memory, so that a file saved mid-render (or an add-on reloaded) is put back on load.
+OVERSCAN_KEY = "diffusion_dof_overscan_restore"
+_SAVED_RENDER = ("resolution_x", "resolution_y", "resolution_percentage")
+_SAVED_CAMERA = ("sensor_fit", "sensor_width", "sensor_height", "shift_x", "shift_y")
+
+
+def overscan_plan(scene, settings):
+    """(overscan.Plan or None, why there is none or ''): the margin this scene's render gets.
+    Raises SetupError when the camera cannot drive depth of field."""
+    if settings.overscan == "OFF":
+        return None, "off"
+    r = scene.render
+    if r.use_border:
+        return None, "not with a render border"
+    # The files Blender writes are grown: only the add-on's replacement has the frame's size.
+    if not settings.write_frames:
+        return None, "Replace Written Frames is off, so Blender's files would keep the margin"
+    if r.image_settings.file_format in MOVIE_FORMATS:
+        return None, "not with a movie output, whose frames cannot be replaced"
+    cam, _info = camera_mod.camera_settings(scene, settings)
+    data = scene.camera.data
+    width, height = frame_region.full_size(r.resolution_x, r.resolution_y,
+                                           r.resolution_percentage)
+    fit = data.sensor_fit
+    thin = settings.lens_model == "THIN_LENS"
+    focal, fstop, focus_m = max(_lenses_of_range(scene, settings, cam),
+                                key=lambda lens: overscan.coc_infinity_mm(*lens, thin_lens=thin))
+    plan = overscan.plan(
+        width, height, fit, data.sensor_height if fit == "VERTICAL" else data.sensor_width,
+        focal, fstop, focus_m, r.pixel_aspect_x, r.pixel_aspect_y,
+        settings.overscan_margin if settings.overscan == "MANUAL" else None, thin)
+    return plan, "" if plan is not None else "no margin needed"
+
+
+MAX_SAMPLED_FRAMES = 1000
+
+
+def _lenses_of_range(scene, settings, cam):
+    """[(focal mm, f-stop, focus m)] of the camera over the scene's frame range, from the camera
+    data's F-curves (a focus pull), so that one margin serves every frame of an animation; the
+    panel's overrides win. A focus object is read at the current frame only (its motion would
+    need the whole scene evaluated at every frame)."""
+    lens = (cam["focal_length_mm"], cam["fstop"], cam["focus_distance_m"])
+    curves = compat.fcurves(scene.camera.data)
+    paths = {"lens": not settings.override_focal_length,
+             "dof.aperture_fstop": not settings.override_fstop,
+             "dof.focus_distance": not settings.override_focus
+             and scene.camera.data.dof.focus_object is None}
+    curves = {k: v for k, v in curves.items() if paths.get(k)}
+    if not curves:
+        return [lens]
+    unit = scene.unit_settings.scale_length or 1.0
+    step = max(1, scene.frame_step,
+               (scene.frame_end - scene.frame_start + 1) // MAX_SAMPLED_FRAMES)
+    lenses = [lens]
+    for frame in range(scene.frame_start, scene.frame_end + 1, step):
+        value = {k: fc.evaluate(frame) for k, fc in curves.items()}
+        lenses.append((value.get("lens", lens[0]), value.get("dof.aperture_fstop", lens[1]),
+                       value["dof.focus_distance"] * unit if "dof.focus_distance" in value
+                       else lens[2]))
+    return lenses
+
+
+def apply_overscan(scene, plan):
+    """Grows the render and its camera by the plan's margin (main thread); restore_overscan
+    puts them back."""
+    r, data = scene.render, scene.camera.data
+    saved = {"camera": data.name}
+    saved.update({"render." + k: getattr(r, k) for k in _SAVED_RENDER})
+    saved.update({"camera." + k: getattr(data, k) for k in _SAVED_CAMERA})
+    scene[OVERSCAN_KEY] = saved
+    plan.source_fit = data.sensor_fit
+    plan.source_sensor = data.sensor_height if data.sensor_fit == "VERTICAL" else \
+        data.sensor_width
+    try:
+        r.resolution_percentage = 100
+        r.resolution_x, r.resolution_y = plan.full_width, plan.full_height
+        data.sensor_fit = plan.fit  # explicit: Auto could pick the other axis once grown
+        if plan.fit == "HORIZONTAL":
+            data.sensor_width = plan.sensor_mm
+        else:
+            data.sensor_height = plan.sensor_mm
+        data.shift_x, data.shift_y = plan.shift(data.shift_x), plan.shift(data.shift_y)
+    except (AttributeError, TypeError, ValueError) as err:  # e.g. a linked, read-only camera
+        restore_overscan(scene)
+        raise SetupError("cannot grow the render for overscan (%s): rendered without it; set "
+                         "Diffusion DOF > Overscan to Off" % err) from None
+
+
+def restore_overscan(scene):
+    """Puts back what apply_overscan changed (main thread). Returns whether it did."""
+    saved = scene.get(OVERSCAN_KEY)
+    if saved is None:
+        return False
+    saved = saved.to_dict()
+    del scene[OVERSCAN_KEY]
+    data = bpy.data.cameras.get(saved.pop("camera"))
+    for key, value in saved.items():
+        kind, name = key.split(".", 1)
+        target = scene.render if kind == "render" else data
+        if target is not None and getattr(target, name) != value:
+            setattr(target, name, value)
+    return True
+
+
+def _start_overscan(scene, settings, state):
+    """Grows the render when the scene asks for overscan (main thread only: with the UI the
+    render has read the scene before its handlers run)."""
+    try:
+        plan, why = overscan_plan(scene, settings)
+        if plan is not None:
+            apply_overscan(scene, plan)
+            log("overscan: " + plan.describe())
+        elif settings.overscan != "OFF":
+            log("overscan: none (%s)" % why)
+        state["overscan"] = plan
+    except SetupError as err:
+        log("overscan: none: %s" % err)
+
+
+def crop_frame(plan, buf, channels):
+    """The frame's pixels of a grown render's buffer."""
+    return frame_region.crop(buf, plan.full_width, channels, plan.margin_x, plan.margin_y,
+                             plan.width, plan.height)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -347,6 +480,111 @@ class _Call(threading.Thread):
         return self._result
 
 
+def keep_inputs(width, height, color, depth, foreground):
+    """Keeps a frame's passes ((buffer, channels) each) for Re-apply and the focus tools."""
+    store_result(INPUT_IMAGE, width, height, color[1], color[0])
+    store_result(DEPTH_IMAGE, width, height, depth[1], depth[0], data=True)
+    if foreground is not None:
+        store_result(FG_INPUT_IMAGE, width, height, 4, foreground["color"])
+        store_result(FG_DEPTH_IMAGE, width, height, foreground["depth_channels"],
+                     foreground["depth"], data=True)
+    else:
+        for name in (FG_INPUT_IMAGE, FG_DEPTH_IMAGE):
+            if name in bpy.data.images:
+                retire_image(bpy.data.images[name])
+
+
+def _crop_all(plan, out, color_cropped, depth, foreground):
+    """The frame's part of a grown render's result, input (already cropped), depth and
+    foreground element: (out, color, depth, foreground)."""
+    if foreground is not None:
+        foreground = {"color": crop_frame(plan, foreground["color"], 4),
+                      "depth": crop_frame(plan, foreground["depth"],
+                                          foreground["depth_channels"]),
+                      "depth_channels": foreground["depth_channels"]}
+    return (crop_frame(plan, *out), color_cropped, crop_frame(plan, *depth), foreground)
+
+
+def overscan_camera(plan, settings, cam, width, height):
+    """The camera of a grown render for the library: the frame's own sensor (the snapshot read
+    the grown one) and the frame as the window's frame, so every pixel gets the CoC it has in
+    the frame and the margin the CoC it would have outside it."""
+    if (width, height) != (plan.full_width, plan.full_height):
+        raise SetupError("the render is %dx%d, not the %dx%d overscan asked for (was the "
+                         "resolution changed during the render?)"
+                         % (width, height, plan.full_width, plan.full_height))
+    cam = dict(cam, **plan.camera_fields())
+    if not settings.override_sensor:
+        cam["sensor_fit"], cam["sensor_width_mm"] = plan.source_fit, plan.source_sensor
+    return cam
+
+
+def composite_frame(scene, settings, job, out, width, height, channels):
+    """The user's compositing run on the depth-of-field image `out` (composite.py), with the
+    other passes it reads as rendered (cropped like the frame); returns its pixels."""
+    images = {composite.DOF_KEY: store_result(composite.RAW_IMAGE, width, height, channels, out)}
+    for slot in job.extra:
+        data = read_exr(job.files[slot])
+        if data is None:
+            raise SetupError("a pass your compositing reads (%s) was not written: click Set Up "
+                             "Passes and render again" % os.path.basename(job.files[slot]))
+        buf, w, h, c = data
+        if job.overscan is not None:
+            buf, w, h = crop_frame(job.overscan, buf, c), job.overscan.width, \
+                job.overscan.height
+        images[slot] = store_result(composite.PASS_IMAGE % slot, w, h, c, buf)
+    try:
+        path = composite.run(scene, settings, job.frame, images, width, height)
+    finally:
+        for key, image in images.items():  # their pixels are in the composited frame now
+            if key != composite.DOF_KEY:
+                retire_image(image)
+    try:
+        result = read_exr(path)
+    finally:
+        if os.path.exists(path):
+            os.remove(path)
+    if result is None or result[1:] != (width, height, channels):
+        raise SetupError("your compositing gave %s, not a %dx%d image"
+                         % ("nothing" if result is None else "%dx%d with %d channels"
+                            % result[1:], width, height))
+    return result[0]
+
+
+def _composited(job, settings, out, width, height, channels, worker):
+    """composite_frame() as a step of job_steps(): with the UI it waits for a running render
+    (Ctrl F12's next frame), since it is a render itself and two at once share the compositor.
+    None when the scene is gone."""
+    while worker and bpy.app.is_job_running("RENDER"):
+        yield
+    scene = bpy.data.scenes.get(job.scene_name)
+    if scene is None:
+        return None
+    return composite_frame(scene, settings, job, out, width, height, channels)
+
+
+def _write_fallback(scene, job, fallback):
+    """A grown (overscan) frame that got no depth of field is still written at the frame's size:
+    the frame as rendered, cropped (`fallback`, or the Combined pass read now when the frame
+    failed before reading it). Returns what it did, as words for the report."""
+    plan = job.overscan
+    settings = settings_mod.get(scene)
+    if plan is None or not job.write or settings is None or not settings.write_frames:
+        return ""
+    try:
+        if fallback is None:
+            color = read_exr(job.files[passes.SLOT_COLOR])
+            if color is None or color[1:3] != (plan.full_width, plan.full_height):
+                raise SetupError("no Combined pass of the grown size")
+            fallback = (crop_frame(plan, color[0], color[3]), plan.width, plan.height, color[3])
+        buf, width, height, channels = fallback
+        image = store_result(RESULT_IMAGE, width, height, channels, buf)
+        return " (written as rendered, cropped to the frame: %s)" % write_frame(
+            scene, image, job.frame, job.started)
+    except Exception as err:  # the report says what failed first; this is the aftermath
+        return " (the overscan margin could not be cropped off the written file: %s)" % err
+
+
 def process_job(job):
     """Processes one frame on this (the main) thread, start to end."""
     for _ in job_steps(job, worker=False):
@@ -357,6 +595,7 @@ def job_steps(job, worker):
     """Processes one frame: a generator that, with worker=True, runs the library call on a
     worker thread and yields while it runs (the main thread's timer resumes it)."""
     scene = bpy.data.scenes.get(job.scene_name)
+    fallback = None  # with overscan: the frame as rendered, cropped, to write if this fails
     try:
         if scene is None:
             return
@@ -407,7 +646,13 @@ def job_steps(job, worker):
                                      % job.frame)
                 foreground = {"color": fg_color[0], "depth": fg_depth[0],
                               "depth_channels": fg_depth[3]}
-            region = scene_region(scene, width, height)
+            plan = job.overscan
+            if plan is not None:
+                cam = overscan_camera(plan, settings, cam, width, height)
+                region = None
+                fallback = (crop_frame(plan, buf, channels), plan.width, plan.height, channels)
+            else:
+                region = scene_region(scene, width, height)
             call = _Call(run_region, (scene, settings, width, height, buf, channels, depth_buf,
                                       dchannels, cam, foreground, region),
                          {"options": library_options(settings)})
@@ -422,18 +667,19 @@ def job_steps(job, worker):
             else:
                 call.run()
             out, stats = call.value()
-            image = store_result(RESULT_IMAGE, width, height, channels, out)
+            if plan is not None:  # the frame out of the grown render
+                out, buf, depth_buf, foreground = _crop_all(
+                    plan, (out, channels), fallback[0], (depth_buf, dchannels), foreground)
+                width, height = plan.width, plan.height
+            pixels = out
+            if composite.has_compositing(scene, settings):
+                pixels = yield from _composited(job, settings, out, width, height, channels,
+                                                worker)
+                if pixels is None:  # the scene was removed meanwhile
+                    return
+            image = store_result(RESULT_IMAGE, width, height, channels, pixels)
             if settings.keep_inputs:
-                store_result(INPUT_IMAGE, width, height, channels, buf)
-                store_result(DEPTH_IMAGE, width, height, dchannels, depth_buf, data=True)
-                if foreground is not None:
-                    store_result(FG_INPUT_IMAGE, width, height, 4, foreground["color"])
-                    store_result(FG_DEPTH_IMAGE, width, height, foreground["depth_channels"],
-                                 foreground["depth"], data=True)
-                else:
-                    for name in (FG_INPUT_IMAGE, FG_DEPTH_IMAGE):
-                        if name in bpy.data.images:
-                            retire_image(bpy.data.images[name])
+                keep_inputs(width, height, (buf, channels), (depth_buf, dchannels), foreground)
             path = None
             if job.write and settings.write_frames:
                 try:
@@ -449,10 +695,11 @@ def job_steps(job, worker):
                 job.frame, stats, camera_line, path)
         except binding.Cancelled:
             set_report(scene.name, False, "frame %d: cancelled (Esc): left as rendered, without "
-                       "depth of field" % job.frame, job.frame)
-        except (SetupError, binding.LibraryError, binding.DdofError) as err:
-            set_report(scene.name, False, "frame %d not processed: %s" % (job.frame, err),
+                       "depth of field%s" % (job.frame, _write_fallback(scene, job, fallback)),
                        job.frame)
+        except (SetupError, binding.LibraryError, binding.DdofError) as err:
+            set_report(scene.name, False, "frame %d not processed: %s%s" % (
+                job.frame, err, _write_fallback(scene, job, fallback)), job.frame)
         except Exception as err:  # a bug: say so, keep Blender and the render going
             traceback.print_exc()
             set_report(scene.name, False, "frame %d not processed: internal error: %s"
@@ -523,6 +770,7 @@ def process_ready():
     if idle:
         close_session()
         free_spent_images()
+        composite.remove_copies()
 
 
 def _start_escape_watch():
@@ -554,11 +802,14 @@ def _timer():
 
 @persistent
 def on_render_init(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     settings = _enabled(scene)
     if settings is None:
         return
     cancel_event.clear()
-    state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time()}
+    state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time(),
+             "overscan": None, "extra": []}
     main = _is_main_thread()
     try:
         if main:
@@ -569,9 +820,12 @@ def on_render_init(scene, _depsgraph=None):
             if problem:
                 raise SetupError("this render cannot get depth of field (%s): click Set Up "
                                  "Passes in the Diffusion DOF panel and render again." % problem)
+        state["extra"] = passes.extra_slots(scene)
     except SetupError as err:
         state["error"] = str(err)
         log(str(err))
+    if main and state["error"] is None:
+        _start_overscan(scene, settings, state)
     cam = scene.camera
     if cam is not None and cam.type == "CAMERA" and cam.data.dof.use_dof:
         if main:
@@ -587,6 +841,8 @@ def on_render_init(scene, _depsgraph=None):
 
 @persistent
 def on_frame_change_post(scene, depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     if depsgraph is None or depsgraph.mode != "RENDER" or scene.name not in _render_state:
         return
     settings = _enabled(scene)
@@ -602,11 +858,14 @@ def on_frame_change_post(scene, depsgraph=None):
 
 @persistent
 def on_render_post(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     state = _render_state.get(scene.name)
     settings = _enabled(scene)
     if state is None or settings is None:
         return
-    job = Job(scene, scene.frame_current, settings.foreground_collection is not None)
+    job = Job(scene, scene.frame_current, settings.foreground_collection is not None,
+              state["extra"], state["overscan"])
     job.error = state["error"]
     job.lens_dof_on = state["lens_dof_on"]
     job.started = state["started"]
@@ -617,6 +876,8 @@ def on_render_post(scene, _depsgraph=None):
 
 @persistent
 def on_render_write(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     if scene.name not in _render_state:
         return
     with _lock:
@@ -642,6 +903,8 @@ def _finish(scene, cancelled):
                     job.ready = True
         for key in [k for k in _snapshots if k[0] == scene.name]:
             del _snapshots[key]
+    if _is_main_thread() and restore_overscan(scene):
+        log("overscan: the resolution and the camera are back as they were")
     if state and state["restore_dof"] and _is_main_thread():
         cam_data = bpy.data.cameras.get(state["restore_dof"])
         if cam_data is not None:
@@ -652,11 +915,15 @@ def _finish(scene, cancelled):
 
 @persistent
 def on_render_complete(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     _finish(scene, cancelled=False)
 
 
 @persistent
 def on_render_cancel(scene, _depsgraph=None):
+    if composite.running:  # the compositing pass's own render
+        return
     if scene.name in _render_state:
         request_cancel()  # Esc during the render: the frame being processed stops too
     _finish(scene, cancelled=True)
@@ -666,7 +933,11 @@ def on_render_cancel(scene, _depsgraph=None):
 def on_load_post(*_args):
     reports.clear()
     _spent.clear()  # the file they were in is gone
+    composite.remove_copies()  # a file saved during a render may hold one
     for scene in bpy.data.scenes:
+        if restore_overscan(scene):
+            log("%s: put back the resolution and camera of an interrupted overscan render"
+                % scene.name)
         if _enabled(scene) is None:
             continue
         try:
@@ -678,13 +949,36 @@ def on_load_post(*_args):
 
 @persistent
 def on_depsgraph_update_post(scene, _depsgraph=None):
-    # Keeps the foreground companion scene in step with edits made in the UI.
+    if composite.running:  # the compositing pass's own render
+        return
     settings = _enabled(scene)
-    if settings is None or settings.foreground_collection is None:
+    if settings is None:
+        return
+    _sync_pass_slots(scene, settings)
+    # Keeps the foreground companion scene in step with edits made in the UI.
+    if settings.foreground_collection is None:
         return
     companion = passes.companion_scene(scene)
     if companion is not None:
         passes.sync_companion(scene, companion)
+
+
+def _sync_pass_slots(scene, settings):
+    """After an edit of the compositor in the UI: the managed File Output node writes the passes
+    the user's compositing now reads (a render with the UI cannot set that up itself: its
+    handlers run on the render thread). Only between renders, on the main thread."""
+    if _render_state or not _is_main_thread():
+        return
+    try:
+        tree = passes.node_tree(scene)
+        wanted = [e[0] for e in composite.pass_slots(scene, settings, tree)] if tree else []
+        if tree is not None and tree.nodes.get(passes.OUTPUT_NODE) is not None \
+                and passes.extra_slots(scene) != wanted:
+            for line in passes.ensure_setup(scene):
+                log(line)
+            log("the passes your compositing reads are written for the add-on now")
+    except SetupError as err:
+        log(str(err))
 
 
 HANDLERS = (
@@ -736,4 +1030,10 @@ def unregister():
     reports.clear()
     close_session()
     free_spent_images()
+    try:
+        for scene in bpy.data.scenes:
+            restore_overscan(scene)
+        composite.remove_copies()
+    except AttributeError:  # bpy.data is not readable while Blender quits
+        pass
     escape_watch["on"] = False

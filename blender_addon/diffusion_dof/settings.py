@@ -149,6 +149,23 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
     threads: IntProperty(name="Threads", min=0, max=1024, default=0,
                          description="Worker threads (0: one per core)")
 
+    # Overscan: a margin rendered around the frame (overscan.py).
+    overscan: EnumProperty(
+        name="Overscan",
+        items=[("AUTO", "Auto", "A margin as wide as the largest blur a pixel at the frame's "
+                                "edge can get (capped at an eighth of the frame)"),
+               ("MANUAL", "Manual", "The margin set below"),
+               ("OFF", "Off", "Render the frame only: no light from outside the frame, and "
+                              "the light spread out of it stays inside")],
+        default="AUTO",
+        description="Render a margin around the frame (resolution and sensor grown together), "
+                    "run depth of field on the whole and crop the frame out: light from just "
+                    "outside the frame spreads in, as through a lens. Background renders and "
+                    "scripts; not with a render border")
+    overscan_margin: IntProperty(
+        name="Margin", min=0, max=4096, default=32, subtype="PIXEL",
+        description="The margin on each side, in rendered pixels along x (Manual)")
+
     # Output.
     write_frames: BoolProperty(
         name="Replace Written Frames", default=True,

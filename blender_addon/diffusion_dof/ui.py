@@ -139,8 +139,28 @@ def draw_expert(layout, context):
     layout.prop(s, "threads")
 
 
+def overscan_line(scene, s):
+    """What overscan will do to this scene's render: the margin and its cost, or why none."""
+    if s.overscan == "OFF":
+        return "Off: light from outside the frame is missing"
+    try:
+        plan, why = render.overscan_plan(scene, s)
+    except SetupError as err:
+        return "None: %s" % err
+    if plan is None:
+        return "None (%s)" % why
+    return plan.describe()
+
+
 def draw_output(layout, context):
     s = _settings(context)
+    layout.prop(s, "overscan")
+    if s.overscan == "MANUAL":
+        layout.prop(s, "overscan_margin")
+    _wrapped(layout, overscan_line(context.scene, s), icon="FULLSCREEN_ENTER")
+    if s.overscan != "OFF" and not bpy.app.background:
+        _wrapped(layout, "Background renders and scripts only: an F12 or Ctrl F12 with the "
+                 "interface renders the frame alone", icon="INFO")
     layout.prop(s, "write_frames")
     layout.prop(s, "show_result")
     layout.prop(s, "keep_inputs")

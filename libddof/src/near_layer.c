@@ -10,13 +10,17 @@
  *    1, and pushed back up, each pixel keeping its own value by its weight and taking the rest
  *    from the coarser level, bilinearly. Fills a hole of any size in time linear in the frame,
  *    smoothly, but blends everything around a large hole;
- *  - across the hole: along its row and its column, linear between the sources at the two ends
- *    of its run, the shorter run dominating (weight 1 / length^2). Across a thin near object
- *    the two sides it separates are the best guess of what it hides, but a single line
- *    streaks, so its end values are 2x2 means of sources (the pyramid's first level).
- * On the study's near_occluder the mean beat each alone (docs/accuracy.md, the near layer). */
+ *  - across the hole: along its row, its column and both diagonals, linear between the sources
+ *    at the two ends of each run, the shorter runs dominating (weight 1 / length^2). Across a
+ *    thin near object the two sides it separates are the best guess of what it hides, and of
+ *    four directions one runs nearly across any object; a single line streaks, so its end
+ *    values are 2x2 means of sources (the pyramid's first level). Pull-push fills only what no
+ *    line reaches (a hole whose every line ends at the frame's edge).
+ * Then near_offsets.c copies from where the frame repeats itself, where its surroundings say
+ * that it does. Measured on the study's near scenes (docs/accuracy.md, the near layer). */
 #include "near_layer.h"
 
+#include "near_offsets.h"
 #include "parallel_rows.h"
 
 #include <math.h>
@@ -26,12 +30,8 @@
 #define MAX_VALUES 5
 
 /* The pyramid level whose means are the line fill's end values (2x2 pixels: one texel of a
- * textured surface no longer streaks across a run; coarser levels measured no better), and the
- * share of the pull-push fill in a hole (the line fill keeps the two sides' structure, pull-push
- * has no streaks; the mean beat either alone). Measured on the study's near_occluder
- * (docs/accuracy.md, the near layer). */
+ * textured surface no longer streaks across a run; coarser levels measured no better). */
 #define END_LEVEL 1u
-#define PULL_PUSH_SHARE 0.5f
 
 typedef struct level {
     uint32_t width, height;
@@ -54,7 +54,7 @@ typedef struct split_job {
     uint32_t from; /* pull: the level read; push: the level written */
     float *rest, *rest_coc, *element;
     float *carried;     /* the matte times the input's alpha (4 channels)              */
-    float *row_weight;  /* the row interpolation's weight per pixel (0: none)          */
+    float *line_weight; /* the line fill's summed weights per pixel (0: no line reached) */
     float *source;      /* each pixel's weight as a source of the fill (0: none)       */
     float *matte;       /* each pixel's share in the element                            */
     float *element_coc; /* the element's |CoC|                                          */
@@ -276,24 +276,24 @@ static void end_value(const split_job *j, uint32_t x, uint32_t y, float *v)
 }
 
 /* Interpolation across a run of non-source pixels [a, b) of one line, from its sources at a - 1
- * and b (either may be missing: the line's end). Writes the value at offset i of the run and
- * returns its weight, 1 / (run length)^2, so that the shorter of a pixel's row and column runs
- * dominates: across a thin near object, the two sides it separates are the best guess of what
- * it hides. A run with a source at one end only is a weaker guess (its length counts twice);
- * one without any, none. */
+ * and b (either may be missing: the line's end); `step` is the distance between the line's
+ * pixels. Writes the value at offset i of the run and returns its weight, 1 / (run length)^2,
+ * so that the shortest of a pixel's runs dominates: across a thin near object, the two sides
+ * it separates are the best guess of what it hides. A run with a source at one end only is a
+ * weaker guess (its length counts twice); one without any, none. */
 static float across_run(const float *before, const float *after, uint32_t n, uint32_t a,
-                        uint32_t b, uint32_t i, float *out)
+                        uint32_t b, uint32_t i, float step, float *out)
 {
-    const float length = (float)(b - a + 1);
+    const float length = (float)(b - a + 1) * step;
     if (before && after) {
-        const float t = (float)(i - a + 1) / length;
+        const float t = (float)(i - a + 1) / (float)(b - a + 1);
         for (uint32_t k = 0; k < n; k++)
             out[k] = before[k] + t * (after[k] - before[k]);
         return 1.0f / (length * length);
     }
     const float *only = before ? before : after;
     if (!only) {
-        memset(out, 0, n * sizeof(float)); /* weightless, but blended by 0 * value */
+        memset(out, 0, n * sizeof(float)); /* weightless, but added as 0 * value */
         return 0.0f;
     }
     memcpy(out, only, n * sizeof(float));
@@ -302,7 +302,8 @@ static float across_run(const float *before, const float *after, uint32_t n, uin
 
 /* One line of the frame: `length` pixels from (x, y) in steps of (dx, dy). */
 typedef struct line {
-    uint32_t x, y, dx, dy, length;
+    uint32_t x, y, length;
+    int32_t dx, dy;
 } line;
 
 /* What the walk does with a non-source pixel (x, y): v, its interpolation across the run
@@ -313,8 +314,10 @@ typedef void (*run_visit)(const split_job *j, uint32_t x, uint32_t y, const floa
 static void walk_runs(const split_job *j, line l, run_visit visit)
 {
     const uint32_t n = j->r->channels + 1;
+    const float step = l.dx && l.dy ? 1.41421356f : 1.0f;
     float before[MAX_VALUES], after[MAX_VALUES], v[MAX_VALUES];
-#define AT(k) (l.x + (k) * l.dx), (l.y + (k) * l.dy)
+#define AT(k)                                                                                  \
+    (uint32_t)((int64_t)l.x + (int64_t)(k) * l.dx), (uint32_t)((int64_t)l.y + (int64_t)(k) * l.dy)
     uint32_t a = 0;
     while (a < l.length) {
         if (is_source(j, AT(a))) {
@@ -330,7 +333,7 @@ static void walk_runs(const split_job *j, line l, run_visit visit)
             end_value(j, AT(b), after);
         for (uint32_t i = a; i < b; i++) {
             const float w = across_run(a > 0 ? before : NULL, b < l.length ? after : NULL, n,
-                                       a, b, i, v);
+                                       a, b, i, step, v);
             visit(j, AT(i), v, w);
         }
         a = b + 1;
@@ -338,43 +341,29 @@ static void walk_runs(const split_job *j, line l, run_visit visit)
 #undef AT
 }
 
-/* The row interpolation into the rest (colour and CoC) and row_weight. */
-static void store_row_fill(const split_job *j, uint32_t x, uint32_t y, const float *v, float w)
+/* The first direction (rows): the weighted interpolation into the rest (colour and CoC) and
+ * its weight, at every non-source pixel (the ramp's are overwritten by finish_rows). */
+static void store_line_fill(const split_job *j, uint32_t x, uint32_t y, const float *v, float w)
 {
     const uint32_t C = j->r->channels;
     const size_t p = (size_t)y * j->r->width + x;
-    j->row_weight[p] = w;
-    memcpy(j->rest + p * C, v, C * sizeof(float)); /* weightless (0) when w = 0 */
-    j->rest_coc[p] = v[C];
+    j->line_weight[p] = w;
+    for (uint32_t k = 0; k < C; k++)
+        j->rest[p * C + k] = w * v[k];
+    j->rest_coc[p] = w * v[C];
 }
 
-/* A hole's fill: the column interpolation blended with the row's by their weights, then
- * averaged with pull-push; pull-push alone where neither line reaches a source. A ramp pixel
- * (0 < matte < 1) keeps its own colour. */
-static void blend_column_fill(const split_job *j, uint32_t x, uint32_t y, const float *v,
-                              float wv)
+/* The other directions: added in, holes only. */
+static void add_line_fill(const split_job *j, uint32_t x, uint32_t y, const float *v, float w)
 {
-    const adi_request *r = j->r;
-    if (j->matte[(size_t)y * r->width + x] < 1.0f)
+    const size_t p = (size_t)y * j->r->width + x;
+    if (j->matte[p] < 1.0f || w <= 0.0f)
         return;
-    const uint32_t C = r->channels, n = C + 1;
-    const size_t p = (size_t)y * r->width + x;
-    float *rest = j->rest + p * C, *rest_coc = j->rest_coc + p;
-    const float wh = j->row_weight[p];
-    float pp[MAX_VALUES];
-    upsample(&j->p->levels[1], n, x, y, pp);
-    if (wv + wh > 0.0f) {
-        const float s = wv / (wv + wh), q = PULL_PUSH_SHARE;
-        for (uint32_t k = 0; k < C; k++) {
-            rest[k] += s * (v[k] - rest[k]);
-            rest[k] += q * (pp[k] - rest[k]);
-        }
-        *rest_coc += s * (v[C] - *rest_coc);
-        *rest_coc += q * (pp[C] - *rest_coc);
-    } else {
-        memcpy(rest, pp, C * sizeof(float));
-        *rest_coc = pp[C];
-    }
+    const uint32_t C = j->r->channels;
+    j->line_weight[p] += w;
+    for (uint32_t k = 0; k < C; k++)
+        j->rest[p * C + k] += w * v[k];
+    j->rest_coc[p] += w * v[C];
 }
 
 static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
@@ -382,7 +371,7 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     (void)chunk;
     const split_job *j = user;
     for (uint32_t y = y0; y < y1; y++)
-        walk_runs(j, (line){0, y, 1, 0, j->r->width}, store_row_fill);
+        walk_runs(j, (line){0, y, j->r->width, 1, 0}, store_line_fill);
 }
 
 /* Called over column chunks (after fill_rows). */
@@ -391,7 +380,62 @@ static void fill_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
     (void)chunk;
     const split_job *j = user;
     for (uint32_t x = x0; x < x1; x++)
-        walk_runs(j, (line){x, 0, 0, 1, j->r->height}, blend_column_fill);
+        walk_runs(j, (line){x, 0, j->r->height, 0, 1}, add_line_fill);
+}
+
+/* Diagonal number d of width + height - 1, going down and right (dx = 1) or down and left
+ * (dx = -1): each starts on the top row, then down the side it comes from. */
+static line diagonal(uint32_t width, uint32_t height, uint32_t d, int32_t dx)
+{
+    const uint32_t x = d < width ? (dx > 0 ? d : width - 1 - d) : (dx > 0 ? 0 : width - 1);
+    const uint32_t y = d < width ? 0 : d - width + 1;
+    const uint32_t across = dx > 0 ? width - x : x + 1;
+    const uint32_t down = height - y;
+    return (line){x, y, across < down ? across : down, dx, 1};
+}
+
+static void fill_diagonals_right(void *user, uint32_t d0, uint32_t d1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    for (uint32_t d = d0; d < d1; d++)
+        walk_runs(j, diagonal(j->r->width, j->r->height, d, 1), add_line_fill);
+}
+
+static void fill_diagonals_left(void *user, uint32_t d0, uint32_t d1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    for (uint32_t d = d0; d < d1; d++)
+        walk_runs(j, diagonal(j->r->width, j->r->height, d, -1), add_line_fill);
+}
+
+/* A hole's line fill: the weighted sum divided by its weight; pull-push where no line reached
+ * a source. */
+static void settle_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *j = user;
+    const adi_request *r = j->r;
+    const uint32_t C = r->channels, n = C + 1;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const size_t p = (size_t)y * r->width + x;
+            if (j->matte[p] < 1.0f)
+                continue;
+            float *rest = j->rest + p * C;
+            const float w = j->line_weight[p];
+            if (w > 0.0f) {
+                for (uint32_t k = 0; k < C; k++)
+                    rest[k] /= w;
+                j->rest_coc[p] /= w;
+            } else {
+                float pp[MAX_VALUES];
+                upsample(&j->p->levels[1], n, x, y, pp);
+                memcpy(rest, pp, C * sizeof(float));
+                j->rest_coc[p] = pp[C];
+            }
+        }
 }
 
 /* The frame's pixels: the element, and the rest with its holes filled from level 1. */
@@ -478,7 +522,7 @@ ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float t
     lay_out(&p, r->width, r->height, levels);
 
     near_split chunks[max_chunks];
-    /* After the pyramid: the row fill's weights, the carried alpha, the source weights, the
+    /* After the pyramid: the line fill's weights, the carried alpha, the source weights, the
      * matte, the element's CoC, the fringe's marks. */
     float *maps = levels + pyramid_floats;
     split_job job = {.r = r,
@@ -487,7 +531,7 @@ ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float t
                      .rest = rest,
                      .rest_coc = rest_coc,
                      .element = element,
-                     .row_weight = maps,
+                     .line_weight = maps,
                      .carried = maps + pixels,
                      .source = maps + 2 * pixels,
                      .matte = maps + 3 * pixels,
@@ -506,6 +550,14 @@ ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float t
     if (filled) {
         ddof_parallel_rows(context, r->height, fill_rows, &job);
         ddof_parallel_rows(context, r->width, fill_columns, &job);
+        ddof_parallel_rows(context, r->width + r->height - 1, fill_diagonals_right, &job);
+        ddof_parallel_rows(context, r->width + r->height - 1, fill_diagonals_left, &job);
+        ddof_parallel_rows(context, r->height, settle_rows, &job);
+        const ddof_status st = ddof_fill_from_offsets(
+            context, &(offset_fill){.frame = r, .source = job.source, .matte = job.matte,
+                                    .rest = rest, .rest_coc = rest_coc});
+        if (st != DDOF_OK)
+            return st;
     }
     ddof_parallel_rows(context, r->height, finish_rows, &job);
 

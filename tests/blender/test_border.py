@@ -43,6 +43,9 @@ s = scene.diffusion_dof
 s.enabled = True
 s.quality = "DEFAULT"
 s.keep_inputs = True
+# The full frame is the reference: rendered at its own size (an overscan render has other
+# pixel seeds, hence other anti-aliasing noise), as a border render is (no overscan there).
+s.overscan = "OFF"
 r = scene.render
 
 

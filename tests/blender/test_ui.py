@@ -3,7 +3,9 @@
 through Window.event_simulate): F12 with the UI processes the frame on a worker thread while the
 Esc watcher runs; Esc pressed while the library call runs cancels it (the frame is left as
 rendered, the report says so); the next F12 is processed; Pick Focus, clicked on a pixel of the
-kept Depth pass in an image editor, sets the camera's focus to that pixel's depth.
+kept Depth pass in an image editor, sets the camera's focus to that pixel's depth. An F12 with
+an Invert node in the compositor gets the inverted depth-of-field image (the compositing run by
+the main thread's timer); adding a node that reads Depth makes the add-on write that pass.
 
     xvfb-run blender --factory-startup --enable-event-simulate --python test_ui.py
 
@@ -110,6 +112,40 @@ def tick():
         report = render.reports.get(scene.name)
         if report is not None and not render.busy():
             checks.check(report["ok"], "the render after a cancel: %r" % report)
+            # The user's compositing, run by the main thread's timer after the library call.
+            rl = u.render_layers_node(scene)
+            invert = u.compositor_tree(scene).nodes.new("CompositorNodeInvert")
+            u.compositor_tree(scene).links.new(rl.outputs["Image"], invert.inputs["Color"])
+            # A node reading Depth too: the edit makes the managed File Output node write it.
+            math = u.compositor_tree(scene).nodes.new("CompositorNodeMath")
+            u.compositor_tree(scene).links.new(rl.outputs["Depth"], math.inputs[0])
+            u.composite_from(scene, invert.outputs[0])
+            state["invert"], state["rl"], state["math"] = invert, rl, math
+            state["step"] = "render3"
+            return 0.5  # the edit's depsgraph update runs first, as after a user's edit
+    elif step == "render3":
+        slots = addon.passes.extra_slots(scene)
+        checks.check(slots == [addon.composite.slot_name(state["rl"].name, "Depth")],
+                     "the Depth pass the compositing reads is not written: %r" % slots)
+        render.reports.clear()
+        f12()
+        state["step"] = "composite"
+    elif step == "composite":
+        report = render.reports.get(scene.name)
+        if report is not None and not render.busy():
+            checks.check(report["ok"], "the render with compositing: %r" % report)
+            raw = u.pixels(bpy.data.images[addon.composite.RAW_IMAGE])
+            result = u.pixels(bpy.data.images[render.RESULT_IMAGE])
+            worst = max(abs(result[i + c] - (1.0 - raw[i + c]))
+                        for i in range(0, len(raw), 4 * 97) for c in range(3)) \
+                if len(raw) == len(result) else float("inf")
+            checks.check(worst < 1e-4, "F12 with the UI: the result is not the inverted "
+                         "depth-of-field image (max difference %.4g)" % worst)
+            print("UI: compositing after the depth of field, max difference %.2g" % worst,
+                  flush=True)
+            u.compositor_tree(scene).nodes.remove(state["invert"])
+            u.compositor_tree(scene).nodes.remove(state["math"])
+            u.composite_from(scene, state["rl"].outputs["Image"])
             area = image_editor()
             state["area"] = area
             state["step"] = "pick"
