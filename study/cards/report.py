@@ -28,6 +28,11 @@ METHODS = [("pinhole input (no blur)", "pinhole.exr"),
            ("ddof --cards", "cards.exr")]
 
 
+BANDS = [("ring, 0.50-0.56 m", 0.0, 0.6), ("leaf, 1.1-1.5 m", 1.0, 1.6),
+         ("checker, 2 m (in focus)", 1.9, 2.1), ("text, 5-11 m", 4.9, 11.1),
+         ("wall, 20 m", 19.0, 21.0)]
+
+
 def dilate(mask, r):
     out = mask.copy()
     h, w = mask.shape
@@ -62,6 +67,17 @@ def main(argv):
         print("| noise floor: truth, seed 1 vs seed 2 | %.2f | %.2f |"
               % (exr_io.psnr_srgb(other, truth), exr_io.psnr_srgb(other, truth, near)))
     print("\nnear ring region: %d of %d pixels" % (near.sum(), near.size))
+    # Per card: the pixels where the pinhole frame sees it (its depth range), undilated.
+    z = exr_io.depth_of(pin)
+    other = exr_io.rgb_of(exr_io.read_exr(os.path.join(d, noise))) if noise else None
+    print("\n| pixels the pinhole sees on | one image | Defocus node | cards | noise floor |")
+    print("|---|---|---|---|---|")
+    for label, lo, hi in BANDS:
+        m = (z >= lo) & (z < hi)
+        row = [exr_io.psnr_srgb(images[f], truth, m) for f in ("one.exr", "defocus.exr",
+                                                                 "cards.exr")]
+        row.append(exr_io.psnr_srgb(other, truth, m) if noise else float("nan"))
+        print("| %s (%d px) | %s |" % (label, m.sum(), " | ".join("%.2f" % v for v in row)))
     if png:
         frames = [images[f] for _l, f in METHODS] + [truth]
         ys, xs = np.nonzero(exr_io.depth_of(pin) < 0.6)
