@@ -3,7 +3,10 @@
 
     blender -b --factory-startup --python-exit-code 1 --python study/cards/make_cards_scene.py \
         -- --out DIR [--size 480x270] [--samples-pinhole N] [--samples-truth N] [--seed N] \
-        [--only pinhole,truth] [--truth-name truth.exr] [--threads N] [--force] [--verbose]
+        [--only pinhole,truth] [--truth-name truth.exr] [--threads N] [--force] [--verbose] \
+        [--cards wall,text,checker,leaf,ring]
+
+--cards renders a subset of the cards (the checks of a single card against Cycles).
 
 Writes into DIR:
   tex_*.png / tex_*.exr  the cards' textures, generated here (pure Python, no numpy): PNGs are
@@ -323,9 +326,12 @@ def main():
     args = parse("make_cards_scene.py",
                  {"out": None, "size": "480x270", "samples-pinhole": "256",
                   "samples-truth": "1024", "seed": "1", "only": "pinhole,truth",
-                  "truth-name": "truth.exr", "threads": "2"},
+                  "truth-name": "truth.exr", "threads": "2",
+                  "cards": ",".join(c[0] for c in CARDS)},
                  {"force", "verbose"}, required=("out",))
     args["width"], args["height"] = (int(v) for v in args["size"].lower().split("x"))
+    keep = args["cards"].split(",")
+    CARDS[:] = [c for c in CARDS if c[0] in keep]
     out = os.path.abspath(args["out"])
     os.makedirs(out, exist_ok=True)
     write_textures(out)
@@ -355,7 +361,8 @@ def main():
     for fname, kind, samples in plan:
         path = os.path.join(out, fname)
         key = {"kind": kind, "size": [args["width"], args["height"]], "samples": samples,
-               "seed": int(args["seed"]), "blender": bpy.app.version_string}
+               "seed": int(args["seed"]), "blender": bpy.app.version_string,
+               "cards": args["cards"]}
         old = files.get(fname, {})
         if (not args["force"] and os.path.exists(path) and os.path.getmtime(path) > mtime
                 and all(old.get(k) == v for k, v in key.items())):

@@ -76,8 +76,9 @@ def main(argv):
         m = (z >= lo) & (z < hi)
         row = [exr_io.psnr_srgb(images[f], truth, m) for f in ("one.exr", "defocus.exr",
                                                                  "cards.exr")]
-        row.append(exr_io.psnr_srgb(other, truth, m) if noise else float("nan"))
-        print("| %s (%d px) | %s |" % (label, m.sum(), " | ".join("%.2f" % v for v in row)))
+        cells = ["%.2f" % v for v in row]
+        cells.append("%.2f" % exr_io.psnr_srgb(other, truth, m) if noise else "-")
+        print("| %s (%d px) | %s |" % (label, m.sum(), " | ".join(cells)))
     if png:
         frames = [images[f] for _l, f in METHODS] + [truth]
         ys, xs = np.nonzero(exr_io.depth_of(pin) < 0.6)
