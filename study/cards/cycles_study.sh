@@ -8,8 +8,9 @@
 #   sh study/cards/cycles_study.sh [OUTDIR] [--noise] [--single] [--png docs/images/cards_study.png]
 #
 # OUTDIR defaults to build/cards-study. --noise also renders a truth with seed 2 and reports the
-# noise floor. --single also renders the wall and the ring each alone (OUTDIR/single/<card>) and
-# prints the cards path against Cycles on them, over the pixels either image covers. Environment: DDOF (default build/dev/plugin/apps/ddof), BLENDER (blender),
+# noise floor. --single also renders the wall, the checker and the ring each alone
+# (OUTDIR/single/<card>) and prints the cards path against Cycles on them, over the pixels either
+# image covers. Environment: DDOF (default build/dev/plugin/apps/ddof), BLENDER (blender),
 # SAMPLES_TRUTH (1024), SAMPLES_PINHOLE (256), SIZE (480x270).
 set -eu
 root=$(cd "$(dirname "$0")/../.." && pwd)
@@ -47,7 +48,7 @@ set -- "$out"
 [ -n "$png" ] && set -- "$@" --png "$png"
 /usr/bin/python3 "$root/study/cards/report.py" "$@"
 if [ $single = 1 ]; then
-    for card in wall ring; do
+    for card in wall checker ring; do
         $B "$root/study/cards/make_cards_scene.py" -- --out "$out/single/$card" --size "$size" \
             --only truth --samples-truth "$st" --cards $card
         "$ddof" --cards "$out/single/$card/scene.json" -o "$out/single/$card/cards.exr" \
