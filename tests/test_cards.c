@@ -9,6 +9,7 @@
 #ifndef DDOF_EXPERIMENTAL
 #define DDOF_EXPERIMENTAL
 #endif
+#include "cards_reference.h"
 #include "test_util.h"
 
 #include <string.h>
@@ -61,41 +62,14 @@ static ddof_card rect_card(double c[4][3], const float *texture)
 
 /* ---- the brute force ---------------------------------------------------------------------- */
 
-static void ray(const ddof_camera *cam, double x, double y, double d[3])
-{
-    const double pw = cam->sensor_width_mm / W; /* horizontal fit, square pixels */
-    d[0] = (x - 0.5 * W) * pw / cam->focal_length_mm;
-    d[1] = (0.5 * H - y) * pw / cam->focal_length_mm;
-    d[2] = -1.0;
-}
-
 /* The rectangle card's plane point on ray d: its depth, and u, v along its edges. */
 static int hit(const ddof_card *card, const double d[3], double *z, double *u, double *v)
 {
-    double p[4][3], e1[3], e2[3], n[3];
+    double p[4][3];
     for (int k = 0; k < 4; k++)
         for (int a = 0; a < 3; a++)
             p[k][a] = card->position[k][a];
-    for (int a = 0; a < 3; a++) {
-        e1[a] = p[1][a] - p[0][a];
-        e2[a] = p[3][a] - p[0][a];
-    }
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    const double t = (n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2]) /
-                     (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]);
-    if (!(t > 0.0))
-        return 0;
-    double q[3];
-    for (int a = 0; a < 3; a++)
-        q[a] = t * d[a] - p[0][a];
-    *z = t;
-    *u = (q[0] * e1[0] + q[1] * e1[1] + q[2] * e1[2]) /
-         (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    *v = (q[0] * e2[0] + q[1] * e2[1] + q[2] * e2[2]) /
-         (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
-    return 1;
+    return cards_ref_hit(&p[0][0], d, z, u, v);
 }
 
 static void reference_card(const ddof_camera *cam, const ddof_card *card, int x, int y,
@@ -103,7 +77,7 @@ static void reference_card(const ddof_camera *cam, const ddof_card *card, int x,
 {
     memset(out, 0, 4 * sizeof *out);
     double d[3], z, u, v;
-    ray(cam, x + 0.5, y + 0.5, d);
+    cards_ref_ray(cam, W, H, x + 0.5, y + 0.5, d);
     if (!hit(card, d, &z, &u, &v))
         return;
     const double f = cam->focal_length_mm, s1 = cam->focus_distance_m * 1000.0;
@@ -118,7 +92,7 @@ static void reference_card(const ddof_camera *cam, const ddof_card *card, int x,
                 continue;
             count++;
             double e[3];
-            ray(cam, x + 0.5 + r * ex, y + 0.5 + r * ey, e);
+            cards_ref_ray(cam, W, H, x + 0.5 + r * ex, y + 0.5 + r * ey, e);
             if (!hit(card, e, &z, &u, &v) || u < 0.0 || u >= 1.0 || v <= 0.0 || v > 1.0)
                 continue;
             const int tx = (int)(u * TW), ty = (int)((1.0 - v) * TH);

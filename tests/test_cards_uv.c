@@ -11,6 +11,7 @@
 #ifndef DDOF_EXPERIMENTAL
 #define DDOF_EXPERIMENTAL
 #endif
+#include "cards_reference.h"
 #include "test_util.h"
 
 #include <string.h>
@@ -68,14 +69,6 @@ static ddof_card triangle_card(void)
 }
 
 /* ---- the brute force ---------------------------------------------------------------------- */
-
-static void ray(const ddof_camera *cam, double x, double y, double d[3])
-{
-    const double pw = cam->sensor_width_mm / W; /* horizontal fit, square pixels */
-    d[0] = (x - 0.5 * W) * pw / cam->focal_length_mm;
-    d[1] = (0.5 * H - y) * pw / cam->focal_length_mm;
-    d[2] = -1.0;
-}
 
 /* Barycentric coordinates of point p in the 2D triangle t. */
 static void barycentric(const double t[3][2], double px, double py, double b[3])
@@ -141,7 +134,7 @@ static void reference(const ddof_camera *cam, int x, int y, double out[4])
 {
     memset(out, 0, 4 * sizeof *out);
     double d[3], z, u, v;
-    ray(cam, x + 0.5, y + 0.5, d);
+    cards_ref_ray(cam, W, H, x + 0.5, y + 0.5, d);
     if (!hit(d, &z, &u, &v))
         return;
     const double f = cam->focal_length_mm, s1 = cam->focus_distance_m * 1000.0;
@@ -156,7 +149,7 @@ static void reference(const ddof_camera *cam, int x, int y, double out[4])
                 continue;
             count++;
             double e[3], t[4];
-            ray(cam, x + 0.5 + r * ex, y + 0.5 + r * ey, e);
+            cards_ref_ray(cam, W, H, x + 0.5 + r * ex, y + 0.5 + r * ey, e);
             if (!hit(e, &z, &u, &v))
                 continue;
             texel(u, v, t);

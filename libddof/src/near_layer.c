@@ -52,6 +52,7 @@ typedef struct split_job {
     float threshold;
     pyramid *p;
     uint32_t from; /* pull: the level read; push: the level written */
+    int32_t diagonal_dx; /* fill_diagonals: down and right (1) or down and left (-1) */
     float *rest, *rest_coc, *element;
     float *carried;     /* the matte times the input's alpha (4 channels)              */
     float *line_weight; /* the line fill's summed weights per pixel (0: no line reached) */
@@ -394,20 +395,13 @@ static line diagonal(uint32_t width, uint32_t height, uint32_t d, int32_t dx)
     return (line){x, y, across < down ? across : down, dx, 1};
 }
 
-static void fill_diagonals_right(void *user, uint32_t d0, uint32_t d1, uint32_t chunk)
+/* Called over the diagonals (width + height - 1), in the direction j->diagonal_dx. */
+static void fill_diagonals(void *user, uint32_t d0, uint32_t d1, uint32_t chunk)
 {
     (void)chunk;
     const split_job *j = user;
     for (uint32_t d = d0; d < d1; d++)
-        walk_runs(j, diagonal(j->r->width, j->r->height, d, 1), add_line_fill);
-}
-
-static void fill_diagonals_left(void *user, uint32_t d0, uint32_t d1, uint32_t chunk)
-{
-    (void)chunk;
-    const split_job *j = user;
-    for (uint32_t d = d0; d < d1; d++)
-        walk_runs(j, diagonal(j->r->width, j->r->height, d, -1), add_line_fill);
+        walk_runs(j, diagonal(j->r->width, j->r->height, d, j->diagonal_dx), add_line_fill);
 }
 
 /* A hole's line fill: the weighted sum divided by its weight; pull-push where no line reached
@@ -550,8 +544,8 @@ ddof_status ddof_split_near(ddof_context *context, const adi_request *r, float t
     if (filled) {
         ddof_parallel_rows(context, r->height, fill_rows, &job);
         ddof_parallel_rows(context, r->width, fill_columns, &job);
-        ddof_parallel_rows(context, r->width + r->height - 1, fill_diagonals_right, &job);
-        ddof_parallel_rows(context, r->width + r->height - 1, fill_diagonals_left, &job);
+        for (job.diagonal_dx = 1; job.diagonal_dx >= -1; job.diagonal_dx -= 2)
+            ddof_parallel_rows(context, r->width + r->height - 1, fill_diagonals, &job);
         ddof_parallel_rows(context, r->height, settle_rows, &job);
         const ddof_status st = ddof_fill_from_offsets(
             context, &(offset_fill){.frame = r, .source = job.source, .matte = job.matte,

@@ -71,29 +71,35 @@ static void reduce_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         }
 }
 
+/* Box sums of radius r along one line of n values `stride` floats apart (clipped at the
+ * line's ends), into out at the same stride: a running sum, in double so that it does not
+ * drift. */
+static void box_line(const float *in, float *out, uint32_t n, size_t stride, uint32_t r)
+{
+    double s = 0.0;
+    for (uint32_t i = 0; i <= r && i < n; i++)
+        s += in[i * stride];
+    for (uint32_t i = 0; i < n; i++) {
+        out[i * stride] = (float)s;
+        if (i + r + 1 < n)
+            s += in[(i + r + 1) * stride];
+        if (i >= r)
+            s -= in[(i - r) * stride];
+    }
+}
+
 /* Box sums of radius j->radius over the level (clipped at its edges), of the first
- * j->box_maps maps of j->box, in place; two passes through the maps after them. */
+ * j->box_maps maps of j->box, in place: along the rows into the maps after them, then along
+ * the columns back. */
 static void box_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
     const size_t n = (size_t)j->wl * j->hl;
-    const uint32_t w = j->wl, r = j->radius;
     for (uint32_t m = 0; m < j->box_maps; m++)
-        for (uint32_t y = y0; y < y1; y++) {
-            const float *in = j->box + m * n + (size_t)y * w;
-            float *out = j->box + (MAX_BOX_MAPS + m) * n + (size_t)y * w;
-            double s = 0.0;
-            for (uint32_t x = 0; x <= r && x < w; x++)
-                s += in[x];
-            for (uint32_t x = 0; x < w; x++) {
-                out[x] = (float)s;
-                if (x + r + 1 < w)
-                    s += in[x + r + 1];
-                if (x >= r)
-                    s -= in[x - r];
-            }
-        }
+        for (uint32_t y = y0; y < y1; y++)
+            box_line(j->box + m * n + (size_t)y * j->wl,
+                     j->box + (MAX_BOX_MAPS + m) * n + (size_t)y * j->wl, j->wl, 1, j->radius);
 }
 
 static void box_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
@@ -101,22 +107,10 @@ static void box_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
     (void)chunk;
     const offsets_job *j = user;
     const size_t n = (size_t)j->wl * j->hl;
-    const uint32_t w = j->wl, h = j->hl, r = j->radius;
     for (uint32_t m = 0; m < j->box_maps; m++)
-        for (uint32_t x = x0; x < x1; x++) {
-            const float *in = j->box + (MAX_BOX_MAPS + m) * n + x;
-            float *out = j->box + m * n + x;
-            double s = 0.0;
-            for (uint32_t y = 0; y <= r && y < h; y++)
-                s += in[(size_t)y * w];
-            for (uint32_t y = 0; y < h; y++) {
-                out[(size_t)y * w] = (float)s;
-                if (y + r + 1 < h)
-                    s += in[(size_t)(y + r + 1) * w];
-                if (y >= r)
-                    s -= in[(size_t)(y - r) * w];
-            }
-        }
+        for (uint32_t x = x0; x < x1; x++)
+            box_line(j->box + (MAX_BOX_MAPS + m) * n + x, j->box + m * n + x, j->hl, j->wl,
+                     j->radius);
 }
 
 static void box_sums(ddof_context *context, offsets_job *j, uint32_t maps, uint32_t radius)

@@ -37,13 +37,12 @@ import math
 import os
 import struct
 import sys
-import time
 import zlib
 
 import bpy
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "scenes"))
-from script_util import parse, quiet, write_json  # noqa: E402
+from script_util import film_and_file, parse, render_to, write_json  # noqa: E402
 
 SCRIPT = os.path.abspath(__file__)
 CAMERA = {"focal_length_mm": 50.0, "sensor_width_mm": 36.0, "sensor_fit": "AUTO",
@@ -286,40 +285,7 @@ def configure(scene, args, samples, multilayer):
     c.caustics_reflective = c.caustics_refractive = False
     c.filter_type = "BOX"
     c.filter_width = 1.0
-    r = scene.render
-    r.resolution_x, r.resolution_y = args["width"], args["height"]
-    r.resolution_percentage = 100
-    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
-    r.film_transparent = False
-    r.use_compositing = False
-    r.use_sequencer = False
-    r.threads_mode = "FIXED"
-    r.threads = int(args["threads"])
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.view_settings.exposure = 0.0
-    scene.view_settings.gamma = 1.0
-    layer = scene.view_layers[0]
-    layer.name = "ViewLayer"
-    layer.use_pass_combined = True
-    layer.use_pass_z = multilayer
-    s = r.image_settings
-    s.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
-    s.color_mode = "RGBA"
-    s.color_depth = "16"
-    s.exr_codec = "ZIP"
-
-
-def render_to(scene, path, verbose):
-    tmp = os.path.join(os.path.dirname(path), "." + os.path.basename(path) + ".tmp.exr")
-    scene.render.filepath = tmp
-    scene.render.use_file_extension = False
-    t0 = time.perf_counter()
-    with quiet(not verbose):
-        bpy.ops.render.render(write_still=True)
-    seconds = time.perf_counter() - t0
-    os.replace(tmp, path)
-    return seconds
+    film_and_file(scene, args["width"], args["height"], args["threads"], multilayer)
 
 
 def main():
@@ -374,7 +340,7 @@ def main():
             bpy.data.objects.remove(scene.camera, do_unlink=True)
         add_camera(scene, lens_dof=(kind == "truth"))
         configure(scene, args, samples, multilayer=(kind == "pinhole"))
-        key["seconds"] = round(render_to(scene, path, args["verbose"]), 2)
+        key["seconds"] = round(render_to(scene, path, args["verbose"], "make_cards_scene.py"), 2)
         print("%.1f s" % key["seconds"], flush=True)
         files[fname] = key
         write_json(manifest_path, manifest)

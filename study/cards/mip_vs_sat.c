@@ -14,6 +14,7 @@
  * differences), so they differ from the reference only in how they average the texture.
  * Usage: mip_vs_sat (prints a table). Built by study/cards/run.sh. */
 #define DDOF_EXPERIMENTAL
+#include "cards_reference.h"
 #include "ddof.h"
 
 #include <math.h>
@@ -126,40 +127,6 @@ typedef struct scene {
     const texture *tex;
 } scene;
 
-static void ray(const ddof_camera *cam, double x, double y, double d[3])
-{
-    const double pw = cam->sensor_width_mm / W;
-    d[0] = (x - 0.5 * W) * pw / cam->focal_length_mm;
-    d[1] = (0.5 * H - y) * pw / cam->focal_length_mm;
-    d[2] = -1.0;
-}
-
-static int hit(const scene *s, const double d[3], double *z, double *u, double *v)
-{
-    const double(*p)[3] = s->corner;
-    double e1[3], e2[3], n[3];
-    for (int a = 0; a < 3; a++) {
-        e1[a] = p[1][a] - p[0][a];
-        e2[a] = p[3][a] - p[0][a];
-    }
-    n[0] = e1[1] * e2[2] - e1[2] * e2[1];
-    n[1] = e1[2] * e2[0] - e1[0] * e2[2];
-    n[2] = e1[0] * e2[1] - e1[1] * e2[0];
-    const double t = (n[0] * p[0][0] + n[1] * p[0][1] + n[2] * p[0][2]) /
-                     (n[0] * d[0] + n[1] * d[1] + n[2] * d[2]);
-    if (!(t > 0.0))
-        return 0;
-    double q[3];
-    for (int a = 0; a < 3; a++)
-        q[a] = t * d[a] - p[0][a];
-    *z = t;
-    *u = (q[0] * e1[0] + q[1] * e1[1] + q[2] * e1[2]) /
-         (e1[0] * e1[0] + e1[1] * e1[1] + e1[2] * e1[2]);
-    *v = (q[0] * e2[0] + q[1] * e2[1] + q[2] * e2[2]) /
-         (e2[0] * e2[0] + e2[1] * e2[1] + e2[2] * e2[2]);
-    return 1;
-}
-
 static double radius_px(const scene *s, double z)
 {
     const double f = s->cam.focal_length_mm, s1 = s->cam.focus_distance_m * 1000.0;
@@ -171,8 +138,8 @@ static void reference(const scene *s, int x, int y, double out[4])
 {
     memset(out, 0, 4 * sizeof *out);
     double d[3], z, u, v;
-    ray(&s->cam, x + 0.5, y + 0.5, d);
-    if (!hit(s, d, &z, &u, &v))
+    cards_ref_ray(&s->cam, W, H, x + 0.5, y + 0.5, d);
+    if (!cards_ref_hit(&s->corner[0][0], d, &z, &u, &v))
         return;
     const double r = radius_px(s, z);
     const int grid = 40;
@@ -184,8 +151,8 @@ static void reference(const scene *s, int x, int y, double out[4])
                 continue;
             count++;
             double e[3];
-            ray(&s->cam, x + 0.5 + r * ex, y + 0.5 + r * ey, e);
-            if (!hit(s, e, &z, &u, &v) || u < 0.0 || u >= 1.0 || v <= 0.0 || v > 1.0)
+            cards_ref_ray(&s->cam, W, H, x + 0.5 + r * ex, y + 0.5 + r * ey, e);
+            if (!cards_ref_hit(&s->corner[0][0], e, &z, &u, &v) || u < 0.0 || u >= 1.0 || v <= 0.0 || v > 1.0)
                 continue;
             const uint32_t tx = (uint32_t)(u * s->tex->w), ty = (uint32_t)((1.0 - v) * s->tex->h);
             for (int c = 0; c < 4; c++)
@@ -199,8 +166,8 @@ static void reference(const scene *s, int x, int y, double out[4])
 static int texel_at(const scene *s, double x, double y, double t[2], double *z)
 {
     double d[3], u, v;
-    ray(&s->cam, x, y, d);
-    if (!hit(s, d, z, &u, &v))
+    cards_ref_ray(&s->cam, W, H, x, y, d);
+    if (!cards_ref_hit(&s->corner[0][0], d, z, &u, &v))
         return 0;
     t[0] = u * s->tex->w;
     t[1] = (1.0 - v) * s->tex->h;

@@ -15,7 +15,7 @@ cc -std=c11 -O2 -D_POSIX_C_SOURCE=200809L -I"$root/libddof/include" \
 "$out/cards_demo" time 10
 "$out/cards_demo" time 100
 # The summed-area table against a mip pyramid, both against the brute force (docs/cards.md).
-cc -std=c11 -O2 -D_POSIX_C_SOURCE=200809L -I"$root/libddof/include" \
+cc -std=c11 -O2 -D_POSIX_C_SOURCE=200809L -I"$root/libddof/include" -I"$root/tests" \
    "$root/study/cards/mip_vs_sat.c" "$root/build/test/libddof/libddof.a" -lm -lpthread -ldl \
    -o "$out/mip_vs_sat"
 "$out/mip_vs_sat"

@@ -46,7 +46,7 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from script_util import parse, quiet, write_json  # noqa: E402
+from script_util import film_and_file, parse, render_to, write_json  # noqa: E402
 
 SCRIPT = os.path.abspath(__file__)
 SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp",
@@ -527,42 +527,7 @@ def configure(scene, args, width, height, samples, multilayer, transparent=False
     cycles.transmission_bounces = cycles.volume_bounces = 0
     cycles.transparent_max_bounces = 0
     cycles.caustics_reflective = cycles.caustics_refractive = False
-    render = scene.render
-    render.resolution_x, render.resolution_y = width, height
-    render.resolution_percentage = 100
-    render.pixel_aspect_x = render.pixel_aspect_y = 1.0
-    render.film_transparent = transparent
-    render.use_compositing = False  # else Blender adds a "Composite" layer to the EXR
-    render.use_sequencer = False
-    render.threads_mode = "FIXED"
-    render.threads = int(args["threads"])
-    scene.view_settings.view_transform = "Standard"
-    scene.view_settings.look = "None"
-    scene.view_settings.exposure = 0.0
-    scene.view_settings.gamma = 1.0
-    layer = scene.view_layers[0]
-    layer.name = "ViewLayer"
-    layer.use_pass_combined = True
-    layer.use_pass_z = multilayer
-    settings = render.image_settings
-    settings.file_format = "OPEN_EXR_MULTILAYER" if multilayer else "OPEN_EXR"
-    settings.color_mode = "RGBA"
-    settings.color_depth = "16"  # half; Blender keeps the Depth pass in float
-    settings.exr_codec = "ZIP"
-
-
-def render_to(scene, path, verbose):
-    tmp = os.path.join(os.path.dirname(path), "." + os.path.basename(path) + ".tmp.exr")
-    scene.render.filepath = tmp
-    scene.render.use_file_extension = False
-    t0 = time.perf_counter()
-    with quiet(not verbose):
-        bpy.ops.render.render(write_still=True)
-    seconds = time.perf_counter() - t0
-    if not os.path.exists(tmp):
-        raise SystemExit("make_scenes.py: Blender did not write %s" % tmp)
-    os.replace(tmp, path)  # never a half-written output under the final name
-    return seconds
+    film_and_file(scene, width, height, args["threads"], multilayer, transparent)
 
 
 def camera_sidecar(cam, width, height, aperture=(0, 0.0, 1.0)):
@@ -689,7 +654,7 @@ def main():
             add_camera(scene, cam, lens_dof=(kind == "truth"), aperture=args["aperture_set"])
             configure(scene, args, w, h, samples, multilayer=(kind != "truth"),
                       transparent=(kind == "fg"))
-            seconds = render_to(scene, os.path.join(out, fname), args["verbose"])
+            seconds = render_to(scene, os.path.join(out, fname), args["verbose"], "make_scenes.py")
             print("%.1f s" % seconds, flush=True)
             key["seconds"] = round(seconds, 2)
             key["threads"] = int(args["threads"])
