@@ -14,6 +14,9 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* After the layers' name: the far field's gather on (ddof_params.far_field AUTO). */
+#define FAR_FIELD_SUFFIX "+ff"
+
 static const char *const layer_names[LAYERS_COUNT_] = {"single", "bg",    "bg2",
                                                        "bgnear", "auto",  "auto2",
                                                        "fg",     "fgpin", "autospread"};
@@ -52,15 +55,16 @@ void study_config_make_id(study_config *cfg)
         snprintf(solver, sizeof solver, "jacobi%u", cfg->jacobi_iterations);
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
+    const char *ff = cfg->far_field ? FAR_FIELD_SUFFIX : "";
     if (cfg->kernel != DDOF_KERNEL_HEAT) { /* a disc has no sub-steps or k */
-        snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/%s/%s", ddof_backend_name(cfg->backend),
+        snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/%s/%s%s", ddof_backend_name(cfg->backend),
                  solver, precision_token(cfg), ddof_kernel_name(cfg->kernel),
-                 study_layers_name(cfg->layers));
+                 study_layers_name(cfg->layers), ff);
         return;
     }
-    snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/n%u/k%.6g/%s", ddof_backend_name(cfg->backend),
+    snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/n%u/k%.6g/%s%s", ddof_backend_name(cfg->backend),
              solver, precision_token(cfg), cfg->substeps, (double)cfg->beta_scale,
-             study_layers_name(cfg->layers));
+             study_layers_name(cfg->layers), ff);
 }
 
 const char *const study_node_names[STUDY_NODE_COUNT] = {"defocus", "defocus-4.2",
@@ -169,6 +173,12 @@ int study_config_parse(const char *id, study_config *out)
         return -1;
     out->beta_scale = k;
     found = 0;
+    const size_t layers_length = strlen(parts[5]), suffix_length = strlen(FAR_FIELD_SUFFIX);
+    if (layers_length > suffix_length &&
+        !strcmp(parts[5] + layers_length - suffix_length, FAR_FIELD_SUFFIX)) {
+        out->far_field = 1;
+        parts[5][layers_length - suffix_length] = '\0';
+    }
     for (int l = 0; l < LAYERS_COUNT_; l++)
         if (!strcmp(parts[5], layer_names[l])) {
             out->layers = (study_layers)l;
@@ -207,14 +217,15 @@ void study_config_label(const study_config *cfg, char *out, size_t size)
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
     k_text(cfg->beta_scale, k, sizeof k);
+    const char *ff = cfg->far_field ? " + far field" : "";
     if (cfg->kernel != DDOF_KERNEL_HEAT) {
-        snprintf(out, size, "%s %s %s %s", ddof_backend_name(cfg->backend), solver,
-                 ddof_kernel_name(cfg->kernel), study_layers_name(cfg->layers));
+        snprintf(out, size, "%s %s %s %s%s", ddof_backend_name(cfg->backend), solver,
+                 ddof_kernel_name(cfg->kernel), study_layers_name(cfg->layers), ff);
         return;
     }
-    snprintf(out, size, "%s %s%s n=%u k=%s %s", ddof_backend_name(cfg->backend), solver,
+    snprintf(out, size, "%s %s%s n=%u k=%s %s%s", ddof_backend_name(cfg->backend), solver,
              cfg->precision == DDOF_PRECISION_PACKED_HALF ? " half" : "", cfg->substeps, k,
-             study_layers_name(cfg->layers));
+             study_layers_name(cfg->layers), ff);
 }
 
 int study_config_add(study_config_list *list, const study_config *cfg, const char *sweep)
@@ -282,6 +293,36 @@ static int add_nodes(study_config_list *list)
     int rc = 0;
     for (int n = 0; n < STUDY_NODE_COUNT; n++)
         rc |= add_baseline(list, study_node_names[n]);
+    return rc;
+}
+
+/* The far field's gather over the configurations a preset could be: the disc kernels and the
+ * heat kernel's best k per sub-step count, with the layers on AUTO (and the near spread). */
+static int add_far_field(study_config_list *list)
+{
+    int rc = 0;
+    study_config c = base_config();
+    c.far_field = 1;
+    static const study_layers layers[] = {LAYERS_AUTO, LAYERS_AUTOSPREAD, LAYERS_BGNEAR};
+    for (int k = 0; k < DDOF_KERNEL_COUNT_; k++)
+        for (size_t l = 0; l < sizeof layers / sizeof *layers; l++) {
+            c.kernel = (ddof_kernel)k;
+            c.layers = layers[l];
+            static const uint32_t substeps[] = {1, 2, 4};
+            static const float k_heat[] = {16, 24};
+            if (k != DDOF_KERNEL_HEAT) {
+                c.substeps = 1;
+                c.beta_scale = DDOF_MOMENT_BETA_SCALE;
+                rc |= study_config_add(list, &c, "far field");
+                continue;
+            }
+            for (size_t n = 0; n < sizeof substeps / sizeof *substeps; n++)
+                for (size_t b = 0; b < sizeof k_heat / sizeof *k_heat; b++) {
+                    c.substeps = substeps[n];
+                    c.beta_scale = 1.0f / k_heat[b];
+                    rc |= study_config_add(list, &c, "far field");
+                }
+        }
     return rc;
 }
 
@@ -373,6 +414,7 @@ static int add_full(study_config_list *list)
             rc |= study_config_add(list, &c, "kernel");
         }
 
+    rc |= add_far_field(list);
     rc |= add_baseline(list, "pinhole");
     rc |= add_baseline(list, "cod4");
     rc |= add_baseline(list, "gather");
@@ -389,8 +431,10 @@ int study_config_named(study_config_list *list, const char *name)
         study_config disc = base;
         disc.kernel = DDOF_KERNEL_DISC_2X2;
         disc.substeps = 1;
+        study_config far = disc;
+        far.far_field = 1;
         return study_config_add(list, &base, "base") | study_config_add(list, &disc, "kernel") |
-               add_baseline(list, "pinhole");
+               study_config_add(list, &far, "far field") | add_baseline(list, "pinhole");
     }
     if (!strcmp(name, "baselines"))
         return add_baseline(list, "pinhole") | add_baseline(list, "cod4") |
@@ -437,6 +481,7 @@ void study_config_params(const study_config *cfg, int fg_element, ddof_params *p
     p->pixel_aspect = 1.0f;
     p->background_levels = 1;
     p->near_layer = DDOF_LAYER_OFF; /* AUTO in the AUTO settings only */
+    p->far_field = cfg->far_field ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
     switch (cfg->layers) {
     case LAYERS_SINGLE:
         p->background = DDOF_LAYER_OFF;

@@ -62,6 +62,7 @@ typedef struct study_config {
     study_layers layers;
     ddof_kernel kernel;       /* heat (the ids above) or a disc: "cpu/thomas/f32/disc-2x2/auto" */
     int node;                 /* STUDY_DEFOCUS: which Blender's node (study_node_names)        */
+    int far_field;            /* the far field's gather (AUTO): "+ff" after the layers' name   */
 } study_config;
 
 typedef struct study_config_list {

@@ -36,6 +36,7 @@ static ddof_status run(frame *f, ddof_layer_mode highlights, ddof_stats *stats)
 {
     ddof_params p;
     ddof_params_init(&p); /* the default preset: a disc kernel */
+    p.far_field = DDOF_LAYER_OFF; /* on a flat frame the gather would hide the kernel's ring */
     p.coc_signed = 1;
     p.highlights = highlights;
     p.background = DDOF_LAYER_OFF;

@@ -19,7 +19,7 @@ import sys
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
 # version_compatible): the same major and a minor >= ours (structs are only appended, and a
 # library accepts an older caller's layout: ddof.h, Conventions).
-BINDING_VERSION = (0, 7)
+BINDING_VERSION = (0, 8)
 # The soname of the ABI line (libddof/CMakeLists.txt), a name the library may be installed under.
 SONAME = "libddof.so.0.5"
 
@@ -196,7 +196,9 @@ class Params(ctypes.Structure):
                 ("highlight_threshold", ctypes.c_float),
                 # version 0.6
                 ("near_layer", _enum),
-                ("near_layer_threshold_px", ctypes.c_float)]
+                ("near_layer_threshold_px", ctypes.c_float),
+                # version 0.8
+                ("far_field", _enum)]
 
 
 class Stats(ctypes.Structure):
@@ -230,7 +232,9 @@ class Stats(ctypes.Structure):
                 ("device_readbacks", ctypes.c_uint32),
                 ("seconds_highlights", ctypes.c_double),
                 # version 0.6
-                ("seconds_near_layer", ctypes.c_double)]
+                ("seconds_near_layer", ctypes.c_double),
+                # version 0.8
+                ("seconds_far_field", ctypes.c_double)]
 
 
 class Foreground(ctypes.Structure):

@@ -88,7 +88,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 7
+#define DDOF_VERSION_MINOR 8
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -437,6 +437,7 @@ typedef enum ddof_layer_mode {
 #define DDOF_EFFECT_NEAR_SPREAD 8u /* one image: near-CoC dilation (GPU Gems 3 ch. 28)         */
 #define DDOF_EFFECT_HIGHLIGHTS 16u /* the highlight pass: the brightest pixels drawn as discs   */
 #define DDOF_EFFECT_NEAR_LAYER 32u /* one image: the near field split off as an element          */
+#define DDOF_EFFECT_FAR_FIELD 64u  /* the smooth blur gathered in the aperture's exact shape    */
 
 typedef struct ddof_params {
     uint32_t struct_size;      /* sizeof(ddof_params)                                         */
@@ -527,6 +528,18 @@ typedef struct ddof_params {
     float near_layer_threshold_px; /* |CoC| at which a near pixel is wholly in the element   */
                                /* (matte 1; linear from half of it). Default 8; > 0, at most  */
                                /* DDOF_MAX_COC_PX.                                            */
+
+    /* --- version 0.8 of this struct ------------------------------------------------------- */
+    ddof_layer_mode far_field; /* the smooth blur drawn with the aperture's exact shape: where */
+                               /* no depth edge lies within a pixel's reach, its output is     */
+                               /* the mean of the colour over the pixels whose disc covers it */
+                               /* (the CoC taken as locally linear; the frame continued by    */
+                               /* its edge pixels), blended with the layers' result toward    */
+                               /* the edges, where the diffusion stays the method. Round      */
+                               /* (with the pixel aspect) whatever the blades. O(1) rows per   */
+                               /* pixel at any CoC (reduced images for large ones). Default:  */
+                               /* the preset's; AUTO and ON: on when the largest CoC is 1 px  */
+                               /* or more (docs/design.md, "The far field").                  */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
@@ -602,6 +615,9 @@ typedef struct ddof_stats {
     /* --- version 0.6 of this struct ------------------------------------------------------- */
     double seconds_near_layer; /* splitting the near layer off and filling what it hid (its  */
                                /* blur and composite count as seconds_foreground)            */
+
+    /* --- version 0.8 of this struct ------------------------------------------------------- */
+    double seconds_far_field;  /* the far field's gather and blend (params.far_field)        */
 } ddof_stats;
 
 /* The first layout (0.1): the smallest struct_size a call takes (smaller is

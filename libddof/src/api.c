@@ -29,6 +29,7 @@ typedef struct preset_settings {
     ddof_layer_mode near_spread;
     ddof_kernel kernel;
     ddof_layer_mode near_layer;
+    ddof_layer_mode far_field;
 } preset_settings;
 
 /* Written by the accuracy study from its measured front (docs/accuracy.md). */
@@ -87,6 +88,7 @@ static ddof_params preset_params(ddof_preset preset)
         .highlight_threshold = 0.25f, /* measured: docs/disc-kernel.md, the highlight pass */
         .near_layer = s->near_layer,
         .near_layer_threshold_px = 8.0f,
+        .far_field = s->far_field,
     };
 }
 

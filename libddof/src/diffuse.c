@@ -205,13 +205,16 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
     full.seconds_foreground = report.seconds_foreground;
     full.seconds_highlights = report.seconds_highlights;
     full.seconds_near_layer = seconds_near_layer;
+    full.seconds_far_field = report.seconds_far_field;
     if (plan.near_layer)
         full.effects |= DDOF_EFFECT_NEAR_LAYER;
     memcpy(full.plan, plan.text, sizeof full.plan);
-    if (report.highlights_line[0]) {
-        const size_t used = strlen(full.plan);
-        snprintf(full.plan + used, sizeof full.plan - used, "%s\n", report.highlights_line);
-    }
+    const char *lines[2] = {report.highlights_line, report.far_field_line};
+    for (int i = 0; i < 2; i++)
+        if (lines[i][0]) {
+            const size_t used = strlen(full.plan);
+            snprintf(full.plan + used, sizeof full.plan - used, "%s\n", lines[i]);
+        }
     write_stats(stats, &full);
     return DDOF_OK;
 }

@@ -31,6 +31,7 @@
 #include "backend.h"
 #include "cone_dilate.h"
 #include "disc_kernel.h"
+#include "far_field.h"
 #include "highlights.h"
 
 #include "parallel_rows.h"
@@ -583,6 +584,74 @@ static void draw_highlights(ddof_context *context, const layers_request *q,
     report->seconds_highlights += ddof_seconds() - t0;
 }
 
+/* The background layer's levels, blended into r->out near the edges where it changes
+ * anything. `color` is what the midground diffused, `spread` the near-spread CoC or NULL. */
+static ddof_status run_background(ddof_context *context, const layers_request *q,
+                                  const float *color, size_t color_stride, const float *spread,
+                                  stages *st, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    ddof_status status = DDOF_OK;
+    const double t0 = ddof_seconds();
+    /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
+     * pixel): it is computed on those plus twice its reach, and blended within its reach,
+     * so the crop's insulated border never shows. Forced on without edges, it covers all. */
+    const float top = p->background_threshold_px * (float)(1u << (p->background_levels - 1));
+    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale,
+                                                ddof_maxf(report->adi.max_coc, top));
+    pixel_box edges = q->background_box;
+    if (box_is_empty(edges))
+        edges = (pixel_box){0, 0, r->width, r->height};
+    const pixel_box area = box_grow(edges, 2 * reach, r->width, r->height);
+    const pixel_box near = box_grow(edges, reach, r->width, r->height);
+    const pixel_box blend = {near.x0 - area.x0, near.y0 - area.y0, near.x1 - area.x0,
+                             near.y1 - area.y0};
+    const layers_request sub = crop(q, area);
+    color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
+    if (spread)
+        spread += (size_t)area.y0 * r->width + area.x0;
+    /* Level k >= 1 (threshold t 2^k) ramps up from the previous level's threshold, so a
+     * pixel counts as a hole only at levels well above its own CoC. */
+    for (uint32_t level = 0; level < p->background_levels; level++) {
+        const float threshold = p->background_threshold_px * (float)(1u << level);
+        const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
+        status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
+                                  level ? threshold : -INFINITY, spread, r->width, blend,
+                                  st, report);
+        if (status != DDOF_OK)
+            return status;
+    }
+    report->effects |= DDOF_EFFECT_BACKGROUND;
+    report->seconds_background = ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
+/* The far field over the layers' result (far_field.h): before the highlights are drawn, from
+ * the colour the layers diffused (without them). */
+static ddof_status far_field(ddof_context *context, const layers_request *q, const float *color,
+                             size_t color_stride, layers_report *report)
+{
+    const double t0 = ddof_seconds();
+    far_field_report far;
+    const ddof_status status = ddof_far_field(context, &q->base, color, color_stride, &far);
+    if (status != DDOF_OK)
+        return status;
+    const double share = 100.0 * (double)far.pixels / ((double)q->base.width * q->base.height);
+    if (far.pixels) {
+        report->effects |= DDOF_EFFECT_FAR_FIELD;
+        snprintf(report->far_field_line, sizeof report->far_field_line,
+                 "far field: on: %.1f%% of the pixels have no depth edge within their reach "
+                 "(%u image level%s)",
+                 share, far.levels, far.levels == 1 ? "" : "s");
+    } else {
+        snprintf(report->far_field_line, sizeof report->far_field_line,
+                 "far field: off: every blurred pixel has a depth edge within its reach");
+    }
+    report->seconds_far_field = ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
 /* ---- the whole frame on a device ---------------------------------------------------------- */
 
 static adi_box seam_box(pixel_box b)
@@ -660,13 +729,16 @@ static int element_is_bright(const layers_request *q)
 }
 
 /* Whether the device runs the whole plan. It does, the element's composite included, but the
- * highlights (the frame's, which go under the element, and the element's own, in it) are the
- * CPU's: a frame with an element and highlights runs on the CPU's layers, one diffusion at a
- * time. */
+ * highlights (the frame's, which go under the element, and the element's own, in it) and the
+ * far field are the CPU's: a frame with an element and highlights or the far field runs on the
+ * CPU's layers, one diffusion at a time. */
 static int device_runs_frame(ddof_context *context, const layers_request *q,
                              const frame_plan *plan, uint32_t frame_highlights)
 {
     if (!ddof_backend_runs_layers(context, &q->base) || q->fg_carried_alpha)
+        return 0;
+    /* The far field goes under the element, which the device composites itself. */
+    if (plan->far_field && plan->foreground)
         return 0;
     const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
     return !(element_lights && (frame_highlights || element_is_bright(q)));
@@ -696,22 +768,11 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         report->seconds_highlights += ddof_seconds() - t0;
     }
 
-    if (device_runs_frame(context, q, plan, highlights.count)) {
-        layers_request on_device = *q;
-        on_device.base.color = color;
-        on_device.base.color_stride = color_stride;
-        if ((status = device_layers(context, &on_device, plan, max_near_coc, report)) != DDOF_OK)
-            return status;
-        draw_highlights(context, q, &highlights, report);
-        return DDOF_OK;
-    }
-    stages st = {r->progress, r->progress_user, 0,
-                 1 + 2 * (plan->background ? p->background_levels : 0) +
-                     (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
-
-    /* Diffusing in place overwrites the colour the background layer still needs (the
-     * highlight pass's base is a copy already). */
-    if (plan->background && r->out == r->color && color == r->color) {
+    /* Diffusing in place overwrites the colour the background layer (on the CPU) and the far
+     * field still need (the highlight pass's base is a copy already). */
+    const int on_device = device_runs_frame(context, q, plan, highlights.count);
+    if (((plan->background && !on_device) || plan->far_field) && r->out == r->color &&
+        color == r->color) {
         const size_t row = (size_t)r->width * r->channels;
         float *copy = scratch(context, SLOT_COLOR_COPY, row * r->height, &status);
         if (status != DDOF_OK)
@@ -721,6 +782,22 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         color = copy;
         color_stride = row;
     }
+
+    if (on_device) {
+        layers_request device_q = *q;
+        device_q.base.color = color;
+        device_q.base.color_stride = color_stride;
+        if ((status = device_layers(context, &device_q, plan, max_near_coc, report)) != DDOF_OK)
+            return status;
+        if (plan->far_field &&
+            (status = far_field(context, q, color, color_stride, report)) != DDOF_OK)
+            return status;
+        draw_highlights(context, q, &highlights, report);
+        return DDOF_OK;
+    }
+    stages st = {r->progress, r->progress_user, 0,
+                 1 + 2 * (plan->background ? p->background_levels : 0) +
+                     (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
 
     adi_request mid = *r;
     mid.color = color;
@@ -740,40 +817,13 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         return status;
     report->effects |= DDOF_EFFECT_MIDGROUND;
 
-    if (plan->background) {
-        const double t0 = ddof_seconds();
-        /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
-         * pixel): it is computed on those plus twice its reach, and blended within its reach,
-         * so the crop's insulated border never shows. Forced on without edges, it covers all. */
-        const float top = p->background_threshold_px * (float)(1u << (p->background_levels - 1));
-        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale,
-                                                    ddof_maxf(report->adi.max_coc, top));
-        pixel_box edges = q->background_box;
-        if (box_is_empty(edges))
-            edges = (pixel_box){0, 0, r->width, r->height};
-        const pixel_box area = box_grow(edges, 2 * reach, r->width, r->height);
-        const pixel_box near = box_grow(edges, reach, r->width, r->height);
-        const pixel_box blend = {near.x0 - area.x0, near.y0 - area.y0, near.x1 - area.x0,
-                                 near.y1 - area.y0};
-        const layers_request sub = crop(q, area);
-        color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
-        if (spread)
-            spread += (size_t)area.y0 * r->width + area.x0;
-        /* Level k >= 1 (threshold t 2^k) ramps up from the previous level's threshold, so a
-         * pixel counts as a hole only at levels well above its own CoC. */
-        for (uint32_t level = 0; level < p->background_levels; level++) {
-            const float threshold = p->background_threshold_px * (float)(1u << level);
-            const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
-            status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
-                                      level ? threshold : -INFINITY, spread, r->width, blend,
-                                      &st, report);
-            if (status != DDOF_OK)
-                return status;
-        }
-        report->effects |= DDOF_EFFECT_BACKGROUND;
-        report->seconds_background = ddof_seconds() - t0;
-    }
+    if (plan->background &&
+        (status = run_background(context, q, color, color_stride, spread, &st, report)) != DDOF_OK)
+        return status;
 
+    if (plan->far_field && (status = far_field(context, q, mid.color, mid.color_stride,
+                                               report)) != DDOF_OK)
+        return status;
     draw_highlights(context, q, &highlights, report);
 
     if (plan->foreground) {

@@ -38,7 +38,9 @@ typedef struct layers_report {
     double seconds_background;
     double seconds_foreground;
     double seconds_highlights;
+    double seconds_far_field;
     char highlights_line[160]; /* the highlight pass's plan line ("" when it did not look)   */
+    char far_field_line[160];  /* the far field's plan line ("" when it did not look)        */
 } layers_report;
 
 /* Runs what the plan says; out is written only after every check has passed (the caller's

@@ -13,6 +13,7 @@
  * The decisions and their reasons go to ddof_stats.plan. */
 #include "planner.h"
 
+#include "far_field.h"
 #include "highlights.h"
 
 #include "parallel_rows.h"
@@ -172,6 +173,7 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
         say(plan, "near layer: off: nothing is out of focus");
         say(plan, "%s", no_foreground);
         say(plan, "highlights: off: nothing is out of focus");
+        say(plan, "far field: off: nothing is out of focus");
         return;
     }
     say(plan, "midground: on: largest CoC %.3g px", (double)a->max_coc);
@@ -233,4 +235,13 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
                   "look the same", (double)DDOF_HIGHLIGHT_MIN_COC_PX);
     else
         plan->highlights = 1;
+
+    /* Where the blur is smooth needs a distance map: the pass finds out and says (layers.c). */
+    if (p->far_field == DDOF_LAYER_OFF)
+        say(plan, "far field: %s", forced(p->far_field));
+    else if (a->max_coc < DDOF_FAR_FIELD_MIN_COC_PX)
+        say(plan, "far field: off: the largest CoC is below %.3g px",
+            (double)DDOF_FAR_FIELD_MIN_COC_PX);
+    else
+        plan->far_field = 1;
 }

@@ -24,6 +24,7 @@ typedef struct frame_plan {
     int near_layer;    /* split the near field off as the foreground element           */
     int foreground;    /* blur the foreground element and composite it over            */
     int highlights;    /* look for highlights (the pass says what it found: layers.c) */
+    int far_field;     /* gather the smooth blur (the pass says where: layers.c)      */
     char text[512];    /* the decisions and their reasons, one line each               */
 } frame_plan;
 

@@ -143,7 +143,7 @@ def main():
         failures.append("bl_info version %s, binding %s" % (addon_version, b.BINDING_VERSION))
 
     # Version rule: the same major, a minor at least the binding's.
-    for number, ok in ((700, True), (705, True), (800, True), (600, False), (10700, False)):
+    for number, ok in ((800, True), (805, True), (900, True), (700, False), (10800, False)):
         if b.version_compatible(number) != ok:
             failures.append("version_compatible(%d) should be %s" % (number, ok))
 

@@ -594,6 +594,7 @@ static int case_window(void)
                          EXRIO_COMPRESSION_NONE) == 0);
     CHECK(ddof(in, "-o", test_path(dir, "out.exr"), "--focal-length", "50", "--fstop", "1.4",
                "--focus", "1", "--substeps", "2", "--pixel-type", "float", "--write-coc",
+               "--far-field", "off",
                NULL) == 0);
 
     for (i = 0; i < DW * DH; i++) {
@@ -662,7 +663,8 @@ static int case_window(void)
                              zplane, EXRIO_COMPRESSION_ZIP) == 0);
         CHECK(ddof(in, "-o", test_path(dir, "df.exr"), "--depth-file",
                    test_path(dir, "depth_same.exr"), "--focal-length", "50", "--fstop", "1.4",
-                   "--focus", "1", "--substeps", "2", "--pixel-type", "float", NULL) == 0);
+                   "--focus", "1", "--substeps", "2", "--pixel-type", "float",
+                   "--far-field", "off", NULL) == 0);
         CHECK(ddof(in, "-o", test_path(dir, "df2.exr"), "--depth-file",
                    test_path(dir, "depth_other.exr"), "--focal-length", "50", "--fstop", "1.4",
                    "--focus", "1", NULL) == 1);
@@ -675,7 +677,8 @@ static int case_window(void)
                              types, zplane, EXRIO_COMPRESSION_ZIP) == 0);
         CHECK(ddof(in, "-o", test_path(dir, "df3.exr"), "--depth-file",
                    test_path(dir, "depth_blender.exr"), "--focal-length", "50", "--fstop", "1.4",
-                   "--focus", "1", "--substeps", "2", "--pixel-type", "float", NULL) == 0);
+                   "--focus", "1", "--substeps", "2", "--pixel-type", "float",
+                   "--far-field", "off", NULL) == 0);
     }
     {
         uint32_t w, h;

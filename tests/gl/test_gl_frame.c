@@ -84,6 +84,7 @@ static float *midground_alone(ddof_params p, const float *color, const float *co
     p.background = DDOF_LAYER_OFF;
     p.near_spread = DDOF_LAYER_OFF;
     p.near_layer = DDOF_LAYER_OFF;
+    p.far_field = DDOF_LAYER_OFF;
     CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, NULL, mid, W, H, CH, NULL), DDOF_OK);
     return mid;
 }
@@ -172,6 +173,7 @@ static void frames(ddof_kernel kernel)
      * frame, the rest as for an element. Opaque pixels and no highlights: all on the device. */
     for (size_t i = 0; i < (size_t)W * H; i++)
         color[i * CH + 3] = 1.0f;
+    p.far_field = DDOF_LAYER_OFF; /* it goes under the element: far_field_frames() */
     p.near_layer = DDOF_LAYER_AUTO;
     p.background = DDOF_LAYER_AUTO;
     p.highlights = DDOF_LAYER_OFF;
@@ -193,6 +195,7 @@ static void frames(ddof_kernel kernel)
     /* The element (0.9 red) is above the highlight threshold: its highlights are the CPU's
      * and take the frame off the device (highlights(), below); here the device runs it all. */
     p.highlights = DDOF_LAYER_OFF;
+    p.far_field = DDOF_LAYER_OFF;
     scene(color, coc, 0);
     compare("foreground element + background", p, color, coc, &fg,
             DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
@@ -200,6 +203,51 @@ static void frames(ddof_kernel kernel)
     compare("foreground + background 3 levels", p, color, coc, &fg,
             DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
 
+    free(fg_color);
+    free(fg_coc);
+    free(color);
+    free(coc);
+}
+
+/* The far field (ddof_params.far_field): gathered on the CPU into the device's one read-back,
+ * so a frame without an element is still 1 upload and 1 read-back and matches the CPU; with an
+ * element (the gather goes under it) the frame runs on the CPU's layers, and still matches. */
+static void far_field_frames(ddof_kernel kernel)
+{
+    const size_t n = (size_t)W * H * CH;
+    float *color = alloc_f(n), *coc = alloc_f((size_t)W * H);
+    test_rng rng = {11};
+    fill_uniform(color, n, &rng, 0.05, 0.9);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++)
+            coc[(size_t)y * W + x] = 6.0f + 20.0f * (float)y / (float)H; /* a receding plane */
+    ddof_params p;
+    ddof_params_init(&p);
+    p.solver = DDOF_SOLVER_THOMAS;
+    p.kernel = kernel;
+    p.far_field = DDOF_LAYER_AUTO;
+    compare("far field", p, color, coc, NULL, DDOF_EFFECT_FAR_FIELD);
+
+    float *fg_color = alloc_f(n), *fg_coc = alloc_f((size_t)W * H);
+    element(fg_color, fg_coc);
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
+    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
+    p.highlights = DDOF_LAYER_OFF;
+    float *ref = alloc_f(n), *out = alloc_f(n);
+    ddof_stats sc = stats_init(), sg = stats_init();
+    CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, &fg, ref, W, H, CH, &sc), DDOF_OK);
+    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, &fg, out, W, H, CH, &sg), DDOF_OK);
+    const double e = max_diff(out, ref, n);
+    CHECK_MSG(e <= TOL_FRAME, "far field + element %s: GL vs CPU %.3g",
+              ddof_kernel_name(kernel), e);
+    CHECK_MSG((sc.effects & (DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND)) ==
+                  (DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND),
+              "far field + element: effects %u (%s)", sc.effects, sc.plan);
+    CHECK_EQ_INT(sg.effects, sc.effects);
+    free(ref);
+    free(out);
     free(fg_color);
     free(fg_coc);
     free(color);
@@ -319,6 +367,7 @@ static void layouts(uint32_t ch, int with_element)
     p.coc_signed = 1;
     p.background_levels = 2;
     p.highlights = DDOF_LAYER_OFF; /* on the device throughout (the element is bright) */
+    p.far_field = DDOF_LAYER_OFF;  /* likewise (it goes under the element) */
     ddof_foreground fg;
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
@@ -431,6 +480,8 @@ int main(int argc, char **argv)
     frames(DDOF_KERNEL_DISC_2X3);
     highlights(DDOF_KERNEL_HEAT);
     highlights(DDOF_KERNEL_DISC_2X3);
+    far_field_frames(DDOF_KERNEL_HEAT);
+    far_field_frames(DDOF_KERNEL_DISC_2X3);
     layouts(4, 1);
     layouts(3, 1);
     layouts(1, 0);

@@ -241,6 +241,10 @@ const cli_option cli_option_table[] = {
     {"--near-layer-threshold", LAYERS, FLOAT(near_layer_threshold, "PX", CLI_POSITIVE),
      PARAMS(near_layer_threshold_px), .setting = "near_layer_threshold_px",
      .help = "near CoC from which a pixel is wholly in the near layer (default 8)"},
+    {"--far-field", LAYERS, CHOICE(far_field, cli_choices_layer_mode), PARAMS(far_field),
+     .setting = "far_field",
+     .help = "smooth blur away from depth edges gathered in the lens's exact\n"
+             "disc (docs/design.md)"},
     {"--highlights", LAYERS, CHOICE(highlights, cli_choices_layer_mode), PARAMS(highlights),
      .setting = "highlights",
      .help = "the brightest blurred pixels drawn as crisp discs (HDR bokeh)"},

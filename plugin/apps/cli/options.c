@@ -22,6 +22,7 @@ static void defaults(cli_options *o)
     o->background = -1;
     o->near_spread = -1;
     o->near_layer = -1;
+    o->far_field = -1;
     o->highlights = -1;
     o->background_ramp_start = -1.0f;
     o->backend = DDOF_BACKEND_AUTO;

@@ -3,4 +3,4 @@
 Flamenco), cut into chunks of frames, and the chunks' --stats files merged into one report.
 Plain Python; pyoutline (OpenCue) and openjd are imported only by the engines that need them."""
 
-__version__ = "0.7.0"
+__version__ = "0.8.0"

@@ -1,0 +1,127 @@
+/* SPDX-License-Identifier: MIT */
+/* far_field.c - where the far field's gather runs (far_field.h; the gather itself:
+ * far_field_gather.c).
+ *
+ * The diffusion's kernels are a disc's approximation (the heat kernel a soft blob, the disc
+ * kernels a sum of separable chains with a ringing rim), and its insulated border averages only
+ * what lies inside the frame. Away from depth edges a lens's blur is plain: each point spreads
+ * its light over its own disc, and there a gather draws it exactly. Near a depth edge what lies
+ * behind what, and what a sharp object hides, decide the picture: the layers' diffusion stays
+ * the method there.
+ *
+ * A depth edge is a pair of 4-neighbours whose signed CoC differs by EDGE_STEP_PX or more. A
+ * pixel takes the gather fully when the nearest edge is beyond its own radius + 1 and no edge's
+ * reach (half the pair's larger |CoC|, + 1) covers it; over RAMP_PX toward either it is mixed
+ * with the layers' result; in-focus pixels keep theirs. Both distances are cone dilations
+ * (cone_dilate.h: the chamfer distance, within 8% of Euclidean). */
+#include "far_field.h"
+
+#include "cone_dilate.h"
+#include "far_field_internal.h"
+#include "float_ops.h"
+#include "parallel_rows.h"
+
+#include <math.h>
+#include <string.h>
+
+#define EDGE_STEP_PX 1.0f
+#define RAMP_PX 4.0f
+#define NO_EDGE (-1e30f)
+
+typedef struct far_maps {
+    const adi_request *r;
+    float *radius; /* |CoC| / 2 where the pixel blurs, else 0                     */
+    float *weight; /* minus the distance to the nearest edge, then the weight     */
+    float *reach;  /* the largest (reach - distance) of any edge                   */
+    uint64_t *chunk_pixels;
+    float *chunk_radius;
+} far_maps;
+
+static float signed_coc(const adi_request *r, uint32_t x, uint32_t y)
+{
+    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
+}
+
+/* The radius map and the seeds of the two distance maps. */
+static void seed_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const far_maps *m = user;
+    const adi_request *r = m->r;
+    const uint32_t w = r->width, h = r->height;
+    static const int nx[4] = {-1, 1, 0, 0}, ny[4] = {0, 0, -1, 1};
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            const size_t i = (size_t)y * w + x;
+            const float c = signed_coc(r, x, y), a = fabsf(c);
+            m->radius[i] = a > 0.0f && a >= r->in_focus_px ? 0.5f * a : 0.0f;
+            float reach = NO_EDGE;
+            for (int k = 0; k < 4; k++) {
+                const int64_t qx = (int64_t)x + nx[k], qy = (int64_t)y + ny[k];
+                if (qx < 0 || qy < 0 || qx >= (int64_t)w || qy >= (int64_t)h)
+                    continue;
+                const float q = signed_coc(r, (uint32_t)qx, (uint32_t)qy);
+                if (fabsf(q - c) >= EDGE_STEP_PX)
+                    reach = ddof_maxf(reach, 0.5f * ddof_maxf(a, fabsf(q)) + 1.0f);
+            }
+            m->weight[i] = reach > NO_EDGE ? 0.0f : NO_EDGE;
+            m->reach[i] = reach;
+        }
+}
+
+static void weight_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    const far_maps *m = user;
+    const uint32_t w = m->r->width;
+    uint64_t pixels = 0;
+    float largest = 0.0f;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < w; x++) {
+            const size_t i = (size_t)y * w + x;
+            const float rho = m->radius[i];
+            const float room = ddof_minf(-m->weight[i] - rho - 1.0f, -m->reach[i]);
+            const float weight = rho > 0.0f ? ddof_minf(ddof_maxf(room / RAMP_PX, 0.0f), 1.0f)
+                                            : 0.0f;
+            m->weight[i] = weight;
+            if (weight > 0.0f) {
+                pixels++;
+                largest = ddof_maxf(largest, rho);
+            }
+        }
+    m->chunk_pixels[chunk] = pixels;
+    m->chunk_radius[chunk] = largest;
+}
+
+ddof_status ddof_far_field(ddof_context *context, const adi_request *r, const float *color,
+                           size_t color_stride, far_field_report *report)
+{
+    memset(report, 0, sizeof *report);
+    const size_t pixels = (size_t)r->width * r->height;
+    const uint32_t chunks = ddof_row_chunks(r->height);
+    uint64_t *chunk_pixels = ddof_scratch_get(
+        context, DDOF_SCRATCH_FAR_FIELD_MAPS,
+        (size_t)chunks * (sizeof(uint64_t) + sizeof(float)) + 3 * pixels * sizeof(float));
+    if (!chunk_pixels)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the far field's %ux%u maps", r->width, r->height);
+    float *chunk_radius = (float *)(void *)(chunk_pixels + chunks);
+    float *maps = chunk_radius + chunks;
+    far_maps m = {.r = r, .radius = maps, .weight = maps + pixels, .reach = maps + 2 * pixels,
+                  .chunk_pixels = chunk_pixels, .chunk_radius = chunk_radius};
+    ddof_parallel_rows(context, r->height, seed_rows, &m);
+    ddof_cone_dilate(m.weight, r->width, r->height, r->width, 1.0f);
+    ddof_cone_dilate(m.reach, r->width, r->height, r->width, 1.0f);
+    ddof_parallel_rows(context, r->height, weight_rows, &m);
+    float largest = 0.0f;
+    for (uint32_t c = 0; c < chunks; c++) {
+        report->pixels += chunk_pixels[c];
+        largest = ddof_maxf(largest, chunk_radius[c]);
+    }
+    if (!report->pixels)
+        return DDOF_OK;
+    far_gather g = {.r = r, .color = color, .color_stride = color_stride, .radius = m.radius,
+                    .weight = m.weight};
+    const ddof_status status = ddof_far_field_gather(context, &g, largest);
+    report->levels = g.level_count;
+    return status;
+}
