@@ -437,6 +437,7 @@ typedef enum ddof_layer_mode {
 #define DDOF_EFFECT_NEAR_SPREAD 8u /* one image: near-CoC dilation (GPU Gems 3 ch. 28)         */
 #define DDOF_EFFECT_HIGHLIGHTS 16u /* the highlight pass: the brightest pixels drawn as discs   */
 #define DDOF_EFFECT_NEAR_LAYER 32u /* one image: the near field split off as an element          */
+#define DDOF_EFFECT_SILHOUETTES 128u /* mixed pixels of in-focus silhouettes split          */
 #define DDOF_EFFECT_FAR_FIELD 64u  /* the smooth blur gathered in the aperture's exact shape    */
 
 typedef struct ddof_params {
@@ -540,6 +541,12 @@ typedef struct ddof_params {
                                /* pixel at any CoC (reduced images for large ones). Default:  */
                                /* the preset's; AUTO and ON: on when the largest CoC is 1 px  */
                                /* or more (docs/design.md, "The far field").                  */
+    ddof_layer_mode silhouettes; /* mixed pixels where an in-focus object meets a blurred      */
+                               /* background behind it (a CoC of 4 px or more): each split by */
+                               /* the colours on both sides, the object's share kept sharp,  */
+                               /* the background's blurred (docs/design.md, "Mixed pixels").  */
+                               /* Needs signed CoC and colour with 3 or 4 channels. Default:  */
+                               /* the preset's; AUTO and ON: on when such a pair exists.      */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */
@@ -618,6 +625,7 @@ typedef struct ddof_stats {
 
     /* --- version 0.8 of this struct ------------------------------------------------------- */
     double seconds_far_field;  /* the far field's gather and blend (params.far_field)        */
+    double seconds_silhouettes;/* splitting the mixed pixels of silhouettes                   */
 } ddof_stats;
 
 /* The first layout (0.1): the smallest struct_size a call takes (smaller is

@@ -30,6 +30,7 @@ typedef struct preset_settings {
     ddof_kernel kernel;
     ddof_layer_mode near_layer;
     ddof_layer_mode far_field;
+    ddof_layer_mode silhouettes;
 } preset_settings;
 
 /* Written by the accuracy study from its measured front (docs/accuracy.md). */
@@ -89,6 +90,7 @@ static ddof_params preset_params(ddof_preset preset)
         .near_layer = s->near_layer,
         .near_layer_threshold_px = 8.0f,
         .far_field = s->far_field,
+        .silhouettes = s->silhouettes,
     };
 }
 

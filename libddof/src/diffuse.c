@@ -206,11 +206,13 @@ ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_gi
     full.seconds_highlights = report.seconds_highlights;
     full.seconds_near_layer = seconds_near_layer;
     full.seconds_far_field = report.seconds_far_field;
+    full.seconds_silhouettes = report.seconds_silhouettes;
     if (plan.near_layer)
         full.effects |= DDOF_EFFECT_NEAR_LAYER;
     memcpy(full.plan, plan.text, sizeof full.plan);
-    const char *lines[2] = {report.highlights_line, report.far_field_line};
-    for (int i = 0; i < 2; i++)
+    const char *lines[3] = {report.highlights_line, report.far_field_line,
+                            report.silhouettes_line};
+    for (int i = 0; i < 3; i++)
         if (lines[i][0]) {
             const size_t used = strlen(full.plan);
             snprintf(full.plan + used, sizeof full.plan - used, "%s\n", lines[i]);

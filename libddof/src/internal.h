@@ -42,6 +42,7 @@ enum {
     DDOF_SCRATCH_APERTURE_SUMS,    /* highlights.c: the aperture image's summed areas    */
     DDOF_SCRATCH_FAR_FIELD_MAPS,   /* far_field.c: radius, weight and reach maps          */
     DDOF_SCRATCH_FAR_FIELD_LEVELS, /* far_field_gather.c: levels, prefix sums, samples   */
+    DDOF_SCRATCH_SILHOUETTES,      /* silhouettes.c: the mixed pixels' changes           */
     DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
     DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };

@@ -33,6 +33,7 @@
 #include "disc_kernel.h"
 #include "far_field.h"
 #include "highlights.h"
+#include "silhouettes.h"
 
 #include "parallel_rows.h"
 
@@ -641,14 +642,38 @@ static ddof_status far_field(ddof_context *context, const layers_request *q, con
     if (far.pixels) {
         report->effects |= DDOF_EFFECT_FAR_FIELD;
         snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: on: %.1f%% of the pixels have no depth edge within their reach "
-                 "(%u image level%s)",
+                 "far field: on: %.1f%% of the pixels away from depth edges (%u level%s)",
                  share, far.levels, far.levels == 1 ? "" : "s");
     } else {
         snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: off: every blurred pixel has a depth edge within its reach");
+                 "far field: off: every blurred pixel is near a depth edge");
     }
     report->seconds_far_field = ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
+/* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
+ * highlights are drawn (their discs land behind the object, whole) and the foreground element
+ * covers it, estimated from the colour the layers diffused. */
+static ddof_status silhouettes(ddof_context *context, const layers_request *q,
+                               const float *color, size_t color_stride, layers_report *report)
+{
+    const double t0 = ddof_seconds();
+    silhouette_report split;
+    const ddof_status status =
+        ddof_split_silhouettes(context, &q->base, color, color_stride, &split);
+    if (status != DDOF_OK)
+        return status;
+    if (split.pixels) {
+        report->effects |= DDOF_EFFECT_SILHOUETTES;
+        snprintf(report->silhouettes_line, sizeof report->silhouettes_line,
+                 "silhouettes: on: %llu mixed pixels split", (unsigned long long)split.pixels);
+    } else {
+        snprintf(report->silhouettes_line, sizeof report->silhouettes_line,
+                 "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
+                 (double)DDOF_SILHOUETTE_MIN_COC_PX);
+    }
+    report->seconds_silhouettes = ddof_seconds() - t0;
     return DDOF_OK;
 }
 
@@ -729,16 +754,17 @@ static int element_is_bright(const layers_request *q)
 }
 
 /* Whether the device runs the whole plan. It does, the element's composite included, but the
- * highlights (the frame's, which go under the element, and the element's own, in it) and the
- * far field are the CPU's: a frame with an element and highlights or the far field runs on the
+ * highlights (the frame's, which go under the element, and the element's own, in it), the far
+ * field and the silhouettes are the CPU's: a frame with an element and any of them runs on the
  * CPU's layers, one diffusion at a time. */
 static int device_runs_frame(ddof_context *context, const layers_request *q,
                              const frame_plan *plan, uint32_t frame_highlights)
 {
     if (!ddof_backend_runs_layers(context, &q->base) || q->fg_carried_alpha)
         return 0;
-    /* The far field goes under the element, which the device composites itself. */
-    if (plan->far_field && plan->foreground)
+    /* The far field and the silhouettes go under the element, which the device composites
+     * itself. */
+    if ((plan->far_field || plan->silhouettes) && plan->foreground)
         return 0;
     const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
     return !(element_lights && (frame_highlights || element_is_bright(q)));
@@ -771,8 +797,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     /* Diffusing in place overwrites the colour the background layer (on the CPU) and the far
      * field still need (the highlight pass's base is a copy already). */
     const int on_device = device_runs_frame(context, q, plan, highlights.count);
-    if (((plan->background && !on_device) || plan->far_field) && r->out == r->color &&
-        color == r->color) {
+    if (((plan->background && !on_device) || plan->far_field || plan->silhouettes) &&
+        r->out == r->color && color == r->color) {
         const size_t row = (size_t)r->width * r->channels;
         float *copy = scratch(context, SLOT_COLOR_COPY, row * r->height, &status);
         if (status != DDOF_OK)
@@ -791,6 +817,9 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
             return status;
         if (plan->far_field &&
             (status = far_field(context, q, color, color_stride, report)) != DDOF_OK)
+            return status;
+        if (plan->silhouettes &&
+            (status = silhouettes(context, q, color, color_stride, report)) != DDOF_OK)
             return status;
         draw_highlights(context, q, &highlights, report);
         return DDOF_OK;
@@ -824,6 +853,10 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     if (plan->far_field && (status = far_field(context, q, mid.color, mid.color_stride,
                                                report)) != DDOF_OK)
         return status;
+    if (plan->silhouettes && (status = silhouettes(context, q, mid.color, mid.color_stride,
+                                                   report)) != DDOF_OK)
+        return status;
+    /* Last of the passes that read the colour: the discs are drawn through its buffer. */
     draw_highlights(context, q, &highlights, report);
 
     if (plan->foreground) {

@@ -15,6 +15,7 @@
 
 #include "far_field.h"
 #include "highlights.h"
+#include "silhouettes.h"
 
 #include "parallel_rows.h"
 
@@ -174,6 +175,7 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
         say(plan, "%s", no_foreground);
         say(plan, "highlights: off: nothing is out of focus");
         say(plan, "far field: off: nothing is out of focus");
+        say(plan, "silhouettes: off: nothing is out of focus");
         return;
     }
     say(plan, "midground: on: largest CoC %.3g px", (double)a->max_coc);
@@ -244,4 +246,17 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
             (double)DDOF_FAR_FIELD_MIN_COC_PX);
     else
         plan->far_field = 1;
+
+    if (p->silhouettes == DDOF_LAYER_OFF)
+        say(plan, "silhouettes: %s", forced(p->silhouettes));
+    else if (!p->coc_signed)
+        say(plan, "silhouettes: off: the CoC is unsigned (what lies behind what unknown)");
+    else if (color_channels < 3)
+        say(plan, "silhouettes: off: %u colour channel%s (the split needs RGB)", color_channels,
+            color_channels == 1 ? "" : "s");
+    else if (a->max_coc < DDOF_SILHOUETTE_MIN_COC_PX)
+        say(plan, "silhouettes: off: the largest CoC is below %.3g px",
+            (double)DDOF_SILHOUETTE_MIN_COC_PX);
+    else
+        plan->silhouettes = 1;
 }

@@ -25,6 +25,7 @@ typedef struct frame_plan {
     int foreground;    /* blur the foreground element and composite it over            */
     int highlights;    /* look for highlights (the pass says what it found: layers.c) */
     int far_field;     /* gather the smooth blur (the pass says where: layers.c)      */
+    int silhouettes;   /* split mixed silhouette pixels (the pass says how many)      */
     char text[512];    /* the decisions and their reasons, one line each               */
 } frame_plan;
 

@@ -245,6 +245,10 @@ const cli_option cli_option_table[] = {
      .setting = "far_field",
      .help = "smooth blur away from depth edges gathered in the lens's exact\n"
              "disc (docs/design.md)"},
+    {"--silhouettes", LAYERS, CHOICE(silhouettes, cli_choices_layer_mode),
+     PARAMS(silhouettes), .setting = "silhouettes",
+     .help = "mixed pixels where in-focus objects meet a blurred background\n"
+             "split: the object's share sharp, the background's blurred"},
     {"--highlights", LAYERS, CHOICE(highlights, cli_choices_layer_mode), PARAMS(highlights),
      .setting = "highlights",
      .help = "the brightest blurred pixels drawn as crisp discs (HDR bokeh)"},

@@ -264,7 +264,8 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
                          {DDOF_EFFECT_NEAR_LAYER, "near_layer"},
                          {DDOF_EFFECT_FOREGROUND, "foreground"},
                          {DDOF_EFFECT_HIGHLIGHTS, "highlights"},
-                         {DDOF_EFFECT_FAR_FIELD, "far_field"}};
+                         {DDOF_EFFECT_FAR_FIELD, "far_field"},
+                         {DDOF_EFFECT_SILHOUETTES, "silhouettes"}};
             cJSON *effects = cJSON_CreateObject();
             cJSON *plan = cJSON_CreateArray();
             char copy[sizeof r->stats.plan + 1];
@@ -293,6 +294,7 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddNumberToObject(t, "highlights", r->stats.seconds_highlights);
         cJSON_AddNumberToObject(t, "near_layer", r->stats.seconds_near_layer);
         cJSON_AddNumberToObject(t, "far_field", r->stats.seconds_far_field);
+        cJSON_AddNumberToObject(t, "silhouettes", r->stats.seconds_silhouettes);
         cJSON_AddNumberToObject(t, "library_total", r->stats.seconds_total);
         cJSON_AddNumberToObject(t, "write", r->seconds_write);
         cJSON_AddNumberToObject(t, "preview", r->seconds_preview);

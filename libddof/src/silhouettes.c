@@ -1,0 +1,199 @@
+/* SPDX-License-Identifier: MIT */
+/* silhouettes.c - the mixed pixels of in-focus silhouettes over a blurred background
+ * (silhouettes.h).
+ *
+ * A silhouette pair is a sharp pixel p (|CoC| below the in-focus threshold) and a 4-neighbour q
+ * behind it with CoC of DDOF_SILHOUETTE_MIN_COC_PX or more. Across it, along the pair's
+ * direction d, the object's colour O is p - d's (or p's, where p - d is not sharp) and the
+ * background's B is q + d's (or q's): the pixels one step away are the likeliest unmixed. A
+ * pixel x of the pair is the mixture x = a O + (1 - a) B; its object share a is the projection
+ * of x - B on O - B, clamped to [0, 1] (skipped where O and B are too alike to tell).
+ *  - q (its depth says background): the diffusion blurred the object's share away with the
+ *    background; it is put back sharp: out(q) = a O + (1 - a) out(q).
+ *  - p (its depth says object): its background share stayed sharp; it becomes the blurred
+ *    background beside it: out(p) += (1 - a) (out(q) - B).
+ * A pixel in several pairs takes the mean over them. Every change is computed from the
+ * result before any is applied (a delta image), so rows can run on any thread. Colour channels
+ * only; alpha keeps the layers' value. */
+#include "silhouettes.h"
+
+#include "float_ops.h"
+#include "parallel_rows.h"
+
+#include <math.h>
+#include <string.h>
+
+typedef struct split_job {
+    const adi_request *r;
+    const float *color;
+    size_t color_stride;
+    float *delta;          /* width x height x 3: what each pixel's colour changes by */
+    uint64_t *chunk_pixels;
+} split_job;
+
+static const int step_x[4] = {-1, 1, 0, 0}, step_y[4] = {0, 0, -1, 1};
+
+static float coc_at(const adi_request *r, int64_t x, int64_t y)
+{
+    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
+}
+
+static int inside(const adi_request *r, int64_t x, int64_t y)
+{
+    return x >= 0 && y >= 0 && x < (int64_t)r->width && y < (int64_t)r->height;
+}
+
+static int is_sharp(const adi_request *r, float c)
+{
+    return fabsf(c) < r->in_focus_px || c == 0.0f;
+}
+
+static int is_blurred_behind(float c)
+{
+    return c >= DDOF_SILHOUETTE_MIN_COC_PX;
+}
+
+static const float *color_at(const split_job *job, int64_t x, int64_t y)
+{
+    return job->color + (size_t)y * job->color_stride + (size_t)x * job->r->channels;
+}
+
+static const float *out_at(const adi_request *r, int64_t x, int64_t y)
+{
+    return r->out + (size_t)y * r->out_stride + (size_t)x * r->channels;
+}
+
+/* The pair (sharp p, blurred q = p + d): the object's and the background's colours, and the
+ * object's share of pixel x. 0 when the two colours are too alike to split by. */
+static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, const float *x,
+                       float object[3], float background[3], float *share)
+{
+    const adi_request *r = job->r;
+    const int64_t dx = step_x[dir], dy = step_y[dir];
+    const int64_t ox = px - dx, oy = py - dy, bx = px + 2 * dx, by = py + 2 * dy;
+    const float *o = inside(r, ox, oy) && is_sharp(r, coc_at(r, ox, oy)) ? color_at(job, ox, oy)
+                                                                           : color_at(job, px, py);
+    const float *b = inside(r, bx, by) && is_blurred_behind(coc_at(r, bx, by))
+                         ? color_at(job, bx, by)
+                         : color_at(job, px + dx, py + dy);
+    double dot = 0.0, norm = 0.0, size = 0.0;
+    for (int c = 0; c < 3; c++) {
+        object[c] = o[c];
+        background[c] = b[c];
+        const double v = (double)o[c] - b[c];
+        dot += ((double)x[c] - b[c]) * v;
+        norm += v * v;
+        size += (double)o[c] * o[c] + (double)b[c] * b[c];
+    }
+    /* Colours within 1% of each other say nothing of the share. */
+    if (!(norm > 1e-4 * size) || !(norm > 1e-20))
+        return 0;
+    const double a = dot / norm;
+    *share = (float)(a < 0.0 ? 0.0 : a > 1.0 ? 1.0 : a);
+    return 1;
+}
+
+/* The change of a blurred pixel q next to sharp ones: its object share put back sharp. */
+static int blurred_side(const split_job *job, int64_t x, int64_t y, float delta[3])
+{
+    const adi_request *r = job->r;
+    const float *here = color_at(job, x, y), *out = out_at(r, x, y);
+    double sum[3] = {0.0, 0.0, 0.0};
+    int pairs = 0;
+    for (int dir = 0; dir < 4; dir++) {
+        const int64_t px = x - step_x[dir], py = y - step_y[dir];
+        float object[3], background[3], a;
+        if (!inside(r, px, py) || !is_sharp(r, coc_at(r, px, py)) ||
+            !pair_colors(job, px, py, dir, here, object, background, &a))
+            continue;
+        for (int c = 0; c < 3; c++)
+            sum[c] += (double)a * ((double)object[c] - out[c]);
+        pairs++;
+    }
+    for (int c = 0; c < 3; c++)
+        delta[c] = pairs ? (float)(sum[c] / pairs) : 0.0f;
+    return pairs;
+}
+
+/* The change of a sharp pixel p next to blurred ones: its background share blurred. */
+static int sharp_side(const split_job *job, int64_t x, int64_t y, float delta[3])
+{
+    const adi_request *r = job->r;
+    const float *here = color_at(job, x, y);
+    double sum[3] = {0.0, 0.0, 0.0};
+    int pairs = 0;
+    for (int dir = 0; dir < 4; dir++) {
+        const int64_t qx = x + step_x[dir], qy = y + step_y[dir];
+        float object[3], background[3], a;
+        if (!inside(r, qx, qy) || !is_blurred_behind(coc_at(r, qx, qy)) ||
+            !pair_colors(job, x, y, dir, here, object, background, &a))
+            continue;
+        const float *blurred = out_at(r, qx, qy);
+        for (int c = 0; c < 3; c++)
+            sum[c] += (1.0 - (double)a) * ((double)blurred[c] - background[c]);
+        pairs++;
+    }
+    for (int c = 0; c < 3; c++)
+        delta[c] = pairs ? (float)(sum[c] / pairs) : 0.0f;
+    return pairs;
+}
+
+static void delta_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    split_job *job = user;
+    const adi_request *r = job->r;
+    uint64_t pixels = 0;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            float *delta = job->delta + ((size_t)y * r->width + x) * 3;
+            const float c = coc_at(r, x, y);
+            int pairs = 0;
+            if (is_blurred_behind(c))
+                pairs = blurred_side(job, x, y, delta);
+            else if (is_sharp(r, c))
+                pairs = sharp_side(job, x, y, delta);
+            else
+                delta[0] = delta[1] = delta[2] = 0.0f;
+            pixels += pairs > 0;
+        }
+    job->chunk_pixels[chunk] = pixels;
+}
+
+static void apply_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const split_job *job = user;
+    const adi_request *r = job->r;
+    for (uint32_t y = y0; y < y1; y++) {
+        float *out = r->out + (size_t)y * r->out_stride;
+        const float *delta = job->delta + (size_t)y * r->width * 3;
+        for (uint32_t x = 0; x < r->width; x++)
+            for (int c = 0; c < 3; c++)
+                out[(size_t)x * r->channels + (size_t)c] += delta[(size_t)x * 3 + (size_t)c];
+    }
+}
+
+ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
+                                   const float *color, size_t color_stride,
+                                   silhouette_report *report)
+{
+    memset(report, 0, sizeof *report);
+    if (r->channels < 3)
+        return DDOF_OK;
+    const uint32_t chunks = ddof_row_chunks(r->height);
+    const size_t pixels = (size_t)r->width * r->height;
+    uint64_t *chunk_pixels = ddof_scratch_get(
+        context, DDOF_SCRATCH_SILHOUETTES, chunks * sizeof(uint64_t) + 3 * pixels * sizeof(float));
+    if (!chunk_pixels)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the silhouettes' %ux%u image", r->width, r->height);
+    split_job job = {.r = r, .color = color, .color_stride = color_stride,
+                     .delta = (float *)(void *)(chunk_pixels + chunks),
+                     .chunk_pixels = chunk_pixels};
+    ddof_parallel_rows(context, r->height, delta_rows, &job);
+    for (uint32_t c = 0; c < chunks; c++)
+        report->pixels += chunk_pixels[c];
+    if (report->pixels)
+        ddof_parallel_rows(context, r->height, apply_rows, &job);
+    return DDOF_OK;
+}

@@ -1,0 +1,32 @@
+/* SPDX-License-Identifier: MIT */
+/* silhouettes.h - mixed pixels where an in-focus object meets a blurred background behind it
+ * (docs/design.md, section 1, "Mixed pixels at silhouettes").
+ *
+ * A render's edge pixel holds both surfaces, its depth one of them. On the blurred side of the
+ * silhouette the diffusion blurs the object's share of the pixel away with the background; on
+ * the sharp side the background's share stays sharp. The pass splits each such pixel by the
+ * colours on both sides: the object's share is put back sharp on the blurred side, and the
+ * background's share on the sharp side becomes the blurred background beside it. */
+#ifndef DDOF_SILHOUETTES_H
+#define DDOF_SILHOUETTES_H
+
+#include "ddof_backend_seam.h"
+#include "internal.h"
+
+/* The smallest CoC (px) of the blurred side: below it a pixel's mixture is blurred so little
+ * that splitting it changes nothing a viewer sees. */
+#define DDOF_SILHOUETTE_MIN_COC_PX 4.0f
+
+typedef struct silhouette_report {
+    uint64_t pixels; /* mixed pixels split, both sides */
+} silhouette_report;
+
+/* r: the frame (its signed CoC, size, channels, in-focus threshold) with out holding the
+ * result so far, changed in place; color: what the layers diffused (color_stride floats a
+ * row), from which each pixel's share is estimated. 3 or 4 channels (alpha is left as it is);
+ * scratch: DDOF_SCRATCH_SILHOUETTES. */
+ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
+                                   const float *color, size_t color_stride,
+                                   silhouette_report *report);
+
+#endif
