@@ -54,11 +54,11 @@ static void usage(FILE *f)
             "       ddof-study list [--configs LIST]\n"
             "\n"
             "A scene folder holds pinhole.exr, truth.exr, camera.json and optionally fg.exr,\n"
-            "pinhole_1080.exr, defocus[-4.2|-5.0].exr + .json (study/scenes/README.md).\n"
+            "pinhole_1080.exr, defocus[-4.2|-5.3].exr + .json (study/scenes/README.md).\n"
             "\n"
             "  --configs LIST     comma-separated ids and lists: full (default), smoke,\n"
             "                     baselines, cpu/thomas/f32/n4/k0.03125/auto, cod4, gather,\n"
-            "                     pinhole, defocus, defocus-4.2, defocus-5.0\n"
+            "                     pinhole, defocus, defocus-4.2, defocus-5.3\n"
             "  --out DIR          run: DIR/results.jsonl; images: DIR/<scene>/<id>.npy\n"
             "  --append           add to an existing results.jsonl instead of replacing it\n"
             "  --reps N           timed calls after the warm-up at the scene's size (5)\n"
@@ -603,7 +603,7 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
     cJSON_AddBoolToObject(r, "available", available);
     cJSON_AddStringToObject(r, "note", note);
 
-    double psnr = NAN, band = NAN;
+    double psnr = NAN, band = NAN, smooth = NAN;
     if (image) {
         psnr = study_psnr(image, scene->truth, pixels, NULL);
         band = study_psnr(image, scene->truth, pixels, scene->band);
@@ -611,6 +611,8 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         study_linear_diff(image, scene->truth, pixels, &max_abs, &rms);
         add_number_or_null(r, "psnr", psnr);
         add_number_or_null(r, "psnr_band", band);
+        smooth = study_psnr(image, scene->truth, pixels, scene->smooth);
+        add_number_or_null(r, "psnr_smooth", smooth);
         add_number_or_null(r, "rmse_linear", rms);
         if (cfg->kind == STUDY_DIFFUSION) {
             char error[1100] = "";
@@ -626,11 +628,15 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         }
     }
 
-    char band_text[32];
+    char band_text[64];
     if (isnan(band))
         snprintf(band_text, sizeof band_text, "no band");
     else
         snprintf(band_text, sizeof band_text, "band %.2f dB", band);
+    if (!isnan(smooth)) {
+        const size_t used = strlen(band_text);
+        snprintf(band_text + used, sizeof band_text - used, ", smooth %.2f dB", smooth);
+    }
     if (!available)
         snprintf(summary, summary_size, "%s", note);
     else if (note[0])
@@ -658,6 +664,9 @@ static cJSON *scene_json(const study_scene *s)
     cJSON_AddNumberToObject(j, "band_pixels", (double)s->band_pixels);
     cJSON_AddNumberToObject(j, "band_fraction",
                             (double)s->band_pixels / ((double)s->small.width * s->small.height));
+    cJSON_AddNumberToObject(j, "smooth_pixels", (double)s->smooth_pixels);
+    cJSON_AddNumberToObject(j, "smooth_fraction",
+                            (double)s->smooth_pixels / ((double)s->small.width * s->small.height));
     cJSON_AddBoolToObject(j, "fg_element", s->small.fg_rgba != NULL);
     cJSON_AddBoolToObject(j, "rest_image", s->small.rest_rgba != NULL);
     cJSON_AddBoolToObject(j, "fg_resampled_large", s->large.fg_resampled);
@@ -732,11 +741,13 @@ static int cmd_run(const options *o, const study_config_list *list)
             continue;
         }
         if (!o->quiet)
-            printf("ddof-study: %s: %ux%u%s, CoC up to %.1f px, band %.1f%% of the image%s%s "
-                   "(loaded in %.1f s)\n",
+            printf("ddof-study: %s: %ux%u%s, CoC up to %.1f px, band %.1f%% of the image, "
+                   "smooth far field %.1f%%%s%s (loaded in %.1f s)\n",
                    scene.name, scene.small.width, scene.small.height,
                    scene.large.width ? " + 1920x1080" : "", (double)scene.max_abs_coc,
                    100.0 * (double)scene.band_pixels /
+                       ((double)scene.small.width * scene.small.height),
+                   100.0 * (double)scene.smooth_pixels /
                        ((double)scene.small.width * scene.small.height),
                    scene.small.fg_rgba ? ", foreground element" : "",
                    scene.nodes[0].image || scene.nodes[1].image || scene.nodes[2].image
