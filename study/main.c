@@ -853,13 +853,16 @@ static int cmd_images(const options *o, const study_config_list *list)
         const size_t pixels = (size_t)w * h;
         float *out = malloc(pixels * 4 * sizeof(float));
         float *band = malloc(pixels * sizeof(float));
+        float *smooth = malloc(pixels * sizeof(float));
         float *abs_coc = abs_of(scene.small.coc, pixels);
-        if (!out || !band || !abs_coc || study_mkdirs(dir) != 0) {
+        if (!out || !band || !smooth || !abs_coc || study_mkdirs(dir) != 0) {
             fprintf(stderr, "ddof-study: cannot prepare %s\n", dir);
             rc = 1;
         }
-        for (size_t i = 0; !rc && i < pixels; i++)
+        for (size_t i = 0; !rc && i < pixels; i++) {
             band[i] = scene.band[i];
+            smooth[i] = scene.smooth[i];
+        }
 #define WRITE(name, data, ch)                                                                \
     do {                                                                                     \
         snprintf(path, sizeof path, "%s/%s.npy", dir, name);                                 \
@@ -873,6 +876,7 @@ static int cmd_images(const options *o, const study_config_list *list)
         WRITE("input_coc", scene.small.coc, 1);
         WRITE("input_depth", scene.small.depth, 1);
         WRITE("input_band", band, 1);
+        WRITE("input_smooth", smooth, 1);
         for (size_t i = 0; !rc && i < list->count; i++) {
             const study_config *cfg = &list->items[i];
             char name[128];
@@ -903,6 +907,7 @@ static int cmd_images(const options *o, const study_config_list *list)
             printf("ddof-study: images of %s -> %s\n", scene.name, dir);
         free(out);
         free(band);
+        free(smooth);
         free(abs_coc);
         study_scene_free(&scene);
     }
