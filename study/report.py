@@ -1168,9 +1168,11 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
              "times at that size and at 1920x1080 (a 1080p pinhole render of the same scene)."
              % small)
     L.append("")
-    L.append("| scene | size | largest CoC (px) | band | foreground element | pinhole dB "
-             "(image / band) | Defocus node times (3.4; 4.2; 5.3) |")
-    L.append("|---|---|---:|---:|---|---:|---:|")
+    ran_nodes = [cid for cid in NODE_IDS if study.by_id.get(cid) is not None]
+    L.append("| scene | size | largest CoC (px) | band | smooth far field | foreground element "
+             "| pinhole dB (image / band) | Defocus node times (%s) |"
+             % "; ".join(NODE_NAMES[cid].replace("Defocus node ", "") for cid in ran_nodes))
+    L.append("|---|---|---:|---:|---:|---|---:|---:|")
     pin = study.by_id.get("pinhole")
 
     def node_time(cid, s):
@@ -1183,11 +1185,12 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
 
     for s in study.scene_order:
         r = study.scenes[s]
-        dtime = "; ".join(node_time(cid, s) for cid in NODE_IDS)
-        L.append("| %s | %dx%d%s | %.1f | %.1f%% | %s | %s | %s |" % (
+        dtime = "; ".join(node_time(cid, s) for cid in ran_nodes) or "–"
+        L.append("| %s | %dx%d%s | %.1f | %.1f%% | %s | %s | %s | %s |" % (
             s, r["width"], r["height"],
             " + %dx%d" % (r["large_width"], r["large_height"]) if r.get("large_width") else "",
             r["max_abs_coc_px"], 100 * r["band_fraction"],
+            "%.1f%%" % (100 * r["smooth_fraction"]) if "smooth_fraction" in r else "–",
             "yes" + (" (upscaled for 1080p timing)" if r.get("fg_resampled_large") else "")
             if r.get("fg_element") else "no",
             "%s / %s" % (fmt(pin.psnr[s]), fmt(pin.band[s])) if pin else "–", dtime))
@@ -1210,6 +1213,12 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
              "is in the band: the reach of the blur that crosses the edge, where bleeding and "
              "missing partial occlusion show. A smooth depth ramp (the receding plane) has no "
              "band.")
+    L.append("- **The smooth far field** (*smooth*): the pixels with |CoC| > 8 px, no pixel of "
+             "a depth edge (as above) within 12 px (or within half the pair's larger |CoC| "
+             "where that is more), and no highlight reaching them (an input or truth pixel "
+             "brighter than 1 excludes the pixels within its own |CoC| / 2 + 2 px): plain "
+             "blurred texture, where the blur kernel's shape alone makes the error "
+             "(`study_smooth`, `study/metrics.c`). Shown per scene; not part of the accuracy.")
     L.append("- **Accuracy** (the y axis of the front): %s." % ACCURACY_TEXT)
     L.append("- **Error against the double-precision solve** (*vs double*): the same settings "
              "with `DDOF_SOLVER_REFERENCE_F64` (double throughout, one thread) on the CPU; PSNR "
