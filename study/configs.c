@@ -68,7 +68,7 @@ void study_config_make_id(study_config *cfg)
 }
 
 const char *const study_node_names[STUDY_NODE_COUNT] = {"defocus", "defocus-4.2",
-                                                         "defocus-5.0"};
+                                                         "defocus-5.3"};
 
 int study_config_parse(const char *id, study_config *out)
 {
@@ -459,7 +459,7 @@ int study_config_from_spec(study_config_list *list, const char *spec, char *erro
         if (study_config_parse(tok, &c) != 0 || study_config_add(list, &c, "listed") != 0) {
             snprintf(error, size, "'%s' is not a configuration id or list name (full, smoke, "
                      "baselines); ids look like cpu/thomas/f32/n4/k0.03125/auto, cod4, gather, "
-                     "pinhole, defocus, defocus-4.2, defocus-5.0", tok);
+                     "pinhole, defocus, defocus-4.2, defocus-5.3", tok);
             rc = -1;
         }
     }

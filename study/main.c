@@ -54,11 +54,11 @@ static void usage(FILE *f)
             "       ddof-study list [--configs LIST]\n"
             "\n"
             "A scene folder holds pinhole.exr, truth.exr, camera.json and optionally fg.exr,\n"
-            "pinhole_1080.exr, defocus[-4.2|-5.0].exr + .json (study/scenes/README.md).\n"
+            "pinhole_1080.exr, defocus[-4.2|-5.3].exr + .json (study/scenes/README.md).\n"
             "\n"
             "  --configs LIST     comma-separated ids and lists: full (default), smoke,\n"
             "                     baselines, cpu/thomas/f32/n4/k0.03125/auto, cod4, gather,\n"
-            "                     pinhole, defocus, defocus-4.2, defocus-5.0\n"
+            "                     pinhole, defocus, defocus-4.2, defocus-5.3\n"
             "  --out DIR          run: DIR/results.jsonl; images: DIR/<scene>/<id>.npy\n"
             "  --append           add to an existing results.jsonl instead of replacing it\n"
             "  --reps N           timed calls after the warm-up at the scene's size (5)\n"
@@ -604,7 +604,7 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
     cJSON_AddBoolToObject(r, "available", available);
     cJSON_AddStringToObject(r, "note", note);
 
-    double psnr = NAN, band = NAN;
+    double psnr = NAN, band = NAN, smooth = NAN;
     if (image) {
         psnr = study_psnr(image, scene->truth, pixels, NULL);
         band = study_psnr(image, scene->truth, pixels, scene->band);
@@ -612,6 +612,8 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         study_linear_diff(image, scene->truth, pixels, &max_abs, &rms);
         add_number_or_null(r, "psnr", psnr);
         add_number_or_null(r, "psnr_band", band);
+        smooth = study_psnr(image, scene->truth, pixels, scene->smooth);
+        add_number_or_null(r, "psnr_smooth", smooth);
         add_number_or_null(r, "rmse_linear", rms);
         if (cfg->kind == STUDY_DIFFUSION) {
             char error[1100] = "";
@@ -627,11 +629,15 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         }
     }
 
-    char band_text[32];
+    char band_text[64];
     if (isnan(band))
         snprintf(band_text, sizeof band_text, "no band");
     else
         snprintf(band_text, sizeof band_text, "band %.2f dB", band);
+    if (!isnan(smooth)) {
+        const size_t used = strlen(band_text);
+        snprintf(band_text + used, sizeof band_text - used, ", smooth %.2f dB", smooth);
+    }
     if (!available)
         snprintf(summary, summary_size, "%s", note);
     else if (note[0])
@@ -659,6 +665,9 @@ static cJSON *scene_json(const study_scene *s)
     cJSON_AddNumberToObject(j, "band_pixels", (double)s->band_pixels);
     cJSON_AddNumberToObject(j, "band_fraction",
                             (double)s->band_pixels / ((double)s->small.width * s->small.height));
+    cJSON_AddNumberToObject(j, "smooth_pixels", (double)s->smooth_pixels);
+    cJSON_AddNumberToObject(j, "smooth_fraction",
+                            (double)s->smooth_pixels / ((double)s->small.width * s->small.height));
     cJSON_AddBoolToObject(j, "fg_element", s->small.fg_rgba != NULL);
     cJSON_AddBoolToObject(j, "rest_image", s->small.rest_rgba != NULL);
     cJSON_AddBoolToObject(j, "fg_resampled_large", s->large.fg_resampled);
@@ -733,11 +742,13 @@ static int cmd_run(const options *o, const study_config_list *list)
             continue;
         }
         if (!o->quiet)
-            printf("ddof-study: %s: %ux%u%s, CoC up to %.1f px, band %.1f%% of the image%s%s "
-                   "(loaded in %.1f s)\n",
+            printf("ddof-study: %s: %ux%u%s, CoC up to %.1f px, band %.1f%% of the image, "
+                   "smooth far field %.1f%%%s%s (loaded in %.1f s)\n",
                    scene.name, scene.small.width, scene.small.height,
                    scene.large.width ? " + 1920x1080" : "", (double)scene.max_abs_coc,
                    100.0 * (double)scene.band_pixels /
+                       ((double)scene.small.width * scene.small.height),
+                   100.0 * (double)scene.smooth_pixels /
                        ((double)scene.small.width * scene.small.height),
                    scene.small.fg_rgba ? ", foreground element" : "",
                    scene.nodes[0].image || scene.nodes[1].image || scene.nodes[2].image
@@ -843,13 +854,16 @@ static int cmd_images(const options *o, const study_config_list *list)
         const size_t pixels = (size_t)w * h;
         float *out = malloc(pixels * 4 * sizeof(float));
         float *band = malloc(pixels * sizeof(float));
+        float *smooth = malloc(pixels * sizeof(float));
         float *abs_coc = abs_of(scene.small.coc, pixels);
-        if (!out || !band || !abs_coc || study_mkdirs(dir) != 0) {
+        if (!out || !band || !smooth || !abs_coc || study_mkdirs(dir) != 0) {
             fprintf(stderr, "ddof-study: cannot prepare %s\n", dir);
             rc = 1;
         }
-        for (size_t i = 0; !rc && i < pixels; i++)
+        for (size_t i = 0; !rc && i < pixels; i++) {
             band[i] = scene.band[i];
+            smooth[i] = scene.smooth[i];
+        }
 #define WRITE(name, data, ch)                                                                \
     do {                                                                                     \
         snprintf(path, sizeof path, "%s/%s.npy", dir, name);                                 \
@@ -863,6 +877,7 @@ static int cmd_images(const options *o, const study_config_list *list)
         WRITE("input_coc", scene.small.coc, 1);
         WRITE("input_depth", scene.small.depth, 1);
         WRITE("input_band", band, 1);
+        WRITE("input_smooth", smooth, 1);
         for (size_t i = 0; !rc && i < list->count; i++) {
             const study_config *cfg = &list->items[i];
             char name[128];
@@ -893,6 +908,7 @@ static int cmd_images(const options *o, const study_config_list *list)
             printf("ddof-study: images of %s -> %s\n", scene.name, dir);
         free(out);
         free(band);
+        free(smooth);
         free(abs_coc);
         study_scene_free(&scene);
     }

@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* metrics.c - the errors of the study: PSNR as `ddof --compare` computes it (plugin/apps/cli/
- * compare.c: RGB, sRGB-encoded values clamped to [0, 1], peak 1), over the image or over the
- * band around depth edges, and linear differences against the double-precision reference. */
+ * compare.c: RGB, sRGB-encoded values clamped to [0, 1], peak 1), over the image, over the
+ * band around depth edges or over the smooth far field, and linear differences against the
+ * double-precision reference. */
 #include "study.h"
 
 #include "compare.h"
@@ -48,6 +49,67 @@ size_t study_band(const float *coc, uint32_t width, uint32_t height, unsigned ch
     size_t count = 0;
     for (size_t i = 0; i < (size_t)width * height; i++)
         count += band[i];
+    return count;
+}
+
+/* Sets every pixel of mask within radius r (Euclidean) of (x, y) to value. */
+static void stamp_disc(unsigned char *mask, uint32_t width, uint32_t height, uint32_t x,
+                       uint32_t y, float r, unsigned char value)
+{
+    const int ri = (int)floorf(r);
+    const float r2 = r * r;
+    for (int dy = -ri; dy <= ri; dy++) {
+        const long yy = (long)y + dy;
+        if (yy < 0 || yy >= (long)height)
+            continue;
+        for (int dx = -ri; dx <= ri; dx++) {
+            const long xx = (long)x + dx;
+            if (xx < 0 || xx >= (long)width || (float)(dx * dx + dy * dy) > r2)
+                continue;
+            mask[(size_t)yy * width + (size_t)xx] = value;
+        }
+    }
+}
+
+static float max_rgb(const float *rgba, size_t i)
+{
+    return fmaxf(rgba[i * 4], fmaxf(rgba[i * 4 + 1], rgba[i * 4 + 2]));
+}
+
+size_t study_smooth(const float *coc, const float *rgba, const float *truth, uint32_t width,
+                    uint32_t height, unsigned char *smooth)
+{
+    const size_t pixels = (size_t)width * height;
+    for (size_t i = 0; i < pixels; i++)
+        smooth[i] = fabsf(coc[i]) > STUDY_SMOOTH_MIN_COC_PX;
+    for (uint32_t y = 0; y < height; y++) {
+        for (uint32_t x = 0; x < width; x++) {
+            const size_t i = (size_t)y * width + x;
+            const float c = coc[i];
+            /* Depth edges: both pixels of a 4-neighbour pair, the right and the lower. */
+            for (int dir = 0; dir < 2; dir++) {
+                const uint32_t nx = x + (dir == 0), ny = y + (dir == 1);
+                if (nx >= width || ny >= height)
+                    continue;
+                const float d = coc[(size_t)ny * width + nx];
+                if (!(fabsf(c - d) >= STUDY_EDGE_COC_PX))
+                    continue;
+                /* 12 px, or the reach of the blur across the edge where that is larger (a
+                 * near object's, as the band takes it). */
+                const float r = fmaxf(STUDY_SMOOTH_EDGE_PX, 0.5f * fmaxf(fabsf(c), fabsf(d)));
+                stamp_disc(smooth, width, height, x, y, r, 0);
+                stamp_disc(smooth, width, height, nx, ny, r, 0);
+            }
+            /* Highlights of the input or the truth, and where their discs land. */
+            if (max_rgb(rgba, i) > STUDY_SMOOTH_HIGHLIGHT ||
+                (truth && max_rgb(truth, i) > STUDY_SMOOTH_HIGHLIGHT))
+                stamp_disc(smooth, width, height, x, y,
+                           0.5f * fabsf(c) + STUDY_SMOOTH_HIGHLIGHT_MARGIN_PX, 0);
+        }
+    }
+    size_t count = 0;
+    for (size_t i = 0; i < pixels; i++)
+        count += smooth[i];
     return count;
 }
 

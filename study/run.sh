@@ -2,7 +2,7 @@
 # SPDX-License-Identifier: MIT
 # study/run.sh - the accuracy-vs-cost study (issue 7) in one command: builds ddof-study, renders
 # the ground-truth scenes (cached), runs Blender's Defocus node on them (cached; Blender 3.4, and
-# 4.2 and 5.0 through PyPI's bpy where scripts/bpy_venv.sh can install it), runs the sweep and
+# 4.2 and 5.3 through PyPI's bpy where scripts/bpy_venv.sh can install it), runs the sweep and
 # writes the report. Installs what is missing first (Debian packages, as scripts/test.sh).
 #
 #   bash study/run.sh                  the full study: docs/accuracy.md, docs/images/accuracy_*.png
@@ -15,7 +15,7 @@
 #
 # Options: --configs LIST (ddof-study's list: full, smoke, ids), --scenes a,b (a subset of the
 # scenes), --no-large (no 1920x1080 timings), --threads N (the CPU contexts' threads),
-# --no-gl (never load the GL plugin), --bpy-nodes-1080 (time the 4.2 and 5.0 Defocus nodes at
+# --no-gl (never load the GL plugin), --bpy-nodes-1080 (time the 4.2 and 5.3 Defocus nodes at
 # 1920x1080 too: off by default, as they are far slower than 3.4's; see study/scenes/README.md).
 # Environment: DDOF_STUDY_EXE (a built ddof-study: skip the build), DDOF_STUDY_NO_INSTALL=1
 # (never install packages; what ctest sets), BLENDER (the blender executable).
@@ -191,7 +191,7 @@ if [ "$mode" != report ]; then
     step "Blender's Defocus node (3.4, $blender) on ${#scene_dirs[@]} scene(s) (cached)"
     run_node defocus "$blender" -b --factory-startup --python-exit-code 1 --python
 
-    # The node of Blender 4.2 LTS and 5.0 through PyPI's bpy (scripts/bpy_venv.sh makes the
+    # The node of Blender 4.2 LTS and 5.3 through PyPI's bpy (scripts/bpy_venv.sh makes the
     # venvs, cached; a version it cannot install is skipped with its reason). Not in the smoke
     # run (its configurations do not use them).
     if [ "$mode" = full ]; then
@@ -200,11 +200,11 @@ if [ "$mode" != report ]; then
             node_tags=("" 1080)
         else
             node_tags=("")
-            echo "study/run.sh: the 4.2 and 5.0 Defocus nodes run at the scenes' size only" \
+            echo "study/run.sh: the 4.2 and 5.3 Defocus nodes run at the scenes' size only" \
                 "(--bpy-nodes-1080 times them at 1920x1080 too)"
         fi
-        [ "${DDOF_STUDY_NO_INSTALL:-0}" = 1 ] || bash scripts/bpy_venv.sh 4.2.23 5.0.1
-        for v in 4.2.23 5.0.1; do
+        [ "${DDOF_STUDY_NO_INSTALL:-0}" = 1 ] || bash scripts/bpy_venv.sh 4.2.23 5.3.0
+        for v in 4.2.23 5.3.0; do
             venv=$bpy_cache/venv-$v
             if [ ! -f "$venv/ok" ]; then
                 reason=$(cat "$venv.reason" 2>/dev/null ||

@@ -262,6 +262,7 @@ void study_scene_free(study_scene *s)
     frame_free(&s->large);
     free(s->truth);
     free(s->band);
+    free(s->smooth);
     for (int n = 0; n < STUDY_NODE_COUNT; n++)
         free(s->nodes[n].image);
     memset(s, 0, sizeof *s);
@@ -366,6 +367,13 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         goto failed;
     }
     s->band_pixels = study_band(s->small.coc, s->small.width, s->small.height, s->band);
+    s->smooth = malloc(pixels);
+    if (!s->smooth) {
+        fail(error, size, "out of memory");
+        goto failed;
+    }
+    s->smooth_pixels = study_smooth(s->small.coc, s->small.rgba, s->truth, s->small.width,
+                                    s->small.height, s->smooth);
     for (size_t i = 0; i < pixels; i++)
         s->max_abs_coc = fmaxf(s->max_abs_coc, fabsf(s->small.coc[i]));
 

@@ -25,7 +25,7 @@ typedef enum study_kind {
 
 /* The Defocus nodes the study compares, one per Blender: the ids of their baselines and the
  * names of their files in a scene folder (<name>.exr, <name>.json, <name>_1080.json), as
- * study/scenes/defocus_node.py names them: Debian's Blender 3.4, then 4.2 LTS and 5.0 (PyPI's
+ * study/scenes/defocus_node.py names them: Debian's Blender 3.4, then 4.2 LTS and 5.3 (PyPI's
  * bpy). */
 enum { STUDY_NODE_COUNT = 3 };
 extern const char *const study_node_names[STUDY_NODE_COUNT];
@@ -122,6 +122,8 @@ typedef struct study_scene {
     float *truth;         /* RGBA of the Cycles lens-DOF render, small size                     */
     unsigned char *band;  /* 1 where a pixel lies in the band around depth edges                */
     size_t band_pixels;
+    unsigned char *smooth; /* 1 where a pixel lies in the smooth far field (study_smooth)       */
+    size_t smooth_pixels;
     float max_abs_coc;
     double seconds_coc_small, seconds_coc_large; /* ddof_coc_from_camera, median             */
     study_node nodes[STUDY_NODE_COUNT]; /* the Defocus nodes' results (study_node_names)      */
@@ -141,6 +143,24 @@ void study_scene_free(study_scene *scene);
 #define STUDY_EDGE_COC_PX 2.0f
 #define STUDY_BAND_MIN_PX 4.0f
 size_t study_band(const float *coc, uint32_t width, uint32_t height, unsigned char *band);
+
+/* The smooth far field: pixels with |CoC| > STUDY_SMOOTH_MIN_COC_PX, no pixel of a depth edge
+ * (as the band defines it) within max(STUDY_SMOOTH_EDGE_PX, half the pair's larger |CoC|)
+ * (Euclidean: 12 px, or the reach of a near object's blur), and no highlight reaching
+ * them: a pixel of the input or of the truth whose largest colour channel exceeds
+ * STUDY_SMOOTH_HIGHLIGHT excludes every pixel within its own |CoC| / 2 +
+ * STUDY_SMOOTH_HIGHLIGHT_MARGIN_PX (where its disc lands). The threshold is 1 (the metric's
+ * white), not the library's highlight_threshold 0.25: in a daylight frame the sky and sunlit
+ * grass exceed 0.25 (the library raises its threshold on such frames), and 0.25 would leave
+ * 8 % of the daylight scene's smooth pixels; 1 takes the sun glints and lights. The blurred
+ * plain texture where the diffusion's kernel shape alone makes the error. The CoC is at the
+ * scene's size; rgba and truth are RGBA. Returns the count. */
+#define STUDY_SMOOTH_EDGE_PX 12.0f
+#define STUDY_SMOOTH_MIN_COC_PX 8.0f
+#define STUDY_SMOOTH_HIGHLIGHT 1.0f
+#define STUDY_SMOOTH_HIGHLIGHT_MARGIN_PX 2.0f
+size_t study_smooth(const float *coc, const float *rgba, const float *truth, uint32_t width,
+                    uint32_t height, unsigned char *smooth);
 
 /* PSNR over RGB of sRGB-encoded values clamped to [0, 1], peak 1: plugin/apps/cli/compare.c's
  * definition (`ddof --compare`). mask NULL: every pixel. +inf when identical; NAN when the mask

@@ -4,7 +4,7 @@
     blender -b --factory-startup --python-exit-code 1 --python study/scenes/make_scenes.py -- \
         --out DIR [--scenes a,b,...] [--size WxH] [--samples-pinhole N] [--samples-truth N] \
         [--samples-1080 N] [--no-1080] [--smoke] [--force] [--seed N] \
-        [--only pinhole,truth,fg,rest,1080] [--threads N] [--aperture B,R,A] [--verbose]
+        [--only pinhole,truth,fg,rest,1080] [--threads N] [--aperture B,R,A] [--adopt] [--verbose]
 
 For each scene, into DIR/<scene>/:
   pinhole.exr        the input ddof gets: Blender multilayer EXR, ViewLayer.Combined.R/G/B/A
@@ -23,20 +23,25 @@ For each scene, into DIR/<scene>/:
   render.json        what was rendered with which settings, and how long each render took.
 
 Scenes: thin_bars, near_occluder, receding_plane, highlights, all_sharp, near_railing,
-near_border (README.md beside this
-file says what each stresses). Every material is emission-only ("unlit": an albedo texture
+near_border, daylight (README.md beside this
+file says what each stresses; daylight's sky is Blender's Nishita sky texture, the one
+background that is not a flat colour). Every material is emission-only ("unlit": an albedo texture
 times a fixed fake-Lambert term computed from the shading normal, no light sampling) and the
 renders use no bounces, so the only noise in the truth is that of integrating the lens and the
 pixel footprint, which is what the study measures against.
 
 --smoke renders thin_bars alone at 96x54 with 4/16 samples and no 1080p pinhole (a few
-seconds; the CI smoke test). Outputs newer than this script whose settings match render.json
-are kept (a cache) unless --force. Deterministic: fixed seed, no adaptive sampling, no
-denoiser; --threads (default 2) fixes the thread count. --aperture BLADES,ROTATION_DEG,RATIO
+seconds; the CI smoke test). Outputs whose settings and code fingerprint (code_fingerprint: this
+script less the other scenes' builders, and script_util.py) match render.json are kept (a
+cache) unless --force; --adopt takes outputs recorded without a fingerprint (made before it
+existed) as made by the current code, once, and records it. Deterministic: fixed seed, no
+adaptive sampling, no denoiser; --threads (default 2) fixes the thread count. --aperture BLADES,ROTATION_DEG,RATIO
 gives the camera Blender's Blades, Rotation and Ratio (default 0,0,1: round; the truth then
 draws polygons or ovals, and camera.json carries the aperture_* keys).
 """
 
+import ast
+import hashlib
 import json
 import math
 import os
@@ -49,8 +54,9 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 from script_util import film_and_file, parse, render_to, write_json  # noqa: E402
 
 SCRIPT = os.path.abspath(__file__)
+UTIL = os.path.join(os.path.dirname(SCRIPT), "script_util.py")
 SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp",
-               "near_railing", "near_border"]
+               "near_railing", "near_border", "daylight"]
 
 # Truth samples per scene at the default size: chosen so that two truth renders with
 # different seeds are >= 40 dB apart (README.md, "Noise floor").
@@ -62,6 +68,7 @@ TRUTH_SAMPLES = {
     "all_sharp": 512,
     "near_railing": 2048,
     "near_border": 2048,
+    "daylight": 4096,
 }
 SENSOR_MM = 36.0
 LIGHT_DIR = (0.42, -0.55, 0.72)  # the fake-Lambert light, world space (normalised below)
@@ -78,7 +85,7 @@ def parse_args():
          "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
          "seed": "1", "only": "pinhole,truth,fg,rest,1080", "threads": "2",
          "aperture": "0,0,1"},
-        {"no-1080", "smoke", "force", "verbose"}, required=("out",))
+        {"no-1080", "smoke", "force", "verbose", "adopt"}, required=("out",))
     if args["smoke"]:
         args.update({"scenes": "thin_bars", "size": "96x54", "samples-pinhole": "4",
                      "samples-truth": "16", "no-1080": True})
@@ -476,6 +483,112 @@ def build_all_sharp(scene):
     return cam, []
 
 
+def ramp(tex_type, colors, scale, setup=None, detail=None):
+    """An albedo builder for unlit(): a procedural texture's Fac (object coordinates, metres)
+    through a colour ramp of `colors` (RGB tuples, evenly spaced)."""
+    def build(nodes, links):
+        coord = nodes.new("ShaderNodeTexCoord")
+        tex = nodes.new(tex_type)
+        tex.inputs["Scale"].default_value = scale
+        if detail is not None and "Detail" in tex.inputs:
+            tex.inputs["Detail"].default_value = detail
+        if setup:
+            setup(tex)
+        links.new(coord.outputs["Object"], tex.inputs["Vector"])
+        cr = nodes.new("ShaderNodeValToRGB")
+        elems = cr.color_ramp.elements
+        while len(elems) < len(colors):
+            elems.new(0.5)
+        for i, c in enumerate(colors):
+            elems[i].position = i / (len(colors) - 1)
+            elems[i].color = tuple(c) + (1.0,)
+        fac = tex.outputs["Fac"] if "Fac" in tex.outputs else tex.outputs["Distance"]
+        links.new(fac, cr.inputs["Fac"])
+        return cr.outputs["Color"]
+    return build
+
+
+def build_daylight(scene):
+    """A post in focus at 2.5 m (85 mm f/1.8, pitched 1.5 deg up) in a park: trees at 28-75 m,
+    grass to the horizon and a bright Nishita sky (no sun disc) behind them, sun glints on the
+    crowns and the grass."""
+    import random
+    cam = dict(focal_mm=85.0, fstop=1.8, focus_m=2.5, height=1.2, pitch=-1.5)
+    world = bpy.data.worlds.new("World")
+    scene.world = world
+    world.use_nodes = True
+    nodes, links = world.node_tree.nodes, world.node_tree.links
+    sky = nodes.new("ShaderNodeTexSky")
+    sky.sky_type = "NISHITA"
+    sky.sun_disc = False
+    sky.sun_elevation = math.radians(35.0)
+    sky.sun_rotation = math.radians(150.0)  # behind the camera's right (the camera looks +Y)
+    sky.altitude = 100.0
+    bg = nodes["Background"]
+    bg.inputs["Strength"].default_value = 0.12  # sky 0.5-0.85 linear: bright, under 1
+    links.new(sky.outputs["Color"], bg.inputs["Color"])
+
+    grass = unlit("Grass", multiply(
+        ramp("ShaderNodeTexNoise", [(0.12, 0.2, 0.05), (0.3, 0.45, 0.12), (0.5, 0.55, 0.2)],
+             2.0, detail=3.0),
+        ramp("ShaderNodeTexVoronoi", [(0.7, 0.75, 0.6), (1.0, 1.0, 1.0)], 6.0)),
+        ambient=0.8, key=0.5)
+    plane("Ground", grass, (800.0, 4000.0), (0.0, 2000.0, 0.0))
+    bark = unlit("Bark", ramp("ShaderNodeTexNoise", [(0.08, 0.06, 0.05), (0.3, 0.22, 0.15),
+                                                      (0.45, 0.38, 0.3)], 3.0, detail=3.0))
+    leaves = unlit("Leaves", multiply(
+        ramp("ShaderNodeTexNoise", [(0.05, 0.15, 0.03), (0.2, 0.4, 0.08), (0.45, 0.6, 0.15)],
+             1.5, detail=3.0),
+        ramp("ShaderNodeTexVoronoi", [(0.55, 0.6, 0.5), (1.0, 1.0, 1.0)], 3.0)),
+        ambient=0.55, key=0.7)
+    rng = random.Random(7)
+    eye = (0.0, 0.0, cam["height"])
+    crowns = []
+    # Trees (x, distance): crowns of three overlapping spheres, gaps of sky between them.
+    for i, (x, y) in enumerate([(-13.0, 42.0), (-6.5, 34.0), (-1.0, 58.0), (4.5, 38.0),
+                                (10.5, 50.0), (-19.0, 70.0), (16.0, 66.0), (1.5, 28.0),
+                                (-9.0, 75.0)]):
+        top = rng.uniform(3.5, 5.0)
+        rod("Trunk%d" % i, bark, (x, y, 0.0), (x, y, top + 1.0), rng.uniform(0.2, 0.35),
+            vertices=16)
+        for j in range(3):
+            r = rng.uniform(1.8, 3.0)
+            c = (x + rng.uniform(-2.0, 2.0), y + rng.uniform(-1.0, 1.0),
+                 top + r * 0.7 + rng.uniform(0.0, 1.5))
+            sphere("Crown%d_%d" % (i, j), leaves, c, r, segments=32, rings=16)
+            crowns.append((c, r))
+    # The subject: a wooden post with a sign, in focus at 2.5 m.
+    post = unlit("Post", ramp("ShaderNodeTexWave", [(0.35, 0.25, 0.15), (0.6, 0.45, 0.3)],
+                              25.0))
+    y = cam["focus_m"]
+    rod("Post", post, (-0.1, y + 0.03, 0.0), (-0.1, y + 0.03, 1.32), 0.03)
+    sign = unlit("Sign", checker((0.9, 0.88, 0.8, 1), (0.1, 0.3, 0.15, 1), 50.0))
+    wall("Sign", sign, (0.2, 0.12), y - 0.002, 1.22, x_center=-0.1)
+    # Sun glints: small, very bright spots (what the highlight pass takes) where rays through
+    # some image points (u, v in -1..1, +v up) hit a crown (28-75 m: CoC 19-21 px), 5 cm in
+    # front of it, and on the grass; about 2 px wide in the pinhole.
+    glint = emission("Glint", (1.0, 0.95, 0.85), 20.0)
+    bpy.context.view_layer.update()
+    depsgraph = bpy.context.evaluated_depsgraph_get()
+    p = math.radians(-cam["pitch"])
+    tan_h = SENSOR_MM / 2.0 / cam["focal_mm"]
+    spots = []
+    for u, v in [(-0.62, 0.7), (-0.1, 0.5), (0.67, 0.6), (0.38, 0.85), (-0.75, 0.45)]:
+        a, b = u * tan_h, v * tan_h * 9.0 / 16.0
+        d = (a, math.cos(p) - b * math.sin(p), math.sin(p) + b * math.cos(p))
+        n = math.sqrt(sum(c * c for c in d))
+        d = tuple(c / n for c in d)
+        hit, loc, _, _, obj, _ = scene.ray_cast(depsgraph, eye, d)
+        if not hit or not obj.name.startswith("Crown"):
+            raise RuntimeError("daylight: glint ray (%g, %g) hits %s"
+                               % (u, v, obj.name if hit else "nothing"))
+        spots.append(tuple(q - 0.05 * c for q, c in zip(loc, d)))
+    spots += [(-1.6, 16.0, 0.05), (2.4, 22.0, 0.05)]
+    for i, q in enumerate(spots):
+        sphere("Glint%d" % i, glint, q, 0.0009 * q[1], segments=12, rings=6)
+    return cam, []
+
+
 BUILDERS = {
     "thin_bars": build_thin_bars,
     "near_occluder": build_near_occluder,
@@ -484,6 +597,7 @@ BUILDERS = {
     "all_sharp": build_all_sharp,
     "near_railing": build_near_railing,
     "near_border": build_near_border,
+    "daylight": build_daylight,
 }
 
 
@@ -578,6 +692,27 @@ def plan_outputs(args, name, has_near):
     return plan
 
 
+def code_fingerprint(name):
+    """What a scene's renders depend on in the code: this script without the other scenes'
+    builders and the scene lists (SCENE_NAMES, TRUTH_SAMPLES: the samples are in the cache key,
+    BUILDERS), and script_util.py, as Python's syntax trees (comments and layout do not count).
+    Adding a scene, or editing another one, leaves a scene's cache valid."""
+    skip = {"SCENE_NAMES", "TRUTH_SAMPLES", "BUILDERS"}
+    parts = []
+    for path in (SCRIPT, UTIL):
+        with open(path, encoding="utf-8") as f:
+            tree = ast.parse(f.read())
+        for node in tree.body:
+            if (isinstance(node, ast.FunctionDef) and node.name.startswith("build_") and
+                    node.name != "build_" + name):
+                continue
+            if isinstance(node, ast.Assign) and any(
+                    isinstance(t, ast.Name) and t.id in skip for t in node.targets):
+                continue
+            parts.append(ast.dump(node))
+    return hashlib.sha256("\n".join(parts).encode()).hexdigest()[:16]
+
+
 def reset():
     bpy.ops.wm.read_factory_settings(use_empty=True)
     return bpy.context.scene
@@ -585,7 +720,6 @@ def reset():
 
 def main():
     args = parse_args()
-    script_mtime = os.path.getmtime(SCRIPT)
     total = len(args["scene_list"])
     t_all = time.perf_counter()
     for index, name in enumerate(args["scene_list"], 1):
@@ -603,15 +737,18 @@ def main():
         scene = reset()
         cam, near = BUILDERS[name](scene)
         plan = plan_outputs(args, name, bool(near))
+        code = code_fingerprint(name)
 
         def fresh(entry):
             fname, kind, w, h, samples = entry
             path = os.path.join(out, fname)
             key = {"kind": kind, "size": [w, h], "samples": samples, "seed": int(args["seed"]),
-                   "blender": bpy.app.version_string, "aperture": list(args["aperture_set"])}
+                   "blender": bpy.app.version_string, "aperture": list(args["aperture_set"]),
+                   "code": code}
             old = manifest["files"].get(fname, {})
+            if args["adopt"] and "code" not in old:
+                old = dict(old, code=code)  # made by an earlier script: taken as this code's
             ok = (not args["force"] and os.path.exists(path) and
-                  os.path.getmtime(path) > script_mtime and
                   all(old.get(k) == v for k, v in key.items()))
             return ok, key
 
@@ -620,6 +757,7 @@ def main():
             ok, key = fresh(entry)
             if ok:
                 print("%s: %s is up to date (cached)" % (tag, entry[0]), flush=True)
+                manifest["files"][entry[0]]["code"] = code
             else:
                 todo.append((entry, key))
 

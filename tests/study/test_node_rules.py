@@ -45,7 +45,7 @@ except ValueError:
 
 # The names ddof-study reads (study_node_names in study/configs.c).
 for version, tag in (((3, 4, 1), "defocus"), ((4, 2, 23), "defocus-4.2"),
-                     ((5, 0, 1), "defocus-5.0")):
+                     ((5, 0, 1), "defocus-5.0"), ((5, 3, 0), "defocus-5.3")):
     if node_rules.node_tag(version) != tag:
         failures.append("node_tag(%s) = %r, want %r" % (version, node_rules.node_tag(version), tag))
 
