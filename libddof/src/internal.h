@@ -40,6 +40,7 @@ enum {
     DDOF_SCRATCH_NEAR_PYRAMID,     /* near_layer.c: the fill's pull-push levels          */
     DDOF_SCRATCH_NEAR_OFFSETS,     /* near_offsets.c: the offset search and its scores   */
     DDOF_SCRATCH_APERTURE_SUMS,    /* highlights.c: the aperture image's summed areas    */
+    DDOF_SCRATCH_HIGHLIGHT_HIDDEN, /* highlights.c: the parts hidden by sharp occluders  */
     DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
     DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
 };
