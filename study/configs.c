@@ -14,8 +14,20 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* After the layers' name: the far field's gather on (ddof_params.far_field AUTO). */
+/* After the layers' name: the far field's gather on (ddof_params.far_field AUTO), then the
+ * silhouettes' split (ddof_params.silhouettes AUTO). */
 #define FAR_FIELD_SUFFIX "+ff"
+#define SILHOUETTES_SUFFIX "+sil"
+
+/* Strips `suffix` off the end of `token`; whether it was there. */
+static int strip_suffix(char *token, const char *suffix)
+{
+    const size_t length = strlen(token), suffix_length = strlen(suffix);
+    if (length <= suffix_length || strcmp(token + length - suffix_length, suffix))
+        return 0;
+    token[length - suffix_length] = '\0';
+    return 1;
+}
 
 static const char *const layer_names[LAYERS_COUNT_] = {"single", "bg",    "bg2",
                                                        "bgnear", "auto",  "auto2",
@@ -55,7 +67,9 @@ void study_config_make_id(study_config *cfg)
         snprintf(solver, sizeof solver, "jacobi%u", cfg->jacobi_iterations);
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
-    const char *ff = cfg->far_field ? FAR_FIELD_SUFFIX : "";
+    char ff[16];
+    snprintf(ff, sizeof ff, "%s%s", cfg->far_field ? FAR_FIELD_SUFFIX : "",
+             cfg->silhouettes ? SILHOUETTES_SUFFIX : "");
     if (cfg->kernel != DDOF_KERNEL_HEAT) { /* a disc has no sub-steps or k */
         snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/%s/%s%s", ddof_backend_name(cfg->backend),
                  solver, precision_token(cfg), ddof_kernel_name(cfg->kernel),
@@ -173,12 +187,8 @@ int study_config_parse(const char *id, study_config *out)
         return -1;
     out->beta_scale = k;
     found = 0;
-    const size_t layers_length = strlen(parts[5]), suffix_length = strlen(FAR_FIELD_SUFFIX);
-    if (layers_length > suffix_length &&
-        !strcmp(parts[5] + layers_length - suffix_length, FAR_FIELD_SUFFIX)) {
-        out->far_field = 1;
-        parts[5][layers_length - suffix_length] = '\0';
-    }
+    out->silhouettes = strip_suffix(parts[5], SILHOUETTES_SUFFIX);
+    out->far_field = strip_suffix(parts[5], FAR_FIELD_SUFFIX);
     for (int l = 0; l < LAYERS_COUNT_; l++)
         if (!strcmp(parts[5], layer_names[l])) {
             out->layers = (study_layers)l;
@@ -217,7 +227,9 @@ void study_config_label(const study_config *cfg, char *out, size_t size)
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
     k_text(cfg->beta_scale, k, sizeof k);
-    const char *ff = cfg->far_field ? " + far field" : "";
+    char ff[40];
+    snprintf(ff, sizeof ff, "%s%s", cfg->far_field ? " + far field" : "",
+             cfg->silhouettes ? " + silhouettes" : "");
     if (cfg->kernel != DDOF_KERNEL_HEAT) {
         snprintf(out, size, "%s %s %s %s%s", ddof_backend_name(cfg->backend), solver,
                  ddof_kernel_name(cfg->kernel), study_layers_name(cfg->layers), ff);
@@ -296,8 +308,9 @@ static int add_nodes(study_config_list *list)
     return rc;
 }
 
-/* The far field's gather over the configurations a preset could be: the disc kernels and the
- * heat kernel's best k per sub-step count, with the layers on AUTO (and the near spread). */
+/* The far field's gather, alone and with the silhouettes' split, over the configurations a
+ * preset could be: the disc kernels and the heat kernel's best k per sub-step count, with the
+ * layers on AUTO (and the near spread). */
 static int add_far_field(study_config_list *list)
 {
     int rc = 0;
@@ -310,18 +323,22 @@ static int add_far_field(study_config_list *list)
             c.layers = layers[l];
             static const uint32_t substeps[] = {1, 2, 4};
             static const float k_heat[] = {16, 24};
-            if (k != DDOF_KERNEL_HEAT) {
-                c.substeps = 1;
-                c.beta_scale = DDOF_MOMENT_BETA_SCALE;
-                rc |= study_config_add(list, &c, "far field");
-                continue;
-            }
-            for (size_t n = 0; n < sizeof substeps / sizeof *substeps; n++)
-                for (size_t b = 0; b < sizeof k_heat / sizeof *k_heat; b++) {
-                    c.substeps = substeps[n];
-                    c.beta_scale = 1.0f / k_heat[b];
-                    rc |= study_config_add(list, &c, "far field");
+            for (int split = 0; split < 2; split++) {
+                c.silhouettes = split;
+                const char *sweep = split ? "far field,silhouettes" : "far field";
+                if (k != DDOF_KERNEL_HEAT) {
+                    c.substeps = 1;
+                    c.beta_scale = DDOF_MOMENT_BETA_SCALE;
+                    rc |= study_config_add(list, &c, sweep);
+                    continue;
                 }
+                for (size_t n = 0; n < sizeof substeps / sizeof *substeps; n++)
+                    for (size_t b = 0; b < sizeof k_heat / sizeof *k_heat; b++) {
+                        c.substeps = substeps[n];
+                        c.beta_scale = 1.0f / k_heat[b];
+                        rc |= study_config_add(list, &c, sweep);
+                    }
+            }
         }
     return rc;
 }
@@ -433,6 +450,7 @@ int study_config_named(study_config_list *list, const char *name)
         disc.substeps = 1;
         study_config far = disc;
         far.far_field = 1;
+        far.silhouettes = 1;
         return study_config_add(list, &base, "base") | study_config_add(list, &disc, "kernel") |
                study_config_add(list, &far, "far field") | add_baseline(list, "pinhole");
     }
@@ -482,6 +500,7 @@ void study_config_params(const study_config *cfg, int fg_element, ddof_params *p
     p->background_levels = 1;
     p->near_layer = DDOF_LAYER_OFF; /* AUTO in the AUTO settings only */
     p->far_field = cfg->far_field ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
+    p->silhouettes = cfg->silhouettes ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
     switch (cfg->layers) {
     case LAYERS_SINGLE:
         p->background = DDOF_LAYER_OFF;

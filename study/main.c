@@ -483,6 +483,7 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         cJSON_AddStringToObject(r, "near_spread", layer_mode_name(p.near_spread));
         cJSON_AddStringToObject(r, "near_layer", layer_mode_name(p.near_layer));
         cJSON_AddStringToObject(r, "far_field", layer_mode_name(p.far_field));
+        cJSON_AddStringToObject(r, "silhouettes", layer_mode_name(p.silhouettes));
     } else {
         cJSON_AddStringToObject(r, "backend",
                                 cfg->kind == STUDY_DEFOCUS ? "blender" : "cpu");

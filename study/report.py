@@ -72,9 +72,9 @@ NODE_NAMES = {"defocus": "Defocus node 3.4", "defocus-4.2": "Defocus node 4.2",
               "defocus-5.3": "Defocus node 5.3"}
 BASELINES_TO_BEAT = NODE_IDS
 # Only settings a preset can hold and the CPU can run: ddof_params_init_preset sets method,
-# solver, substeps, beta_scale, background, background_levels, near_spread, near_layer and
-# far_field (Jacobi keeps its default 50 sweeps); no foreground element (that is an input, not a
-# setting).
+# solver, substeps, beta_scale, background, background_levels, near_spread, near_layer,
+# far_field and silhouettes (Jacobi keeps its default 50 sweeps); no foreground element (that is
+# an input, not a setting).
 PRESET_SOLVERS = {"thomas", "cr", "pcr", "reference"}
 PRESET_LAYERS = {"single", "bg", "bg2", "bgnear", "auto", "auto2", "autospread"}
 
@@ -279,11 +279,12 @@ class Config:
         if self.kind == "cod4":
             return ("DDOF_METHOD_COD4_PREVIEW", "DDOF_SOLVER_THOMAS", 1, 1.0 / 32,
                     "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO", "DDOF_KERNEL_HEAT",
-                    "DDOF_LAYER_AUTO", "DDOF_LAYER_OFF")
+                    "DDOF_LAYER_AUTO", "DDOF_LAYER_OFF", "DDOF_LAYER_OFF")
         return ("DDOF_METHOD_DIFFUSION", SOLVER_C[self.solver], int(self.substeps),
                 float(self.k), LAYER_C[f["background"]], int(f["background_levels"]),
                 LAYER_C[f["near_spread"]], KERNEL_C[self.kernel],
-                LAYER_C[f.get("near_layer", "off")], LAYER_C[f.get("far_field", "off")])
+                LAYER_C[f.get("near_layer", "off")], LAYER_C[f.get("far_field", "off")],
+                LAYER_C[f.get("silhouettes", "off")])
 
 
 def k_text(k):
@@ -529,7 +530,7 @@ def write_presets(path, chosen, study, smoke):
         " * Regenerate with: bash study/run.sh%s" % ("  (THIS IS A SMOKE RUN)" if smoke else ""),
         " * Fields: method, solver, substeps, beta_scale, background, background_levels, "
         "near_spread,",
-        " * kernel, near_layer, far_field */",
+        " * kernel, near_layer, far_field, silhouettes */",
     ]
     for name in PRESET_ORDER:
         s = chosen[name].settings_c()
@@ -541,9 +542,9 @@ def write_presets(path, chosen, study, smoke):
             # A disc ignores sub-steps and k: keep HEAT_FALLBACK's, so that `--kernel heat` on
             # top of the preset is a sensible heat diffusion.
             s = s[:2] + HEAT_FALLBACK + s[4:]
-        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s, %s, %s}, /* %s */"
+        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s, %s, %s, %s}, /* %s */"
                      % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], s[7], s[8], s[9],
-                        name))
+                        s[10], name))
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write("\n".join(lines) + "\n")
@@ -852,7 +853,8 @@ def config_name(c):
         return BASELINE_NAMES.get(c.id, c.id)
     solver = c.solver + ("%d" % c.jacobi if c.solver == "jacobi" else "")
     prec = {"packed half": " half", "double": " (double)"}.get(c.precision, "")
-    layers = c.layers + (" + far field" if c.first.get("far_field", "off") != "off" else "")
+    layers = c.layers + (" + far field" if c.first.get("far_field", "off") != "off" else "") + \
+        (" + silhouettes" if c.first.get("silhouettes", "off") != "off" else "")
     if c.kernel != "heat":
         return "%s %s%s, %s, %s" % (c.backend, solver, prec, c.kernel, layers)
     return "%s %s%s, n=%s, k=%s, %s" % (c.backend, solver, prec, c.substeps, k_text(c.k),

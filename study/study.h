@@ -63,6 +63,7 @@ typedef struct study_config {
     ddof_kernel kernel;       /* heat (the ids above) or a disc: "cpu/thomas/f32/disc-2x2/auto" */
     int node;                 /* STUDY_DEFOCUS: which Blender's node (study_node_names)        */
     int far_field;            /* the far field's gather (AUTO): "+ff" after the layers' name   */
+    int silhouettes;          /* the mixed pixels' split (AUTO): "+sil" after that            */
 } study_config;
 
 typedef struct study_config_list {

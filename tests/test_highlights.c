@@ -3,7 +3,8 @@
  * as a flat disc of its CoC with its energy kept and no dark rim (the disc kernel alone leaves
  * one, its ring clamped to the input's range), nothing lands on in-focus or nearer pixels, a near highlight spreads over what is
  * behind it, a light's anti-aliased rim goes with the light's CoC, alpha is the diffusion's, the
- * budget holds, and the parameters are checked. */
+ * budget holds, a highlight split by a thin in-focus bar keeps its light, and the parameters
+ * are checked. */
 #include "test_util.h"
 
 #include <ddof.h>
@@ -137,6 +138,83 @@ static void test_occlusion(void)
     CHECK_EQ_INT(near_lit, 0);
     /* The light the column and the near region did not take stays on this side. */
     CHECK_NEAR(channel_sum(f.out, 0) / channel_sum(f.color, 0), 1.0, 1e-2);
+}
+
+/* A far highlight (5 x 5 pixels of 100 at CoC 20) split by an in-focus bar 3 px wide: the lens
+ * sees the whole disc around the bar, so the light the bar hides in the pinhole is filled in
+ * from the highlight's two visible sides and lands around the bar (libddof before this drew
+ * only the visible 10 pixels' worth: 0.63 of the light around the bar without it). The bar's
+ * pixels stay exactly as they were. */
+static void test_split_by_bar(void)
+{
+    static frame f, g;
+    flat(&f, 20.0f);
+    for (int y = 38; y <= 42; y++)
+        for (int x = 46; x <= 50; x++)
+            for (int c = 0; c < 3; c++)
+                f.color[(y * W + x) * 4 + c] = 100.0f;
+    g = f; /* the same highlight without the bar */
+    for (int y = 0; y < H; y++)
+        for (int x = 47; x <= 49; x++) {
+            for (int c = 0; c < 3; c++)
+                f.color[(y * W + x) * 4 + c] = 0.3f;
+            f.coc[y * W + x] = 0.0f;
+        }
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(run(&f, DDOF_LAYER_ON, &st) == DDOF_OK);
+    CHECK_MSG(strstr(st.plan, "highlights: on: 10 pixels") != NULL &&
+                  strstr(st.plan, "(+15 hidden by sharp occluders)") != NULL,
+              "%s", st.plan);
+    CHECK(run(&g, DDOF_LAYER_ON, NULL) == DDOF_OK);
+    int bar_changed = 0, bad = 0;
+    double around_f = 0.0, around_g = 0.0;
+    for (int i = 0; i < N; i++) {
+        const int x = i % W;
+        for (int c = 0; c < 4; c++)
+            bad += !isfinite(f.out[i * 4 + c]);
+        if (x >= 47 && x <= 49) {
+            for (int c = 0; c < 4; c++)
+                bar_changed += f.out[i * 4 + c] != f.color[i * 4 + c];
+        } else {
+            around_f += f.out[i * 4];
+            around_g += g.out[i * 4];
+        }
+    }
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(bar_changed, 0);
+    /* The hidden 15 pixels' excess (100 - 0.25 each) comes on top of the frame's own, less
+     * the share of their discs that the bar covers (a lens' disc loses that strip too). */
+    const double added = channel_sum(f.out, 0) - channel_sum(f.color, 0);
+    CHECK_MSG(added > 0.7 * 15.0 * 99.75 && added < 15.0 * 99.75, "hidden light %g of %g",
+              added, 15.0 * 99.75);
+    /* Around the bar, what the same highlight without the bar puts there: a little more (the
+     * visible pixels' discs are renormalised around the bar, as before), never less. */
+    CHECK_MSG(around_f >= 0.99 * around_g && around_f <= 1.1 * around_g,
+              "around the bar %g, without the bar %g", around_f, around_g);
+    printf("split by a bar: hidden light %.1f of %.1f, around the bar %.1f (without it %.1f)\n",
+           added, 15.0 * 99.75, around_f, around_g);
+}
+
+/* A bar wider than the highlight's radius hides what the lens cannot see around either: no
+ * hidden part is made up. */
+static void test_wide_occluder(void)
+{
+    static frame f;
+    flat(&f, 20.0f);
+    for (int y = 38; y <= 42; y++)
+        for (int x = 30; x <= 50; x++)
+            for (int c = 0; c < 3; c++)
+                f.color[(y * W + x) * 4 + c] = 100.0f;
+    for (int y = 0; y < H; y++)
+        for (int x = 33; x <= 47; x++) { /* 15 px: wider than the radius of 10 */
+            for (int c = 0; c < 3; c++)
+                f.color[(y * W + x) * 4 + c] = 0.3f;
+            f.coc[y * W + x] = 0.0f;
+        }
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(run(&f, DDOF_LAYER_ON, &st) == DDOF_OK);
+    CHECK_MSG(strstr(st.plan, "hidden by sharp occluders") == NULL, "%s", st.plan);
+    CHECK_NEAR(channel_sum(f.out, 0) / channel_sum(f.color, 0), 1.0, 1e-3);
 }
 
 /* A near highlight in front of an in-focus background spreads over it. */
@@ -292,6 +370,43 @@ static void test_budget(void)
     CHECK_MSG(strstr(st.plan, "highlights: off: the brightest pixels") != NULL, "%s", st.plan);
 }
 
+/* Highlights split by many bars: their hidden parts come within the pass's budget. */
+static void test_hidden_budget(void)
+{
+    static frame f;
+    flat(&f, 40.0f);
+    test_rng rng = {7u};
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            if (x % 4 == 0) {
+                f.coc[y * W + x] = 0.0f; /* a bar every 4 columns */
+                continue;
+            }
+            const float v = 2.0f * exp2f(11.0f * (float)test_uniform(&rng)); /* 2 .. 4096 */
+            for (int c = 0; c < 3; c++)
+                f.color[(y * W + x) * 4 + c] = v;
+        }
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(run(&f, DDOF_LAYER_AUTO, &st) == DDOF_OK);
+    const char *hidden = strstr(st.plan, "hidden by sharp occluders"),
+               *cost = strstr(st.plan, "drawn as discs (");
+    double per_pixel = 99.0;
+    CHECK_MSG(hidden != NULL && cost != NULL, "%s", st.plan);
+    if (cost)
+        CHECK(sscanf(cost, "drawn as discs (%lf", &per_pixel) == 1);
+    CHECK_MSG(per_pixel <= 8.0, "%g operations per frame pixel", per_pixel);
+    int bad = 0, bar_changed = 0;
+    for (int i = 0; i < N; i++) {
+        for (int c = 0; c < 4; c++)
+            bad += !isfinite(f.out[i * 4 + c]);
+        if (i % W % 4 == 0)
+            for (int c = 0; c < 4; c++)
+                bar_changed += f.out[i * 4 + c] != f.color[i * 4 + c];
+    }
+    CHECK_EQ_INT(bad, 0);
+    CHECK_EQ_INT(bar_changed, 0);
+}
+
 static void test_params(void)
 {
     static frame f;
@@ -423,11 +538,14 @@ int main(void)
     CHECK(ddof_context_create(&co, &ctx) == DDOF_OK);
     test_one_highlight();
     test_occlusion();
+    test_split_by_bar();
+    test_wide_occluder();
     test_near_spreads();
     test_rim_takes_the_lights_coc();
     test_in_focus_beside_a_highlight();
     test_element_highlight();
     test_budget();
+    test_hidden_budget();
     test_params();
     test_extreme_colour();
     ddof_context_free(ctx);

@@ -19,9 +19,12 @@
  * least half as blurred and on the far side (signed CoC >= half its own), so nothing is drawn
  * over in-focus or nearer pixels, and its weights are renormalised over the pixels it lands
  * on, so the light is kept as the diffusion keeps it at an insulator. A near highlight spreads
- * over everything behind it. Colour channels only: alpha (channel 3 of 4) is left to the
- * diffusion. A foreground element gets the same pass on its own premultiplied colour
- * (layers.c), its discs drawn into it before the composite. */
+ * over everything behind it. Where a thin sharp occluder (a bar, a strand) cuts a far
+ * highlight, the part it hides is filled in across it from the visible sides and drawn too, so
+ * the lens' whole disc shows around the occluder (highlights.c: the hidden parts). Colour
+ * channels only: alpha (channel 3 of 4) is left to the diffusion. A foreground element gets
+ * the same pass on its own premultiplied colour (layers.c), its discs drawn into it before the
+ * composite. */
 #ifndef DDOF_HIGHLIGHTS_H
 #define DDOF_HIGHLIGHTS_H
 
@@ -31,6 +34,7 @@
 
 #define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
 #define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel   */
+#define DDOF_HIGHLIGHT_SHARP_PX 2.0f   /* |CoC| below this: a sharp occluder          */
 
 /* A pixel's brightness for the pass: its largest colour channel (colour is checked finite
  * before any pass runs, so a plain compare does; fmaxf is a library call that orders NaNs, and
@@ -68,6 +72,9 @@ typedef struct highlight {
     uint32_t x, y;
     float coc;       /* signed CoC its light is drawn with (highlights.c: highlight_coc) */
     float excess[3]; /* colour above the threshold, taken out before the diffusion    */
+    uint32_t hidden; /* 1: a part hidden by a sharp occluder, filled in (highlights.c): its
+                        disc is not renormalised, the occluder keeps its share, as a lens'
+                        disc behind a bar loses the strip the bar covers               */
 } highlight;
 
 typedef struct highlight_set {
@@ -80,16 +87,22 @@ typedef struct highlight_set {
     uint32_t *landing;/* scratch for the scatter: (width + 1) x height                 */
     const double *aperture_sums; /* the aperture image's summed-area table, scaled to a
                                     maximum of 1: (w + 1) x (h + 1); NULL without an image */
+    uint32_t hidden;  /* of count: pixels of a sharp occluder that took a far highlight's
+                         hidden part (highlights.c: the hidden parts)                  */
 } highlight_set;
 
 /* Finds the highlights of r (colour with 3 or 4 channels, its signed or unsigned CoC), a
  * highlight costing its rows and rim, or its area with an aperture image (aperture may be NULL):
  * pixels whose largest colour channel exceeds `threshold` and whose |CoC| >= the minimum,
  * and writes `base` (width x height x channels floats, packed) = the colour with their excess
- * taken out. set->count 0: none (base is then not written). Memory from the context. */
+ * taken out. set->count 0: none (base is then not written). Memory from the context.
+ * `hidden_parts` 1: where a sharp occluder (|CoC| < DDOF_HIGHLIGHT_SHARP_PX) at most a far
+ * highlight's radius wide cuts it, the occluder's pixels get the hidden part, filled across
+ * the occluder from the highlight's visible pixels, as extra highlights (within the budget);
+ * their discs land, like any far disc, only around the occluder. */
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
-                                 int coc_signed, const highlight_aperture *aperture, float *base,
-                                 highlight_set *set);
+                                 int coc_signed, const highlight_aperture *aperture,
+                                 int hidden_parts, float *base, highlight_set *set);
 
 /* Adds each highlight's excess to r->out as its disc (aperture NULL) or the aperture's shape.
  * scratch: width x height x 3 floats (the base image of ddof_find_highlights may serve: it is

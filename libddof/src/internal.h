@@ -40,6 +40,7 @@ enum {
     DDOF_SCRATCH_NEAR_PYRAMID,     /* near_layer.c: the fill's pull-push levels          */
     DDOF_SCRATCH_NEAR_OFFSETS,     /* near_offsets.c: the offset search and its scores   */
     DDOF_SCRATCH_APERTURE_SUMS,    /* highlights.c: the aperture image's summed areas    */
+    DDOF_SCRATCH_HIGHLIGHT_HIDDEN, /* highlights.c: the parts hidden by sharp occluders  */
     DDOF_SCRATCH_FAR_FIELD_MAPS,   /* far_field.c: radius, weight and reach maps          */
     DDOF_SCRATCH_FAR_FIELD_LEVELS, /* far_field_gather.c: levels, prefix sums, samples   */
     DDOF_SCRATCH_SILHOUETTES,      /* silhouettes.c: the mixed pixels' changes           */

@@ -455,7 +455,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
                              "could not allocate the highlight pass's %ux%u image", r->width,
                              r->height);
         if ((status = ddof_find_highlights(context, &er, q->params->highlight_threshold, 0,
-                                           &q->aperture, base, &lights)) != DDOF_OK)
+                                           &q->aperture, 0, base, &lights)) != DDOF_OK)
             return status;
         if (lights.count)
             element = base;
@@ -546,7 +546,7 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
                          r->height);
     ddof_status status =
         ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
-                             &q->aperture, base, set);
+                             &q->aperture, 1, base, set);
     if (status != DDOF_OK)
         return status;
     char shape[48] = "discs";
@@ -555,10 +555,14 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
                  q->aperture.image_height);
     else if (q->aperture.blades >= 3)
         snprintf(shape, sizeof shape, "%u-bladed polygons", q->aperture.blades);
+    char hidden[48] = "";
+    if (set->hidden)
+        snprintf(hidden, sizeof hidden, " (+%u hidden by sharp occluders)", set->hidden);
     if (set->count)
-        snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px "
+        snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px%s "
                              "drawn as %s (%.2f operations per frame pixel)",
-                 set->count, (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX, shape,
+                 set->count - set->hidden, (double)set->threshold,
+                 (double)DDOF_HIGHLIGHT_MIN_COC_PX, hidden, shape,
                  (double)set->cost / ((double)r->width * r->height));
     else if (set->over_budget)
         snprintf(line, size, "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g "

@@ -58,10 +58,13 @@ UTIL = os.path.join(os.path.dirname(SCRIPT), "script_util.py")
 SCENE_NAMES = ["thin_bars", "near_occluder", "receding_plane", "highlights", "all_sharp",
                "near_railing", "near_border", "daylight"]
 
+SCENE_NAMES.insert(1, "thin_strands")  # issue 29, beside thin_bars
+
 # Truth samples per scene at the default size: chosen so that two truth renders with
 # different seeds are >= 40 dB apart (README.md, "Noise floor").
 TRUTH_SAMPLES = {
     "thin_bars": 1024,
+    "thin_strands": 8192,
     "near_occluder": 2048,
     "receding_plane": 2048,
     "highlights": 8192,
@@ -334,6 +337,89 @@ def build_thin_bars(scene):
     return cam, []
 
 
+def strand(name, mat, points, radius):
+    """A hair-like strand: a poly curve through points, bevelled to radius and turned into a
+    mesh (the study's fg / rest passes switch meshes only)."""
+    data = bpy.data.curves.new(name, "CURVE")
+    data.dimensions = "3D"
+    data.bevel_depth = radius
+    data.bevel_resolution = 1
+    data.use_fill_caps = True
+    spline = data.splines.new("POLY")
+    spline.points.add(len(points) - 1)
+    for point, p in zip(spline.points, points):
+        point.co = (p[0], p[1], p[2], 1.0)
+    obj = bpy.data.objects.new(name, data)
+    bpy.context.scene.collection.objects.link(obj)
+    for other in bpy.context.selected_objects:
+        other.select_set(False)
+    obj.select_set(True)
+    bpy.context.view_layer.objects.active = obj
+    bpy.ops.object.convert(target="MESH")
+    obj = bpy.context.active_object
+    return _finish(obj, name, mat, smooth=True)
+
+
+def build_thin_strands(scene):
+    """In-focus bars (2-6 px), hair-like strands (1-2 px) and a wire at 3 m before a dark
+    brick wall at 25 m with 18 lights at 12-22 m (CoC 17-20 px), ten of them partly behind a
+    bar or the strands; the thin structures are the foreground element (fg.exr)."""
+    cam = dict(focal_mm=85.0, fstop=1.4, focus_m=3.0, height=1.2, pitch=0.0)
+    set_world(scene, (0.02, 0.025, 0.04))
+    back = unlit("Wall", multiply(
+        texture("ShaderNodeTexBrick", [(0.2, 0.13, 0.08, 1), (0.11, 0.07, 0.05, 1)], 1.0,
+                bricks(0.6, 0.22, 0.03, (0.03, 0.03, 0.035, 1.0))),
+        checker((1.0, 1.0, 1.0, 1), (0.55, 0.65, 0.8, 1), 0.7), 0.6), ambient=0.7, key=0.4)
+    wall("Wall", back, (40.0, 20.0), 25.0, 1.2)
+    px = 2.0 / 480.0  # one pixel of the 480x270 frame in at()'s u
+    d = cam["focus_m"]
+    pitch = d * SENSOR_MM / cam["focal_mm"] / 480.0  # metres per pixel at the focus
+    near = []
+    # Vertical bars: u, width in pixels, material.
+    bar_mats = [unlit("BarWhite", (0.85, 0.85, 0.82)), unlit("BarDark", (0.04, 0.04, 0.045)),
+                unlit("BarRed", texture("ShaderNodeTexWave", None, 12.0, wave_z))]
+    bars = [(-0.72, 3.0, 0), (-0.40, 2.0, 1), (-0.02, 4.0, 2), (0.62, 3.0, 0), (0.86, 6.0, 1)]
+    for i, (u, w, m) in enumerate(bars):
+        r = w * pitch / 2.0
+        top, bottom = at(cam, u, 1.1, d + r), at(cam, u, -1.1, d + r)
+        near.append(rod("Bar%d" % i, bar_mats[m], bottom, top, r, vertices=12).name)
+    # A slanted wire, 1 px.
+    wire_mat = unlit("Wire", (0.6, 0.62, 0.65))
+    near.append(rod("Wire", wire_mat, at(cam, -1.1, 0.42, d), at(cam, 1.1, 0.2, d),
+                    0.5 * pitch, vertices=8).name)
+    # Hair: two hanks of strands hanging from the top edge with a gentle sway, radii of 0.5
+    # to 1 pixel, blond and dark.
+    hair = [unlit("HairBlond", (0.8, 0.62, 0.35)), unlit("HairDark", (0.09, 0.06, 0.04))]
+    for hank, (u0, count, length) in enumerate([(-0.28, 14, 1.6), (0.28, 12, 1.3)]):
+        for k in range(count):
+            u = u0 + (k - count / 2.0) * 0.011
+            depth = d + 0.01 * ((k * 7) % 5 - 2)
+            amp, phase = 0.015 + 0.01 * (k % 3), 0.7 * k
+            points = []
+            for j in range(25):
+                t = j / 24.0
+                v = 1.1 - t * length * (0.85 + 0.15 * ((k * 3) % 4) / 3.0)
+                du = amp * math.sin(3.0 * t + phase) + 0.04 * t * t * (1 if k % 2 else -1)
+                points.append(at(cam, u + du, v, depth))
+            r = pitch * (0.5 + 0.5 * ((k * 5) % 3) / 2.0)
+            near.append(strand("Hair%d_%d" % (hank, k), hair[(k // 2) % 2], points, r).name)
+    # Far lights (u, v, distance): behind a bar's middle, beside its edge, behind the hair,
+    # and free (for the free highlights' neighbourhood).
+    warm = [(1.0, 0.7, 0.35), (1.0, 0.85, 0.55), (0.6, 0.8, 1.0), (1.0, 0.55, 0.3)]
+    lights = [(-0.72, 0.65, 14.0), (-0.72 + 2 * px, -0.25, 18.0), (-0.40 - 1.5 * px, 0.1, 12.0),
+              (-0.02, -0.55, 20.0), (-0.02 + 3 * px, 0.75, 16.0), (0.62 - 2 * px, 0.0, 22.0),
+              (0.86 + 4 * px, -0.7, 15.0), (-0.28, 0.25, 13.0), (0.27, 0.55, 17.0),
+              (0.30, -0.05, 21.0),
+              (-0.88, -0.3, 13.0), (-0.55, -0.75, 16.0), (-0.2, -0.82, 19.0),
+              (0.12, 0.1, 14.0), (0.45, -0.45, 18.0), (0.16, -0.7, 12.0), (0.75, 0.6, 20.0),
+              (-0.55, 0.5, 22.0)]
+    for i, (u, v, dist) in enumerate(lights):
+        strength = (60.0, 25.0, 10.0)[i % 3]
+        sphere("Light%d" % i, emission("Light%d" % i, warm[i % 4], strength),
+               at(cam, u, v, dist), 0.0022 * dist)
+    return cam, near
+
+
 def build_near_occluder(scene):
     """A chequered Suzanne in focus at 4 m behind a post at 1.2 m and a branch at 0.7 m."""
     cam = dict(focal_mm=85.0, fstop=1.4, focus_m=4.0, height=1.2, pitch=0.0)
@@ -591,6 +677,7 @@ def build_daylight(scene):
 
 BUILDERS = {
     "thin_bars": build_thin_bars,
+    "thin_strands": build_thin_strands,
     "near_occluder": build_near_occluder,
     "receding_plane": build_receding_plane,
     "highlights": build_highlights,
