@@ -178,6 +178,45 @@ static void test_element_fringe(ddof_context *ctx, const scene *s)
     CHECK(!same(got, want, N * 4));
 }
 
+/* A strand 1.4 px wide over transparent film has no fully covered pixel: its pixels whose
+ * first sample missed it ("no surface") take the CoC of the most covered pixel beside them
+ * that holds the strand's depth, so the frame equals the same strand with its depth
+ * everywhere. */
+static void test_element_strand(ddof_context *ctx, const scene *s)
+{
+    static float fg_color[N * 4], missed_depth[N], strand_depth[N], got[N * 4], want[N * 4];
+    int missed = 0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            const int i = y * W + x;
+            const float a = (y < 8 || y > 40) ? 0.0f : x == 30 ? 0.6f : x == 31 ? 0.8f : 0.0f;
+            for (int c = 0; c < 3; c++)
+                fg_color[i * 4 + c] = 0.7f * a;
+            fg_color[i * 4 + 3] = a;
+            strand_depth[i] = a > 0.0f ? 0.8f : 1e10f;
+            missed_depth[i] = strand_depth[i];
+            if (a > 0.0f && (x + y) % 3 == 0) {
+                missed_depth[i] = 1e10f;
+                missed++;
+            }
+        }
+    CHECK(missed > 10);
+    ddof_camera cam = test_camera();
+    ddof_params p;
+    ddof_params_init(&p);
+    ddof_frame f;
+    ddof_frame_init(&f);
+    f.color = in_image(s->color, 4);
+    f.depth = in_image(s->depth, 1);
+    f.camera = &cam;
+    f.foreground_color = in_image(fg_color, 4);
+    f.foreground_depth = in_image(missed_depth, 1);
+    CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){got, W, H, 4, 0}, NULL), DDOF_OK);
+    f.foreground_depth = in_image(strand_depth, 1);
+    CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){want, W, H, 4, 0}, NULL), DDOF_OK);
+    CHECK_MSG(same(got, want, N * 4), "the strand's missed samples keep the far CoC");
+}
+
 /* The curve and a given CoC, each with its element. */
 static void test_curve_and_given(ddof_context *ctx, const scene *s)
 {
@@ -430,6 +469,7 @@ int main(void)
     test_camera_with_foreground(ctx, &s);
     test_curve_and_given(ctx, &s);
     test_element_fringe(ctx, &s);
+    test_element_strand(ctx, &s);
     test_refusals(ctx, &s);
     test_checks(ctx);
     ddof_context_free(ctx);

@@ -64,15 +64,18 @@ static inline double test_uniform(test_rng *rng)
 /* The solvers the CPU backend runs: every ddof_solver before the GL-only Gruen solver. */
 #define TEST_CPU_SOLVER_COUNT ((int)DDOF_SOLVER_GRUEN)
 
-/* The default preset with the heat kernel and without the far field's gather: for the tests
- * of the real diffusion's properties (convex combinations, the solvers, the layers' heat
- * behaviour), which the default disc kernel does not share and the gather replaces away from
- * depth edges. test_disc_kernel.c tests the disc, test_far_field.c the gather. */
+/* The default preset with the heat kernel, without the far field's gather and the
+ * silhouettes' split: for the tests of the real diffusion's properties (convex combinations,
+ * the solvers, the layers' heat behaviour), which the default disc kernel does not share, the
+ * gather replaces away from depth edges and the split changes at in-focus silhouettes.
+ * test_disc_kernel.c tests the disc, test_far_field.c the gather, test_silhouettes.c the
+ * split. */
 static inline void heat_params_init(ddof_params *params)
 {
     ddof_params_init(params);
     params->kernel = DDOF_KERNEL_HEAT;
     params->far_field = DDOF_LAYER_OFF;
+    params->silhouettes = DDOF_LAYER_OFF;
 }
 
 /* DDOF_TEST_QUICK=1 (set for the valgrind run) shrinks the largest cases. */

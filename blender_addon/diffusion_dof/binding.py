@@ -198,7 +198,8 @@ class Params(ctypes.Structure):
                 ("near_layer", _enum),
                 ("near_layer_threshold_px", ctypes.c_float),
                 # version 0.8
-                ("far_field", _enum)]
+                ("far_field", _enum),
+                ("silhouettes", _enum)]
 
 
 class Stats(ctypes.Structure):
@@ -234,7 +235,8 @@ class Stats(ctypes.Structure):
                 # version 0.6
                 ("seconds_near_layer", ctypes.c_double),
                 # version 0.8
-                ("seconds_far_field", ctypes.c_double)]
+                ("seconds_far_field", ctypes.c_double),
+                ("seconds_silhouettes", ctypes.c_double)]
 
 
 class Foreground(ctypes.Structure):

@@ -11,7 +11,9 @@
  * the far field's, blurring the element's fringe with the background's blur. Such a pixel, when
  * a fully covered pixel (alpha >= DDOF_ELEMENT_COVERED) lies within DDOF_ELEMENT_EDGE_REACH px
  * and is nearer, takes the CoC of the nearest such pixel: the element's part of the pixel is
- * that surface. `coc` (w x h, tightly packed) was computed from `depth`; alpha is channel 3 of
+ * that surface. A strand one or two pixels wide has no fully covered pixel: a partly covered
+ * pixel with none within reach takes the CoC of the most covered pixel within reach whose
+ * depth is under half its own (the strand's surface). `coc` (w x h, tightly packed) was computed from `depth`; alpha is channel 3 of
  * `color`. Non-finite alpha or depth leaves a pixel alone (the checks that follow report it).
  * Returns the pixels changed. */
 #define DDOF_ELEMENT_COVERED 0.999f

@@ -92,6 +92,14 @@ static void weight_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     m->chunk_radius[chunk] = largest;
 }
 
+/* The two distance maps are independent: one dilation per task, side by side. */
+static void dilate_task(void *user, uint32_t task, uint32_t thread)
+{
+    (void)thread;
+    const far_maps *m = user;
+    ddof_cone_dilate(task ? m->reach : m->weight, m->r->width, m->r->height, m->r->width, 1.0f);
+}
+
 ddof_status ddof_far_field(ddof_context *context, const adi_request *r, const float *color,
                            size_t color_stride, far_field_report *report)
 {
@@ -109,8 +117,7 @@ ddof_status ddof_far_field(ddof_context *context, const adi_request *r, const fl
     far_maps m = {.r = r, .radius = maps, .weight = maps + pixels, .reach = maps + 2 * pixels,
                   .chunk_pixels = chunk_pixels, .chunk_radius = chunk_radius};
     ddof_parallel_rows(context, r->height, seed_rows, &m);
-    ddof_cone_dilate(m.weight, r->width, r->height, r->width, 1.0f);
-    ddof_cone_dilate(m.reach, r->width, r->height, r->width, 1.0f);
+    thread_pool_run(context->pool, 2, dilate_task, &m, NULL, NULL);
     ddof_parallel_rows(context, r->height, weight_rows, &m);
     float largest = 0.0f;
     for (uint32_t c = 0; c < chunks; c++) {

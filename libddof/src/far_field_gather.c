@@ -227,14 +227,18 @@ static inline void add_integral(const far_level *l, uint32_t channels, int64_t r
     }
 }
 
-/* d rho / dx and d rho / dy at a frame pixel, by central differences (one-sided at the
- * frame's edges). */
+/* d rho / dx and d rho / dy at a frame pixel: the CoC's slope across the disc, by central
+ * differences over rho pixels each side (fewer at the frame's edges), so that a step of the
+ * CoC within the disc (a tree's crown before the sky, both far) tilts the conic as a ramp would
+ * (measured on the daylight scene: 43.79 dB with neighbours' differences, 43.98 over the disc). */
 static void radius_gradient(const far_gather *g, uint32_t x, uint32_t y, float *gx, float *gy)
 {
     const uint32_t w = g->r->width, h = g->r->height;
     const float *rho = g->radius;
-    const uint32_t xa = x ? x - 1 : x, xb = x + 1 < w ? x + 1 : x;
-    const uint32_t ya = y ? y - 1 : y, yb = y + 1 < h ? y + 1 : y;
+    const float reach = ddof_maxf(1.0f, rho[(size_t)y * w + x]);
+    const uint32_t span = reach < (float)DDOF_MAX_DIMENSION ? (uint32_t)reach : DDOF_MAX_DIMENSION;
+    const uint32_t xa = x > span ? x - span : 0, xb = w - 1 - x > span ? x + span : w - 1;
+    const uint32_t ya = y > span ? y - span : 0, yb = h - 1 - y > span ? y + span : h - 1;
     *gx = xb > xa ? (rho[(size_t)y * w + xb] - rho[(size_t)y * w + xa]) / (float)(xb - xa) : 0.0f;
     *gy = yb > ya ? (rho[(size_t)yb * w + x] - rho[(size_t)ya * w + x]) / (float)(yb - ya) : 0.0f;
 }

@@ -813,14 +813,22 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         color_stride = row;
     }
 
+    /* What the layers blur: the silhouettes' objects taken out (silhouettes.h); `color` stays
+     * what the split reads afterwards. */
+    const float *diffused = color;
+    size_t diffused_stride = color_stride;
+    if (plan->silhouettes &&
+        (status = ddof_clean_silhouettes(context, r, &diffused, &diffused_stride)) != DDOF_OK)
+        return status;
+
     if (on_device) {
         layers_request device_q = *q;
-        device_q.base.color = color;
-        device_q.base.color_stride = color_stride;
+        device_q.base.color = diffused;
+        device_q.base.color_stride = diffused_stride;
         if ((status = device_layers(context, &device_q, plan, max_near_coc, report)) != DDOF_OK)
             return status;
         if (plan->far_field &&
-            (status = far_field(context, q, color, color_stride, report)) != DDOF_OK)
+            (status = far_field(context, q, diffused, diffused_stride, report)) != DDOF_OK)
             return status;
         if (plan->silhouettes &&
             (status = silhouettes(context, q, color, color_stride, report)) != DDOF_OK)
@@ -833,8 +841,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                      (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
 
     adi_request mid = *r;
-    mid.color = color;
-    mid.color_stride = color_stride;
+    mid.color = diffused;
+    mid.color_stride = diffused_stride;
     const float *spread = NULL;
     if (plan->near_spread) {
         const double t0 = ddof_seconds();
@@ -850,15 +858,15 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         return status;
     report->effects |= DDOF_EFFECT_MIDGROUND;
 
-    if (plan->background &&
-        (status = run_background(context, q, color, color_stride, spread, &st, report)) != DDOF_OK)
+    if (plan->background && (status = run_background(context, q, diffused, diffused_stride, spread,
+                                                      &st, report)) != DDOF_OK)
         return status;
 
     if (plan->far_field && (status = far_field(context, q, mid.color, mid.color_stride,
                                                report)) != DDOF_OK)
         return status;
-    if (plan->silhouettes && (status = silhouettes(context, q, mid.color, mid.color_stride,
-                                                   report)) != DDOF_OK)
+    if (plan->silhouettes &&
+        (status = silhouettes(context, q, color, color_stride, report)) != DDOF_OK)
         return status;
     /* Last of the passes that read the colour: the discs are drawn through its buffer. */
     draw_highlights(context, q, &highlights, report);

@@ -28,6 +28,7 @@ typedef struct split_job {
     const float *color;
     size_t color_stride;
     float *delta;          /* width x height x 3: what each pixel's colour changes by */
+    float *cleaned;        /* the colour to diffuse (ddof_clean_silhouettes)           */
     uint64_t *chunk_pixels;
 } split_job;
 
@@ -93,12 +94,17 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, co
     return 1;
 }
 
-/* The change of a blurred pixel q next to sharp ones: its object share put back sharp. */
-static int blurred_side(const split_job *job, int64_t x, int64_t y, float delta[3])
+/* A blurred pixel q next to sharp ones: the mean over its pairs of the object share a, of
+ * a O and of a B. */
+typedef struct shares {
+    double a, object[3], background[3];
+} shares;
+
+static int blurred_shares(const split_job *job, int64_t x, int64_t y, shares *s)
 {
     const adi_request *r = job->r;
-    const float *here = color_at(job, x, y), *out = out_at(r, x, y);
-    double sum[3] = {0.0, 0.0, 0.0};
+    const float *here = color_at(job, x, y);
+    memset(s, 0, sizeof *s);
     int pairs = 0;
     for (int dir = 0; dir < 4; dir++) {
         const int64_t px = x - step_x[dir], py = y - step_y[dir];
@@ -106,12 +112,31 @@ static int blurred_side(const split_job *job, int64_t x, int64_t y, float delta[
         if (!inside(r, px, py) || !is_sharp(r, coc_at(r, px, py)) ||
             !pair_colors(job, px, py, dir, here, object, background, &a))
             continue;
-        for (int c = 0; c < 3; c++)
-            sum[c] += (double)a * ((double)object[c] - out[c]);
+        s->a += a;
+        for (int c = 0; c < 3; c++) {
+            s->object[c] += (double)a * object[c];
+            s->background[c] += (double)a * background[c];
+        }
         pairs++;
     }
+    if (pairs) {
+        s->a /= pairs;
+        for (int c = 0; c < 3; c++) {
+            s->object[c] /= pairs;
+            s->background[c] /= pairs;
+        }
+    }
+    return pairs;
+}
+
+/* The change of a blurred pixel q next to sharp ones: its object share put back sharp. */
+static int blurred_side(const split_job *job, int64_t x, int64_t y, float delta[3])
+{
+    const float *out = out_at(job->r, x, y);
+    shares s;
+    const int pairs = blurred_shares(job, x, y, &s);
     for (int c = 0; c < 3; c++)
-        delta[c] = pairs ? (float)(sum[c] / pairs) : 0.0f;
+        delta[c] = pairs ? (float)(s.object[c] - s.a * out[c]) : 0.0f;
     return pairs;
 }
 
@@ -171,6 +196,58 @@ static void apply_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             for (int c = 0; c < 3; c++)
                 out[(size_t)x * r->channels + (size_t)c] += delta[(size_t)x * 3 + (size_t)c];
     }
+}
+
+/* The colour the layers diffuse: each blurred pixel's object share replaced by the background
+ * (x + a (B - O), which is B for x = a O + (1 - a) B), so that the object is not smeared into
+ * the blur and its light is not counted twice when the split puts it back. */
+static void clean_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    split_job *job = user;
+    const adi_request *r = job->r;
+    uint64_t pixels = 0;
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *in = job->color + (size_t)y * job->color_stride;
+        float *out = job->cleaned + (size_t)y * r->width * r->channels;
+        memcpy(out, in, (size_t)r->width * r->channels * sizeof(float));
+        for (uint32_t x = 0; x < r->width; x++) {
+            shares s;
+            if (!is_blurred_behind(coc_at(r, x, y)) || !blurred_shares(job, x, y, &s))
+                continue;
+            for (int c = 0; c < 3; c++)
+                out[(size_t)x * r->channels + (size_t)c] +=
+                    (float)(s.background[c] - s.object[c]);
+            pixels++;
+        }
+    }
+    job->chunk_pixels[chunk] = pixels;
+}
+
+ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
+                                   const float **color, size_t *color_stride)
+{
+    if (r->channels < 3)
+        return DDOF_OK;
+    const uint32_t chunks = ddof_row_chunks(r->height);
+    const size_t floats = (size_t)r->width * r->height * r->channels;
+    uint64_t *chunk_pixels = ddof_scratch_get(context, DDOF_SCRATCH_SILHOUETTE_COLOR,
+                                              chunks * sizeof(uint64_t) + floats * sizeof(float));
+    if (!chunk_pixels)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the silhouettes' %ux%u colour", r->width,
+                         r->height);
+    split_job job = {.r = r, .color = *color, .color_stride = *color_stride,
+                     .cleaned = (float *)(void *)(chunk_pixels + chunks),
+                     .chunk_pixels = chunk_pixels};
+    ddof_parallel_rows(context, r->height, clean_rows, &job);
+    uint64_t pixels = 0;
+    for (uint32_t c = 0; c < chunks; c++)
+        pixels += chunk_pixels[c];
+    if (pixels) {
+        *color = job.cleaned;
+        *color_stride = (size_t)r->width * r->channels;
+    }
+    return DDOF_OK;
 }
 
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,

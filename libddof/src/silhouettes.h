@@ -21,10 +21,17 @@ typedef struct silhouette_report {
     uint64_t pixels; /* mixed pixels split, both sides */
 } silhouette_report;
 
-/* r: the frame (its signed CoC, size, channels, in-focus threshold) with out holding the
- * result so far, changed in place; color: what the layers diffused (color_stride floats a
- * row), from which each pixel's share is estimated. 3 or 4 channels (alpha is left as it is);
- * scratch: DDOF_SCRATCH_SILHOUETTES. */
+/* Before the layers: *color becomes a copy (scratch DDOF_SCRATCH_SILHOUETTE_COLOR, tightly
+ * packed, *color_stride set) in which each blurred pixel of a pair holds the background alone,
+ * when the frame has such pixels; else it is left as it is. r: the frame's CoC and size. */
+ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
+                                   const float **color, size_t *color_stride);
+
+/* After the layers, before the highlights are drawn: r is the frame (its signed CoC, size,
+ * channels, in-focus threshold) with out holding the result so far, changed in place; color:
+ * the colour before ddof_clean_silhouettes (color_stride floats a row), from which each
+ * pixel's shares are estimated. 3 or 4 channels (alpha is left as it is); scratch:
+ * DDOF_SCRATCH_SILHOUETTES. */
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
                                    const float *color, size_t color_stride,
                                    silhouette_report *report);

@@ -65,6 +65,7 @@ int main(void)
     F(ddof_params, highlight_threshold); F(ddof_params, near_layer);
     F(ddof_params, near_layer_threshold_px);
     F(ddof_params, far_field);
+    F(ddof_params, silhouettes);
     END();
     BEGIN(ddof_frame);
     F(ddof_frame, struct_size); F(ddof_frame, color); F(ddof_frame, depth);
@@ -84,6 +85,7 @@ int main(void)
     F(ddof_stats, kernel); F(ddof_stats, device_uploads); F(ddof_stats, device_readbacks);
     F(ddof_stats, seconds_highlights); F(ddof_stats, seconds_near_layer);
     F(ddof_stats, seconds_far_field);
+    F(ddof_stats, seconds_silhouettes);
     END();
     BEGIN(ddof_foreground);
     F(ddof_foreground, struct_size); F(ddof_foreground, color); F(ddof_foreground, coc);

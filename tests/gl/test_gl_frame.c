@@ -85,6 +85,7 @@ static float *midground_alone(ddof_params p, const float *color, const float *co
     p.near_spread = DDOF_LAYER_OFF;
     p.near_layer = DDOF_LAYER_OFF;
     p.far_field = DDOF_LAYER_OFF;
+    p.silhouettes = DDOF_LAYER_OFF;
     CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, NULL, mid, W, H, CH, NULL), DDOF_OK);
     return mid;
 }
@@ -173,7 +174,8 @@ static void frames(ddof_kernel kernel)
      * frame, the rest as for an element. Opaque pixels and no highlights: all on the device. */
     for (size_t i = 0; i < (size_t)W * H; i++)
         color[i * CH + 3] = 1.0f;
-    p.far_field = DDOF_LAYER_OFF; /* it goes under the element: far_field_frames() */
+    p.far_field = DDOF_LAYER_OFF;   /* it goes under the element: far_field_frames() */
+    p.silhouettes = DDOF_LAYER_OFF; /* likewise */
     p.near_layer = DDOF_LAYER_AUTO;
     p.background = DDOF_LAYER_AUTO;
     p.highlights = DDOF_LAYER_OFF;
@@ -196,6 +198,7 @@ static void frames(ddof_kernel kernel)
      * and take the frame off the device (highlights(), below); here the device runs it all. */
     p.highlights = DDOF_LAYER_OFF;
     p.far_field = DDOF_LAYER_OFF;
+    p.silhouettes = DDOF_LAYER_OFF;
     scene(color, coc, 0);
     compare("foreground element + background", p, color, coc, &fg,
             DDOF_EFFECT_FOREGROUND | DDOF_EFFECT_BACKGROUND);
@@ -209,9 +212,10 @@ static void frames(ddof_kernel kernel)
     free(coc);
 }
 
-/* The far field (ddof_params.far_field): gathered on the CPU into the device's one read-back,
- * so a frame without an element is still 1 upload and 1 read-back and matches the CPU; with an
- * element (the gather goes under it) the frame runs on the CPU's layers, and still matches. */
+/* The far field and the silhouettes (ddof_params.far_field, .silhouettes): on the CPU into the
+ * device's one read-back, so a frame without an element is still 1 upload and 1 read-back and
+ * matches the CPU; with an element (both go under it) the frame runs on the CPU's layers, and
+ * still matches. */
 static void far_field_frames(ddof_kernel kernel)
 {
     const size_t n = (size_t)W * H * CH;
@@ -227,6 +231,12 @@ static void far_field_frames(ddof_kernel kernel)
     p.kernel = kernel;
     p.far_field = DDOF_LAYER_AUTO;
     compare("far field", p, color, coc, NULL, DDOF_EFFECT_FAR_FIELD);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 30; x < 34; x++)
+            coc[(size_t)y * W + x] = 0.0f; /* an in-focus bar: silhouettes */
+    p.coc_signed = 1;
+    compare("far field + silhouettes", p, color, coc, NULL,
+            DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_SILHOUETTES);
 
     float *fg_color = alloc_f(n), *fg_coc = alloc_f((size_t)W * H);
     element(fg_color, fg_coc);
@@ -368,6 +378,7 @@ static void layouts(uint32_t ch, int with_element)
     p.background_levels = 2;
     p.highlights = DDOF_LAYER_OFF; /* on the device throughout (the element is bright) */
     p.far_field = DDOF_LAYER_OFF;  /* likewise (it goes under the element) */
+    p.silhouettes = DDOF_LAYER_OFF;
     ddof_foreground fg;
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
