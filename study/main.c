@@ -615,6 +615,8 @@ static cJSON *measure(const options *o, ddof_context *shared, const study_scene 
         add_number_or_null(r, "psnr_band", band);
         smooth = study_psnr(image, scene->truth, pixels, scene->smooth);
         add_number_or_null(r, "psnr_smooth", smooth);
+        add_number_or_null(r, "psnr_silhouette",
+                           study_psnr(image, scene->truth, pixels, scene->silhouette));
         add_number_or_null(r, "rmse_linear", rms);
         if (cfg->kind == STUDY_DIFFUSION) {
             char error[1100] = "";
@@ -669,6 +671,7 @@ static cJSON *scene_json(const study_scene *s)
     cJSON_AddNumberToObject(j, "smooth_pixels", (double)s->smooth_pixels);
     cJSON_AddNumberToObject(j, "smooth_fraction",
                             (double)s->smooth_pixels / ((double)s->small.width * s->small.height));
+    cJSON_AddNumberToObject(j, "silhouette_pixels", (double)s->silhouette_pixels);
     cJSON_AddBoolToObject(j, "fg_element", s->small.fg_rgba != NULL);
     cJSON_AddBoolToObject(j, "rest_image", s->small.rest_rgba != NULL);
     cJSON_AddBoolToObject(j, "fg_resampled_large", s->large.fg_resampled);

@@ -113,6 +113,32 @@ size_t study_smooth(const float *coc, const float *rgba, const float *truth, uin
     return count;
 }
 
+size_t study_silhouettes(const float *coc, uint32_t width, uint32_t height,
+                         unsigned char *silhouette)
+{
+    const size_t pixels = (size_t)width * height;
+    memset(silhouette, 0, pixels);
+    for (uint32_t y = 0; y < height; y++)
+        for (uint32_t x = 0; x < width; x++) {
+            const float c = fabsf(coc[(size_t)y * width + x]);
+            for (int dir = 0; dir < 2; dir++) {
+                const uint32_t nx = x + (dir == 0), ny = y + (dir == 1);
+                if (nx >= width || ny >= height)
+                    continue;
+                const float d = fabsf(coc[(size_t)ny * width + nx]);
+                if (!((c < STUDY_IN_FOCUS_PX && d >= STUDY_EDGE_COC_PX) ||
+                      (d < STUDY_IN_FOCUS_PX && c >= STUDY_EDGE_COC_PX)))
+                    continue;
+                stamp_disc(silhouette, width, height, x, y, STUDY_SILHOUETTE_PX, 1);
+                stamp_disc(silhouette, width, height, nx, ny, STUDY_SILHOUETTE_PX, 1);
+            }
+        }
+    size_t count = 0;
+    for (size_t i = 0; i < pixels; i++)
+        count += silhouette[i];
+    return count;
+}
+
 double study_psnr(const float *a, const float *b, size_t pixels, const unsigned char *mask)
 {
     double sum = 0.0;

@@ -191,6 +191,9 @@ class Study:
         # The smooth far field (study_smooth, study/metrics.c); results before it lack it.
         self.with_smooth = [s for s in self.scene_order
                             if self.scenes[s].get("smooth_pixels", 0) > 0]
+        # The silhouette band (study_silhouettes); results before it lack it.
+        self.with_silhouette = [s for s in self.blurred
+                                if self.scenes[s].get("silhouette_pixels", 0) > 0]
         self.has_large = any(self.scenes[s].get("large_width") for s in self.scene_order)
         self.configs = [Config(cid, self.results[cid], self) for cid in self.order]
         self.by_id = {c.id: c for c in self.configs}
@@ -237,6 +240,8 @@ class Config:
         self.band = {s: num(per_scene.get(s, {}).get("psnr_band")) for s in study.scene_order}
         self.smooth = {s: num(per_scene.get(s, {}).get("psnr_smooth"))
                        for s in study.scene_order}
+        self.silhouette = {s: num(per_scene.get(s, {}).get("psnr_silhouette"))
+                           for s in study.scene_order}
         self.image_mean = mean([self.psnr[s] for s in blurred])
         self.band_mean = mean([self.band[s] for s in study.with_band])
         if any(math.isnan(self.psnr[s]) for s in blurred):
@@ -848,6 +853,32 @@ def fmt_ref(c):
     return "%s / %.1e" % (db, c.ref_max)
 
 
+def silhouette_table(study, chosen):
+    """The silhouette band per scene: the presets, the default without the far field and the
+    silhouettes' split (libddof 0.7), and the nodes."""
+    if not study.with_silhouette:
+        return []
+    default = chosen["default"]
+    before = default.id.replace("+ff", "").replace("+sil", "")
+    cols = [("pinhole", "pinhole")] + [(chosen[n].id, n) for n in PRESET_ORDER]
+    if before != default.id:
+        cols.append((before, "default without far field and split"))
+    cols += [(cid, NODE_NAMES[cid].replace("Defocus node", "node")) for cid in NODE_IDS]
+    cols = [(cid, name) for cid, name in cols if cid in study.by_id]
+    L = ["The silhouette band (issue 29: the pixels within %g px of an in-focus pixel that "
+         "borders one with |CoC| >= %g px, `study_silhouettes` in `study/metrics.c`: where the "
+         "mixed pixels of thin sharp structure are), PSNR in dB:" % (2, 2), "",
+         "| scene | share | " + " | ".join(name for _, name in cols) + " |",
+         "|---|---:|" + "---:|" * len(cols)]
+    for sc in study.with_silhouette:
+        share = 100.0 * study.scenes[sc]["silhouette_pixels"] / (
+            study.scenes[sc]["width"] * study.scenes[sc]["height"])
+        L.append("| %s | %.1f%% | %s |" % (sc, share, " | ".join(
+            fmt(study.by_id[cid].silhouette[sc]) for cid, _ in cols)))
+    L.append("")
+    return L
+
+
 def config_name(c):
     if c.kind != "diffusion":
         return BASELINE_NAMES.get(c.id, c.id)
@@ -1377,6 +1408,7 @@ def write_markdown(study, chosen, front, cands, args, plots, crops):
                                for k in ("psnr", "psnr_band", "psnr_smooth")], smooth))
             L.append("| %s | %s |" % (sc, " | ".join(cells)))
         L.append("")
+        L += silhouette_table(study, chosen)
         L += time_against_node(study, chosen["default"])
         picture = os.path.join(args.images, "near_layer.png")
         if not args.smoke and os.path.exists(picture):

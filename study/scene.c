@@ -263,6 +263,7 @@ void study_scene_free(study_scene *s)
     free(s->truth);
     free(s->band);
     free(s->smooth);
+    free(s->silhouette);
     for (int n = 0; n < STUDY_NODE_COUNT; n++)
         free(s->nodes[n].image);
     memset(s, 0, sizeof *s);
@@ -374,6 +375,13 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
     }
     s->smooth_pixels = study_smooth(s->small.coc, s->small.rgba, s->truth, s->small.width,
                                     s->small.height, s->smooth);
+    s->silhouette = malloc(pixels);
+    if (!s->silhouette) {
+        fail(error, size, "out of memory");
+        goto failed;
+    }
+    s->silhouette_pixels =
+        study_silhouettes(s->small.coc, s->small.width, s->small.height, s->silhouette);
     for (size_t i = 0; i < pixels; i++)
         s->max_abs_coc = fmaxf(s->max_abs_coc, fabsf(s->small.coc[i]));
 

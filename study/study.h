@@ -125,6 +125,8 @@ typedef struct study_scene {
     size_t band_pixels;
     unsigned char *smooth; /* 1 where a pixel lies in the smooth far field (study_smooth)       */
     size_t smooth_pixels;
+    unsigned char *silhouette; /* 1 in the silhouette band (study_silhouettes)               */
+    size_t silhouette_pixels;
     float max_abs_coc;
     double seconds_coc_small, seconds_coc_large; /* ddof_coc_from_camera, median             */
     study_node nodes[STUDY_NODE_COUNT]; /* the Defocus nodes' results (study_node_names)      */
@@ -162,6 +164,15 @@ size_t study_band(const float *coc, uint32_t width, uint32_t height, unsigned ch
 #define STUDY_SMOOTH_HIGHLIGHT_MARGIN_PX 2.0f
 size_t study_smooth(const float *coc, const float *rgba, const float *truth, uint32_t width,
                     uint32_t height, unsigned char *smooth);
+
+/* The silhouette band: in-focus silhouettes are 4-neighbour pairs of an in-focus pixel (|CoC|
+ * below STUDY_IN_FOCUS_PX, the library's default threshold) and a blurred one (|CoC| of
+ * STUDY_EDGE_COC_PX or more); every pixel within STUDY_SILHOUETTE_PX (Euclidean) of either
+ * belongs to the band: where the mixed pixels of thin in-focus structure are. The count. */
+#define STUDY_IN_FOCUS_PX 0.5f
+#define STUDY_SILHOUETTE_PX 2.0f
+size_t study_silhouettes(const float *coc, uint32_t width, uint32_t height,
+                         unsigned char *silhouette);
 
 /* PSNR over RGB of sRGB-encoded values clamped to [0, 1], peak 1: plugin/apps/cli/compare.c's
  * definition (`ddof --compare`). mask NULL: every pixel. +inf when identical; NAN when the mask
