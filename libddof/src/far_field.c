@@ -9,7 +9,9 @@
  * behind what, and what a sharp object hides, decide the picture: the layers' diffusion stays
  * the method there.
  *
- * A depth edge is a pair of 4-neighbours whose signed CoC differs by EDGE_STEP_PX or more. A
+ * A depth edge is a pair of 4-neighbours whose signed CoC differs by EDGE_STEP_PX or more (as the
+ * accuracy study's band counts them; 1 px lost 0.9 dB on its daylight scene, where tree crowns
+ * before the sky differ by about 1-3 px across a blur of 20). A
  * pixel takes the gather fully when the nearest edge is beyond its own radius + 1 and no edge's
  * reach (half the pair's larger |CoC|, + 1) covers it; over RAMP_PX toward either it is mixed
  * with the layers' result; in-focus pixels keep theirs. Both distances are cone dilations
@@ -24,7 +26,7 @@
 #include <math.h>
 #include <string.h>
 
-#define EDGE_STEP_PX 1.0f
+#define EDGE_STEP_PX 2.0f
 #define RAMP_PX 4.0f
 #define NO_EDGE (-1e30f)
 

@@ -83,10 +83,11 @@ typedef struct run_config {
     int foreground;
     ddof_kernel kernel;
     int whole_preset; /* the default preset as it is (its kernel and sub-steps), layered */
+    int far_field_off, silhouettes_off; /* a whole preset without that pass */
 } run_config;
 
-static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0};
-static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1};
+static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0};
+static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1, 0, 0};
 
 /* Median seconds of one call; exits on error (a benchmark has nothing to hide). */
 static double time_config(const bench *b, ddof_context *context, ddof_solver solver,
@@ -101,7 +102,14 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
         params.substeps = 1;
         params.kernel = config.kernel;
         params.background = config.background;
+        /* The diffusion's figures: the passes over its result have their own below. */
+        params.far_field = DDOF_LAYER_OFF;
+        params.silhouettes = DDOF_LAYER_OFF;
     }
+    if (config.far_field_off)
+        params.far_field = DDOF_LAYER_OFF;
+    if (config.silhouettes_off)
+        params.silhouettes = DDOF_LAYER_OFF;
     params.solver = solver;
     params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
     ddof_image_in color = {b->color, b->width, b->height, 4, 0};
@@ -199,6 +207,29 @@ static void make_scene(bench *b)
         }
 }
 
+/* The passes over the layers' result (issues 29 and 30): the default frame with each of them
+ * (the preset's AUTO) against the same frame without it, on the scene (an in-focus object, so
+ * silhouettes, and smooth blur above and below it) and on a frame with nothing in focus
+ * (uniform CoC 200: no silhouette to split, the far field everywhere). */
+static void bench_passes(const bench *b, ddof_context *all)
+{
+    run_config no_far = default_frame, no_split = default_frame;
+    no_far.far_field_off = 1;
+    no_split.silhouettes_off = 1;
+    const double frame = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, default_frame);
+    const double far_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, no_far);
+    const double split_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, no_split);
+    printf("default_frame_ms %.3f\n", 1e3 * frame);
+    printf("default_frame_vs_far_field_off %.3f\n", frame / far_off);
+    printf("default_frame_vs_silhouettes_off %.3f\n", frame / split_off);
+    const double flat = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, default_frame);
+    const double flat_split_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, no_split);
+    const double flat_far_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, no_far);
+    printf("no_silhouette_frame_vs_silhouettes_off %.3f\n", flat / flat_split_off);
+    printf("coc200_frame_vs_far_field_off %.3f\n", flat / flat_far_off);
+    fflush(stdout);
+}
+
 /* The speed issue's figures (issue 15), all from this run: one heat step and the default
  * preset's kernel against memcpy and each other, CoC 200 / 2 and 2 threads / 1 for both, and a
  * sub-pixel frame (largest CoC 0.18 px, below the in-focus threshold: a copy) against memcpy,
@@ -209,7 +240,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
     ddof_params defaults;
     ddof_params_init(&defaults);
     const run_config heat = single_layer;
-    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0};
+    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0};
     const run_config kernels[2] = {heat, disc};
     const char *names[2] = {"heat", "disc_default"};
     double scene[2];
@@ -229,7 +260,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
         fflush(stdout);
     }
     printf("speed_disc_default_vs_heat %.3f\n", scene[1] / scene[0]);
-    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0};
+    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0};
     const double sub_layers = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, planned);
     const double sub_single = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, disc);
     printf("speed_sub_pixel_layers_ms %.3f\n", 1e3 * sub_layers);
@@ -274,8 +305,8 @@ static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddo
 {
     const double heat = time_diffuse(b, all, DDOF_SOLVER_THOMAS, b->coc_scene);
     for (int k = 1; k < DDOF_KERNEL_COUNT_; k++) {
-        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0};
-        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0};
+        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0};
+        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0};
         char name[32];
         snprintf(name, sizeof name, "%s", ddof_kernel_name((ddof_kernel)k));
         name[4] = '_'; /* disc_2x2: one token */
@@ -441,10 +472,11 @@ int main(int argc, char **argv)
         fflush(stdout);
     }
     if (!strcmp(only, "all") || !strcmp(only, "layers")) {
+        bench_passes(&b, all);
         /* Layers and the planner, Thomas, all threads. */
-        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0};
-        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0};
-        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0};
+        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0, 0, 0};
+        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0, 0, 0};
+        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0};
         const double single = time_diffuse(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene);
         const double bg = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, background);
         const double layers3 = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, three);
