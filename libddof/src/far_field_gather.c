@@ -11,11 +11,12 @@
  * at their centres (measured on the study's receding plane: two points everywhere 40.80 dB,
  * one 40.47, two below a radius of 4 pixels 40.96).
  *
- * A pixel whose disc is wider than LEVEL_RADIUS pixels reads level k of the frame (boxes of
- * 2^k pixels, the radius shrunk by the box's variance so the spread stays the disc's) at the
- * level's pixel centres, and bilinear interpolation between those samples gives the pixels
- * between them: the samples are at most a quarter of the radius apart, where the blurred image
- * is smooth. So a pixel costs O(LEVEL_RADIUS) rows at any CoC, and a large blur far less. */
+ * A pixel whose disc is wider than LEVEL_RADIUS pixels interpolates (bilinearly) samples taken
+ * at the pixel centres of level k of the frame (boxes of 2^k pixels), the level whose pixels are
+ * an eighth to a quarter of the radius apart, where the blurred image is smooth; each sample
+ * reads level k - 1 (twice finer: its boxes blur the disc's rim less; the radius shrunk by the
+ * box's variance so the spread stays the disc's). So a pixel costs O(LEVEL_RADIUS) rows at any
+ * CoC, and a large blur far less. */
 #include "far_field_internal.h"
 
 #include "float_ops.h"

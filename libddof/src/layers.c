@@ -560,7 +560,7 @@ static ddof_status find_highlights(ddof_context *context, const layers_request *
         snprintf(hidden, sizeof hidden, " (+%u hidden by sharp occluders)", set->hidden);
     if (set->count)
         snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px%s "
-                             "drawn as %s (%.2f operations per frame pixel)",
+                             "drawn as %s (%.2f operations per pixel)",
                  set->count - set->hidden, (double)set->threshold,
                  (double)DDOF_HIGHLIGHT_MIN_COC_PX, hidden, shape,
                  (double)set->cost / ((double)r->width * r->height));
@@ -646,7 +646,7 @@ static ddof_status far_field(ddof_context *context, const layers_request *q, con
     if (far.pixels) {
         report->effects |= DDOF_EFFECT_FAR_FIELD;
         snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: on: %.1f%% of the pixels away from depth edges (%u level%s)",
+                 "far field: on: %.1f%% of pixels, %u level%s",
                  share, far.levels, far.levels == 1 ? "" : "s");
     } else {
         snprintf(report->far_field_line, sizeof report->far_field_line,

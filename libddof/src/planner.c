@@ -185,10 +185,8 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
         say(plan, "background: %s", forced(p->background));
     } else if (a->background_edges > 0) {
         plan->background = 1;
-        say(plan, "background: on: %llu pixels with far CoC >= %.3g px border in-focus pixels "
-                  "(CoC < %.3g px)",
-            (unsigned long long)a->background_edges, (double)p->background_threshold_px,
-            (double)p->background_ramp_start_px);
+        say(plan, "background: on: %llu pixels with far CoC >= %.3g px border in-focus pixels",
+            (unsigned long long)a->background_edges, (double)p->background_threshold_px);
     } else {
         say(plan, "background: off: no far CoC >= %.3g px borders an in-focus pixel",
             (double)p->background_threshold_px);
@@ -223,8 +221,8 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
                       "with less than half their CoC",
                 (unsigned long long)a->near_edges, (double)p->near_spread_threshold_px);
         } else {
-            say(plan, "near spread: off: no blurred near silhouette (largest near CoC %.3g px)",
-                (double)a->max_near_coc);
+            /* The near layer's line gave the largest near CoC; the plan has 512 bytes. */
+            say(plan, "near spread: off: no blurred near silhouette");
         }
     }
 
