@@ -36,8 +36,9 @@ static void flat(frame *f, float coc)
 static ddof_status run(frame *f, ddof_layer_mode highlights, ddof_stats *stats)
 {
     ddof_params p;
-    ddof_params_init(&p); /* the default preset: a disc kernel */
-    p.far_field = DDOF_LAYER_OFF; /* on a flat frame the gather would hide the kernel's ring */
+    ddof_params_init(&p);
+    p.kernel = DDOF_KERNEL_DISC_2X2; /* a disc kernel's ring is what the pass is for */
+    p.far_field = DDOF_LAYER_OFF;    /* on a flat frame the gather would hide the ring */
     p.coc_signed = 1;
     p.highlights = highlights;
     p.background = DDOF_LAYER_OFF;

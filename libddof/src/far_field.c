@@ -11,11 +11,11 @@
  *
  * A depth edge is a pair of 4-neighbours whose signed CoC differs by EDGE_STEP_PX or more (as the
  * accuracy study's band counts them; 1 px lost 0.9 dB on its daylight scene, where tree crowns
- * before the sky differ by about 1-3 px across a blur of 20). A
- * pixel takes the gather fully when the nearest edge is beyond its own radius + 1 and no edge's
- * reach (half the pair's larger |CoC|, + 1) covers it; over RAMP_PX toward either it is mixed
- * with the layers' result; in-focus pixels keep theirs. Both distances are cone dilations
- * (cone_dilate.h: the chamfer distance, within 8% of Euclidean). */
+ * before the sky differ by about 1-3 px across a blur of 20). A pixel takes the gather fully
+ * when the nearest edge is beyond its own radius + 1 and no edge's reach (half the pair's larger
+ * |CoC|, + 1) covers it; over RAMP_PX toward either it is mixed with the layers' result;
+ * in-focus pixels keep theirs. Both distances are cone dilations (cone_dilate.h: the chamfer
+ * distance, within 8% of Euclidean). */
 #include "far_field.h"
 
 #include "cone_dilate.h"
