@@ -91,9 +91,12 @@ EFFECT_FOREGROUND = 4
 EFFECT_NEAR_SPREAD = 8
 EFFECT_HIGHLIGHTS = 16
 EFFECT_NEAR_LAYER = 32
+EFFECT_FAR_FIELD = 64
+EFFECT_SILHOUETTES = 128
 EFFECT_NAMES = ((EFFECT_MIDGROUND, "midground"), (EFFECT_BACKGROUND, "background"),
                 (EFFECT_FOREGROUND, "foreground"), (EFFECT_NEAR_SPREAD, "near spread"),
-                (EFFECT_HIGHLIGHTS, "highlights"), (EFFECT_NEAR_LAYER, "near layer"))
+                (EFFECT_HIGHLIGHTS, "highlights"), (EFFECT_NEAR_LAYER, "near layer"),
+                (EFFECT_FAR_FIELD, "far field"), (EFFECT_SILHOUETTES, "silhouettes"))
 
 # ---------------------------------------------------------------------------------------------
 # Structures. C enums are int-sized on every platform Blender runs on.

@@ -186,9 +186,10 @@ static void delta_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 
 static void apply_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
-    (void)chunk;
     const split_job *job = user;
     const adi_request *r = job->r;
+    if (!job->chunk_pixels[chunk])
+        return; /* no pair in these rows: their deltas are all 0 */
     for (uint32_t y = y0; y < y1; y++) {
         float *out = r->out + (size_t)y * r->out_stride;
         const float *delta = job->delta + (size_t)y * r->width * 3;

@@ -67,7 +67,7 @@ static void report(shared_queue *q, int index)
 {
     const frame_paths *p = &q->paths[index];
     const frame_result *r = &q->results[index];
-    char prefix[64], line[2 * PATH_MAX + 1024], read[48], dof[48], write[48], effects[96];
+    char prefix[64], line[2 * PATH_MAX + 1024], read[48], dof[48], write[48], effects[128];
     char how[160];
     if (p->frame >= 0)
         snprintf(prefix, sizeof prefix, "frame %d: ", p->frame);

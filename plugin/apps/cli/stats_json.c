@@ -24,7 +24,9 @@ void stats_effects(const ddof_stats *s, char *out, size_t out_size)
                    {DDOF_EFFECT_NEAR_SPREAD, "near spread"},
                    {DDOF_EFFECT_NEAR_LAYER, "near layer"},
                    {DDOF_EFFECT_FOREGROUND, "foreground"},
-                   {DDOF_EFFECT_HIGHLIGHTS, "highlights"}};
+                   {DDOF_EFFECT_HIGHLIGHTS, "highlights"},
+                   {DDOF_EFFECT_FAR_FIELD, "far field"},
+                   {DDOF_EFFECT_SILHOUETTES, "silhouettes"}};
     size_t used = 0, i;
     out[0] = '\0';
     for (i = 0; i < sizeof effects / sizeof effects[0]; i++) {
