@@ -437,8 +437,8 @@ typedef enum ddof_layer_mode {
 #define DDOF_EFFECT_NEAR_SPREAD 8u /* one image: near-CoC dilation (GPU Gems 3 ch. 28)         */
 #define DDOF_EFFECT_HIGHLIGHTS 16u /* the highlight pass: the brightest pixels drawn as discs   */
 #define DDOF_EFFECT_NEAR_LAYER 32u /* one image: the near field split off as an element          */
-#define DDOF_EFFECT_SILHOUETTES 128u /* mixed pixels of in-focus silhouettes split          */
 #define DDOF_EFFECT_FAR_FIELD 64u  /* the smooth blur gathered in the aperture's exact shape    */
+#define DDOF_EFFECT_SILHOUETTES 128u /* mixed pixels of in-focus silhouettes split            */
 
 typedef struct ddof_params {
     uint32_t struct_size;      /* sizeof(ddof_params)                                         */
@@ -599,7 +599,8 @@ typedef struct ddof_stats {
     double seconds_foreground; /* the foreground element or the near-field spread             */
     char plan[512];            /* one line per decision, '\n'-separated: "<effect>: on: why", */
                                /* "<effect>: off: why", "<effect>: forced on|off"; effects   */
-                               /* are midground, background, near spread, foreground         */
+                               /* are midground, background, near layer, near spread,        */
+                               /* foreground, highlights, far field, silhouettes              */
 
     /* --- version 0.3 of this struct ------------------------------------------------------- */
     uint32_t backend;          /* the ddof_backend_kind that ran the call                     */

@@ -658,7 +658,8 @@ static ddof_status far_field(ddof_context *context, const layers_request *q, con
 
 /* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
  * highlights are drawn (their discs land behind the object, whole) and the foreground element
- * covers it, estimated from the colour the layers diffused. */
+ * covers it, estimated from the colour before its objects were taken out of what the layers
+ * diffused (ddof_clean_silhouettes). */
 static ddof_status silhouettes(ddof_context *context, const layers_request *q,
                                const float *color, size_t color_stride, layers_report *report)
 {
