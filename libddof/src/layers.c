@@ -660,13 +660,13 @@ static ddof_status far_field(ddof_context *context, const layers_request *q, con
  * highlights are drawn (their discs land behind the object, whole) and the foreground element
  * covers it, estimated from the colour before its objects were taken out of what the layers
  * diffused (ddof_clean_silhouettes). */
-static ddof_status silhouettes(ddof_context *context, const layers_request *q,
+static ddof_status silhouettes(ddof_context *context, const layers_request *q, int pairs,
                                const float *color, size_t color_stride, layers_report *report)
 {
     const double t0 = ddof_seconds();
-    silhouette_report split;
+    silhouette_report split = {0};
     const ddof_status status =
-        ddof_split_silhouettes(context, &q->base, color, color_stride, &split);
+        pairs ? ddof_split_silhouettes(context, &q->base, color, color_stride, &split) : DDOF_OK;
     if (status != DDOF_OK)
         return status;
     if (split.pixels) {
@@ -818,8 +818,10 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
      * what the split reads afterwards. */
     const float *diffused = color;
     size_t diffused_stride = color_stride;
+    int pairs = 0;
     if (plan->silhouettes &&
-        (status = ddof_clean_silhouettes(context, r, &diffused, &diffused_stride)) != DDOF_OK)
+        (status = ddof_clean_silhouettes(context, r, &diffused, &diffused_stride, &pairs)) !=
+            DDOF_OK)
         return status;
 
     if (on_device) {
@@ -832,7 +834,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
             (status = far_field(context, q, diffused, diffused_stride, report)) != DDOF_OK)
             return status;
         if (plan->silhouettes &&
-            (status = silhouettes(context, q, color, color_stride, report)) != DDOF_OK)
+            (status = silhouettes(context, q, pairs, color, color_stride, report)) != DDOF_OK)
             return status;
         draw_highlights(context, q, &highlights, report);
         return DDOF_OK;
@@ -867,7 +869,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                                                report)) != DDOF_OK)
         return status;
     if (plan->silhouettes &&
-        (status = silhouettes(context, q, color, color_stride, report)) != DDOF_OK)
+        (status = silhouettes(context, q, pairs, color, color_stride, report)) != DDOF_OK)
         return status;
     /* Last of the passes that read the colour: the discs are drawn through its buffer. */
     draw_highlights(context, q, &highlights, report);

@@ -224,12 +224,42 @@ static void clean_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     job->chunk_pixels[chunk] = pixels;
 }
 
-ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
-                                   const float **color, size_t *color_stride)
+/* Blurred pixels behind a sharp 4-neighbour, from the CoC alone. */
+static void pair_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
+    split_job *job = user;
+    const adi_request *r = job->r;
+    uint64_t pairs = 0;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            if (!is_blurred_behind(coc_at(r, x, y)))
+                continue;
+            for (int dir = 0; dir < 4; dir++) {
+                const int64_t px = (int64_t)x - step_x[dir], py = (int64_t)y - step_y[dir];
+                if (inside(r, px, py) && is_sharp(r, coc_at(r, px, py))) {
+                    pairs++;
+                    break;
+                }
+            }
+        }
+    job->chunk_pixels[chunk] = pairs;
+}
+
+ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
+                                   const float **color, size_t *color_stride, int *pairs)
+{
+    *pairs = 0;
     if (r->channels < 3)
         return DDOF_OK;
     const uint32_t chunks = ddof_row_chunks(r->height);
+    /* A frame without a pair pays one read of its CoC: no copy, no split. */
+    uint64_t counts[(DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK];
+    split_job scan = {.r = r, .chunk_pixels = counts};
+    ddof_parallel_rows(context, r->height, pair_rows, &scan);
+    for (uint32_t c = 0; c < chunks && !*pairs; c++)
+        *pairs = counts[c] > 0;
+    if (!*pairs)
+        return DDOF_OK;
     const size_t floats = (size_t)r->width * r->height * r->channels;
     uint64_t *chunk_pixels = ddof_scratch_get(context, DDOF_SCRATCH_SILHOUETTE_COLOR,
                                               chunks * sizeof(uint64_t) + floats * sizeof(float));

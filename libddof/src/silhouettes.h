@@ -21,11 +21,13 @@ typedef struct silhouette_report {
     uint64_t pixels; /* mixed pixels split, both sides */
 } silhouette_report;
 
-/* Before the layers: *color becomes a copy (scratch DDOF_SCRATCH_SILHOUETTE_COLOR, tightly
- * packed, *color_stride set) in which each blurred pixel of a pair holds the background alone,
- * when the frame has such pixels; else it is left as it is. r: the frame's CoC and size. */
+/* Before the layers: *pairs says whether the frame's CoC has a pair at all (when not, nothing
+ * else runs: the split need not either); *color becomes a copy (scratch
+ * DDOF_SCRATCH_SILHOUETTE_COLOR, tightly packed, *color_stride set) in which each blurred pixel
+ * of a pair holds the background alone, when its colours tell; else it is left as it is.
+ * r: the frame's CoC and size. */
 ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
-                                   const float **color, size_t *color_stride);
+                                   const float **color, size_t *color_stride, int *pairs);
 
 /* After the layers, before the highlights are drawn: r is the frame (its signed CoC, size,
  * channels, in-focus threshold) with out holding the result so far, changed in place; color:
