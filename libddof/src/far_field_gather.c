@@ -321,16 +321,25 @@ static float on_level(uint32_t x, float s)
     return ((float)x + 0.5f) / s - 0.5f;
 }
 
-/* The four samples a level-k pixel interpolates: first column and row, clamped. */
-static void cell_of(const far_level *l, float u, float v, uint32_t *i0, uint32_t *j0, float *fu,
-                    float *fv)
+/* The four samples frame pixel (x, y) interpolates on level k (s = 2^k): their indices (upper
+ * left, upper right, lower left, lower right; clamped at the level's last row and column) and
+ * the weights along the row and the column. */
+typedef struct sample_cell {
+    size_t index[4];
+    float fu, fv;
+} sample_cell;
+
+static sample_cell cell_of(const far_level *l, uint32_t x, uint32_t y, float s)
 {
-    const float cu = ddof_minf(ddof_maxf(u, 0.0f), (float)(l->width - 1));
-    const float cv = ddof_minf(ddof_maxf(v, 0.0f), (float)(l->height - 1));
-    *i0 = (uint32_t)cu;
-    *j0 = (uint32_t)cv;
-    *fu = cu - (float)*i0;
-    *fv = cv - (float)*j0;
+    const float cu = ddof_minf(ddof_maxf(on_level(x, s), 0.0f), (float)(l->width - 1));
+    const float cv = ddof_minf(ddof_maxf(on_level(y, s), 0.0f), (float)(l->height - 1));
+    const uint32_t i0 = (uint32_t)cu, j0 = (uint32_t)cv;
+    const uint32_t i1 = i0 + 1 < l->width ? i0 + 1 : i0;
+    const uint32_t j1 = j0 + 1 < l->height ? j0 + 1 : j0;
+    const size_t row0 = (size_t)j0 * l->width, row1 = (size_t)j1 * l->width;
+    return (sample_cell){.index = {row0 + i0, row0 + i1, row1 + i0, row1 + i1},
+                         .fu = cu - (float)i0,
+                         .fv = cv - (float)j0};
 }
 
 /* Marks the samples the frame's pixels interpolate (one thread: each pixel marks four). */
@@ -344,14 +353,9 @@ static void mark_samples(far_gather *g)
             if (!k)
                 continue;
             const far_level *l = &g->levels[k];
-            const float s = (float)(1u << k);
-            uint32_t i0, j0;
-            float fu, fv;
-            cell_of(l, on_level(x, s), on_level(y, s), &i0, &j0, &fu, &fv);
-            const uint32_t i1 = i0 + 1 < l->width ? i0 + 1 : i0;
-            const uint32_t j1 = j0 + 1 < l->height ? j0 + 1 : j0;
-            uint8_t *row0 = l->needed + (size_t)j0 * l->width, *row1 = l->needed + (size_t)j1 * l->width;
-            row0[i0] = row0[i1] = row1[i0] = row1[i1] = 1;
+            const sample_cell cell = cell_of(l, x, y, (float)(1u << k));
+            for (int corner = 0; corner < 4; corner++)
+                l->needed[cell.index[corner]] = 1;
         }
 }
 
@@ -403,20 +407,15 @@ static inline void blend_row(const far_gather *g, uint32_t channels, uint32_t y)
             conic_gather(g, channels, 0, (float)x, (float)y, rho, gx, gy, v);
         } else {
             const far_level *l = &g->levels[k];
-            const float s = (float)(1u << k);
-            uint32_t i0, j0;
-            float fu, fv;
-            cell_of(l, on_level(x, s), on_level(y, s), &i0, &j0, &fu, &fv);
-            const uint32_t i1 = i0 + 1 < l->width ? i0 + 1 : i0;
-            const uint32_t j1 = j0 + 1 < l->height ? j0 + 1 : j0;
-            const float *s00 = l->samples + ((size_t)j0 * l->width + i0) * channels;
-            const float *s01 = l->samples + ((size_t)j0 * l->width + i1) * channels;
-            const float *s10 = l->samples + ((size_t)j1 * l->width + i0) * channels;
-            const float *s11 = l->samples + ((size_t)j1 * l->width + i1) * channels;
+            const sample_cell cell = cell_of(l, x, y, (float)(1u << k));
+            const float *s00 = l->samples + cell.index[0] * channels;
+            const float *s01 = l->samples + cell.index[1] * channels;
+            const float *s10 = l->samples + cell.index[2] * channels;
+            const float *s11 = l->samples + cell.index[3] * channels;
             for (uint32_t c = 0; c < channels; c++) {
-                const float top = s00[c] + fu * (s01[c] - s00[c]);
-                const float bottom = s10[c] + fu * (s11[c] - s10[c]);
-                v[c] = top + fv * (bottom - top);
+                const float top = s00[c] + cell.fu * (s01[c] - s00[c]);
+                const float bottom = s10[c] + cell.fu * (s11[c] - s10[c]);
+                v[c] = top + cell.fv * (bottom - top);
             }
         }
         float *o = out + (size_t)x * channels;
