@@ -41,13 +41,7 @@ static uint32_t W = 128, H = 96;
 static ddof_context *ctx;
 static int verbose;
 
-static ddof_status layers(const ddof_params *p, const float *color, const float *coc,
-                          const ddof_foreground *fg, float *out, uint32_t ch, ddof_stats *st)
-{
-    if (st)
-        *st = stats_init();
-    return diffuse_layers(ctx, p, color, coc, fg, out, W, H, ch, st);
-}
+#include "test_frame_calls.h"
 
 static ddof_status single(const ddof_params *p, const float *color, const float *coc, float *out,
                           uint32_t ch, ddof_stats *st)
@@ -187,12 +181,6 @@ static void texture(float *color, uint32_t ch, unsigned long long seed)
     block_texture(color, W, H, ch, seed, 0.1, 0.9);
 }
 
-static void fill(float *p, size_t n, float v)
-{
-    for (size_t i = 0; i < n; i++)
-        p[i] = v;
-}
-
 /* Thin sharp vertical bars (2 or 3 px, every 16 px; CoC 0) over a blurred background (CoC 20). */
 static void bars_coc(float *coc)
 {
@@ -231,16 +219,6 @@ static void disc_foreground(float *fg_color, float *fg_coc)
             fg_color[i * 4 + 3] = in ? 1.0f : 0.0f;
             fg_coc[i] = in ? 20.0f : 0.0f;
         }
-}
-
-static ddof_foreground make_fg(const float *fg_color, const float *fg_coc)
-{
-    ddof_foreground fg;
-    ddof_foreground_init(&fg);
-    fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
-    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
-    fg.premultiplied = 1;
-    return fg;
 }
 
 /* ---------------------------------------------------------------------------------------- */
@@ -283,13 +261,13 @@ static void test_defaults(void)
 static void test_all_sharp(void)
 {
     texture(color, CH, 1);
-    fill(coc, npx, 0.0f);
+    fill_const(coc, npx, 0.0f);
     for (int variant = 0; variant < 2; variant++) {
         ddof_params p;
         heat_params_init(&p);
         p.coc_signed = (uint32_t)variant;
         ddof_stats st;
-        fill(out, n, -7.0f);
+        fill_const(out, n, -7.0f);
         ddof_status s = layers(&p, color, coc, NULL, out, CH, &st);
         CHECK_EQ_INT(s, DDOF_OK);
         dump_plan("all sharp", &st);
@@ -368,7 +346,7 @@ static void test_in_focus_threshold(void)
         if (in_place)
             memcpy(out2, color, n * sizeof(float));
         else
-            fill(out, n, -7.0f);
+            fill_const(out, n, -7.0f);
         const float *input = in_place ? out2 : color;
         CHECK_EQ_INT(layered ? layers(&p, input, coc, NULL, result, CH, &st)
                              : single(&p, input, coc, result, CH, &st),
@@ -406,7 +384,7 @@ static void test_in_focus_threshold(void)
         ddof_image_in ci = {color, W, H, CH, 0}, di = {depth, W, H, 1, 0};
         ddof_image oi = {out, W, H, CH, 0};
         ddof_stats st = stats_init();
-        fill(out, n, -7.0f);
+        fill_const(out, n, -7.0f);
         CHECK_EQ_INT(ddof_depth_of_field(ctx, &p, &cam, &ci, &di, &oi, &st), DDOF_OK);
         CHECK_MSG(st.max_coc_px > 0.0f && st.max_coc_px < 0.5f, "camera: largest CoC %g",
                   (double)st.max_coc_px);
@@ -467,7 +445,7 @@ static void test_in_focus_threshold(void)
     for (size_t i = 0; i < sizeof bad / sizeof *bad; i++) {
         heat_params_init(&p);
         p.in_focus_threshold_px = bad[i];
-        fill(out, n, -7.0f);
+        fill_const(out, n, -7.0f);
         CHECK_MSG(single(&p, color, coc, out, CH, NULL) == DDOF_ERROR_BAD_PARAMETER,
                   "threshold %g accepted by ddof_diffuse", (double)bad[i]);
         CHECK_MSG(layers(&p, color, coc, NULL, out, CH, NULL) == DDOF_ERROR_BAD_PARAMETER,
@@ -492,7 +470,7 @@ static void test_in_focus_threshold(void)
     /* Bad colour in a frame that would be a copy is still found, and out stays untouched. */
     heat_params_init(&p);
     color[n / 3] = NAN;
-    fill(out, n, -7.0f);
+    fill_const(out, n, -7.0f);
     CHECK_EQ_INT(single(&p, color, coc, out, CH, NULL), DDOF_ERROR_BAD_COLOR);
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, NULL), DDOF_ERROR_BAD_COLOR);
     size_t touched = 0;
@@ -514,7 +492,7 @@ static void test_in_focus_threshold(void)
     CHECK_MSG(!(old.in_focus_threshold_px >= 0.0f && old.in_focus_threshold_px <= 1.0f),
               "the garbage must not itself be a plausible threshold");
     for (int layered = 0; layered < 2; layered++) {
-        fill(out, n, -7.0f);
+        fill_const(out, n, -7.0f);
         CHECK_EQ_INT(layered ? layers(&old, color, coc, NULL, out, CH, &st)
                              : single(&old, color, coc, out, CH, &st),
                      DDOF_OK);
@@ -526,7 +504,7 @@ static void test_in_focus_threshold(void)
 static void test_uniform_blur(void)
 {
     texture(color, CH, 2);
-    fill(coc, npx, 10.0f);
+    fill_const(coc, npx, 10.0f);
     ddof_params p;
     heat_params_init(&p);
     ddof_stats st, st1;
@@ -647,7 +625,7 @@ static void test_bars(void)
 static void test_force_background_on(void)
 {
     texture(color, CH, 5);
-    fill(coc, npx, 10.0f);
+    fill_const(coc, npx, 10.0f);
     ddof_params p;
     heat_params_init(&p);
     p.background = DDOF_LAYER_ON;
@@ -742,7 +720,7 @@ static void test_near(void)
     CHECK_MSG(st.effects == DDOF_EFFECT_MIDGROUND, "near CoC 3: effects 0x%x", st.effects);
 
     /* Near spread forced on in a scene with nothing near: it runs. */
-    fill(coc, npx, 10.0f);
+    fill_const(coc, npx, 10.0f);
     p.near_spread = DDOF_LAYER_ON;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("near forced on", &st);
@@ -787,7 +765,7 @@ static void test_near_layer(void)
     p.near_layer_threshold_px = 8.0f;
 
     /* Forced on with nothing near: it looks, finds no element, the midground alone runs. */
-    fill(coc, npx, 10.0f);
+    fill_const(coc, npx, 10.0f);
     p.near_layer = DDOF_LAYER_ON;
     CHECK_EQ_INT(layers(&p, color, coc, NULL, out, CH, &st), DDOF_OK);
     dump_plan("near layer forced on, nothing near", &st);
@@ -813,14 +791,14 @@ static void test_foreground(void)
 {
     texture(color, CH, 7);
     disc_foreground(fg_color, fg_coc);
-    ddof_foreground fg = make_fg(fg_color, fg_coc);
+    ddof_foreground fg = make_fg(fg_color, fg_coc, 1);
     ddof_params p;
     heat_params_init(&p);
     p.coc_signed = 1;
     ddof_stats st, st_none;
 
     /* Sharp main image + the object as a foreground element. */
-    fill(coc, npx, 0.0f);
+    fill_const(coc, npx, 0.0f);
     CHECK_EQ_INT(layers(&p, color, coc, &fg, out, CH, &st), DDOF_OK);
     dump_plan("foreground, sharp main", &st);
     CHECK_MSG((st.effects & ~DDOF_EFFECT_MIDGROUND) == DDOF_EFFECT_FOREGROUND,
@@ -845,7 +823,7 @@ static void test_foreground(void)
     CHECK_MSG(st.lines_solved > st_none.lines_solved, "foreground adds no lines");
 
     /* Uniformly (mildly) blurred main image + foreground: midground + foreground exactly. */
-    fill(coc, npx, 6.0f);
+    fill_const(coc, npx, 6.0f);
     CHECK_EQ_INT(layers(&p, color, coc, &fg, out, CH, &st), DDOF_OK);
     dump_plan("foreground, blurred main", &st);
     CHECK_MSG(st.effects == (DDOF_EFFECT_MIDGROUND | DDOF_EFFECT_FOREGROUND),
