@@ -10,6 +10,16 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* 1 when `a` and `b` name the same existing file (same device and inode: this sees through
+ * "./x", "../dir/x", symbolic and hard links), 0 otherwise. */
+static int same_file(const char *a, const char *b)
+{
+    struct stat sa, sb;
+    if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
+        return 0;
+    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
 int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
 {
     const char *inputs[4];
@@ -32,7 +42,7 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
             if (!inputs[i][0])
                 continue;
             /* Same spelling, or the same file under another spelling or link. */
-            if (strcmp(outputs[o], inputs[i]) == 0 || output_same_file(outputs[o], inputs[i])) {
+            if (strcmp(outputs[o], inputs[i]) == 0 || same_file(outputs[o], inputs[i])) {
                 snprintf(error, error_size, "refusing to write %s %s: it is the %s (%s); ddof "
                          "never overwrites its input", output_kind[o], outputs[o],
                          input_kind[i], inputs[i]);
@@ -44,7 +54,7 @@ int frame_check_paths(const frame_paths *paths, char *error, size_t error_size)
         int p;
         for (p = 0; p < o; p++) {
             if (outputs[o][0] && (strcmp(outputs[o], outputs[p]) == 0 ||
-                                  output_same_file(outputs[o], outputs[p]))) {
+                                  same_file(outputs[o], outputs[p]))) {
                 snprintf(error, error_size, "the %s and the %s are the same file (%s)",
                          output_kind[o], output_kind[p], outputs[o]);
                 return -1;
@@ -164,7 +174,7 @@ int path_safety_check_outputs(const cli_options *o, const frame_paths *paths, in
         int k;
         for (k = 0; k < 4; k++)
             if (outputs[k][0] && (strcmp(outputs[k], o->stats_path) == 0 ||
-                                  output_same_file(outputs[k], o->stats_path))) {
+                                  same_file(outputs[k], o->stats_path))) {
                 if (paths[i].frame < 0)
                     fprintf(stderr, "ddof: --stats %s is also an output\n", o->stats_path);
                 else
