@@ -29,19 +29,7 @@ enum { W = 96, H = 72, CH = 4 };
 
 static ddof_context *ctx;
 
-static void fill(float *p, size_t n, float v)
-{
-    for (size_t i = 0; i < n; i++)
-        p[i] = v;
-}
-
-static ddof_status layers(const ddof_params *p, const float *color, const float *coc,
-                          const ddof_foreground *fg, float *out, uint32_t ch, ddof_stats *st)
-{
-    if (st)
-        *st = stats_init();
-    return diffuse_layers(ctx, p, color, coc, fg, out, W, H, ch, st);
-}
+#include "test_frame_calls.h"
 
 static double max_diff(const float *a, const float *b, size_t n)
 {
@@ -88,8 +76,8 @@ static void test_flat_background_is_exact(void)
             coc[i] = in ? -20.0f : 0.0f;
             objcoc[i] = in ? 20.0f : 0.0f;
         }
-    fill(zero, NPX, 0.0f);
-    fill(flat, NPX, 20.0f);
+    fill_const(zero, NPX, 0.0f);
+    fill_const(flat, NPX, 20.0f);
     ddof_params p = near_params();
     ddof_stats st;
     CHECK_EQ_INT(layers(&p, img, coc, NULL, one, CH, &st), DDOF_OK);
@@ -236,7 +224,7 @@ static void test_textured_surround(void)
         p.solver = (ddof_solver)k;
         p.highlights = DDOF_LAYER_OFF;
         ddof_stats st;
-        fill(out, NPX * CH, NAN);
+        fill_const(out, NPX * CH, NAN);
         CHECK_EQ_INT(layers(&p, img, coc, NULL, out, CH, &st), DDOF_OK);
         CHECK(st.effects & DDOF_EFFECT_NEAR_LAYER);
         CHECK(all_finite(out, NPX * CH));
@@ -337,7 +325,7 @@ static void test_all_near(void)
 {
     float *img = alloc_f(NPX * CH), *coc = alloc_f(NPX), *out = alloc_f(NPX * CH);
     block_texture(img, W, H, CH, 9, 0.05, 0.55);
-    fill(coc, NPX, -25.0f);
+    fill_const(coc, NPX, -25.0f);
     adi_request r0 = {.color = img, .color_stride = (size_t)W * CH, .channels = CH, .width = W,
                       .height = H, .coc = coc, .coc_stride = W, .coc_channels = 1};
     near_split s;
@@ -347,7 +335,7 @@ static void test_all_near(void)
     ddof_params p = near_params();
     p.near_layer = DDOF_LAYER_ON;
     ddof_stats st;
-    fill(out, NPX * CH, NAN);
+    fill_const(out, NPX * CH, NAN);
     CHECK_EQ_INT(layers(&p, img, coc, NULL, out, CH, &st), DDOF_OK);
     CHECK(all_finite(out, NPX * CH));
     float lo = INFINITY, hi = -INFINITY;
@@ -380,7 +368,7 @@ static void test_border_and_island(void)
             }
         ddof_params p = near_params();
         ddof_stats st;
-        fill(out, NPX * CH, NAN);
+        fill_const(out, NPX * CH, NAN);
         CHECK_EQ_INT(layers(&p, img, coc, NULL, out, CH, &st), DDOF_OK);
         CHECK_MSG(st.effects & DDOF_EFFECT_NEAR_LAYER, "%s: effects 0x%x",
                   island ? "island" : "corner", st.effects);
@@ -454,12 +442,12 @@ static void test_parameters(void)
     bad = p;
     bad.near_layer = DDOF_LAYER_ON;
     bad.coc_signed = 0;
-    fill(coc, NPX, 3.0f);
+    fill_const(coc, NPX, 3.0f);
     CHECK_EQ_INT(layers(&bad, img, coc, NULL, out, CH, NULL), DDOF_ERROR_BAD_PARAMETER);
     bad.coc_signed = 1;
     float *fgc = alloc_f(NPX * 4), *fgz = alloc_f(NPX);
-    fill(fgc, NPX * 4, 0.5f);
-    fill(fgz, NPX, 10.0f);
+    fill_const(fgc, NPX * 4, 0.5f);
+    fill_const(fgz, NPX, 10.0f);
     ddof_foreground fg;
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fgc, W, H, 4, 0};
@@ -475,7 +463,7 @@ static void test_parameters(void)
     CHECK(strstr(st.plan, "near layer: off: the foreground element covers the near field"));
     /* One channel: no RGB to split. */
     float *one = alloc_f(NPX), *one_out = alloc_f(NPX);
-    fill(one, NPX, 0.5f);
+    fill_const(one, NPX, 0.5f);
     CHECK_EQ_INT(layers(&p, one, coc, NULL, one_out, 1, &st), DDOF_OK);
     CHECK(!(st.effects & DDOF_EFFECT_NEAR_LAYER));
     CHECK_MSG(strstr(st.plan, "near layer: off: 1 colour channel"), "plan:\n%s", st.plan);

@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* frame_job.h - one frame, start to finish: read the EXR, find its channels, compute the CoC,
- * diffuse, write the EXR (and preview) atomically, and optionally measure against a truth. */
+/* frame_job.h - one frame, start to finish: read the EXR and find its channels (frame_input.c),
+ * one library call for the CoC and the depth of field (frame_job.c), write the EXR and the
+ * previews atomically (frame_output.c), and optionally measure against a truth
+ * (frame_compare.c). What a frame may write is judged in path_safety.c. */
 #ifndef DDOF_CLI_FRAME_JOB_H
 #define DDOF_CLI_FRAME_JOB_H
 
@@ -15,16 +17,6 @@
 
 #ifndef PATH_MAX
 #define PATH_MAX 4096
-/* --keep-channels on a multipart input: refused (-1, error says why), since the other parts
- * would be dropped. Returns 0 otherwise. */
-int frame_check_input_parts(const cli_options *options, const exrio_image *image,
-                            const char *path, char *error, size_t error_size);
-
-/* --skip-existing: 1 when every output of the frame (EXR and previews) is a regular file no
- * older than any of its inputs (colour, depth file, foreground, camera sidecar) and the EXR
- * opens; 0 when the frame must run. */
-int frame_outputs_complete(const cli_options *options, const frame_paths *paths);
-
 #endif
 
 /* What every frame shares, resolved once in main: the options, and the camera, curve and
@@ -85,18 +77,8 @@ ddof_context *frame_context_create(const cli_options *options, uint32_t thread_c
 int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths *paths,
               frame_result *result, progress *bar, int slot);
 
-/* Checks the paths of one frame before any work: output and preview are not an input file and
- * not each other. Returns 0 or -1 (error). */
-int frame_check_paths(const frame_paths *paths, char *error, size_t error_size);
-
-/* --keep-channels on a multipart input: refused (-1, error says why), since the other parts
- * would be dropped. Returns 0 otherwise. */
-int frame_check_input_parts(const cli_options *options, const exrio_image *image,
-                            const char *path, char *error, size_t error_size);
-
-/* --skip-existing: 1 when every output of the frame (EXR and previews) is a regular file no
- * older than any of its inputs (colour, depth file, foreground, camera sidecar) and the EXR
- * opens; 0 when the frame must run. */
-int frame_outputs_complete(const cli_options *options, const frame_paths *paths);
+/* The frame's failure: result->error gets the message, result->ok 0. Returns -1. For the
+ * frame's parts (frame_input.c, frame_output.c, frame_compare.c). */
+int frame_fail(frame_result *result, const char *format, ...);
 
 #endif

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* output_file.c - temporary file + rename, the clean-up thread for signals, path checks. */
+/* output_file.c - temporary file + rename, the clean-up thread for signals, an output path's
+ * type, stale temporary files. */
 #include "output_file.h"
 
 #include <dirent.h>
@@ -362,14 +363,6 @@ int output_check_directory(const char *path, char *error, size_t error_size)
         return -1;
     output_file_abort(&probe);
     return 0;
-}
-
-int output_same_file(const char *a, const char *b)
-{
-    struct stat sa, sb;
-    if (stat(a, &sa) != 0 || stat(b, &sb) != 0)
-        return 0;
-    return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 }
 
 int output_check_target(const char *path, char *error, size_t error_size)

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* output_file.h - outputs that are never half-written, never the input, and removed on Ctrl-C.
+/* output_file.h - outputs that are never half-written and removed on Ctrl-C (which paths may
+ * be written at all: path_safety.h).
  *
  * Every output (EXR, PNG preview, stats JSON) is written to a hidden temporary file in the
  * directory of its final path (".NAME.ddof-PID-N.tmp": same file system, so the final rename is
@@ -64,9 +65,5 @@ void output_file_abort(output_file *file);
  * directory of `path` (access() says yes to root even on a read-only directory entry of some
  * file systems; only trying tells). Returns 0 or -1 (error). */
 int output_check_directory(const char *path, char *error, size_t error_size);
-
-/* 1 when `a` and `b` name the same existing file (same device and inode: this sees through
- * "./x", "../dir/x", symbolic and hard links), 0 otherwise. */
-int output_same_file(const char *a, const char *b);
 
 #endif

@@ -2,6 +2,7 @@
 /* progress.c - the terminal progress bar. */
 #include "progress.h"
 
+#include "cli_clock.h"
 #include "output_file.h"
 
 #include <errno.h>
@@ -24,13 +25,6 @@ struct progress {
     int drawn;
 };
 
-static double now(void)
-{
-    struct timespec ts;
-    clock_gettime(CLOCK_MONOTONIC, &ts);
-    return (double)ts.tv_sec + 1e-9 * (double)ts.tv_nsec;
-}
-
 progress *progress_create(int enabled, int total_frames, int slots)
 {
     progress *p = calloc(1, sizeof *p);
@@ -45,7 +39,7 @@ progress *progress_create(int enabled, int total_frames, int slots)
     p->enabled = enabled;
     p->total = total_frames > 0 ? total_frames : 1;
     p->slots = slots > 0 ? slots : 1;
-    p->start = now();
+    p->start = cli_now();
     return p;
 }
 
@@ -62,7 +56,7 @@ void progress_free(progress *p)
 static void draw(progress *p)
 {
     double work = p->done;
-    double elapsed = now() - p->start;
+    double elapsed = cli_now() - p->start;
     char bar[BAR_WIDTH + 1];
     int i, filled;
     for (i = 0; i < p->slots; i++)
@@ -81,7 +75,7 @@ static void draw(progress *p)
     }
     fflush(stderr);
     p->drawn = 1;
-    p->last_draw = now();
+    p->last_draw = cli_now();
 }
 
 static void clear(progress *p)
@@ -100,7 +94,7 @@ void progress_update(progress *p, int slot, float fraction)
     pthread_mutex_lock(&p->lock);
     if (slot >= 0 && slot < p->slots)
         p->fraction[slot] = fraction < 0.0f ? 0.0f : fraction > 1.0f ? 1.0f : fraction;
-    if (p->enabled && now() - p->last_draw > 0.1)
+    if (p->enabled && cli_now() - p->last_draw > 0.1)
         draw(p);
     pthread_mutex_unlock(&p->lock);
 }

@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* ddof_demo.c - `ddof-demo`: depth of field on a synthetic render, written out as PNGs.
  *
- * Renders the scene of synthetic_scene.h (640x360, linear RGB + planar depth), computes the
- * circle of confusion of an 85 mm lens on a 36 mm sensor (Cycles lens model) focused on the
- * subject, runs ddof_depth_of_field and writes, into the output directory:
+ * Renders the scene of synthetic_scene.h (640x360, linear RGB + planar depth) and makes one
+ * ddof_render_frame call with an 85 mm lens on a 36 mm sensor (Cycles lens model) focused on
+ * the subject, which also hands back the circle of confusion it used; writes, into the output
+ * directory:
  *   pinhole.png       the input render
  *   depth.png         nearest depth / depth: near is bright, far dark, the sky black
  *   coc.png           CoC / largest CoC; orange in front of the focus plane, blue behind
