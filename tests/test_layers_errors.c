@@ -155,8 +155,8 @@ static void test_bars_error(int horizontal)
  * field (CoC 16) with an in-focus bar at the left and a near light (CoC -16) at the right, far
  * from the bar. With the layer on, pixels more than 16 px (their CoC) from the bar are exactly
  * the midground's, so the light keeps its halo; near the bar the layer does change the image.
- * Before the reach was taken into account, the layer (whose holes include the near field)
- * replaced the light's halo (value 30) with a background that lacks it: 3.8 max difference. */
+ * A layer applied without regard to the reach (its holes include the near field) would
+ * replace the light's halo (value 30) with a background that lacks it: 3.8 max difference. */
 static void test_background_reach(void)
 {
     const size_t npx = (size_t)W * H, n = npx * CH;

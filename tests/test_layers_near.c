@@ -115,8 +115,8 @@ static void test_depth_of_field_near(void)
 /* A small near object (a 5x5 light of CoC 20 px, value 30) over an in-focus background: the
  * near spread must let it blur as a large one of the same CoC would. Measured (160x120 and
  * 64x48, the default preset): its peak falls to 0.30 of its value and 0.71 of its energy leaves
- * its own pixels; GPU Gems 3's D = max(D0, 2 D_blurred - D0), which the spread used before,
- * barely raised its surroundings' CoC and left 0.66 and 0.36 (a sharp dot in a faint halo). */
+ * its own pixels; GPU Gems 3's D = max(D0, 2 D_blurred - D0) in place of the spread barely
+ * raises its surroundings' CoC and leaves 0.66 and 0.36 (a sharp dot in a faint halo). */
 static void test_small_near_light(void)
 {
     const size_t npx = (size_t)W * H;
