@@ -9,7 +9,7 @@ import time
 
 import bpy
 
-from . import binding, render
+from . import binding, images, report
 from . import camera as camera_mod
 from . import settings as settings_mod
 from .errors import SetupError
@@ -154,9 +154,9 @@ class DIFFUSION_DOF_OT_render_cards(bpy.types.Operator):
         except (SetupError, binding.DdofError, binding.LibraryError, ValueError) as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        image = render.store_result(RESULT_IMAGE, width, height, 4, out)
+        image = images.store_result(RESULT_IMAGE, width, height, 4, out)
         image.alpha_mode = "PREMUL"
-        render.log(message)
+        report.log(message)
         self.report({"INFO"}, message)
         return {"FINISHED"}
 
@@ -181,7 +181,7 @@ class DIFFUSION_DOF_RE_cards(bpy.types.RenderEngine):
         result = self.begin_result(0, 0, width, height)
         set_rect(result.layers[0].passes["Combined"], out, width * height)
         self.end_result(result)
-        render.log(message)
+        report.log(message)
 
 
 def set_rect(render_pass, pixels, count):
