@@ -9,7 +9,7 @@ import time
 
 import bpy
 
-from . import binding, images, report
+from . import binding, ddof_abi, images, report
 from . import camera as camera_mod
 from . import settings as settings_mod
 from .errors import SetupError
@@ -83,7 +83,7 @@ def image_planes(scene, cam_obj, depsgraph):
             matrix = to_camera @ obj.matrix_world
             before = len(cards)
             for poly in mesh.polygons:
-                if not 3 <= poly.loop_total <= binding.CARD_MAX_VERTICES:
+                if not 3 <= poly.loop_total <= ddof_abi.CARD_MAX_VERTICES:
                     skipped += 1
                     continue
                 loops = range(poly.loop_start, poly.loop_start + poly.loop_total)

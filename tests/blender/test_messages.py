@@ -101,7 +101,7 @@ if os.path.isfile(libm):
 fake = os.environ.get("DDOF_FAKE_LIBRARY", "")
 if checks.check(os.path.isfile(fake), "DDOF_FAKE_LIBRARY not given"):
     cases.append((fake, "is version 1.2.0, but this add-on was written for %d.%d"
-                  % binding.BINDING_VERSION[:2]))
+                  % addon.ddof_abi.BINDING_VERSION[:2]))
 scene.render.filepath = os.path.join(u.scratch_dir("messages"), "frame.exr")
 for path, expected in cases:
     os.environ["DDOF_LIBRARY"] = path
