@@ -89,11 +89,31 @@ def find_library():
                        % (_library_file_names()[0], _HERE, ENV_VAR, ENV_VAR))
 
 
-def _buffer_pointer(buf):
-    """A float pointer to the first element of an array.array('f') (or any writable buffer)."""
-    if len(buf) == 0:
+def _buffer_pointer(buf, start=0):
+    """A float pointer to element `start` of an array.array('f') (or any writable buffer of
+    floats)."""
+    if len(buf) <= start:
         return ctypes.POINTER(ctypes.c_float)()
-    return (ctypes.c_float * len(buf)).from_buffer(buf)
+    return (ctypes.c_float * (len(buf) - start)).from_buffer(buf, 4 * start)
+
+
+def _window_image(cls, buf, width, height, channels, window):
+    """A ddof_image (cls Image) or ddof_image_in (ImageIn) of a tightly packed buffer, or with a
+    window (x, y, frame width, frame height), of the buffer's width x height pixels at (x, y)
+    through the library's row stride."""
+    if window is None:
+        return cls(_buffer_pointer(buf), width, height, channels, 0)
+    x, y, frame_width, _frame_height = window
+    return cls(_buffer_pointer(buf, (y * frame_width + x) * channels), width, height, channels,
+               frame_width * channels * 4)
+
+
+def _copy_buffer(buf):
+    """A new float buffer with buf's values."""
+    out = new_buffer(len(buf))
+    if len(buf):
+        ctypes.memmove(_buffer_pointer(out), _buffer_pointer(buf), 4 * len(buf))
+    return out
 
 
 def new_buffer(count):
@@ -338,7 +358,8 @@ class Session:
         return None if status == abi.DDOF_OK else self._last_error()
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
-                       camera, params=None, foreground=None, preset=None, cancel=None):
+                       camera, params=None, foreground=None, preset=None, cancel=None,
+                       window=None):
         """Diffusion depth of field of one frame, in one ddof_render_frame call.
 
         color, depth: array.array('f') of width * height * channels floats (the depth's first
@@ -348,37 +369,45 @@ class Session:
         with 'color' (4 channels, RGB premultiplied by alpha) and 'depth' (+ 'depth_channels')
         of the same size: the separately rendered foreground element. cancel: None, or a
         function of the fraction done in [0, 1] returning True to stop (ddof_params.progress):
-        the call then raises Cancelled.
+        the call then raises Cancelled. window: None, or (x, y, frame width, frame height): the
+        buffers are frames of that size and the call covers their width x height pixels at
+        (x, y), read and written through the library's row stride; out is then the colour
+        frame with the window's result in it.
         Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
         plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name'. Raises
         DdofError with the library's message on bad input or combinations it refuses.
         """
-        count = width * height
+        if window is not None and (min(window[:2]) < 0 or window[0] + width > window[2]
+                                   or window[1] + height > window[3]):
+            raise ValueError("the window %dx%d at (%d, %d) is outside its %dx%d frame"
+                             % ((width, height) + tuple(window)))
+        count = width * height if window is None else window[2] * window[3]
         if len(color) != count * color_channels or len(depth) != count * depth_channels:
             raise ValueError("buffer sizes do not match %dx%d" % (width, height))
         cam = self.library.make_camera(camera)
         p = self.library.make_params(params, preset)
         frame = abi.Frame()
         self._dll.ddof_frame_init_sized(ctypes.byref(frame), ctypes.sizeof(frame))
-        frame.color = abi.ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
-        frame.depth = abi.ImageIn(_buffer_pointer(depth), width, height, depth_channels, 0)
+        frame.color = _window_image(abi.ImageIn, color, width, height, color_channels, window)
+        frame.depth = _window_image(abi.ImageIn, depth, width, height, depth_channels, window)
         frame.camera = ctypes.pointer(cam)
         if foreground is not None:
             fg_color, fg_depth = foreground["color"], foreground["depth"]
             fg_depth_channels = foreground.get("depth_channels", depth_channels)
             if len(fg_color) != count * 4 or len(fg_depth) != count * fg_depth_channels:
                 raise ValueError("foreground buffers do not match %dx%d" % (width, height))
-            frame.foreground_color = abi.ImageIn(_buffer_pointer(fg_color), width, height, 4, 0)
-            frame.foreground_depth = abi.ImageIn(_buffer_pointer(fg_depth), width, height,
-                                                 fg_depth_channels, 0)
+            frame.foreground_color = _window_image(abi.ImageIn, fg_color, width, height, 4,
+                                                   window)
+            frame.foreground_depth = _window_image(abi.ImageIn, fg_depth, width, height,
+                                                   fg_depth_channels, window)
         callback = None
         if cancel is not None:
             # Kept referenced until the call returns: ctypes frees an unreferenced callback.
             callback = abi.PROGRESS_FN(lambda _user, fraction:
                                        1 if _ask_cancel(cancel, fraction) else 0)
             p.progress = callback
-        out = new_buffer(count * color_channels)
-        out_img = abi.Image(_buffer_pointer(out), width, height, color_channels, 0)
+        out = new_buffer(count * color_channels) if window is None else _copy_buffer(color)
+        out_img = _window_image(abi.Image, out, width, height, color_channels, window)
         stats = abi.Stats()
         stats.struct_size = ctypes.sizeof(abi.Stats)
         status = self._dll.ddof_render_frame(self._ctx, ctypes.byref(p), ctypes.byref(frame),

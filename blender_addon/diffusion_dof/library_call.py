@@ -4,10 +4,9 @@ no Blender data may be read, so everything it takes (buffers, camera and option 
 region) was read on the main thread first. Also the render's ddof context, kept across its
 frames, and the cancel flag that stops a running call."""
 
-import array
 import threading
 
-from . import binding, frame_region, report
+from . import binding, report
 
 # Set to stop the library call that runs (Esc, a cancelled render): its progress callback
 # answers "stop" and the frame is left as rendered. Cleared when a render starts.
@@ -51,20 +50,22 @@ def close_session():
 
 
 def run(width, height, color, color_channels, depth, depth_channels, camera, foreground,
-        options):
-    """One frame in the render's session with library_options() `options`; returns (out,
-    stats). Raises LibraryError, DdofError, binding.Cancelled (cancel_event set)."""
+        options, window=None):
+    """One frame in the render's session with library_options() `options` (window: as
+    binding.Session.depth_of_field takes it); returns (out, stats). Raises LibraryError,
+    DdofError, binding.Cancelled (cancel_event set)."""
     return session_for(options["threads"], options["backend"]).depth_of_field(
         width, height, color, color_channels, depth, depth_channels, camera, options["params"],
         foreground=foreground, preset=options["preset"],
-        cancel=lambda _f: cancel_event.is_set())
+        cancel=lambda _f: cancel_event.is_set(), window=window)
 
 
 def run_region(width, height, color, color_channels, depth, depth_channels, camera,
                foreground, region, options):
     """run() for a render that may be a render border's (region: a frame_region.Region or
     None): the camera is the full frame's, and with a full-size image only the border's pixels
-    go to the library; the rest of the frame is returned as rendered."""
+    go to the library (through its row stride); the rest of the frame is returned as
+    rendered."""
     if region is None:
         return run(width, height, color, color_channels, depth, depth_channels, camera,
                    foreground, options)
@@ -72,20 +73,8 @@ def run_region(width, height, color, color_channels, depth, depth_channels, came
     if region.cropped:
         return run(width, height, color, color_channels, depth, depth_channels, camera,
                    foreground, options)
-    x, y, w, h = region.x, region.y, region.width, region.height
-
-    def part(buf, channels):
-        return frame_region.crop(buf, width, channels, x, y, w, h)
-    fg = None
-    if foreground is not None:
-        fg_channels = foreground.get("depth_channels", depth_channels)
-        fg = {"color": part(foreground["color"], 4),
-              "depth": part(foreground["depth"], fg_channels), "depth_channels": fg_channels}
-    out, stats = run(w, h, part(color, color_channels), color_channels,
-                     part(depth, depth_channels), depth_channels, camera, fg, options)
-    full = array.array("f", color)
-    frame_region.paste(full, width, color_channels, x, y, w, h, out)
-    return full, stats
+    return run(region.width, region.height, color, color_channels, depth, depth_channels,
+               camera, foreground, options, window=(region.x, region.y, width, height))
 
 
 class Call(threading.Thread):

@@ -1,8 +1,6 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Operators: apply to any two images, set up the passes, pinhole render, reload the library."""
 
-import array
-
 import bpy
 from bpy.props import IntProperty, StringProperty
 
@@ -164,9 +162,7 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
                                                                        rh), ch, rw, rh)
                 rgba = binding.new_buffer(w * h * 4)
                 frame_region.paste(rgba, w, 4, x, y, rw, rh, part)
-                for i, value in focus_map.aperture_legend(cam, w, h).items():
-                    rgba[4 * i:4 * i + 3] = array.array("f", [value / 255.0] * 3)
-                    rgba[4 * i + 3] = 1.0
+                focus_map.draw_legend(rgba, cam, w, h)
             image = images.store_result(images.FOCUS_MAP_IMAGE, w, h, 4, rgba, data=True)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             self.report({"ERROR"}, str(err))
