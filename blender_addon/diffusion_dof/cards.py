@@ -103,12 +103,11 @@ def image_planes(scene, cam_obj, depsgraph):
 
 
 def flipped_rows(pixels, width, height, channels=4):
-    """The image upside down (the library's row 0 is the top, Blender's the bottom)."""
-    out = array.array("f", bytes(4 * width * height * channels))
-    row = width * channels
-    for y in range(height):
-        out[y * row:(y + 1) * row] = pixels[(height - 1 - y) * row:(height - y) * row]
-    return out
+    """The image upside down (the library's row 0 is the top, Blender's the bottom), a float32
+    array."""
+    import numpy as np
+    rows = np.frombuffer(pixels, np.float32).reshape(height, width * channels)
+    return np.ascontiguousarray(rows[::-1]).ravel()
 
 
 def render_scene(scene, depsgraph):
@@ -200,4 +199,6 @@ def set_rect(render_pass, pixels, count):
 
 CLASSES = (DIFFUSION_DOF_OT_render_cards, DIFFUSION_DOF_RE_cards)
 
+
+# Registers CLASSES in order and unregisters them in reverse (Blender's own helper).
 register, unregister = bpy.utils.register_classes_factory(CLASSES)
