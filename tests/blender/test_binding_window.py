@@ -11,17 +11,14 @@ A window outside its frame is refused.
 import os
 import sys
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
-                                "blender_addon", "diffusion_dof"))
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import plain_checks  # noqa: E402
+
+plain_checks.import_from_addon()
 import binding  # noqa: E402
 
-failures = []
-
-
-def check(ok, message):
-    if not ok:
-        failures.append(message)
-        print("FAIL:", message)
+checks = plain_checks.Checks("test_binding_window")
+check = checks.check
 
 
 def crop(buf, width, channels, x, y, w, h):
@@ -85,5 +82,4 @@ with lib.session(threads=2) as session:
         check(False, "a window outside its frame was accepted")
     except ValueError as err:
         check("outside" in str(err), "window message: %s" % err)
-print("test_binding_window: %d failures" % len(failures))
-sys.exit(1 if failures else 0)
+checks.finish()
