@@ -15,7 +15,6 @@ import bpy  # noqa: E402
 
 checks = u.Checks("test_focus_tools")
 addon = u.load_addon()
-render = addon.render
 
 scene = u.clear_scene()
 u.add_plane(scene, "Wall", (5.0, 2.2), (0.0, 12.0, 0.0),

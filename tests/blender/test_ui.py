@@ -23,7 +23,6 @@ import bpy  # noqa: E402
 
 checks = u.Checks("test_ui")
 addon = u.load_addon()
-render = addon.render
 scene = u.clear_scene()
 u.add_plane(scene, "Wall", (24.0, 14.0), (0.0, 12.0, 0.0),
             u.emission_checker("WallMat", (0.95, 0.85, 0.6, 1), (0.08, 0.12, 0.3, 1), 4.0))
