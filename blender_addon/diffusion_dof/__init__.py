@@ -15,15 +15,21 @@ bl_info = {
 
 if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency order
     import importlib
-    for _name in ("errors", "binding", "compat", "frame_region", "focus_map", "overscan",
-                  "settings", "camera", "passes", "composite", "render", "ops", "cards", "ui"):
+    for _name in ("errors", "ddof_abi", "binding", "compat", "frame_region", "focus_map",
+                  "overscan", "settings", "camera", "passes", "composite", "report", "images",
+                  "frame_file", "overscan_render", "library_call", "escape_watch",
+                  "frame_inputs", "frame_output", "frame_steps", "jobs", "render", "ops",
+                  "cards", "ui"):
         if _name in locals():
             importlib.reload(locals()[_name])
 
 import bpy  # noqa: E402
 
-from . import errors, binding, compat, frame_region, focus_map, overscan  # noqa: E402,F401
-from . import settings, camera, passes, composite, render, ops, cards, ui  # noqa: E402,F401
+from . import errors, ddof_abi, binding, compat, frame_region, focus_map  # noqa: E402,F401
+from . import overscan, settings, camera, passes, composite, report, images  # noqa: E402,F401
+from . import frame_file, overscan_render, library_call, escape_watch  # noqa: E402,F401
+from . import frame_inputs, frame_output, frame_steps, jobs  # noqa: E402,F401
+from . import render, ops, cards, ui  # noqa: E402,F401
 
 _MODULES = (settings, ops, cards, ui, render)
 
@@ -43,7 +49,7 @@ def register():
             try:
                 passes.ensure_setup(scene)
             except errors.SetupError as err:
-                render.log("%s: %s" % (scene.name, err))
+                report.log("%s: %s" % (scene.name, err))
 
 
 def unregister():
@@ -57,7 +63,7 @@ def unregister():
         try:
             passes.teardown(scene)  # also removes its companion scene, never iterated itself
         except Exception as err:  # the add-on is going: it must still unregister what it can
-            render.log("%s: could not remove the add-on's nodes: %s: %s"
+            report.log("%s: could not remove the add-on's nodes: %s: %s"
                        % (scene.name, type(err).__name__, err))
     for module in reversed(_MODULES):
         module.unregister()

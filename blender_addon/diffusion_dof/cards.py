@@ -9,7 +9,7 @@ import time
 
 import bpy
 
-from . import binding, render
+from . import binding, ddof_abi, images, report
 from . import camera as camera_mod
 from . import settings as settings_mod
 from .errors import SetupError
@@ -83,7 +83,7 @@ def image_planes(scene, cam_obj, depsgraph):
             matrix = to_camera @ obj.matrix_world
             before = len(cards)
             for poly in mesh.polygons:
-                if not 3 <= poly.loop_total <= binding.CARD_MAX_VERTICES:
+                if not 3 <= poly.loop_total <= ddof_abi.CARD_MAX_VERTICES:
                     skipped += 1
                     continue
                 loops = range(poly.loop_start, poly.loop_start + poly.loop_total)
@@ -103,12 +103,11 @@ def image_planes(scene, cam_obj, depsgraph):
 
 
 def flipped_rows(pixels, width, height, channels=4):
-    """The image upside down (the library's row 0 is the top, Blender's the bottom)."""
-    out = array.array("f", bytes(4 * width * height * channels))
-    row = width * channels
-    for y in range(height):
-        out[y * row:(y + 1) * row] = pixels[(height - 1 - y) * row:(height - y) * row]
-    return out
+    """The image upside down (the library's row 0 is the top, Blender's the bottom), a float32
+    array."""
+    import numpy as np
+    rows = np.frombuffer(pixels, np.float32).reshape(height, width * channels)
+    return np.ascontiguousarray(rows[::-1]).ravel()
 
 
 def render_scene(scene, depsgraph):
@@ -154,9 +153,9 @@ class DIFFUSION_DOF_OT_render_cards(bpy.types.Operator):
         except (SetupError, binding.DdofError, binding.LibraryError, ValueError) as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        image = render.store_result(RESULT_IMAGE, width, height, 4, out)
+        image = images.store_result(RESULT_IMAGE, width, height, 4, out)
         image.alpha_mode = "PREMUL"
-        render.log(message)
+        report.log(message)
         self.report({"INFO"}, message)
         return {"FINISHED"}
 
@@ -181,7 +180,7 @@ class DIFFUSION_DOF_RE_cards(bpy.types.RenderEngine):
         result = self.begin_result(0, 0, width, height)
         set_rect(result.layers[0].passes["Combined"], out, width * height)
         self.end_result(result)
-        render.log(message)
+        report.log(message)
 
 
 def set_rect(render_pass, pixels, count):
@@ -200,4 +199,6 @@ def set_rect(render_pass, pixels, count):
 
 CLASSES = (DIFFUSION_DOF_OT_render_cards, DIFFUSION_DOF_RE_cards)
 
+
+# Registers CLASSES in order and unregisters them in reverse (Blender's own helper).
 register, unregister = bpy.utils.register_classes_factory(CLASSES)

@@ -19,7 +19,7 @@ only there: the rest of the add-on has one code path.
 - F-curves: an action's own `fcurves` up to 4.x; 4.4 put them in channel bags (per action slot)
   and 5.0 removed `Action.fcurves`.
 - Removing an ID while an animation renders: 5.2 re-evaluates the render's depsgraph between
-  frames and crashes on a removed image (render.py frees images after the render instead).
+  frames and crashes on a removed image (images.py frees images after the render instead).
 """
 
 import bpy

@@ -13,8 +13,9 @@ row offset is counted from the bottom too, and the library sees the frame upside
 changes nothing it computes.
 """
 
-import array
 import struct
+
+import numpy as np
 
 
 def _f32(value):
@@ -81,19 +82,17 @@ def region_of(use_border, use_crop, border, frame_size, image_size):
     return Region(fw, fh, x, y, w, h, cropped)
 
 
+def _rows(buf, width, channels):
+    """The interleaved float buffer as a (rows, width, channels) array over the same memory."""
+    return np.frombuffer(buf, dtype=np.float32).reshape(-1, width, channels)
+
+
 def crop(buf, width, channels, x, y, w, h):
-    """The w x h window at (x, y) of an interleaved float buffer `width` pixels wide."""
-    out = array.array("f")
-    row = w * channels
-    for r in range(y, y + h):
-        start = (r * width + x) * channels
-        out.extend(buf[start:start + row])
-    return out
+    """The w x h window at (x, y) of an interleaved float buffer `width` pixels wide, as a new
+    tightly packed float32 array."""
+    return np.ascontiguousarray(_rows(buf, width, channels)[y:y + h, x:x + w]).ravel()
 
 
 def paste(dst, width, channels, x, y, w, h, src):
     """Writes a w x h window `src` into dst at (x, y), in place."""
-    row = w * channels
-    for r in range(h):
-        start = ((y + r) * width + x) * channels
-        dst[start:start + row] = src[r * row:(r + 1) * row]
+    _rows(dst, width, channels)[y:y + h, x:x + w] = _rows(src, w, channels)[:h]

@@ -1,13 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Operators: apply to any two images, set up the passes, pinhole render, reload the library."""
 
-import array
-
 import bpy
 from bpy.props import IntProperty, StringProperty
 
 from . import camera as camera_mod
-from . import binding, focus_map, frame_region, passes, render
+from . import binding, escape_watch, focus_map, frame_inputs, frame_region, images, jobs
+from . import library_call, passes, report
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -23,7 +22,7 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
     depth: StringProperty(name="Depth",
                           description="Name of the depth image: planar camera Z in scene units "
                                       "(Blender's Depth pass), first channel")
-    output: StringProperty(name="Output", default=render.RESULT_IMAGE,
+    output: StringProperty(name="Output", default=images.RESULT_IMAGE,
                            description="Name of the image that receives the result (created "
                                        "or resized as needed)")
     camera: StringProperty(name="Camera",
@@ -48,7 +47,7 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
             if self.fg_color or self.fg_depth:
                 wanted += [("foreground colour", self.fg_color),
                            ("foreground depth", self.fg_depth)]
-            images = []
+            chosen = []
             for role, name in wanted:
                 image = bpy.data.images.get(name)
                 if image is None:
@@ -57,41 +56,42 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
                     raise SetupError("The %s image '%s' holds 8-bit values, not distances: "
                                      "load the Depth pass from an OpenEXR file."
                                      % (role, image.name))
-                images.append(image)
-            color_img, depth_img = images[:2]
+                chosen.append(image)
+            color_img, depth_img = chosen[:2]
             cam_obj = None
             if self.camera:
                 cam_obj = bpy.data.objects.get(self.camera)
                 if cam_obj is None:
                     raise SetupError("There is no object named '%s'." % self.camera)
             cam, info = camera_mod.camera_settings(scene, settings, cam_obj=cam_obj)
-            color, width, height, channels = render.read_image(color_img)
-            depth, dw, dh, dchannels = render.read_image(depth_img)
+            color, width, height, channels = images.read_image(color_img)
+            depth, dw, dh, dchannels = images.read_image(depth_img)
             if (dw, dh) != (width, height):
                 raise SetupError("The colour image is %dx%d but the depth image %dx%d."
                                  % (width, height, dw, dh))
             foreground = None
-            if len(images) == 4:
-                fg_color, fw, fh, fchannels = render.read_image(images[2])
-                fg_depth, gw, gh, gchannels = render.read_image(images[3])
+            if len(chosen) == 4:
+                fg_color, fw, fh, fchannels = images.read_image(chosen[2])
+                fg_depth, gw, gh, gchannels = images.read_image(chosen[3])
                 if (fw, fh, gw, gh) != (width, height, width, height) or fchannels != 4:
                     raise SetupError("The foreground images must be RGBA and %dx%d like the "
                                      "colour image." % (width, height))
                 foreground = {"color": fg_color, "depth": fg_depth, "depth_channels": gchannels}
             # Images of the scene's render border (the kept passes) keep their place in the
             # frame; other images are frames of their own.
-            region = render.scene_region(scene, width, height, strict=False)
-            render.cancel_event.clear()
-            out, stats = render.run_region(scene, settings, width, height, color, channels,
-                                           depth, dchannels, cam, foreground, region)
-            render.store_result(self.output or render.RESULT_IMAGE, width, height, channels,
+            region = frame_inputs.scene_region(scene, width, height, strict=False)
+            library_call.cancel_event.clear()
+            out, stats = library_call.run_region(width, height, color, channels, depth,
+                                                 dchannels, cam, foreground, region,
+                                                 library_call.library_options(settings))
+            images.store_result(self.output or images.RESULT_IMAGE, width, height, channels,
                                 out)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        message = "%s -> '%s': %s; %s" % (color_img.name, self.output, render.summary(stats),
+        message = "%s -> '%s': %s; %s" % (color_img.name, self.output, report.summary(stats),
                                           camera_mod.describe(cam, info))
-        render.reports[scene.name] = {"ok": True, "message": message, "frame": None,
+        report.reports[scene.name] = {"ok": True, "message": message, "frame": None,
                                       "stats": stats, "camera": camera_mod.describe(cam, info),
                                       "path": None, "time": 0.0}
         self.report({"INFO"}, message)
@@ -107,15 +107,15 @@ class DIFFUSION_DOF_OT_watch_escape(bpy.types.Operator):
     def invoke(self, context, _event):
         self._timer = context.window_manager.event_timer_add(0.1, window=context.window)
         context.window_manager.modal_handler_add(self)
-        render.escape_watch["on"] = True
+        escape_watch.watching["on"] = True
         return {"RUNNING_MODAL"}
 
     def modal(self, context, event):
         if event.type == "ESC" and event.value == "PRESS":
-            render.request_cancel()
-        if not render.busy():
+            library_call.request_cancel()
+        if not jobs.busy():
             context.window_manager.event_timer_remove(self._timer)
-            render.escape_watch["on"] = False
+            escape_watch.watching["on"] = False
             return {"FINISHED"}
         return {"PASS_THROUGH"}
 
@@ -123,12 +123,12 @@ class DIFFUSION_DOF_OT_watch_escape(bpy.types.Operator):
 def _kept_passes():
     """(color, depth) of the last frame's kept passes: each (buffer, width, height, channels).
     Raises SetupError when there are none."""
-    color_img = bpy.data.images.get(render.INPUT_IMAGE)
-    depth_img = bpy.data.images.get(render.DEPTH_IMAGE)
+    color_img = bpy.data.images.get(images.INPUT_IMAGE)
+    depth_img = bpy.data.images.get(images.DEPTH_IMAGE)
     if color_img is None or depth_img is None:
         raise SetupError("Render a frame with Diffusion DOF on and Output > Keep Inputs "
                          "checked first: the focus tools read its Depth pass.")
-    color, depth = render.read_image(color_img), render.read_image(depth_img)
+    color, depth = images.read_image(color_img), images.read_image(depth_img)
     if color[1:3] != depth[1:3]:
         raise SetupError("The kept colour and depth images differ in size.")
     return color, depth
@@ -148,7 +148,7 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
             (color, w, h, ch), (depth, _, _, dch) = _kept_passes()
             cam, _info = camera_mod.camera_settings(scene, settings)
             lib = binding.get_library()
-            region = render.scene_region(scene, w, h, strict=False)
+            region = frame_inputs.scene_region(scene, w, h, strict=False)
             if region is None or region.cropped:
                 if region is not None:
                     cam = dict(cam, **region.camera_fields())
@@ -162,10 +162,8 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
                                                                        rh), ch, rw, rh)
                 rgba = binding.new_buffer(w * h * 4)
                 frame_region.paste(rgba, w, 4, x, y, rw, rh, part)
-                for i, value in focus_map.aperture_legend(cam, w, h).items():
-                    rgba[4 * i:4 * i + 3] = array.array("f", [value / 255.0] * 3)
-                    rgba[4 * i + 3] = 1.0
-            image = render.store_result(render.FOCUS_MAP_IMAGE, w, h, 4, rgba, data=True)
+                focus_map.draw_legend(rgba, cam, w, h)
+            image = images.store_result(images.FOCUS_MAP_IMAGE, w, h, 4, rgba, data=True)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
@@ -176,7 +174,7 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
                         image.name, 100.0 * sharp / total, 100.0 * near / total,
                         100.0 * far / total))
         if not bpy.app.background:
-            render.show_image(image)
+            images.show_image(image)
         return {"FINISHED"}
 
 
@@ -219,7 +217,7 @@ class DIFFUSION_DOF_OT_pick_focus(bpy.types.Operator):
         return {"FINISHED"}
 
     def invoke(self, context, _event):
-        if render.DEPTH_IMAGE not in bpy.data.images:
+        if images.DEPTH_IMAGE not in bpy.data.images:
             return self.execute(context)  # says what to do
         context.window_manager.modal_handler_add(self)
         if context.area is not None:
@@ -249,7 +247,7 @@ class DIFFUSION_DOF_OT_pick_focus(bpy.types.Operator):
                         region.width and region.y <= event.mouse_y < region.y + region.height:
                     u, v = region.view2d.region_to_view(event.mouse_x - region.x,
                                                         event.mouse_y - region.y)
-                    _w, _h = bpy.data.images[render.DEPTH_IMAGE].size
+                    _w, _h = bpy.data.images[images.DEPTH_IMAGE].size
                     pixel = focus_map.pixel_of(u, v, _w, _h)
                     if pixel is None:
                         return {"RUNNING_MODAL"}
@@ -269,16 +267,16 @@ class DIFFUSION_DOF_OT_reapply(bpy.types.Operator):
 
     @classmethod
     def poll(cls, context):
-        return render.INPUT_IMAGE in bpy.data.images and render.DEPTH_IMAGE in bpy.data.images
+        return images.INPUT_IMAGE in bpy.data.images and images.DEPTH_IMAGE in bpy.data.images
 
     def execute(self, context):
         fg = {}
         if context.scene.diffusion_dof.foreground_collection is not None and \
-                render.FG_INPUT_IMAGE in bpy.data.images:
-            fg = {"fg_color": render.FG_INPUT_IMAGE, "fg_depth": render.FG_DEPTH_IMAGE}
+                images.FG_INPUT_IMAGE in bpy.data.images:
+            fg = {"fg_color": images.FG_INPUT_IMAGE, "fg_depth": images.FG_DEPTH_IMAGE}
         try:
-            bpy.ops.diffusion_dof.apply_images(color=render.INPUT_IMAGE, depth=render.DEPTH_IMAGE,
-                                               output=render.RESULT_IMAGE, **fg)
+            bpy.ops.diffusion_dof.apply_images(color=images.INPUT_IMAGE, depth=images.DEPTH_IMAGE,
+                                               output=images.RESULT_IMAGE, **fg)
         except RuntimeError as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}

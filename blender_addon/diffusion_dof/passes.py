@@ -4,11 +4,11 @@
 Blender cannot run Python inside the compositor, and a render result's pixels are not readable
 from Python. What does work, in the UI and in background mode, for stills and animations: a
 File Output node in the scene's compositor writes the Combined and Depth passes of every
-rendered frame as float OpenEXR files into the session's temporary folder, and the render
-handlers (see render.py) load them as images and read their pixels. This module adds and removes
-those managed nodes (inside a frame labelled "Diffusion DOF"), turns on what they need (the
-Depth pass, compositing) and, for a foreground collection, keeps a companion scene that renders
-just that collection with a transparent film.
+rendered frame as float OpenEXR files into the session's temporary folder, and the queued
+frame (frame_inputs.py, images.py) loads them as images and reads their pixels. This module adds
+and removes those managed nodes (inside a frame labelled "Diffusion DOF"), turns on what they
+need (the Depth pass, compositing) and, for a foreground collection, keeps a companion scene
+that renders just that collection with a transparent film.
 """
 
 import os

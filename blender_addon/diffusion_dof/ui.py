@@ -7,7 +7,7 @@ import textwrap
 import bpy
 
 from . import camera as camera_mod
-from . import binding, passes, render
+from . import binding, images, overscan_render, passes, report
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -71,15 +71,15 @@ def draw_main(layout, context):
         col.label(text=_preset_line(s))
     row = layout.row()
     row.operator("diffusion_dof.reapply", icon="FILE_REFRESH")
-    report = render.reports.get(scene.name)
-    if report:
+    last = report.reports.get(scene.name)
+    if last:
         box = layout.box()
-        _wrapped(box, report["message"], icon="CHECKMARK" if report["ok"] else "ERROR")
-        stats = report.get("stats")
+        _wrapped(box, last["message"], icon="CHECKMARK" if last["ok"] else "ERROR")
+        stats = last.get("stats")
         if stats:
             sub = box.column(align=True)
             sub.scale_y = 0.8
-            sub.label(text="Ran on: " + render.backend_line(stats),
+            sub.label(text="Ran on: " + report.backend_line(stats),
                       icon="DESKTOP" if stats.get("hardware") else "MEMORY")
             for note in (stats.get("backend_note"), stats.get("method_note")):
                 if note:
@@ -130,12 +130,12 @@ def draw_expert(layout, context):
     layout.prop(s, "foreground_collection")
     layout.prop_search(s, "view_layer", scene, "view_layers")
     layout.prop(s, "backend")
-    report = render.reports.get(scene.name)
-    stats = report.get("stats") if report else None
+    last = report.reports.get(scene.name)
+    stats = last.get("stats") if last else None
     if stats:
         row = layout.row()
         row.enabled = False
-        row.label(text="Last frame: " + render.backend_line(stats))
+        row.label(text="Last frame: " + report.backend_line(stats))
     layout.prop(s, "threads")
 
 
@@ -144,7 +144,7 @@ def overscan_line(scene, s):
     if s.overscan == "OFF":
         return "Off: light from outside the frame is missing"
     try:
-        plan, why = render.overscan_plan(scene, s)
+        plan, why = overscan_render.overscan_plan(scene, s)
     except SetupError as err:
         return "None: %s" % err
     if plan is None:
@@ -175,7 +175,7 @@ class DIFFUSION_DOF_OT_apply_images_dialog(bpy.types.Operator):
 
     color: bpy.props.StringProperty(name="Colour")
     depth: bpy.props.StringProperty(name="Depth")
-    output: bpy.props.StringProperty(name="Output", default=render.RESULT_IMAGE)
+    output: bpy.props.StringProperty(name="Output", default=images.RESULT_IMAGE)
 
     def invoke(self, context, _event):
         return context.window_manager.invoke_props_dialog(self)

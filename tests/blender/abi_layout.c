@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: GPL-3.0-or-later */
 /* abi_layout.c - prints the size and field offsets of every public ddof struct, one line each:
  *   <struct> <sizeof> <field>:<offset>:<size> ...
- * check_abi.py compares them with the ctypes mirror in blender_addon/diffusion_dof/binding.py,
+ * check_abi.py compares them with the ctypes mirror in blender_addon/diffusion_dof/ddof_abi.py,
  * and the enum values, so a field added to ddof.h without the add-on following fails a test. */
 #ifndef DDOF_EXPERIMENTAL /* the cards' structs (the build may define it already) */
 #define DDOF_EXPERIMENTAL

@@ -17,32 +17,12 @@ import tempfile
 
 import bpy
 
+from plain_checks import Checks  # noqa: F401 (the tests use it as u.Checks)
+
 HERE = os.path.dirname(os.path.abspath(__file__))
 REPO = os.path.abspath(os.path.join(HERE, "..", ".."))
 ADDON_DIR = os.path.join(REPO, "blender_addon")
 WIDTH, HEIGHT = 160, 90
-
-
-class Checks:
-    """Collects failures; finish() prints them and exits non-zero if any."""
-
-    def __init__(self, name):
-        self.name = name
-        self.failures = []
-        self.count = 0
-
-    def check(self, ok, message):
-        self.count += 1
-        if not ok:
-            self.failures.append(message)
-            print("FAIL: %s" % message, flush=True)
-        return ok
-
-    def finish(self):
-        print("%s: %d checks, %d failures" % (self.name, self.count, len(self.failures)),
-              flush=True)
-        if self.failures:
-            sys.exit(1)
 
 
 def scratch_dir(name):

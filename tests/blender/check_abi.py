@@ -5,21 +5,16 @@ loads the built library and runs one small frame. Plain python3, no Blender:
     python3 tests/blender/check_abi.py ABI_LAYOUT_EXECUTABLE LIBDDOF_SO
 """
 
-import importlib.util
 import math
 import os
 import subprocess
 import sys
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-BINDING = os.path.join(HERE, "..", "..", "blender_addon", "diffusion_dof", "binding.py")
-
-
-def load_binding():
-    spec = importlib.util.spec_from_file_location("ddof_binding", BINDING)
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
+# The mirror and the binding alone (they are bpy-free; the package's __init__ is not).
+sys.path.insert(0, os.path.join(HERE, "..", "..", "blender_addon", "diffusion_dof"))
+import binding as b  # noqa: E402
+import ddof_abi as abi  # noqa: E402
 
 
 def addon_ranges():
@@ -28,7 +23,7 @@ def addon_ranges():
     import ast
     path = os.path.join(HERE, "..", "..", "blender_addon", "diffusion_dof", "settings.py")
     tree = ast.parse(open(path, encoding="utf-8").read())
-    params = {name for name, _ in load_binding().Params._fields_}
+    params = {name for name, _ in abi.Params._fields_}
     ranges = {}
     for node in ast.walk(tree):
         if isinstance(node, ast.AnnAssign) and isinstance(node.target, ast.Name) and \
@@ -44,7 +39,6 @@ def addon_ranges():
 
 def main():
     layout_exe, library = sys.argv[1], sys.argv[2]
-    b = load_binding()
     import ctypes
 
     failures = []
@@ -62,7 +56,7 @@ def main():
             version = int(words[1])
             continue
         name, size = words[0], int(words[1])
-        cls = b.STRUCTS.get(name)
+        cls = abi.STRUCTS.get(name)
         if cls is None:
             failures.append("%s has no ctypes mirror" % name)
             continue
@@ -83,50 +77,51 @@ def main():
         py_fields = [f[0] for f in cls._fields_]
         if py_fields != c_fields:
             failures.append("%s: field order C %s, ctypes %s" % (name, c_fields, py_fields))
-    if set(b.STRUCTS) != {l.split()[0] for l in lines if l.split()[0] not in ("enum", "version")}:
+    if set(abi.STRUCTS) != {l.split()[0] for l in lines if l.split()[0] not in ("enum", "version")}:
         failures.append("the C dump and the binding list different structs")
 
     expect = {
-        "DDOF_OK": b.DDOF_OK, "DDOF_STATUS_COUNT_": len(b.STATUS_NAMES),
-        "DDOF_LENS_CYCLES": b.LENS_CYCLES, "DDOF_LENS_THIN_LENS": b.LENS_THIN_LENS,
-        "DDOF_DEPTH_PLANAR": b.DEPTH_PLANAR, "DDOF_DEPTH_RADIAL": b.DEPTH_RADIAL,
-        "DDOF_SENSOR_FIT_AUTO": b.SENSOR_FIT_AUTO,
-        "DDOF_SENSOR_FIT_HORIZONTAL": b.SENSOR_FIT_HORIZONTAL,
-        "DDOF_SENSOR_FIT_VERTICAL": b.SENSOR_FIT_VERTICAL,
-        "DDOF_SOLVER_THOMAS": b.SOLVERS["thomas"],
-        "DDOF_SOLVER_CYCLIC_REDUCTION": b.SOLVERS["cr"],
-        "DDOF_SOLVER_PCR": b.SOLVERS["pcr"], "DDOF_SOLVER_JACOBI": b.SOLVERS["jacobi"],
-        "DDOF_SOLVER_REFERENCE_F64": b.SOLVERS["reference"],
-        "DDOF_SOLVER_GRUEN": b.SOLVERS["gruen"], "DDOF_SOLVER_COUNT_": b.SOLVER_COUNT,
-        "DDOF_METHOD_DIFFUSION": b.METHODS["diffusion"],
-        "DDOF_METHOD_COD4_PREVIEW": b.METHODS["cod4"],
-        "DDOF_PRECISION_FLOAT": b.PRECISIONS["float"],
-        "DDOF_PRECISION_PACKED_HALF": b.PRECISIONS["packed_half"],
-        "DDOF_KERNEL_HEAT": b.KERNELS["heat"],
-        "DDOF_KERNEL_DISC_2X2": b.KERNELS["disc-2x2"],
-        "DDOF_KERNEL_DISC_2X3": b.KERNELS["disc-2x3"],
-        "DDOF_KERNEL_DISC_3X3": b.KERNELS["disc-3x3"],
-        "DDOF_PRESET_PREVIEW": b.PRESETS["preview"], "DDOF_PRESET_DEFAULT": b.PRESETS["default"],
-        "DDOF_PRESET_FINAL": b.PRESETS["final"], "DDOF_PRESET_COUNT_": b.PRESET_COUNT,
-        "DDOF_BACKEND_CPU": b.BACKENDS["cpu"], "DDOF_BACKEND_AUTO": b.BACKENDS["auto"],
-        "DDOF_BACKEND_EGL": b.BACKENDS["egl"], "DDOF_BACKEND_OSMESA": b.BACKENDS["osmesa"],
-        "DDOF_BACKEND_HOST_GL": b.BACKENDS["host"], "DDOF_BACKEND_COUNT_": b.BACKEND_COUNT,
-        "DDOF_LAYER_AUTO": b.LAYER_AUTO, "DDOF_LAYER_OFF": b.LAYER_OFF,
-        "DDOF_LAYER_ON": b.LAYER_ON,
-        "DDOF_EFFECT_MIDGROUND": b.EFFECT_MIDGROUND,
-        "DDOF_EFFECT_BACKGROUND": b.EFFECT_BACKGROUND,
-        "DDOF_EFFECT_FOREGROUND": b.EFFECT_FOREGROUND,
-        "DDOF_EFFECT_NEAR_SPREAD": b.EFFECT_NEAR_SPREAD,
-        "DDOF_EFFECT_HIGHLIGHTS": b.EFFECT_HIGHLIGHTS,
-        "DDOF_EFFECT_NEAR_LAYER": b.EFFECT_NEAR_LAYER,
-        "DDOF_EFFECT_FAR_FIELD": b.EFFECT_FAR_FIELD,
-        "DDOF_EFFECT_SILHOUETTES": b.EFFECT_SILHOUETTES,
-        "DDOF_CARDS_EXPAND_OFFSET": b.CARDS_EXPAND_OFFSET,
-        "DDOF_CARDS_EXPAND_CENTROID": b.CARDS_EXPAND_CENTROID,
-        "DDOF_CARD_MAX_VERTICES": b.CARD_MAX_VERTICES,
+        "DDOF_OK": abi.DDOF_OK, "DDOF_STATUS_COUNT_": len(abi.STATUS_NAMES),
+        "DDOF_LENS_CYCLES": abi.LENS_CYCLES, "DDOF_LENS_THIN_LENS": abi.LENS_THIN_LENS,
+        "DDOF_DEPTH_PLANAR": abi.DEPTH_PLANAR, "DDOF_DEPTH_RADIAL": abi.DEPTH_RADIAL,
+        "DDOF_SENSOR_FIT_AUTO": abi.SENSOR_FIT_AUTO,
+        "DDOF_SENSOR_FIT_HORIZONTAL": abi.SENSOR_FIT_HORIZONTAL,
+        "DDOF_SENSOR_FIT_VERTICAL": abi.SENSOR_FIT_VERTICAL,
+        "DDOF_SOLVER_THOMAS": abi.SOLVERS["thomas"],
+        "DDOF_SOLVER_CYCLIC_REDUCTION": abi.SOLVERS["cr"],
+        "DDOF_SOLVER_PCR": abi.SOLVERS["pcr"], "DDOF_SOLVER_JACOBI": abi.SOLVERS["jacobi"],
+        "DDOF_SOLVER_REFERENCE_F64": abi.SOLVERS["reference"],
+        "DDOF_SOLVER_GRUEN": abi.SOLVERS["gruen"], "DDOF_SOLVER_COUNT_": abi.SOLVER_COUNT,
+        "DDOF_METHOD_DIFFUSION": abi.METHODS["diffusion"],
+        "DDOF_METHOD_COD4_PREVIEW": abi.METHODS["cod4"],
+        "DDOF_PRECISION_FLOAT": abi.PRECISIONS["float"],
+        "DDOF_PRECISION_PACKED_HALF": abi.PRECISIONS["packed_half"],
+        "DDOF_KERNEL_HEAT": abi.KERNELS["heat"],
+        "DDOF_KERNEL_DISC_2X2": abi.KERNELS["disc-2x2"],
+        "DDOF_KERNEL_DISC_2X3": abi.KERNELS["disc-2x3"],
+        "DDOF_KERNEL_DISC_3X3": abi.KERNELS["disc-3x3"],
+        "DDOF_PRESET_PREVIEW": abi.PRESETS["preview"],
+        "DDOF_PRESET_DEFAULT": abi.PRESETS["default"],
+        "DDOF_PRESET_FINAL": abi.PRESETS["final"], "DDOF_PRESET_COUNT_": abi.PRESET_COUNT,
+        "DDOF_BACKEND_CPU": abi.BACKENDS["cpu"], "DDOF_BACKEND_AUTO": abi.BACKENDS["auto"],
+        "DDOF_BACKEND_EGL": abi.BACKENDS["egl"], "DDOF_BACKEND_OSMESA": abi.BACKENDS["osmesa"],
+        "DDOF_BACKEND_HOST_GL": abi.BACKENDS["host"], "DDOF_BACKEND_COUNT_": abi.BACKEND_COUNT,
+        "DDOF_LAYER_AUTO": abi.LAYER_AUTO, "DDOF_LAYER_OFF": abi.LAYER_OFF,
+        "DDOF_LAYER_ON": abi.LAYER_ON,
+        "DDOF_EFFECT_MIDGROUND": abi.EFFECT_MIDGROUND,
+        "DDOF_EFFECT_BACKGROUND": abi.EFFECT_BACKGROUND,
+        "DDOF_EFFECT_FOREGROUND": abi.EFFECT_FOREGROUND,
+        "DDOF_EFFECT_NEAR_SPREAD": abi.EFFECT_NEAR_SPREAD,
+        "DDOF_EFFECT_HIGHLIGHTS": abi.EFFECT_HIGHLIGHTS,
+        "DDOF_EFFECT_NEAR_LAYER": abi.EFFECT_NEAR_LAYER,
+        "DDOF_EFFECT_FAR_FIELD": abi.EFFECT_FAR_FIELD,
+        "DDOF_EFFECT_SILHOUETTES": abi.EFFECT_SILHOUETTES,
+        "DDOF_CARDS_EXPAND_OFFSET": abi.CARDS_EXPAND_OFFSET,
+        "DDOF_CARDS_EXPAND_CENTROID": abi.CARDS_EXPAND_CENTROID,
+        "DDOF_CARD_MAX_VERTICES": abi.CARD_MAX_VERTICES,
     }
     # Every status by name, in order.
-    for value, name in enumerate(b.STATUS_NAMES):
+    for value, name in enumerate(abi.STATUS_NAMES):
         expect[name] = value
     for name, value in expect.items():
         if enums.get(name) != value:
@@ -134,19 +129,19 @@ def main():
     unchecked = set(enums) - set(expect)
     if unchecked:
         failures.append("C enums the binding does not mirror: %s" % sorted(unchecked))
-    if version is None or b.version_tuple(version)[:2] != b.BINDING_VERSION:
-        failures.append("header version %s, binding %s" % (version, b.BINDING_VERSION))
+    if version is None or abi.version_tuple(version)[:2] != abi.BINDING_VERSION:
+        failures.append("header version %s, binding %s" % (version, abi.BINDING_VERSION))
 
     # The add-on's bl_info version follows the library's major.minor.
     sys.path.insert(0, os.path.join(HERE, "..", "..", "blender_addon"))
     import build_zip
     addon_version = tuple(int(v) for v in build_zip.addon_version().split("."))
-    if addon_version[:2] != b.BINDING_VERSION:
-        failures.append("bl_info version %s, binding %s" % (addon_version, b.BINDING_VERSION))
+    if addon_version[:2] != abi.BINDING_VERSION:
+        failures.append("bl_info version %s, binding %s" % (addon_version, abi.BINDING_VERSION))
 
     # Version rule: the same major, a minor at least the binding's.
     for number, ok in ((800, True), (805, True), (900, True), (700, False), (10800, False)):
-        if b.version_compatible(number) != ok:
+        if abi.version_compatible(number) != ok:
             failures.append("version_compatible(%d) should be %s" % (number, ok))
 
     # The real library through the binding: names, one frame, and an error message.
@@ -154,13 +149,13 @@ def main():
     lib = b.get_library(reload=True)
     if lib.version_number != version:
         failures.append("library %d, header %d" % (lib.version_number, version))
-    for name, value in b.SOLVERS.items():
+    for name, value in abi.SOLVERS.items():
         if lib.solver_name(value) != name:
             failures.append("solver %d is %r in the library" % (value, lib.solver_name(value)))
-    for name, value in b.BACKENDS.items():
+    for name, value in abi.BACKENDS.items():
         if lib.backend_name(value) != name:
             failures.append("backend %d is %r in the library" % (value, lib.backend_name(value)))
-    for name, value in b.PRESETS.items():
+    for name, value in abi.PRESETS.items():
         if lib.preset_name(value) != name:
             failures.append("preset %d is %r in the library" % (value, lib.preset_name(value)))
     # The add-on's sliders stay within what the library accepts (ddof_param_bounds).
@@ -179,7 +174,7 @@ def main():
     if bytes(lib.preset_params("default")) != bytes(default):
         failures.append("the default preset differs from ddof_params_init")
     try:
-        lib.preset_params(b.PRESET_COUNT)
+        lib.preset_params(abi.PRESET_COUNT)
         failures.append("an unknown preset was accepted")
     except ValueError:
         pass
@@ -213,7 +208,7 @@ def main():
         failures.append("unexpected stats %r" % stats)
     # depth_of_field(preset=...) is the preset's parameters, with params overriding them.
     final = lib.preset_params("final")
-    fields = {name: getattr(final, name) for name, _ in b.Params._fields_
+    fields = {name: getattr(final, name) for name, _ in abi.Params._fields_
               if name not in ("struct_size", "progress", "progress_user")}
     out_final, stats_final = lib.depth_of_field(w, h, color, 4, depth, 1, camera, preset="final")
     out_fields, _ = lib.depth_of_field(w, h, color, 4, depth, 1, camera, fields)
@@ -240,14 +235,14 @@ def main():
                                plugin_path="/nonexistent/libddof_gl.so")
             failures.append("%s with a missing plugin ran" % kind)
         except b.DdofError as err:
-            if err.status != b.DDOF_ERROR_BACKEND_UNAVAILABLE or \
+            if err.status != abi.DDOF_ERROR_BACKEND_UNAVAILABLE or \
                     "/nonexistent/libddof_gl.so" not in str(err):
                 failures.append("%s with a missing plugin: %s" % (kind, err))
     try:
         lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"solver": "gruen"})
         failures.append("gruen ran on the CPU")
     except b.DdofError as err:
-        if err.status != b.DDOF_ERROR_UNSUPPORTED:
+        if err.status != abi.DDOF_ERROR_UNSUPPORTED:
             failures.append("gruen on the CPU: %s" % err)
     _, stats_cod4 = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {"method": "cod4"})
     if stats_cod4["method_name"] != "cod4" or stats_cod4["backend_name"] != "cpu":
@@ -293,7 +288,7 @@ def main():
     out2, stats2 = lib.depth_of_field(w, h, color, 4, depth, 1, camera, {},
                                       foreground={"color": fg_color, "depth": fg_depth,
                                                   "depth_channels": 1})
-    if not stats2["effects"] & b.EFFECT_FOREGROUND or any(math.isnan(v) for v in out2):
+    if not stats2["effects"] & abi.EFFECT_FOREGROUND or any(math.isnan(v) for v in out2):
         failures.append("foreground path: %r" % stats2)
     # The CoD4 preview takes no foreground element: the library refuses it (one rule, in C).
     try:
@@ -302,7 +297,7 @@ def main():
                                        "depth_channels": 1})
         failures.append("cod4 with a foreground element ran")
     except b.DdofError as err:
-        if err.status != b.DDOF_ERROR_UNSUPPORTED or "foreground" not in str(err):
+        if err.status != abi.DDOF_ERROR_UNSUPPORTED or "foreground" not in str(err):
             failures.append("cod4 with a foreground element: %s" % err)
     # A session keeps one context for many frames: the same results as fresh contexts.
     with lib.session(threads=2) as session:
@@ -327,7 +322,7 @@ def main():
                                    cancel=lambda f: seen.append(f) or True)
             failures.append("a cancelled call returned normally")
         except b.DdofError as err:
-            if err.status != b.DDOF_ERROR_CANCELLED or not seen:
+            if err.status != abi.DDOF_ERROR_CANCELLED or not seen:
                 failures.append("cancel: %s after %r" % (err, seen))
     if session._ctx is not None:
         failures.append("the session's context was not freed")

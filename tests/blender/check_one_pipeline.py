@@ -6,16 +6,14 @@ more through the add-on's binding (Session.depth_of_field). The results must be 
     python3 check_one_pipeline.py LIBDDOF.so SCRATCH_DIR_OF_cli_foreground
 """
 import array
-import importlib.util
 import os
 import sys
 
 # The binding alone (it is bpy-free; the package's __init__ is not).
-BINDING = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "blender_addon",
-                       "diffusion_dof", "binding.py")
-_spec = importlib.util.spec_from_file_location("ddof_binding", BINDING)
-b = importlib.util.module_from_spec(_spec)
-_spec.loader.exec_module(b)
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "blender_addon", "diffusion_dof"))
+import binding as b  # noqa: E402
+import ddof_abi  # noqa: E402
 
 W, H = 48, 32  # tests/exr/test_cli.c
 
@@ -49,7 +47,7 @@ def main():
             if differ:
                 failures.append("frame %d: %d of %d values differ from the C call"
                                 % (attempt, differ, len(want)))
-            if not stats["effects"] & b.EFFECT_FOREGROUND:
+            if not stats["effects"] & ddof_abi.EFFECT_FOREGROUND:
                 failures.append("the foreground element did not run: %r" % stats["plan"])
         if out == color:
             failures.append("the frame was not blurred: the test would prove nothing")

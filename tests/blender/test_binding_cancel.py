@@ -13,6 +13,7 @@ import sys
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
                                 "blender_addon", "diffusion_dof"))
 import binding  # noqa: E402
+import ddof_abi  # noqa: E402
 
 failures = []
 
@@ -48,7 +49,7 @@ for name, fn in (("at once", lambda f: True), ("half way", lambda f: f >= 0.5),
         lib.depth_of_field(w, h, color, 4, depth, 1, camera, cancel=fn)
         check(False, "cancel %s: the call finished" % name)
     except binding.Cancelled as err:
-        check(err.status == binding.DDOF_ERROR_CANCELLED and "cancelled" in str(err),
+        check(err.status == ddof_abi.DDOF_ERROR_CANCELLED and "cancelled" in str(err),
               "cancel %s: %s" % (name, err))
 # The foreground path (two library calls) is cancelled too.
 fg = {"color": binding.new_buffer(w * h * 4), "depth": binding.new_buffer(w * h)}

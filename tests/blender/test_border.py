@@ -51,11 +51,11 @@ r = scene.render
 
 def render(name):
     bpy.ops.render.render()
-    report = addon.render.reports.get(scene.name)
+    report = addon.report.reports.get(scene.name)
     ok = checks.check(report is not None and report["ok"], "%s: no successful report: %r"
                       % (name, report))
-    image = bpy.data.images.get(addon.render.RESULT_IMAGE)
-    kept = bpy.data.images.get(addon.render.INPUT_IMAGE)
+    image = bpy.data.images.get(addon.images.RESULT_IMAGE)
+    kept = bpy.data.images.get(addon.images.INPUT_IMAGE)
     return (u.pixels(image), tuple(image.size), u.pixels(kept),
             report["stats"] if ok else {"max_coc_px": float("nan")})
 

@@ -84,7 +84,7 @@ def render(name):
     after = scene_state()
     checks.check(after == before, "%s: the scene or its tree changed: %r -> %r"
                  % (name, before, after))
-    report = addon.render.reports.get(scene.name)
+    report = addon.report.reports.get(scene.name)
     checks.check(report is not None and report["ok"], "%s: not processed: %r"
                  % (name, report and report["message"]))
     return result
@@ -107,7 +107,7 @@ for mode in ("OFF", "AUTO"):
     # Before: the written frame was the plain depth-of-field image (d about 0.9).
     checks.check(d < 1e-4, "%s: the written frame is not the inverted depth-of-field image "
                  "(max difference %.4g)" % (mode, d))
-    result = u.pixels(bpy.data.images[addon.render.RESULT_IMAGE])
+    result = u.pixels(bpy.data.images[addon.images.RESULT_IMAGE])
     checks.check(len(result) == len(inv) and max_diff(result, inv) < 1e-6,
                  "%s: the Diffusion DOF image is not the written frame" % mode)
     tree.nodes.remove(invert)
@@ -120,8 +120,8 @@ math.inputs[1].default_value = 0.05
 tree.links.new(rl.outputs["Depth"], math.inputs[0])
 u.composite_from(scene, math.outputs[0])
 depth_frame, w, h, _ = render("depth")
-kept = u.pixels(bpy.data.images[addon.render.DEPTH_IMAGE])
-channels = bpy.data.images[addon.render.DEPTH_IMAGE].channels
+kept = u.pixels(bpy.data.images[addon.images.DEPTH_IMAGE])
+channels = bpy.data.images[addon.images.DEPTH_IMAGE].channels
 err = max(abs(depth_frame[i * 4] - 0.05 * kept[i * channels]) for i in range(W * H)) \
     if (w, h) == (W, H) else float("inf")
 checks.check(err < 1e-5, "the Depth pass did not reach the compositing as rendered (max error "
@@ -142,7 +142,7 @@ tree.links.new(overlay.outputs["Image"], foreground)
 u.composite_from(scene, over.outputs[0])
 layered, w, h, _ = render("view_layers")
 raw = u.pixels(bpy.data.images[addon.composite.RAW_IMAGE])
-kept_input = u.pixels(bpy.data.images[addon.render.INPUT_IMAGE])
+kept_input = u.pixels(bpy.data.images[addon.images.INPUT_IMAGE])
 expected = [0.5 * a + 0.5 * b for a, b in zip(raw, kept_input)]
 d = max_diff(layered, expected) if (w, h) == (W, H) else float("inf")
 checks.check(d < 1e-3, "Alpha Over of view layers: not half the depth-of-field image and half "
@@ -168,12 +168,12 @@ def animation(name):
     scene.frame_set(2)  # the Auto margin serves the whole range, whatever the current frame
     before = scene_state()
     lines = []
-    real_log = addon.render.log
-    addon.render.log = lambda message: (lines.append(message), real_log(message))
+    real_log = addon.report.log
+    addon.report.log = lambda message: (lines.append(message), real_log(message))
     try:
         bpy.ops.render.render(animation=True)
     finally:
-        addon.render.log = real_log
+        addon.report.log = real_log
     checks.check(scene_state() == before, "%s: the scene or its tree changed" % name)
     # The margin is frame 1's (focus 3 m: 7 px), the larger blur, though the render starts
     # at frame 2 (focus 12 m alone would give 3 px).

@@ -77,7 +77,7 @@ u.add_camera(scene, lens=100.0, fstop=1.4, focus=3.0)
 u.configure(scene, samples=4)
 scene.diffusion_dof.enabled = True
 bpy.ops.render.render()
-report = addon.render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and report["ok"] and report["stats"]["max_coc_px"] > 5,
              "render with the installed extension: %r" % (report,))
 

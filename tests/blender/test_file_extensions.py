@@ -38,12 +38,12 @@ scene.render.filepath = os.path.join(frames_dir, "dof_####")
 scene.diffusion_dof.enabled = True
 scene.diffusion_dof.write_frames = True
 lines = []
-real_log = addon.render.log
-addon.render.log = lambda message: (lines.append(message), real_log(message))
+real_log = addon.report.log
+addon.report.log = lambda message: (lines.append(message), real_log(message))
 try:
     bpy.ops.render.render(animation=True)
 finally:
-    addon.render.log = real_log
+    addon.report.log = real_log
 for frame in FRAMES:
     path = os.path.join(frames_dir, "dof_%04d" % frame)  # no extension, as the user asked
     if not checks.check(os.path.isfile(path), "frame %d: %s not written (%s)"
@@ -76,13 +76,13 @@ def hide_passes(scene_, *_args):
 
 bpy.app.handlers.render_post.insert(0, hide_passes)
 lines.clear()
-addon.render.log = lambda message: (lines.append(message), real_log(message))
+addon.report.log = lambda message: (lines.append(message), real_log(message))
 try:
     bpy.ops.render.render()
 finally:
-    addon.render.log = real_log
+    addon.report.log = real_log
     bpy.app.handlers.render_post.remove(hide_passes)
-report = addon.render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "moved_color_" in report["message"]
              and "compositor did not run" not in report["message"],
              "missing pass: %r" % (report and report["message"]))

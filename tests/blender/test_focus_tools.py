@@ -15,7 +15,6 @@ import bpy  # noqa: E402
 
 checks = u.Checks("test_focus_tools")
 addon = u.load_addon()
-render = addon.render
 
 scene = u.clear_scene()
 u.add_plane(scene, "Wall", (5.0, 2.2), (0.0, 12.0, 0.0),
@@ -36,7 +35,7 @@ except RuntimeError as err:
     checks.check("Keep Inputs" in str(err), "focal-plane view message: %s" % err)
 
 bpy.ops.render.render()
-depth_img = bpy.data.images[render.DEPTH_IMAGE]
+depth_img = bpy.data.images[addon.images.DEPTH_IMAGE]
 w, h = depth_img.size
 depth = u.pixels(depth_img)
 ch = depth_img.channels
@@ -72,7 +71,7 @@ except RuntimeError as err:
 checks.check(abs(cam.data.dof.focus_distance - 3.0) < 1e-3, "the sky pick changed the focus")
 
 bpy.ops.diffusion_dof.focus_map()
-fm_img = bpy.data.images.get(render.FOCUS_MAP_IMAGE)
+fm_img = bpy.data.images.get(addon.images.FOCUS_MAP_IMAGE)
 checks.check(fm_img is not None and tuple(fm_img.size) == (w, h), "no focus map image")
 fm = u.pixels(fm_img)
 
@@ -100,7 +99,7 @@ s = scene.diffusion_dof
 checks.check(s.override_focus and abs(s.focus_distance - 12.0) < 1e-3,
              "focus-object pick: override %s %.4f" % (s.override_focus, s.focus_distance))
 bpy.ops.diffusion_dof.focus_map()
-fm = u.pixels(bpy.data.images[render.FOCUS_MAP_IMAGE])
+fm = u.pixels(bpy.data.images[addon.images.FOCUS_MAP_IMAGE])
 r, g, b = rgb(wall)
 checks.check(g > r and g > b, "refocused: the wall is not green: %.2f %.2f %.2f" % (r, g, b))
 r, g, b = rgb(card)

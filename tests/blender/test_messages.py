@@ -101,7 +101,7 @@ if os.path.isfile(libm):
 fake = os.environ.get("DDOF_FAKE_LIBRARY", "")
 if checks.check(os.path.isfile(fake), "DDOF_FAKE_LIBRARY not given"):
     cases.append((fake, "is version 1.2.0, but this add-on was written for %d.%d"
-                  % binding.BINDING_VERSION[:2]))
+                  % addon.ddof_abi.BINDING_VERSION[:2]))
 scene.render.filepath = os.path.join(u.scratch_dir("messages"), "frame.exr")
 for path, expected in cases:
     os.environ["DDOF_LIBRARY"] = path
@@ -110,7 +110,7 @@ for path, expected in cases:
     err = operator_error(color="color", depth="depth")
     checks.check(expected in err, "operator with library %s: %s" % (path, err))
     bpy.ops.render.render(write_still=True)  # must not raise
-    report = render.reports.get(scene.name)
+    report = addon.report.reports.get(scene.name)
     checks.check(report is not None and not report["ok"] and expected in report["message"],
                  "render report with library %s: %r" % (path, report))
 
@@ -118,7 +118,7 @@ for path, expected in cases:
 os.environ["DDOF_LIBRARY"] = real_library
 bpy.ops.diffusion_dof.reload_library()
 bpy.ops.render.render(write_still=True)
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and report["ok"], "render after reload: %r" % (report,))
 
 # Invalid cameras, shown by the panel before rendering: panoramic, f/0 (Blender accepts it),
@@ -135,7 +135,7 @@ text = problems(scene)
 checks.check(cam.data.dof.aperture_fstop == 0.0 and "has f/0" in text and "F-Stop" in text,
              "f/0 diagnosis: %s" % text)
 bpy.ops.render.render()
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "has f/0" in report["message"],
              "f/0 render report: %r" % (report,))
 cam.data.dof.aperture_fstop = 1.4
@@ -156,7 +156,7 @@ checks.check(problems(scene) == "", "a good camera still diagnosed: %s" % proble
 # other runs after render_init) and nothing reaches the compositor. The frame's report says
 # there is no camera, not that the compositor did not run: the handlers' path, called here.
 scene.camera = None
-render.reports.clear()
+addon.report.reports.clear()
 try:
     bpy.ops.render.render()
 except RuntimeError as err:
@@ -164,7 +164,7 @@ except RuntimeError as err:
 render.on_render_init(scene)
 render.on_render_post(scene)
 render.on_render_complete(scene)
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and
              "has no active camera" in report["message"] and
              "compositor" not in report["message"], "no-camera render report: %r" % (report,))

@@ -56,7 +56,7 @@ def render(name):
     buf, w, h, _ = u.render_still(scene, os.path.join(out_dir, name + ".exr"))
     checks.check(state() == before, "%s: resolution or camera not restored: %r -> %r"
                  % (name, before, state()))
-    report = addon.render.reports.get(scene.name)
+    report = addon.report.reports.get(scene.name)
     checks.check(report is not None and report["ok"], "%s: %r" % (name, report and
                                                                  report["message"]))
     return buf, w, h
@@ -92,7 +92,7 @@ for mode in ("OFF", "AUTO"):
     buf, w, h = render("frame_" + mode)
     if not checks.check((w, h) == (W, H), "%s: written %dx%d" % (mode, w, h)):
         continue
-    result = u.pixels(bpy.data.images[addon.render.RESULT_IMAGE])
+    result = u.pixels(bpy.data.images[addon.images.RESULT_IMAGE])
     checks.check(len(result) == len(buf) and max(abs(a - b) for a, b in zip(result, buf)) < 1e-6,
                  "%s: the result image is not the written frame" % mode)
     results[mode] = band_energy(buf, W, H) / e_truth
@@ -119,7 +119,7 @@ for label, aspect, fit in (("shift", 1.0, "AUTO"), ("shift, 2:1 pixels, vertical
     for mode in ("OFF", "AUTO"):
         s.overscan = mode
         render("framing_" + mode)
-        depths[mode] = u.pixels(bpy.data.images[addon.render.DEPTH_IMAGE])
+        depths[mode] = u.pixels(bpy.data.images[addon.images.DEPTH_IMAGE])
     if len(depths["OFF"]) == len(depths["AUTO"]) == W * H * len(depths["OFF"]) // (W * H):
         d = max(abs(a - b) / max(1.0, abs(a)) for a, b in zip(depths["OFF"], depths["AUTO"]))
         checks.check(d < 1e-4, "%s: overscan moved the picture (depth differs by %.4g)"
@@ -132,12 +132,12 @@ cam.data.shift_x = cam.data.shift_y = 0.0
 # Manual: the margin as set (logged), the frame written at its size.
 s.overscan, s.overscan_margin = "MANUAL", 12
 lines = []
-real_log = addon.render.log
-addon.render.log = lambda message: (lines.append(message), real_log(message))
+real_log = addon.report.log
+addon.report.log = lambda message: (lines.append(message), real_log(message))
 try:
     buf, w, h = render("manual")
 finally:
-    addon.render.log = real_log
+    addon.report.log = real_log
 checks.check(any("12 x 12 px margin: renders 184x114" in l for l in lines) and (w, h) == (W, H),
              "manual margin: %r, %dx%d" % ([l for l in lines if "overscan" in l], w, h))
 
@@ -161,7 +161,7 @@ try:
     bpy.ops.render.render(animation=True)
 except RuntimeError as err:
     print("the failing render: %s" % str(err).strip())
-checks.check(state() == before and addon.render.OVERSCAN_KEY not in scene,
+checks.check(state() == before and addon.overscan_render.OVERSCAN_KEY not in scene,
              "a failed render left the overscan in place: %r -> %r" % (before, state()))
 
 # A frame that gets no depth of field (here: no library) is still written at the frame's size,
@@ -175,7 +175,7 @@ try:
 finally:
     os.environ["DDOF_LIBRARY"] = real_library
     addon.binding.library_status(reload=True)
-report = addon.render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check((w, h) == (W, H) and report is not None and not report["ok"]
              and "cropped to the frame" in report["message"],
              "a failed frame with overscan: written %dx%d, %r" % (w, h, report and
@@ -183,7 +183,7 @@ checks.check((w, h) == (W, H) and report is not None and not report["ok"]
 
 # Replace Written Frames off: Blender's own files would keep the margin, so none is rendered.
 s.write_frames = False
-plan, why = addon.render.overscan_plan(scene, s)
+plan, why = addon.overscan_render.overscan_plan(scene, s)
 checks.check(plan is None and "Replace Written Frames" in why, "write frames off: %r" % why)
 s.write_frames = True
 

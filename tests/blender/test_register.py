@@ -142,7 +142,7 @@ for round_ in (1, 2):
     checks.check(not problems and layout.calls > 20, "panel drawing: %s (%d calls)"
                  % (problems, layout.calls))
     # Again with a frame's report (backend, renderer, note, plan) and every quality and backend.
-    diffusion_dof.render.reports[scene.name] = {
+    diffusion_dof.report.reports[scene.name] = {
         "ok": True, "message": "frame 1: ...", "frame": 1, "path": None, "time": 0.0,
         "camera": "", "stats": {"backend_name": "cpu", "renderer": "CPU, 2 threads",
                                 "hardware": False, "backend_note": "auto: the CPU, because ...",
@@ -173,7 +173,7 @@ for round_ in (1, 2):
                  "overrides: %r" % s.library_params())
     s.solver = s.background = s.method = "PRESET"
     s.quality = "DEFAULT"
-    diffusion_dof.render.reports.clear()
+    diffusion_dof.report.reports.clear()
     # Unticked: the compositor is as it was before (and on again when ticked).
     s.enabled = False
     checks.check(compositor_state(scene) == compositor_before,
@@ -202,9 +202,9 @@ for round_ in (1, 2):
                  "round %d: collections left: %s" % (round_,
                                                      [c.name for c in bpy.data.collections]))
     checks.check(not layer_near.indirect_only, "foreground collection still indirect-only")
-    timer = diffusion_dof.render._timer
+    timer = diffusion_dof.jobs.timer
     checks.check(not bpy.app.timers.is_registered(timer), "timer left registered")
-    checks.check(not diffusion_dof.render._jobs and not diffusion_dof.render.reports,
+    checks.check(not diffusion_dof.jobs.queued and not diffusion_dof.report.reports,
                  "module state left")
 
 # Registering twice in a row (a reload without unregister) still leaves one set of handlers.
@@ -247,7 +247,7 @@ except Exception as err:  # noqa: BLE001 (what must not happen)
     checks.check(False, "register() raised %s: %s" % (type(err).__name__, err))
 diffusion_dof.unregister()
 logged = []
-real_layer, real_log = diffusion_dof.passes.render_view_layer, diffusion_dof.render.log
+real_layer, real_log = diffusion_dof.passes.render_view_layer, diffusion_dof.report.log
 
 
 def failing_step(*_args):
@@ -255,7 +255,7 @@ def failing_step(*_args):
 
 
 diffusion_dof.passes.render_view_layer = failing_step
-diffusion_dof.render.log = logged.append
+diffusion_dof.report.log = logged.append
 try:
     diffusion_dof.register()
     checks.check(hasattr(bpy.types.Scene, "diffusion_dof"), "not registered")
@@ -264,7 +264,7 @@ try:
 except Exception as err:  # noqa: BLE001
     checks.check(False, "register() let %s through: %s" % (type(err).__name__, err))
 finally:
-    diffusion_dof.passes.render_view_layer, diffusion_dof.render.log = real_layer, real_log
+    diffusion_dof.passes.render_view_layer, diffusion_dof.report.log = real_layer, real_log
 diffusion_dof.unregister()
 checks.check(handler_snapshot() == baseline_handlers, "handlers left after a failed setup")
 checks.finish()

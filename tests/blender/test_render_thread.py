@@ -21,6 +21,7 @@ import bpy  # noqa: E402
 checks = u.Checks("test_render_thread")
 addon = u.load_addon()
 render = addon.render
+jobs = addon.jobs
 
 scene = u.clear_scene()
 u.add_plane(scene, "Wall", (24.0, 14.0), (0.0, 12.0, 0.0),
@@ -44,10 +45,10 @@ def on_other_thread(fn):
     return wrapper
 
 
-render.FORCE_WORKER = True  # the library call on a worker thread, as with the UI
+jobs.FORCE_WORKER = True  # the library call on a worker thread, as with the UI
 timer_calls = []
 call_threads = []
-_run_region = render.run_region
+_run_region = addon.library_call.run_region
 
 
 def run_region_recorded(*args, **kwargs):
@@ -55,15 +56,15 @@ def run_region_recorded(*args, **kwargs):
     return _run_region(*args, **kwargs)
 
 
-render.run_region = run_region_recorded
+addon.library_call.run_region = run_region_recorded
 
 
 def drain():
     """Calls the timer as Blender's event loop would until the frames are done."""
     t0 = time.time()
     while True:
-        timer_calls.append(render._timer())
-        if not render.busy() or time.time() - t0 > 120:
+        timer_calls.append(jobs.timer())
+        if not jobs.busy() or time.time() - t0 > 120:
             return
         time.sleep(0.005)
 
@@ -79,13 +80,13 @@ for name, fn in render.HANDLERS:
 # A still with write_still: queued, not processed, until the timer runs.
 bpy.ops.render.render(write_still=True)
 checks.check(threads_seen and not any(threads_seen), "handlers did not run on another thread")
-checks.check(len(render._jobs) == 1 and render._jobs[0].ready and render._jobs[0].write,
+checks.check(len(jobs.queued) == 1 and jobs.queued[0].ready and jobs.queued[0].write,
              "expected one ready job to write, got %r" % [(j.frame, j.ready, j.write)
-                                                          for j in render._jobs])
+                                                          for j in jobs.queued])
 checks.check("Diffusion DOF" not in bpy.data.images, "the render thread created the image")
 drain()
-checks.check(not render._jobs, "the timer left jobs queued")
-report = render.reports.get(scene.name)
+checks.check(not jobs.queued, "the timer left jobs queued")
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and report["ok"] and report["path"], "timer report %r" % report)
 checks.check("Diffusion DOF" in bpy.data.images, "no result image after the timer")
 
@@ -94,7 +95,7 @@ cam.data.dof.use_dof = True
 bpy.ops.render.render()
 checks.check(cam.data.dof.use_dof, "the render thread changed the camera")
 drain()
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "lens depth of field was on"
              in report["message"], "lens DOF report %r" % report)
 cam.data.dof.use_dof = False
@@ -105,7 +106,7 @@ addon.compat.set_file_output_folder(u.compositor_tree(scene).nodes[addon.passes.
                                     "/nonexistent/elsewhere/")
 bpy.ops.render.render()
 drain()
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "Set Up Passes" in report["message"],
              "setup report %r" % report)
 
@@ -116,22 +117,22 @@ addon.compat.set_file_output_folder(u.compositor_tree(scene).nodes[addon.passes.
 bpy.ops.render.render(write_still=True)
 written = scene.render.filepath
 before = u.load_file(written)[0]
-render.request_cancel()  # after render_init, which clears it for a new render
+addon.library_call.request_cancel()  # after render_init, which clears it for a new render
 drain()
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and not report["ok"] and "cancelled (Esc)" in report["message"]
              and "left as rendered" in report["message"], "cancel report %r" % (report,))
 checks.check(u.load_file(written)[0] == before, "the cancelled frame's file was replaced")
 # The next render is not cancelled.
 bpy.ops.render.render(write_still=True)
 drain()
-report = render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and report["ok"], "render after a cancel: %r" % (report,))
 checks.check(call_threads and not any(call_threads),
              "the library call ran on the main thread: %r" % call_threads)
 
-render.run_region = _run_region
-render.FORCE_WORKER = False
+addon.library_call.run_region = _run_region
+jobs.FORCE_WORKER = False
 for name, fn in render.HANDLERS:
     if name in wrapped:
         handlers = getattr(bpy.app.handlers, name)

@@ -49,7 +49,7 @@ s.quality = "FINAL"
 result_file, _, _, _ = u.render_still(scene, os.path.join(out_dir, "ddof.exr"))
 t_ddof = time.time()
 checks.check(cam.data.dof.use_dof, "the camera's lens DOF was not restored after the render")
-report = addon.render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 checks.check(report is not None and report["ok"], "no successful report: %r" % (report,))
 result_img = bpy.data.images.get("Diffusion DOF")
 input_img = bpy.data.images.get("Diffusion DOF Input")
@@ -113,7 +113,7 @@ for quality in ("PREVIEW", "DEFAULT"):
     print("PSNR %s quality: %.2f dB" % (quality.lower(),
                                          u.psnr(u.pixels(bpy.data.images["Diffusion DOF"]), truth)))
     summary = lib.preset_summary(quality.lower())
-    report = addon.render.reports.get(scene.name)
+    report = addon.report.reports.get(scene.name)
     # The preset ran as the library defines it: its method, and for the diffusion its
     # sub-steps (the CoD4 preview runs no ADI step).
     ran = report["stats"]
@@ -131,7 +131,7 @@ bpy.ops.diffusion_dof.reapply()
 cpu_result = u.pixels(bpy.data.images["Diffusion DOF"])
 s.backend = "AUTO"
 bpy.ops.diffusion_dof.reapply()
-report = addon.render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 stats = report["stats"]
 print("backend auto ran on %s (%s): %s" % (stats["backend_name"], stats["renderer"],
                                            stats["backend_note"]))
@@ -155,7 +155,7 @@ s.overscan = "OFF"
 t0 = time.time()
 u.render_still(scene, os.path.join(out_dir, "ddof_fg.exr"))
 t_fg = time.time() - t0
-report = addon.render.reports.get(scene.name)
+report = addon.report.reports.get(scene.name)
 ok = checks.check(report is not None and report["ok"] and "foreground" in
                   report["stats"]["effect_names"], "foreground render: %r" % (report,))
 result_fg = u.pixels(bpy.data.images["Diffusion DOF"])

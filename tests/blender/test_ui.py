@@ -23,7 +23,6 @@ import bpy  # noqa: E402
 
 checks = u.Checks("test_ui")
 addon = u.load_addon()
-render = addon.render
 scene = u.clear_scene()
 u.add_plane(scene, "Wall", (24.0, 14.0), (0.0, 12.0, 0.0),
             u.emission_checker("WallMat", (0.95, 0.85, 0.6, 1), (0.08, 0.12, 0.3, 1), 4.0))
@@ -54,8 +53,8 @@ class HeldCancel(threading.Event):
         return super().is_set()
 
 
-plain_cancel = render.cancel_event
-render.cancel_event = HeldCancel()
+plain_cancel = addon.library_call.cancel_event
+addon.library_call.cancel_event = HeldCancel()
 
 
 def window():
@@ -78,7 +77,7 @@ def image_editor():
     """An area of the screen turned into an image editor showing the kept Depth pass."""
     area = max(window().screen.areas, key=lambda a: a.width * a.height)
     area.type = "IMAGE_EDITOR"
-    area.spaces.active.image = bpy.data.images[render.DEPTH_IMAGE]
+    area.spaces.active.image = bpy.data.images[addon.images.DEPTH_IMAGE]
     return area
 
 
@@ -88,29 +87,29 @@ def tick():
         checks.check(False, "timed out at step %s" % step)
         finish()
     if step == "render1":
-        render.reports.clear()
+        addon.report.reports.clear()
         f12()
         state["step"] = "esc"
     elif step == "esc":
-        if render.escape_watch["on"]:
+        if addon.escape_watch.watching["on"]:
             state["watch"] = True
-        if render._active is not None and render.escape_watch["on"] and not state["esc"]:
+        if addon.jobs.active is not None and addon.escape_watch.watching["on"] and not state["esc"]:
             window().event_simulate(type="ESC", value="PRESS")
             window().event_simulate(type="ESC", value="RELEASE")
             state["esc"] = True
-        report = render.reports.get(scene.name)
-        if report is not None and not render.busy():
+        report = addon.report.reports.get(scene.name)
+        if report is not None and not addon.jobs.busy():
             checks.check(state["watch"], "the Esc watcher did not run")
             checks.check(state["esc"], "Esc was not simulated while the call ran")
             checks.check(not report["ok"] and "cancelled (Esc)" in report["message"],
                          "Esc report: %r" % report)
-            render.cancel_event = plain_cancel  # the second render runs unheld
-            render.reports.clear()
+            addon.library_call.cancel_event = plain_cancel  # the second render runs unheld
+            addon.report.reports.clear()
             f12()
             state["step"] = "render2"
     elif step == "render2":
-        report = render.reports.get(scene.name)
-        if report is not None and not render.busy():
+        report = addon.report.reports.get(scene.name)
+        if report is not None and not addon.jobs.busy():
             checks.check(report["ok"], "the render after a cancel: %r" % report)
             # The user's compositing, run by the main thread's timer after the library call.
             rl = u.render_layers_node(scene)
@@ -127,15 +126,15 @@ def tick():
         slots = addon.passes.extra_slots(scene)
         checks.check(slots == [addon.composite.slot_name(state["rl"].name, "Depth")],
                      "the Depth pass the compositing reads is not written: %r" % slots)
-        render.reports.clear()
+        addon.report.reports.clear()
         f12()
         state["step"] = "composite"
     elif step == "composite":
-        report = render.reports.get(scene.name)
-        if report is not None and not render.busy():
+        report = addon.report.reports.get(scene.name)
+        if report is not None and not addon.jobs.busy():
             checks.check(report["ok"], "the render with compositing: %r" % report)
             raw = u.pixels(bpy.data.images[addon.composite.RAW_IMAGE])
-            result = u.pixels(bpy.data.images[render.RESULT_IMAGE])
+            result = u.pixels(bpy.data.images[addon.images.RESULT_IMAGE])
             worst = max(abs(result[i + c] - (1.0 - raw[i + c]))
                         for i in range(0, len(raw), 4 * 97) for c in range(3)) \
                 if len(raw) == len(result) else float("inf")
