@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""One frame, three callers, one result: the frame tests/exr/test_cli.c (case foreground) ran
+"""One frame, three callers, one result: the frame tests/exr/test_cli_backends.c (case foreground) ran
 through ddof_render_frame and through the `ddof` command, with a foreground element, run once
 more through the add-on's binding (Session.depth_of_field). The results must be bit-identical.
 
@@ -15,7 +15,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 import binding as b  # noqa: E402
 import ddof_abi  # noqa: E402
 
-W, H = 48, 32  # tests/exr/test_cli.c
+W, H = 48, 32  # tests/exr/test_cli_backends.c
 
 
 def read_floats(folder, name, count):
@@ -35,7 +35,7 @@ def main():
     fg = {"color": read_floats(folder, "one_pipeline_fg_color.f32", n * 4),
           "depth": read_floats(folder, "one_pipeline_fg_depth.f32", n), "depth_channels": 1}
     want = read_floats(folder, "one_pipeline_out.f32", n * 4)
-    # camera_50mm(&camera, 2.0, 3.0) and params.substeps = 2 in test_cli.c.
+    # camera_50mm(&camera, 2.0, 3.0) and params.substeps = 2 in test_cli_backends.c.
     camera = {"focal_length_mm": 50.0, "sensor_width_mm": 36.0, "fstop": 2.0,
               "focus_distance_m": 3.0}
     failures = []

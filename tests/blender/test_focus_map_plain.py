@@ -41,7 +41,7 @@ rgba = fm.focus_map_rgba(coc, rgb, 3, 4, 1)
 check(len(rgba) == 16 and rgba[3] == 1.0 and abs(rgba[1] - 1.0) < 1e-6, "rgba %r" % list(rgba))
 
 # A non-round aperture is the legend: the same white counts as `ddof --focus-map`'s
-# (tests/exr/test_cli.c, case focus_map), white in the middle, black in the square's corner.
+# (tests/exr/test_cli_results.c, case focus_map), white in the middle, black in the square's corner.
 for cam, w, h, white in (({"aperture_blades": 6, "aperture_rotation_deg": 15.0}, 200, 120, 514),
                          ({"aperture_ratio": 2.0}, 200, 120, 312),
                          ({"aperture_blades": 5, "aperture_ratio": 0.5}, 320, 240, 990),
