@@ -7,7 +7,7 @@ plots (docs/images/accuracy_*.png) and libddof/src/presets_measured.inc.
         [--presets libddof/src/presets_measured.inc] [--study-exe build/study/study/ddof-study]
         [--work DIR] [--smoke] [--command "bash study/run.sh"]
 
-RESULTS.jsonl is what `ddof-study run` writes (study/main.c): a machine line, a line per scene,
+RESULTS.jsonl is what `ddof-study run` writes (study/cmd_run.c): a machine line, a line per scene,
 a line per (scene, configuration). With --study-exe the crops of the chosen presets and the
 baselines are rendered by `ddof-study images` into --work and drawn as a grid.
 
