@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Draws docs/images/near_layer.png: the study's scenes with a blurred near object, one row
-each: the pinhole input, ddof without the near layer (libddof 0.5's default: the object stays
-opaque), ddof's default with the near layer (one image: the object turns see-through), ddof
+each: the pinhole input, ddof without the near layer (the object stays opaque, its
+silhouette spread), ddof's default with the near layer (one image: the object turns see-through), ddof
 with the separately rendered foreground element (the exact layers) and Cycles' lens depth of
 field, each panel with its PSNR against the truth.
 

@@ -44,8 +44,8 @@ typedef enum study_layers {
                        /* separately rendered layers); scenes without one: near spread ON       */
     LAYERS_FGPIN,      /* the same element over pinhole.exr (`ddof pinhole.exr --foreground`):  */
                        /* the near objects are then in the main image too                       */
-    LAYERS_AUTOSPREAD, /* background AUTO, 1 level, near layer OFF, near spread AUTO: libddof  */
-                       /* 0.5's AUTO (a blurred near object stays opaque)                       */
+    LAYERS_AUTOSPREAD, /* background AUTO, 1 level, near layer OFF, near spread AUTO (a blurred */
+                       /* near object stays opaque, its silhouette spread)                      */
     LAYERS_COUNT_
 } study_layers;
 

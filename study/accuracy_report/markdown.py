@@ -180,8 +180,9 @@ def presets_lines(study, chosen, front, cands):
     pin = study.by_id.get("pinhole")
     L = ["## Presets", ""]
     if chosen:
-        L.append("The rule (`choose_presets` in `study/report.py`): candidates are the "
-                 "configurations a preset can hold and the CPU (the default backend) can run: "
+        L.append("The rule (`choose_presets` in `study/accuracy_report/presets.py`): candidates "
+                 "are the configurations a preset can hold and the CPU (the default backend) "
+                 "can run: "
                  "the diffusion with solver %s (Jacobi only with its default 50 sweeps, which a "
                  "preset cannot change) and layers %s, without a foreground element (an input, "
                  "not a setting), and the CoD4 preview. Their accuracy-vs-time front (%d of %d "
@@ -280,8 +281,8 @@ def against_baselines_lines(study, chosen, args, rel):
              "`study/metrics.c`, `study/README.md`); – where a scene has no band or a "
              "result no smooth PSNR (a study before it). *bar*: the best Defocus node's "
              "value on the scene, each metric separately. *default, near layer off*: the "
-             "default preset's settings with the near layer off (libddof 0.5's AUTO: the near "
-             "spread instead); *default + fg element*: the default "
+             "default preset's settings with the near layer off (the near spread instead); "
+             "*default + fg element*: the default "
              "preset's settings with the scene's separately rendered foreground element over "
              "the rest of the scene (scenes that have one; the others: near spread on)."
              % (", ".join(study.with_smooth) or "none in these results"))

@@ -18,8 +18,8 @@ LAYERS_TEXT = {
     "auto": "background, near layer and near spread as the planner decides (AUTO; the near "
             "layer takes the near field where it runs)",
     "auto2": "AUTO, 2 background levels",
-    "autospread": "AUTO without the near layer (libddof 0.5's AUTO: a blurred near object "
-                  "stays opaque, its silhouette spread)",
+    "autospread": "AUTO without the near layer (a blurred near object stays opaque, its "
+                  "silhouette spread)",
     "fg": "+ background + the scene's separately rendered foreground element (fg.exr: the near "
           "objects alone) composited over rest.exr (the scene without them), the paper's layers, "
           "where it has one; else near spread on",

@@ -9,8 +9,8 @@ SOLVER_C = {"thomas": "DDOF_SOLVER_THOMAS", "cr": "DDOF_SOLVER_CYCLIC_REDUCTION"
             "pcr": "DDOF_SOLVER_PCR", "jacobi": "DDOF_SOLVER_JACOBI",
             "reference": "DDOF_SOLVER_REFERENCE_F64", "gruen": "DDOF_SOLVER_GRUEN"}
 LAYER_C = {"on": "DDOF_LAYER_ON", "off": "DDOF_LAYER_OFF", "auto": "DDOF_LAYER_AUTO"}
-# Sub-steps and k a disc preset carries for the heat kernel (which the disc ignores): the heat
-# default the study chose before the disc kernel existed (n = 2, k = 1/24).
+# Sub-steps and k a disc preset carries for the heat kernel (which the disc ignores), so that
+# `--kernel heat` on top of it is a sensible heat diffusion: n = 2, k = 1/24.
 HEAT_FALLBACK = (2, 1.0 / 24)
 KERNEL_C = {"heat": "DDOF_KERNEL_HEAT", "disc-2x2": "DDOF_KERNEL_DISC_2X2",
             "disc-2x3": "DDOF_KERNEL_DISC_2X3", "disc-3x3": "DDOF_KERNEL_DISC_3X3"}

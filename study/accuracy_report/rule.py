@@ -19,8 +19,7 @@ PRESET_METHODS = {"preview": {"diffusion", "cod4"}, "default": {"diffusion"},
 # (3.4, 4.2 LTS, 5.3: their CoC and quality differ); on each scene the best of them, separately
 # for the image PSNR and the band PSNR, is the one to beat.
 # default: must match or beat the bar on every scene with blur, image and band (band on the
-# scenes that have one): a mean can hide a scene where the preset loses (the 2026-12-02 study's
-# fastest point within 0.5 dB, heat n = 4, lost to the node on two of five). Among those the
+# scenes that have one): a mean can hide a scene where the preset loses. Among those the
 # tolerance picks; when none does, the report says so and the tolerance alone picks.
 # final: the most accurate candidate whose 1080p time is at most FINAL_TIME_FRACTION of the
 # best node's on every scene with blur (the node with the best image PSNR there), and that

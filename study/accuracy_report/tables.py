@@ -14,7 +14,7 @@ from .rule import FINAL_TIME_FRACTION, PRESET_ORDER
 
 def silhouette_table(study, chosen):
     """The silhouette band per scene: the presets, the default without the far field and the
-    silhouettes' split (libddof 0.7), and the nodes."""
+    silhouettes' split, and the nodes."""
     if not study.with_silhouette:
         return []
     default = chosen["default"]
