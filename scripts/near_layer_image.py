@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.join(root, "study", "scenes"))
 from exr_io import psnr_srgb, read_exr, rgb_of  # noqa: E402
 
 SCENES = ["near_occluder", "near_railing", "near_border"]
-COLUMNS = ["pinhole input", "near layer off (0.5)", "near layer (default)",
+COLUMNS = ["pinhole input", "near layer off", "near layer (default)",
            "separate element", "Cycles lens DOF"]
 
 
