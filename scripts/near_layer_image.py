@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """Draws docs/images/near_layer.png: the study's scenes with a blurred near object, one row
-each: the pinhole input, ddof without the near layer (libddof 0.5's default: the object stays
-opaque), ddof's default with the near layer (one image: the object turns see-through), ddof
+each: the pinhole input, ddof without the near layer (the object stays opaque, its
+silhouette spread), ddof's default with the near layer (one image: the object turns see-through), ddof
 with the separately rendered foreground element (the exact layers) and Cycles' lens depth of
 field, each panel with its PSNR against the truth.
 
@@ -30,7 +30,7 @@ sys.path.insert(0, os.path.join(root, "study", "scenes"))
 from exr_io import psnr_srgb, read_exr, rgb_of  # noqa: E402
 
 SCENES = ["near_occluder", "near_railing", "near_border"]
-COLUMNS = ["pinhole input", "near layer off (0.5)", "near layer (default)",
+COLUMNS = ["pinhole input", "near layer off", "near layer (default)",
            "separate element", "Cycles lens DOF"]
 
 

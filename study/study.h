@@ -44,8 +44,8 @@ typedef enum study_layers {
                        /* separately rendered layers); scenes without one: near spread ON       */
     LAYERS_FGPIN,      /* the same element over pinhole.exr (`ddof pinhole.exr --foreground`):  */
                        /* the near objects are then in the main image too                       */
-    LAYERS_AUTOSPREAD, /* background AUTO, 1 level, near layer OFF, near spread AUTO: libddof  */
-                       /* 0.5's AUTO (a blurred near object stays opaque)                       */
+    LAYERS_AUTOSPREAD, /* background AUTO, 1 level, near layer OFF, near spread AUTO (a blurred */
+                       /* near object stays opaque, its silhouette spread)                      */
     LAYERS_COUNT_
 } study_layers;
 
@@ -194,5 +194,101 @@ char *study_read_text(const char *path);
 
 double study_now(void);
 double study_median(double *values, size_t count);
+
+/* ---- the command (main.c, cmd_run.c, cmd_images.c) ----------------------------------------- */
+
+/* What the command line sets (main.c's usage says what each does). */
+typedef struct study_options {
+    const char *out;
+    const char *configs;
+    const char *gl_plugin;
+    int reps_small, reps_large;
+    double budget_small, budget_large; /* seconds of timed calls per configuration and size */
+    int large;                         /* time at 1920x1080 when the scene has it           */
+    double large_limit;                /* skip a 1080p timing predicted to take longer (s)  */
+    int egl_software;                  /* measure EGL on a software renderer too            */
+    int no_gl;                         /* never load the GL plugin                          */
+    uint32_t threads;
+    int append;
+    int quiet;
+    const char **scenes;
+    int scene_count;
+} study_options;
+
+/* `ddof-study run`: every configuration on every scene into OUT/results.jsonl (cmd_run.c). */
+int study_cmd_run(const study_options *o, const study_config_list *list);
+/* `ddof-study images`: the inputs and the configurations' outputs as OUT/<scene>/<id>.npy
+ * (cmd_images.c). */
+int study_cmd_images(const study_options *o, const study_config_list *list);
+
+/* ---- contexts (contexts.c) ------------------------------------------------------------------ */
+
+/* A GL backend of the plugin: probed once, its context kept for every configuration on it. */
+typedef struct study_gl_backend {
+    ddof_backend_kind kind;
+    ddof_context *ctx;   /* NULL when unavailable */
+    char renderer[160];
+    int hardware;
+    char why[512];       /* why unavailable */
+    int probed;
+} study_gl_backend;
+
+/* A CPU context with --threads' thread count. */
+ddof_status study_cpu_context(const study_options *o, ddof_context **ctx);
+
+enum { STUDY_GL_BACKEND_COUNT = 2 };
+extern const ddof_backend_kind study_gl_backend_kinds[STUDY_GL_BACKEND_COUNT];
+/* The GL backend of that kind, probed on the first call (NULL for a kind that is not GL). */
+study_gl_backend *study_gl_get(const study_options *o, ddof_backend_kind kind);
+/* Frees the GL backends' contexts. */
+void study_gl_free(void);
+/* A context for one configuration: a fresh CPU context (so host_bytes is this configuration's
+ * own; *owned = 1, the caller frees it), or the GL backend's. NULL with *why when the backend
+ * is unavailable. */
+ddof_context *study_context_for(const study_options *o, const study_config *cfg, int *owned,
+                                const char **why, const char **renderer);
+
+/* ---- one call (call.c) ---------------------------------------------------------------------- */
+
+/* One configuration on one frame into out. */
+typedef struct study_call {
+    const study_config *cfg;
+    const study_scene *scene;
+    const study_frame *frame;
+    ddof_context *ctx;
+    const float *abs_coc; /* |CoC|, for the gather baseline */
+    float *out;
+    ddof_stats stats;
+    char error[1024];
+} study_call;
+
+ddof_status study_run_call(study_call *c);
+/* A warm-up call, then up to `reps` timed calls while the budget lasts (at least one); runs
+ * gets the seconds of each. */
+ddof_status study_time_calls(study_call *c, int reps, double budget, double *runs, int *count);
+/* |coc| of n values, malloc'ed (NULL when out of memory): the gather baseline's input. */
+float *study_abs_of(const float *coc, size_t n);
+
+/* ---- references (references.c) -------------------------------------------------------------- */
+
+/* The double-precision solve of cfg's settings on the scene's own size (cached; the cache is
+ * per scene: study_references_clear after each). NULL with a message on failure. */
+const float *study_reference_image(ddof_context *ctx, const study_scene *scene,
+                                   const study_config *cfg, char *error, size_t size);
+void study_references_clear(void);
+/* The seconds spent computing references (the sweep's overhead). */
+double study_references_seconds(void);
+
+/* ---- measuring (measure.c, machine.c) ------------------------------------------------------- */
+
+struct cJSON;
+/* Measures one configuration on one scene: its JSON record; summary gets a progress line.
+ * shared computes the references; out_* and abs_* are the scene's sizes' scratch images. */
+struct cJSON *study_measure(const study_options *o, ddof_context *shared,
+                            const study_scene *scene, const study_config *cfg, float *out_small,
+                            float *out_large, const float *abs_small, const float *abs_large,
+                            char *summary, size_t summary_size);
+/* The machine line of results.jsonl (probes the GL backends). */
+struct cJSON *study_machine_json(const study_options *o);
 
 #endif

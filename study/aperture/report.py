@@ -17,7 +17,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from exr_io import montage, psnr_srgb, read_exr, rgb_of, write_png  # noqa: E402
 
 CANDIDATES = [("ddof.exr", "ddof default, the camera's aperture"),
-              ("ddof_round.exr", "ddof default, round (before the aperture)"),
+              ("ddof_round.exr", "ddof default, round aperture"),
               ("defocus.exr", "Defocus node, Blender 3.4"),
               ("defocus-4.2.exr", "Defocus node, Blender 4.2"),
               ("defocus-5.3.exr", "Defocus node, Blender 5.3")]

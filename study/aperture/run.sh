@@ -3,8 +3,8 @@
 # study/aperture/run.sh - the camera's aperture (issue 23) on the study's highlights scene: the
 # scene rendered twice more with Cycles, once with a 6-blade aperture turned by 15 degrees and
 # once with an anamorphic ratio of 2 (pinhole and lens truth each, make_scenes.py --aperture),
-# then against each truth: ddof's default with the camera's aperture, ddof as it was before the
-# aperture (round, --aperture-blades 0 --aperture-ratio 1), and Blender's Defocus node given
+# then against each truth: ddof's default with the camera's aperture, ddof with a round one
+# (--aperture-blades 0 --aperture-ratio 1), and Blender's Defocus node given
 # the camera's blades as a user would (Blender 3.4, and 4.2 / 5.3 through PyPI's bpy where
 # scripts/bpy_venv.sh made their venvs). Prints a table (image PSNR, sRGB, as `ddof --compare`)
 # and writes a montage (truth | ddof | ddof round | node 3.4, per aperture) as PNG.
