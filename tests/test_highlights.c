@@ -466,8 +466,8 @@ static void test_params(void)
 
 /* Colour at the ends of the accepted range (+-DDOF_MAX_COLOR) beside a highlight: the lower
  * end in one channel of a bright pixel, the upper in another's, and both in one row. With the
- * pass on, the disc added to the diffused colour used to overflow to -inf (DDOF_OK, at
- * -FLT_MAX); cyclic reduction gave NaN where +-3e38 met in a row (the fuzzer), and Thomas a
+ * pass on, the disc added to the diffused colour can overflow to -inf (DDOF_OK, at -FLT_MAX);
+ * cyclic reduction can give NaN where +-3e38 meet in a row (the fuzzer found it), and Thomas a
  * clamped, wrong row. The output must be finite with every solver and kernel, and a value
  * beyond the range is DDOF_ERROR_BAD_COLOR naming the pixel, the output untouched. */
 static void test_extreme_colour(void)

@@ -5,7 +5,7 @@ spread), against the disc a lens draws, and a row through the middle.
 
     python3 study/lens/psf_figure.py [--library build/rel/libddof/libddof.so] [--out PNG]
 
-Runs libddof through the Blender add-on's ctypes binding (blender_addon/diffusion_dof/binding.py,
+Runs libddof through the Blender add-on's ctypes binding (blender_addon/diffusion_dof/binding.py and ddof_abi.py,
 which needs no Blender); numpy and matplotlib (Debian: python3-numpy python3-matplotlib)."""
 import argparse
 import ctypes
@@ -20,6 +20,7 @@ import numpy as np  # noqa: E402
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 sys.path.insert(0, os.path.join(ROOT, "blender_addon", "diffusion_dof"))
 import binding  # noqa: E402
+import ddof_abi  # noqa: E402
 
 D = 32.0          # CoC diameter, px
 SIZE = 3 * 32 + 9  # as tests/point_spread.h
@@ -33,14 +34,14 @@ def spread(lib, kernel, substeps=None):
     coc = np.full((w, w), D, np.float32)
     out = np.zeros((w, w), np.float32)
     p = lib.default_params()
-    p.kernel = binding.KERNELS[kernel]
+    p.kernel = ddof_abi.KERNELS[kernel]
     if substeps:
         p.substeps = substeps
-    p.background = p.near_spread = binding.LAYER_OFF
+    p.background = p.near_spread = ddof_abi.LAYER_OFF
     fptr = ctypes.POINTER(ctypes.c_float)
-    ci = binding.ImageIn(color.ctypes.data_as(fptr), w, w, 1, 0)
-    zi = binding.ImageIn(coc.ctypes.data_as(fptr), w, w, 1, 0)
-    oi = binding.Image(out.ctypes.data_as(fptr), w, w, 1, 0)
+    ci = ddof_abi.ImageIn(color.ctypes.data_as(fptr), w, w, 1, 0)
+    zi = ddof_abi.ImageIn(coc.ctypes.data_as(fptr), w, w, 1, 0)
+    oi = ddof_abi.Image(out.ctypes.data_as(fptr), w, w, 1, 0)
     ctx = lib._context(2)
     try:
         status = lib._dll.ddof_diffuse_layers(ctx, ctypes.byref(p), ctypes.byref(ci),

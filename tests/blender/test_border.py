@@ -1,12 +1,12 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """A render border, without and with crop, gets the depth of field of the same region of the
-uncropped frame: the camera is the full frame's (a cropped frame used to get about half the
-blur, its width taken as the sensor's), and only the border's pixels are blurred (the black
-outside an uncropped border used to diffuse in, leaving dark bands along its edges). Outside an
+uncropped frame: the camera is the full frame's (a cropped frame taken as the whole sensor would
+get about half the blur), and only the border's pixels are blurred (the black
+outside an uncropped border, diffused in, would leave dark bands along its edges). Outside an
 uncropped border the frame stays as rendered.
 
 Scene: a bright checker wall at 12 m (far out of focus), a card at the 3 m focus and one at
-6 m, 85 mm f/1.4, 160x90 (as the bug was found: 480x270 85 mm f/1.4).
+6 m, 85 mm f/1.4, 160x90 (the failure shows the same at 480x270).
 """
 
 import math
@@ -22,8 +22,8 @@ BORDER = (0.2, 0.25, 0.7, 0.8)  # min x, min y, max x, max y
 # Away from the border's edges the result is the full frame's (the diffusion there does not
 # reach the edge); along them the frame's pixels outside are missing, which changes values a
 # little but must not darken them (the bug: the band's mean fell to about half).
-INTERIOR_TOLERANCE = 0.02  # measured 5e-5 (3.4.1); 0.24 before the fix (crop)
-BAND_MEAN_RATIO = (0.97, 1.03)  # measured 0.9995; 0.919 before the fix
+INTERIOR_TOLERANCE = 0.02  # measured 5e-5 (3.4.1); 0.24 with the crop's width as the sensor
+BAND_MEAN_RATIO = (0.97, 1.03)  # measured 0.9995; 0.919 with the black diffused in
 
 checks = u.Checks("test_border")
 out_dir = u.scratch_dir("border")

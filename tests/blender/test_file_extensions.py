@@ -1,8 +1,8 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
 """Output properties > File Extensions off: an animation still gets depth of field on every
-frame. The add-on's own File Output node then writes its passes without ".exr"; the add-on
-used to look only for names with it, found nothing, wrote every frame as rendered and blamed
-the compositor. Also: when a pass is really missing, the message says what was found instead.
+frame. The add-on's own File Output node then writes its passes without ".exr"; an add-on that
+looks only for names with it finds nothing, writes every frame as rendered and blames the
+compositor. Also: when a pass is really missing, the message says what was found instead.
 
 Scene: a checker wall at 12 m far behind the 3 m focus (100 mm f/1.4), 3 frames to OpenEXR
 files named without extension.

@@ -48,7 +48,7 @@ static int apply_coc_channel(const cli_option *option, const char *value, cli_op
     return cli_option_parse_value(option, value, o);
 }
 
-/* The names of 0.2's command, kept for scripts: their settings are the library's. */
+/* The older names fast and quality, kept for scripts: their settings are the library's. */
 static int apply_preset(const cli_option *option, const char *value, cli_options *o)
 {
     if (strcasecmp(value, "fast") == 0 || strcasecmp(value, "quality") == 0) {
