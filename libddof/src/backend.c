@@ -290,8 +290,8 @@ int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
            t->run_layers && (!r->disc || device_runs_disc(b));
 }
 
-ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
-                                      adi_layers_report *report)
+ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+                                    adi_layers_report *report)
 {
     ddof_backend_state *b = &context->backend;
     char why[512] = "";

@@ -30,8 +30,8 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
 
 /* The whole layered frame on the device; a failure is recorded in the context. */
-ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
-                                      adi_layers_report *report);
+ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+                                    adi_layers_report *report);
 
 /* Whether the context's device draws cards (ddof_render_cards), and the call. */
 int ddof_backend_runs_cards(const ddof_context *context);

@@ -146,17 +146,6 @@ ddof_status ddof_check_near_spread(ddof_context *context, const ddof_params *p)
     return DDOF_OK;
 }
 
-ddof_status ddof_check_element_near(ddof_context *context, const ddof_params *p)
-{
-    if (p->near_spread == DDOF_LAYER_ON || p->near_layer == DDOF_LAYER_ON)
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.%s is forced on, but a foreground element is given: the "
-                         "element is the near field, and the %s works on one image only",
-                         p->near_spread == DDOF_LAYER_ON ? "near_spread" : "near_layer",
-                         p->near_spread == DDOF_LAYER_ON ? "near spread" : "near layer");
-    return DDOF_OK;
-}
-
 static ddof_status check_same_size(ddof_context *context, const char *what, uint32_t width,
                                    uint32_t height, uint32_t w, uint32_t h)
 {

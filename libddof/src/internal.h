@@ -46,8 +46,19 @@ enum {
     DDOF_SCRATCH_SILHOUETTES,      /* silhouettes.c: the mixed pixels' changes           */
     DDOF_SCRATCH_SILHOUETTE_COLOR, /* silhouettes.c: the colour with their objects out   */
     DDOF_SCRATCH_ELEMENT_EDGES,    /* element_edges.c: the CoC before the strands' fix    */
-    DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
-    DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
+    DDOF_SCRATCH_LAYER_COLOR_COPY, /* frame_run.c: the input, when diffusing in place     */
+    DDOF_SCRATCH_LAYER_COLOR,      /* layers.c: background B or foreground F              */
+    DDOF_SCRATCH_LAYER_MATTE,      /* layers.c: the matte, or the element's carried alpha */
+    DDOF_SCRATCH_LAYER_COC_ABS,    /* layers.c: |CoC| to fill, then the fill's sources     */
+    DDOF_SCRATCH_LAYER_FILLED,     /* layers.c: the filled CoC, then the proximity map    */
+    DDOF_SCRATCH_NEAR_SPREAD,      /* layers.c: the near-spread CoC                       */
+    DDOF_SCRATCH_LAYER_CAPACITY,   /* layers.c: the background's heat capacity            */
+    DDOF_SCRATCH_COD4_QUARTER,     /* preview_cod4.c: quarter-resolution colour images    */
+    DDOF_SCRATCH_COD4_NEAR,        /* preview_cod4.c: quarter-resolution near CoC images  */
+    DDOF_SCRATCH_COD4_STATS,       /* preview_cod4.c: per-chunk statistics of first pass  */
+    DDOF_SCRATCH_COD4_BANDS,       /* preview_cod4.c: per-band rows of the last pass      */
+    DDOF_SCRATCH_COD4_HALO,        /* preview_cod4.c: in place, rows saved before writing */
+    DDOF_SCRATCH_COUNT
 };
 
 struct ddof_backend_table;
