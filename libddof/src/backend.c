@@ -144,6 +144,51 @@ ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind ki
     DDOF_EXCLUSIVE_CALL(context, set_backend(context, kind, plugin_path));
 }
 
+/* The table's supports_disc, or 0 where it ends before it. */
+static int table_runs_disc(const ddof_backend_table *t, const ddof_device *device)
+{
+    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
+           t->supports_disc && t->supports_disc(device);
+}
+
+/* The backend a request runs on, and its device: the context's loaded device where it takes
+ * the request, else the CPU (whose device is the context), which also runs the double
+ * reference on every backend and a disc kernel a device does not run. */
+static const ddof_backend_table *runner(const ddof_context *context, ddof_solver solver,
+                                        int disc, ddof_device **device)
+{
+    const ddof_backend_state *b = &context->backend;
+    if (b->device && solver != DDOF_SOLVER_REFERENCE_F64 &&
+        (!disc || table_runs_disc(b->table, b->device))) {
+        *device = b->device;
+        return b->table;
+    }
+    *device = ddof_cpu_device((ddof_context *)context);
+    return &ddof_cpu_backend;
+}
+
+int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver)
+{
+    if (solver == DDOF_SOLVER_REFERENCE_F64)
+        return 1;
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, solver, 0, &device);
+    return solver == DDOF_SOLVER_THOMAS && table_runs_disc(t, device);
+}
+
+ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
+                                        ddof_precision precision)
+{
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, solver, 0, &device);
+    if (t->supports(device, solver, precision))
+        return DDOF_OK;
+    return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                     "the %s backend cannot run solver %s with %s precision",
+                     ddof_backend_name(context->backend.kind), ddof_solver_name(solver),
+                     precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
+}
+
 ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_info *info)
 {
     if (!context || !info)
@@ -153,52 +198,15 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
     const ddof_backend_state *b = &context->backend;
     ddof_backend_info full = {.struct_size = sizeof full, .kind = b->kind};
     snprintf(full.note, sizeof full.note, "%s", b->note);
-    if (b->device) {
-        ddof_device_info d = {0};
-        b->table->describe(b->device, &d);
-        full.hardware = d.hardware;
-        snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
-    } else {
-        snprintf(full.renderer, sizeof full.renderer, "CPU, %u thread%s", context->thread_count,
-                 context->thread_count == 1 ? "" : "s");
-    }
+    ddof_device *device;
+    const ddof_backend_table *t =
+        runner(context, DDOF_SOLVER_THOMAS, 0, &device); /* the context's own backend */
+    ddof_device_info d = {0};
+    t->describe(device, &d);
+    full.hardware = d.hardware;
+    snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
     ddof_write_output_struct(info, &full, sizeof full);
     return DDOF_OK;
-}
-
-/* The device's supports_disc, or 0 where its table ends before it. */
-static int device_runs_disc(const ddof_backend_state *b)
-{
-    const ddof_backend_table *t = b->table;
-    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
-           t->supports_disc && t->supports_disc(b->device);
-}
-
-int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver)
-{
-    const ddof_backend_state *b = &context->backend;
-    if (solver == DDOF_SOLVER_REFERENCE_F64)
-        return 1;
-    return solver == DDOF_SOLVER_THOMAS && (!b->device || device_runs_disc(b));
-}
-
-ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
-                                        ddof_precision precision)
-{
-    const ddof_backend_state *b = &context->backend;
-    int ok;
-    if (solver == DDOF_SOLVER_REFERENCE_F64)
-        ok = precision == DDOF_PRECISION_FLOAT;
-    else if (b->device)
-        ok = b->table->supports(b->device, solver, precision);
-    else
-        ok = solver != DDOF_SOLVER_GRUEN && precision == DDOF_PRECISION_FLOAT;
-    if (ok)
-        return DDOF_OK;
-    return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
-                     "the %s backend cannot run solver %s with %s precision",
-                     ddof_backend_name(b->kind), ddof_solver_name(solver),
-                     precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
 }
 
 typedef struct cut_job {
@@ -253,18 +261,11 @@ static ddof_status cut_in_focus(ddof_context *context, const adi_request *r, adi
 
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
-    ddof_backend_state *b = &context->backend;
-    if (request->solver == DDOF_SOLVER_REFERENCE_F64)
-        return request->disc ? ddof_lens_reference(context, request, report)
-                             : ddof_adi_reference(context, request, report);
-    /* A disc request reaches a device only if it said it runs them (read_params keeps the
-     * disc kernel only then); the CPU stays the answer for any other. */
-    if (!b->device || (request->disc && !device_runs_disc(b)))
-        return request->disc ? ddof_lens_run(context, request, report)
-                             : ddof_adi_run(context, request, report);
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, request->solver, request->disc != NULL, &device);
     adi_request cut;
     float max_coc = -1.0f;
-    if (request->coc && request->in_focus_px > 0.0f) {
+    if (t != &ddof_cpu_backend && request->coc && request->in_focus_px > 0.0f) {
         ddof_status status = cut_in_focus(context, request, &cut, &max_coc);
         if (status != DDOF_OK)
             return status;
@@ -272,13 +273,14 @@ ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_
     }
     char why[512] = "";
     *report = (adi_report){0};
-    ddof_status status = b->table->run(b->device, request, report, why, sizeof why);
-    if (status != DDOF_OK)
-        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+    ddof_status status = t->run(device, request, report, why, sizeof why);
+    if (status != DDOF_OK && t != &ddof_cpu_backend) /* the CPU's solvers said why */
+        return ddof_fail(context, status, "%s backend: %s",
+                         ddof_backend_name(context->backend.kind),
                          why[0] ? why : ddof_status_string(status));
-    if (max_coc >= 0.0f)
+    if (status == DDOF_OK && max_coc >= 0.0f)
         report->max_coc = max_coc;
-    return DDOF_OK;
+    return status;
 }
 
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
@@ -287,7 +289,7 @@ int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
     const ddof_backend_table *t = b->table;
     return b->device && r->solver != DDOF_SOLVER_REFERENCE_F64 && r->coc &&
            t->table_size >= offsetof(ddof_backend_table, run_layers) + sizeof t->run_layers &&
-           t->run_layers && (!r->disc || device_runs_disc(b));
+           t->run_layers && (!r->disc || table_runs_disc(t, b->device));
 }
 
 ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,

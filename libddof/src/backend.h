@@ -2,17 +2,25 @@
 /* backend.h - the core's side of the backend seam (backend.c): running a request on the
  * context's backend, and what the planner asks of it. What crosses the seam (the request, the
  * report, the backend's table) is in ddof_backend_seam.h, which the GL plugin includes alone.
- * The CPU backend is adi.c, lens_adi.c and the double references.
+ * Every backend is a table of that shape: the GL plugin's, loaded at run time, and the CPU's
+ * (backend_cpu.c: adi.c, lens_adi.c and the double references), so one dispatch serves both.
  */
 #ifndef DDOF_BACKEND_H
 #define DDOF_BACKEND_H
 
 #include "adi.h"
 
+/* ---- the CPU's table (backend_cpu.c) ------------------------------------------------------ */
+
+extern const ddof_backend_table ddof_cpu_backend;
+
+/* The CPU's device: the context itself (its threads and scratch). */
+ddof_device *ddof_cpu_device(ddof_context *context);
+
 /* ---- the core's side (backend.c) ---------------------------------------------------------- */
 
-/* Runs one diffusion on the context's backend: the double reference and the CPU solvers here,
- * everything else on the loaded device. */
+/* Runs one diffusion on the backend that takes it: the context's loaded device, else the CPU
+ * (the double reference always, and a disc kernel the device does not run). */
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
 
 /* Whether the disc kernel runs with this solver on the context's backend: on the CPU with
