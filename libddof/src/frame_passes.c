@@ -10,17 +10,15 @@
 #include <stdio.h>
 
 /* Finds the frame's highlights (colour with 3 or 4 channels) into `set` and the base colour,
- * and writes the pass's plan line. */
+ * and says in the plan what it found. */
 ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_request *q,
-                                      highlight_set *set, layers_report *report)
+                                      highlight_set *set, frame_plan *plan)
 {
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
-    char *line = report->highlights_line;
-    const size_t size = sizeof report->highlights_line;
     if (r->channels < 3) {
-        snprintf(line, size, "highlights: off: %u colour channel%s (the pass needs RGB)",
-                 r->channels, r->channels == 1 ? "" : "s");
+        ddof_plan_say(plan, "highlights: off: %u colour channel%s (the pass needs RGB)",
+                      r->channels, r->channels == 1 ? "" : "s");
         return DDOF_OK;
     }
     float *base = ddof_highlight_base_image(context, r);
@@ -43,19 +41,21 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
     if (set->hidden)
         snprintf(hidden, sizeof hidden, " (+%u hidden by sharp occluders)", set->hidden);
     if (set->count)
-        snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px%s "
-                             "drawn as %s (%.2f operations per pixel)",
-                 set->count - set->hidden, (double)set->threshold,
-                 (double)DDOF_HIGHLIGHT_MIN_COC_PX, hidden, shape,
-                 (double)set->cost / ((double)r->width * r->height));
+        ddof_plan_say(plan,
+                      "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px%s "
+                      "drawn as %s (%.2f operations per pixel)",
+                      set->count - set->hidden, (double)set->threshold,
+                      (double)DDOF_HIGHLIGHT_MIN_COC_PX, hidden, shape,
+                      (double)set->cost / ((double)r->width * r->height));
     else if (set->over_budget)
-        snprintf(line, size, "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g "
-                             "px) alone would cost over %.3g operations per frame pixel",
-                 (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
-                 (double)DDOF_HIGHLIGHT_BUDGET);
+        ddof_plan_say(plan,
+                      "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g px) "
+                      "alone would cost over %.3g operations per frame pixel",
+                      (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
+                      (double)DDOF_HIGHLIGHT_BUDGET);
     else
-        snprintf(line, size, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
-                 (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
+        ddof_plan_say(plan, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
+                      (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
     return DDOF_OK;
 }
 
@@ -76,7 +76,7 @@ void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
 /* The far field over the layers' result (far_field.h): before the highlights are drawn, from
  * the colour the layers diffused (without them). */
 ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
-                                const float *color, size_t color_stride,
+                                const float *color, size_t color_stride, frame_plan *plan,
                                 layers_report *report)
 {
     const double t0 = ddof_seconds();
@@ -87,12 +87,10 @@ ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
     const double share = 100.0 * (double)far.pixels / ((double)q->base.width * q->base.height);
     if (far.pixels) {
         report->effects |= DDOF_EFFECT_FAR_FIELD;
-        snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: on: %.1f%% of pixels, %u level%s",
-                 share, far.levels, far.levels == 1 ? "" : "s");
+        ddof_plan_say(plan, "far field: on: %.1f%% of pixels, %u level%s", share, far.levels,
+                      far.levels == 1 ? "" : "s");
     } else {
-        snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: off: every blurred pixel is near a depth edge");
+        ddof_plan_say(plan, "far field: off: every blurred pixel is near a depth edge");
     }
     report->seconds_far_field = ddof_seconds() - t0;
     return DDOF_OK;
@@ -103,7 +101,7 @@ ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
  * covers it, estimated from the colour before its objects were taken out of what the layers
  * diffused (ddof_clean_silhouettes). */
 ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
-                                  const float *color, size_t color_stride,
+                                  const float *color, size_t color_stride, frame_plan *plan,
                                   layers_report *report)
 {
     const double t0 = ddof_seconds();
@@ -114,12 +112,12 @@ ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q
         return status;
     if (split.pixels) {
         report->effects |= DDOF_EFFECT_SILHOUETTES;
-        snprintf(report->silhouettes_line, sizeof report->silhouettes_line,
-                 "silhouettes: on: %llu mixed pixels split", (unsigned long long)split.pixels);
+        ddof_plan_say(plan, "silhouettes: on: %llu mixed pixels split",
+                      (unsigned long long)split.pixels);
     } else {
-        snprintf(report->silhouettes_line, sizeof report->silhouettes_line,
-                 "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
-                 (double)DDOF_SILHOUETTE_MIN_COC_PX);
+        ddof_plan_say(plan,
+                      "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
+                      (double)DDOF_SILHOUETTE_MIN_COC_PX);
     }
     report->seconds_silhouettes = ddof_seconds() - t0;
     return DDOF_OK;

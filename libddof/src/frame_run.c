@@ -86,7 +86,11 @@ static ddof_status run_preview(ddof_context *context, const adi_request *r, int 
     full.substeps = 0;
     full.copied_only = 0;
     full.effects = 0;
-    snprintf(full.plan, sizeof full.plan, "preview: the CoD4 post-process (GPU Gems 3 ch. 28)");
+    frame_plan plan = {0};
+    ddof_plan_say(&plan, "preview: the CoD4 post-process (GPU Gems 3 ch. 28)");
+    ddof_plan_copy_text(&plan, full.plan, sizeof full.plan);
+    /* The preview's plan is its one line, unterminated. */
+    full.plan[strcspn(full.plan, "\n")] = '\0';
     write_stats(stats, &full);
     return DDOF_OK;
 }
@@ -171,8 +175,7 @@ static int device_runs_frame(ddof_context *context, const layers_request *q,
  * here, once, after the highlights are found (the device's run takes them only where the
  * element does not need the CPU's pass). */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
-                               const frame_plan *plan, float max_near_coc,
-                               layers_report *report)
+                               frame_plan *plan, float max_near_coc, layers_report *report)
 {
     const adi_request *r = &q->base;
     memset(report, 0, sizeof *report);
@@ -185,7 +188,7 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     size_t color_stride = r->color_stride;
     if (plan->highlights) {
         const double t0 = ddof_seconds();
-        if ((status = ddof_pass_find_highlights(context, q, &highlights, report)) != DDOF_OK)
+        if ((status = ddof_pass_find_highlights(context, q, &highlights, plan)) != DDOF_OK)
             return status;
         if (highlights.count) {
             color = ddof_highlight_base_image(context, r);
@@ -234,11 +237,12 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     }
     if (status != DDOF_OK)
         return status;
-    if (plan->far_field &&
-        (status = ddof_pass_far_field(context, q, diffused, diffused_stride, report)) != DDOF_OK)
+    if (plan->far_field && (status = ddof_pass_far_field(context, q, diffused, diffused_stride,
+                                                         plan, report)) != DDOF_OK)
         return status;
     if (plan->silhouettes &&
-        (status = ddof_pass_silhouettes(context, q, pairs, color, color_stride, report)) !=
+        (status = ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan,
+                                              report)) !=
             DDOF_OK)
         return status;
     /* Last of the passes that read the colour: the discs are drawn through its buffer. */
@@ -337,14 +341,7 @@ ddof_status ddof_run_frame(ddof_context *context, layers_request *q, int fg_give
     full.seconds_silhouettes = report.seconds_silhouettes;
     if (plan.near_layer)
         full.effects |= DDOF_EFFECT_NEAR_LAYER;
-    memcpy(full.plan, plan.text, sizeof full.plan);
-    const char *lines[3] = {report.highlights_line, report.far_field_line,
-                            report.silhouettes_line};
-    for (int i = 0; i < 3; i++)
-        if (lines[i][0]) {
-            const size_t used = strlen(full.plan);
-            snprintf(full.plan + used, sizeof full.plan - used, "%s\n", lines[i]);
-        }
+    ddof_plan_copy_text(&plan, full.plan, sizeof full.plan);
     write_stats(stats, &full);
     return DDOF_OK;
 }

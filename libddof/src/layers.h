@@ -40,9 +40,6 @@ typedef struct layers_report {
     double seconds_highlights;
     double seconds_far_field;
     double seconds_silhouettes;
-    char highlights_line[160]; /* the highlight pass's plan line ("" when it did not look)   */
-    char far_field_line[160];  /* the far field's plan line ("" when it did not look)        */
-    char silhouettes_line[160];/* the silhouettes' plan line ("" when it did not look)      */
 } layers_report;
 
 /* D falls by this much per pixel away from a near-field pixel (layers.c, the near spread). */
