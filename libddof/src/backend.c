@@ -5,6 +5,7 @@
 #include "backend.h"
 #include "ddof_output_struct.h"
 
+#include "disc_kernel.h"
 #include "parallel_rows.h"
 
 #include <dlfcn.h>
@@ -167,13 +168,21 @@ static const ddof_backend_table *runner(const ddof_context *context, ddof_solver
     return &ddof_cpu_backend;
 }
 
-int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver)
+/* The disc kernel runs on the CPU with Thomas (lens_adi.c), on a device whose table says so
+ * with Thomas, and with REFERENCE_F64 everywhere (the CPU runs the reference). */
+static int runs_disc(const ddof_context *context, ddof_solver solver)
 {
     if (solver == DDOF_SOLVER_REFERENCE_F64)
         return 1;
     ddof_device *device;
     const ddof_backend_table *t = runner(context, solver, 0, &device);
     return solver == DDOF_SOLVER_THOMAS && table_runs_disc(t, device);
+}
+
+const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
+                                            ddof_kernel kernel)
+{
+    return runs_disc(context, solver) ? ddof_disc_kernel(kernel) : NULL;
 }
 
 ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,

@@ -23,10 +23,11 @@ ddof_device *ddof_cpu_device(ddof_context *context);
  * (the double reference always, and a disc kernel the device does not run). */
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
 
-/* Whether the disc kernel runs with this solver on the context's backend: on the CPU with
- * Thomas (lens_adi.c), on a device whose table says so with Thomas, and with REFERENCE_F64
- * everywhere (the core runs the reference itself). */
-int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver);
+/* The disc kernel's table when the context's backend runs `kernel` with this solver, else NULL:
+ * the heat kernel runs (ddof_stats.kernel says which ran). A disc kernel has a complex form of
+ * the Thomas solver only (on the CPU and on a device that runs it) and the double reference. */
+const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
+                                            ddof_kernel kernel);
 
 /* DDOF_OK when the context's backend can run this solver/precision, else a failure recorded
  * in the context (before any output is written). */

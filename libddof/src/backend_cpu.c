@@ -47,7 +47,7 @@ static ddof_status cpu_run(ddof_device *device, const adi_request *request, adi_
                          : ddof_adi_run(context, request, report);
 }
 
-/* The disc kernel with Thomas (lens_adi.c; ddof_backend_runs_disc asks for the solver). */
+/* The disc kernel with Thomas (lens_adi.c; backend.c asks for the solver). */
 static int cpu_supports_disc(const ddof_device *device)
 {
     (void)device;

@@ -8,8 +8,7 @@
 #include "layers.h"
 
 /* The caller's params over the defaults (an older caller's struct lacks the later fields),
- * every value checked, and the kernel resolved for the context's backend (a disc kernel
- * becomes the heat kernel where the solver has no disc form). */
+ * every value checked, the solver and precision against the context's backend. */
 ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, ddof_params *p);
 
 /* A forced near spread or near layer needs signed CoC: judged once the call knows the CoC's
@@ -40,8 +39,9 @@ ddof_status ddof_check_call_images(ddof_context *context, const ddof_image_in *c
 ddof_status ddof_check_coc_values(ddof_context *context, const ddof_image_in *coc,
                                   size_t stride, int coc_signed, float *max_abs);
 
-/* The request's solver settings from validated params. */
-void ddof_fill_request_params(adi_request *r, const ddof_params *p);
+/* The request's solver settings from validated params; its kernel is the one the context's
+ * backend runs (ddof_backend_disc_kernel). */
+void ddof_fill_request_params(const ddof_context *context, adi_request *r, const ddof_params *p);
 
 /* Validates the element and fills the request's foreground fields; *visible says whether any
  * alpha > 0 (an element with none changes nothing and is skipped). */

@@ -28,7 +28,7 @@ static ddof_status prepare(ddof_context *context, const ddof_params *caller_para
     r->coc = coc->pixels;
     r->coc_stride = coc_stride;
     r->coc_channels = coc->channels;
-    ddof_fill_request_params(r, params);
+    ddof_fill_request_params(context, r, params);
     return DDOF_OK;
 }
 

@@ -324,7 +324,7 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
         status = prepare_coc(context, &s, &p, r, &max_coc);
     if (status != DDOF_OK)
         return status;
-    ddof_fill_request_params(r, &p);
+    ddof_fill_request_params(context, r, &p);
     if (s.source == SOURCE_CAMERA)
         q.aperture = aperture_of(&s.camera, r->width, r->height);
     return ddof_run_frame(context, &q, s.has_foreground, fg_visible, max_coc, stats, t_start,
