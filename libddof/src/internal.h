@@ -4,6 +4,7 @@
 #define DDOF_INTERNAL_H
 
 #include "ddof.h"
+#include "ddof_layer_rules.h"
 #include "float_ops.h"
 #include "thread_pool.h"
 
@@ -142,10 +143,9 @@ ddof_status ddof_check_image(ddof_context *context, const char *what, const floa
                              uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
                              size_t *stride_floats);
 
-/* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. */
-typedef struct pixel_box {
-    uint32_t x0, y0, x1, y1;
-} pixel_box;
+/* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. The seam's box, so that the
+ * layers' rules (ddof_layer_rules.h) serve the core and a device alike. */
+typedef adi_box pixel_box;
 
 static inline pixel_box box_empty(void)
 {
@@ -155,7 +155,7 @@ static inline pixel_box box_empty(void)
 
 static inline int box_is_empty(pixel_box b)
 {
-    return b.x0 >= b.x1 || b.y0 >= b.y1;
+    return ddof_box_is_empty(b);
 }
 
 static inline void box_add(pixel_box *b, uint32_t x, uint32_t y)
@@ -180,12 +180,7 @@ static inline pixel_box box_union(pixel_box a, pixel_box b)
 /* b grown by margin pixels on every side, within a width x height image. */
 static inline pixel_box box_grow(pixel_box b, uint32_t margin, uint32_t width, uint32_t height)
 {
-    if (box_is_empty(b))
-        return b;
-    pixel_box g = {b.x0 > margin ? b.x0 - margin : 0, b.y0 > margin ? b.y0 - margin : 0,
-                   width - b.x1 > margin ? b.x1 + margin : width,
-                   height - b.y1 > margin ? b.y1 + margin : height};
-    return g;
+    return ddof_box_grow(b, margin, width, height);
 }
 
 /* ddof_image and ddof_image_in share their layout; this is the read-only view of an output. */

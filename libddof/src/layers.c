@@ -8,7 +8,7 @@
  *               spreads over its edges. GPU Gems 3 ch. 28's D = max(D0, 2 D_blurred - D0)
  *               gives a similar ramp at the edge of a large object, but blurring the CoC map
  *               dilutes a small one (a 5 px light of CoC 20 over an in-focus background kept
- *               0.66 of its peak, a sharp dot in a faint halo; 0.30 now: test_layers); the
+ *               0.66 of its peak, a sharp dot in a faint halo; the cone 0.30: test_layers); the
  *               slope 4 (D falls to 0 a quarter of the CoC away) measured best of 1.5 ... 8
  *               on the accuracy study's two scenes with near objects.
  *  background   matte a from the CoC; holes where a = 0; the CoC filled into the holes (heat
@@ -328,16 +328,17 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
     ddof_status status = DDOF_OK;
-    float *d = scratch(context, DDOF_SCRATCH_NEAR_SPREAD, pixels, &status); /* becomes the spread CoC */
+    /* d becomes the spread CoC */
+    float *d = scratch(context, DDOF_SCRATCH_NEAR_SPREAD, pixels, &status);
     if (status != DDOF_OK)
         return status;
     pixel_job job = {.q = q, .a = d};
     ddof_parallel_rows(context, r->height, near_map_rows, &job);
-    const uint32_t reach = (uint32_t)ceilf(max_near / NEAR_SPREAD_SLOPE) + 1;
+    const uint32_t reach = ddof_near_spread_reach_px(max_near);
     const pixel_box b = box_grow(q->near_box, reach, r->width, r->height);
     if (!box_is_empty(b))
         ddof_cone_dilate(d + (size_t)b.y0 * r->width + b.x0, b.x1 - b.x0, b.y1 - b.y0, r->width,
-                         NEAR_SPREAD_SLOPE);
+                         DDOF_NEAR_SPREAD_SLOPE);
     ddof_parallel_rows(context, r->height, spread_rows, &job);
     *spread_coc = d;
     return DDOF_OK;
@@ -510,9 +511,9 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
      * pixel): it is computed on those plus twice its reach, and blended within its reach,
      * so the crop's insulated border never shows. Forced on without edges, it covers all. */
-    const float top = p->background_threshold_px * (float)(1u << (p->background_levels - 1));
-    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale,
-                                                ddof_maxf(report->adi.max_coc, top));
+    const uint32_t reach =
+        ddof_background_reach_px(r->disc, r->beta_scale, report->adi.max_coc,
+                                 p->background_threshold_px, p->background_levels);
     pixel_box edges = q->background_box;
     if (box_is_empty(edges))
         edges = (pixel_box){0, 0, r->width, r->height};
@@ -524,14 +525,13 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
     if (spread)
         spread += (size_t)area.y0 * r->width + area.x0;
-    /* Level k >= 1 (threshold t 2^k) ramps up from the previous level's threshold, so a
-     * pixel counts as a hole only at levels well above its own CoC. */
     for (uint32_t level = 0; level < p->background_levels; level++) {
-        const float threshold = p->background_threshold_px * (float)(1u << level);
-        const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
+        const float threshold = ddof_background_threshold(p->background_threshold_px, level);
+        const float ramp_start =
+            ddof_background_ramp_start(threshold, level, p->background_ramp_start_px);
         status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
-                                  level ? threshold : -INFINITY, spread, r->width, blend,
-                                  st, report);
+                                  ddof_background_blend_from(threshold, level), spread,
+                                  r->width, blend, st, report);
         if (status != DDOF_OK)
             return status;
     }

@@ -42,9 +42,6 @@ typedef struct layers_report {
     double seconds_silhouettes;
 } layers_report;
 
-/* D falls by this much per pixel away from a near-field pixel (layers.c, the near spread). */
-#define NEAR_SPREAD_SLOPE 4.0f
-
 /* The frame's diffusions counted, so that the caller's progress sees one rising fraction. */
 typedef struct layer_stages {
     ddof_progress_fn progress; /* the caller's */
