@@ -73,8 +73,9 @@ typedef struct adi_request {
     ddof_progress_fn progress;
     void *progress_user;
     /* |CoC| below this (read from `coc`; a uniform CoC is the layers' own fill and is never
-     * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device gets
-     * requests whose CoC is already cut (backend.c), so it may ignore the field. */
+     * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device
+     * applies it as the CPU does (the GL plugin: pack.comp); report.max_coc may be measured
+     * after it, the core keeps the figure from before (backend.c). */
     float in_focus_px;
 } adi_request;
 

@@ -218,68 +218,46 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
     return DDOF_OK;
 }
 
-typedef struct cut_job {
+typedef struct largest_job {
     const adi_request *r;
-    float *coc;       /* width floats a row */
-    float *chunk_max; /* the largest |CoC| per row chunk, before the cut */
-} cut_job;
+    float *chunk_max; /* the largest |CoC| per row chunk */
+} largest_job;
 
-static void cut_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+static void largest_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
-    const cut_job *job = user;
+    const largest_job *job = user;
     const adi_request *r = job->r;
     float m = 0.0f;
     for (uint32_t y = y0; y < y1; y++) {
         const float *src = r->coc + (size_t)y * r->coc_stride;
-        float *dst = job->coc + (size_t)y * r->width;
-        for (uint32_t x = 0; x < r->width; x++) {
-            const float c = src[(size_t)x * r->coc_channels];
-            m = ddof_maxf(m, fabsf(c));
-            dst[x] = fabsf(c) >= r->in_focus_px ? c : 0.0f;
-        }
+        for (uint32_t x = 0; x < r->width; x++)
+            m = ddof_maxf(m, fabsf(src[(size_t)x * r->coc_channels]));
     }
     job->chunk_max[chunk] = m;
 }
 
-/* The devices know nothing of the in-focus threshold (adi_request.in_focus_px, appended after
- * the plugin ABI's fields): they get a CoC image in which the in-focus pixels are 0, which
- * conducts the same, so GL and CPU agree. *max_coc: the largest |CoC| before the cut (the
- * figure the stats report). */
-static ddof_status cut_in_focus(ddof_context *context, const adi_request *r, adi_request *cut,
-                                float *max_coc)
+/* The request's largest |CoC|. A device applies the in-focus threshold itself (pack.comp: a
+ * |CoC| below it conducts as 0, as on the CPU) but measures the CoC after it; the stats and the
+ * background layer's reach take the largest from before it, as the CPU's solvers report it. */
+static float largest_coc(ddof_context *context, const adi_request *r)
 {
-    float *coc = ddof_scratch_get(context, DDOF_SCRATCH_DEVICE_COC,
-                                  (size_t)r->width * r->height * sizeof(float));
-    if (!coc)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the %ux%u in-focus CoC buffer", r->width, r->height);
     enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
     float chunk_max[max_chunks];
-    cut_job job = {r, coc, chunk_max};
-    ddof_parallel_rows(context, r->height, cut_rows, &job);
-    *max_coc = 0.0f;
+    largest_job job = {r, chunk_max};
+    ddof_parallel_rows(context, r->height, largest_rows, &job);
+    float m = 0.0f;
     for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++)
-        *max_coc = ddof_maxf(*max_coc, chunk_max[c]);
-    *cut = *r;
-    cut->coc = coc;
-    cut->coc_stride = r->width;
-    cut->coc_channels = 1;
-    cut->in_focus_px = 0.0f;
-    return DDOF_OK;
+        m = ddof_maxf(m, chunk_max[c]);
+    return m;
 }
 
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
     ddof_device *device;
     const ddof_backend_table *t = runner(context, request->solver, request->disc != NULL, &device);
-    adi_request cut;
-    float max_coc = -1.0f;
-    if (t != &ddof_cpu_backend && request->coc && request->in_focus_px > 0.0f) {
-        ddof_status status = cut_in_focus(context, request, &cut, &max_coc);
-        if (status != DDOF_OK)
-            return status;
-        request = &cut;
-    }
+    const float max_coc = t != &ddof_cpu_backend && request->coc && request->in_focus_px > 0.0f
+                              ? largest_coc(context, request)
+                              : -1.0f;
     char why[512] = "";
     *report = (adi_report){0};
     ddof_status status = t->run(device, request, report, why, sizeof why);

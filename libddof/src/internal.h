@@ -31,7 +31,6 @@ enum {
     DDOF_SCRATCH_SOLVER,
     DDOF_SCRATCH_COC,
     DDOF_SCRATCH_FOREGROUND_COC, /* the foreground element's CoC, computed by the frame call */
-    DDOF_SCRATCH_DEVICE_COC,  /* backend.c: the CoC with the in-focus threshold applied */
     DDOF_SCRATCH_HIGHLIGHT_COUNTS, /* highlights.c: per-chunk counts                    */
     DDOF_SCRATCH_HIGHLIGHTS,       /* highlights.c: the highlights found                 */
     DDOF_SCRATCH_HIGHLIGHT_BASE,   /* the colour with the highlights taken out           */
