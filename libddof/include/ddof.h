@@ -355,7 +355,7 @@ DDOF_API const char *ddof_solver_name(ddof_solver solver);
  * study (docs/accuracy.md) measures against lens renders and chooses together with the
  * sub-steps (fewer steps want a larger k). */
 #define DDOF_MOMENT_BETA_SCALE (1.0f / 32.0f)
-#define DDOF_DEFAULT_BETA_SCALE DDOF_MOMENT_BETA_SCALE /* 0.2's default k; kept for its callers */
+#define DDOF_DEFAULT_BETA_SCALE DDOF_MOMENT_BETA_SCALE /* the moment-matched k, by its other name */
 
 /* ddof_params_init's in_focus_threshold_px (a CoC diameter in pixels). */
 #define DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX 0.5f
@@ -496,7 +496,7 @@ typedef struct ddof_params {
                                /* its value), and a frame whose largest |CoC| is below it is */
                                /* a copy (0 lines solved, copied_only 1). Default 0.5         */
                                /* (diameter); >= 0, at most DDOF_MAX_COC_PX; 0 lets every    */
-                               /* CoC above 0 conduct, as before this field existed. The      */
+                               /* CoC above 0 conduct (in focus means CoC exactly 0). The     */
                                /* layers' own CoC fills are not cut; the CoD4 preview ignores */
                                /* it (docs/design.md, the planner).                           */
     ddof_layer_mode highlights;  /* the highlight pass: the part of a pixel brighter than      */
@@ -600,7 +600,11 @@ typedef struct ddof_stats {
     char plan[512];            /* one line per decision, '\n'-separated: "<effect>: on: why", */
                                /* "<effect>: off: why", "<effect>: forced on|off"; effects   */
                                /* are midground, background, near layer, near spread,        */
-                               /* foreground, highlights, far field, silhouettes              */
+                               /* foreground, highlights, far field, silhouettes (the last   */
+                               /* three once their pass has looked at the frame). The CoD4   */
+                               /* preview's plan is its one line "preview: ...", without a   */
+                               /* '\n'. A plan longer than this is cut after a whole line,   */
+                               /* and its last line is then "(the plan goes on)".            */
 
     /* --- version 0.3 of this struct ------------------------------------------------------- */
     uint32_t backend;          /* the ddof_backend_kind that ran the call                     */

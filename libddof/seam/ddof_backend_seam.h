@@ -5,14 +5,15 @@
  * the frame, builds the layers and issues one diffusion request at a time. A backend decides
  * *how* to run one request; a backend with run_layers (ABI 3) takes the whole planned layered
  * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
- * upload and one read-back). The CPU runs them in the core itself; the GL backends live in the
- * plugin library libddof_gl, which the core loads with dlopen(RTLD_LOCAL) and asks for one
- * table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be mixed up on
+ * upload and one read-back). The CPU is a table of the same shape inside the core
+ * (libddof/src/backend_cpu.c; its layers are run by the core's frame runner, frame_run.c); the
+ * GL backends live in the plugin library libddof_gl, which the core loads with
+ * dlopen(RTLD_LOCAL) and asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be mixed up on
  * disk, so the table carries an ABI number and its size, both checked before use.
  *
- * Everything a backend may rely on is in this header and ddof.h; a backend includes nothing
- * else of the core (plugin/gl builds with libddof/src off its include path). Not installed:
- * the seam is between two libraries built from one tree.
+ * Everything a backend may rely on is in this header, ddof_layer_rules.h and ddof.h; a backend
+ * includes nothing else of the core (plugin/gl builds with libddof/src off its include path).
+ * Not installed: the seam is between two libraries built from one tree.
  */
 #ifndef DDOF_BACKEND_SEAM_H
 #define DDOF_BACKEND_SEAM_H
@@ -73,8 +74,9 @@ typedef struct adi_request {
     ddof_progress_fn progress;
     void *progress_user;
     /* |CoC| below this (read from `coc`; a uniform CoC is the layers' own fill and is never
-     * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device gets
-     * requests whose CoC is already cut (backend.c), so it may ignore the field. */
+     * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device
+     * applies it as the CPU does (the GL plugin: pack.comp); report.max_coc may be measured
+     * after it, the core keeps the figure from before (backend.c). */
     float in_focus_px;
 } adi_request;
 
@@ -105,7 +107,8 @@ typedef struct adi_box {
  * 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then what the
  * plan switched on. The core has decided what runs and where the near spread and foreground
  * work; the background's area depends on the midground's largest CoC, so the backend grows
- * background_edges by the kernel's reach itself, as layers.c does. */
+ * background_edges by the kernel's reach itself, by the rules layers.c uses
+ * (ddof_layer_rules.h). */
 typedef struct adi_layers_request {
     adi_request base;         /* colour, CoC, out, solver settings; progress for the frame  */
     uint32_t near_spread;     /* 1: dilate the near CoC and conduct the midground with it   */

@@ -5,6 +5,7 @@
 #include "backend.h"
 #include "ddof_output_struct.h"
 
+#include "disc_kernel.h"
 #include "parallel_rows.h"
 
 #include <dlfcn.h>
@@ -144,6 +145,59 @@ ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind ki
     DDOF_EXCLUSIVE_CALL(context, set_backend(context, kind, plugin_path));
 }
 
+/* The table's supports_disc, or 0 where it ends before it. */
+static int table_runs_disc(const ddof_backend_table *t, const ddof_device *device)
+{
+    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
+           t->supports_disc && t->supports_disc(device);
+}
+
+/* The backend a request runs on, and its device: the context's loaded device where it takes
+ * the request, else the CPU (whose device is the context), which also runs the double
+ * reference on every backend and a disc kernel a device does not run. */
+static const ddof_backend_table *runner(const ddof_context *context, ddof_solver solver,
+                                        int disc, ddof_device **device)
+{
+    const ddof_backend_state *b = &context->backend;
+    if (b->device && solver != DDOF_SOLVER_REFERENCE_F64 &&
+        (!disc || table_runs_disc(b->table, b->device))) {
+        *device = b->device;
+        return b->table;
+    }
+    *device = ddof_cpu_device((ddof_context *)context);
+    return &ddof_cpu_backend;
+}
+
+/* The disc kernel runs on the CPU with Thomas (lens_adi.c), on a device whose table says so
+ * with Thomas, and with REFERENCE_F64 everywhere (the CPU runs the reference). */
+static int runs_disc(const ddof_context *context, ddof_solver solver)
+{
+    if (solver == DDOF_SOLVER_REFERENCE_F64)
+        return 1;
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, solver, 0, &device);
+    return solver == DDOF_SOLVER_THOMAS && table_runs_disc(t, device);
+}
+
+const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
+                                            ddof_kernel kernel)
+{
+    return runs_disc(context, solver) ? ddof_disc_kernel(kernel) : NULL;
+}
+
+ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
+                                        ddof_precision precision)
+{
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, solver, 0, &device);
+    if (t->supports(device, solver, precision))
+        return DDOF_OK;
+    return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                     "the %s backend cannot run solver %s with %s precision",
+                     ddof_backend_name(context->backend.kind), ddof_solver_name(solver),
+                     precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
+}
+
 ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_info *info)
 {
     if (!context || !info)
@@ -153,132 +207,67 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
     const ddof_backend_state *b = &context->backend;
     ddof_backend_info full = {.struct_size = sizeof full, .kind = b->kind};
     snprintf(full.note, sizeof full.note, "%s", b->note);
-    if (b->device) {
-        ddof_device_info d = {0};
-        b->table->describe(b->device, &d);
-        full.hardware = d.hardware;
-        snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
-    } else {
-        snprintf(full.renderer, sizeof full.renderer, "CPU, %u thread%s", context->thread_count,
-                 context->thread_count == 1 ? "" : "s");
-    }
+    ddof_device *device;
+    const ddof_backend_table *t =
+        runner(context, DDOF_SOLVER_THOMAS, 0, &device); /* the context's own backend */
+    ddof_device_info d = {0};
+    t->describe(device, &d);
+    full.hardware = d.hardware;
+    snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
     ddof_write_output_struct(info, &full, sizeof full);
     return DDOF_OK;
 }
 
-/* The device's supports_disc, or 0 where its table ends before it. */
-static int device_runs_disc(const ddof_backend_state *b)
-{
-    const ddof_backend_table *t = b->table;
-    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
-           t->supports_disc && t->supports_disc(b->device);
-}
-
-int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver)
-{
-    const ddof_backend_state *b = &context->backend;
-    if (solver == DDOF_SOLVER_REFERENCE_F64)
-        return 1;
-    return solver == DDOF_SOLVER_THOMAS && (!b->device || device_runs_disc(b));
-}
-
-ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
-                                        ddof_precision precision)
-{
-    const ddof_backend_state *b = &context->backend;
-    int ok;
-    if (solver == DDOF_SOLVER_REFERENCE_F64)
-        ok = precision == DDOF_PRECISION_FLOAT;
-    else if (b->device)
-        ok = b->table->supports(b->device, solver, precision);
-    else
-        ok = solver != DDOF_SOLVER_GRUEN && precision == DDOF_PRECISION_FLOAT;
-    if (ok)
-        return DDOF_OK;
-    return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
-                     "the %s backend cannot run solver %s with %s precision",
-                     ddof_backend_name(b->kind), ddof_solver_name(solver),
-                     precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
-}
-
-typedef struct cut_job {
+typedef struct largest_job {
     const adi_request *r;
-    float *coc;       /* width floats a row */
-    float *chunk_max; /* the largest |CoC| per row chunk, before the cut */
-} cut_job;
+    float *chunk_max; /* the largest |CoC| per row chunk */
+} largest_job;
 
-static void cut_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+static void largest_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
-    const cut_job *job = user;
+    const largest_job *job = user;
     const adi_request *r = job->r;
     float m = 0.0f;
     for (uint32_t y = y0; y < y1; y++) {
         const float *src = r->coc + (size_t)y * r->coc_stride;
-        float *dst = job->coc + (size_t)y * r->width;
-        for (uint32_t x = 0; x < r->width; x++) {
-            const float c = src[(size_t)x * r->coc_channels];
-            m = ddof_maxf(m, fabsf(c));
-            dst[x] = fabsf(c) >= r->in_focus_px ? c : 0.0f;
-        }
+        for (uint32_t x = 0; x < r->width; x++)
+            m = ddof_maxf(m, fabsf(src[(size_t)x * r->coc_channels]));
     }
     job->chunk_max[chunk] = m;
 }
 
-/* The devices know nothing of the in-focus threshold (adi_request.in_focus_px, appended after
- * the plugin ABI's fields): they get a CoC image in which the in-focus pixels are 0, which
- * conducts the same, so GL and CPU agree. *max_coc: the largest |CoC| before the cut (the
- * figure the stats report). */
-static ddof_status cut_in_focus(ddof_context *context, const adi_request *r, adi_request *cut,
-                                float *max_coc)
+/* The request's largest |CoC|. A device applies the in-focus threshold itself (pack.comp: a
+ * |CoC| below it conducts as 0, as on the CPU) but measures the CoC after it; the stats and the
+ * background layer's reach take the largest from before it, as the CPU's solvers report it. */
+static float largest_coc(ddof_context *context, const adi_request *r)
 {
-    float *coc = ddof_scratch_get(context, DDOF_SCRATCH_DEVICE_COC,
-                                  (size_t)r->width * r->height * sizeof(float));
-    if (!coc)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the %ux%u in-focus CoC buffer", r->width, r->height);
     enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
     float chunk_max[max_chunks];
-    cut_job job = {r, coc, chunk_max};
-    ddof_parallel_rows(context, r->height, cut_rows, &job);
-    *max_coc = 0.0f;
+    largest_job job = {r, chunk_max};
+    ddof_parallel_rows(context, r->height, largest_rows, &job);
+    float m = 0.0f;
     for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++)
-        *max_coc = ddof_maxf(*max_coc, chunk_max[c]);
-    *cut = *r;
-    cut->coc = coc;
-    cut->coc_stride = r->width;
-    cut->coc_channels = 1;
-    cut->in_focus_px = 0.0f;
-    return DDOF_OK;
+        m = ddof_maxf(m, chunk_max[c]);
+    return m;
 }
 
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
-    ddof_backend_state *b = &context->backend;
-    if (request->solver == DDOF_SOLVER_REFERENCE_F64)
-        return request->disc ? ddof_lens_reference(context, request, report)
-                             : ddof_adi_reference(context, request, report);
-    /* A disc request reaches a device only if it said it runs them (read_params keeps the
-     * disc kernel only then); the CPU stays the answer for any other. */
-    if (!b->device || (request->disc && !device_runs_disc(b)))
-        return request->disc ? ddof_lens_run(context, request, report)
-                             : ddof_adi_run(context, request, report);
-    adi_request cut;
-    float max_coc = -1.0f;
-    if (request->coc && request->in_focus_px > 0.0f) {
-        ddof_status status = cut_in_focus(context, request, &cut, &max_coc);
-        if (status != DDOF_OK)
-            return status;
-        request = &cut;
-    }
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, request->solver, request->disc != NULL, &device);
+    const float max_coc = t != &ddof_cpu_backend && request->coc && request->in_focus_px > 0.0f
+                              ? largest_coc(context, request)
+                              : -1.0f;
     char why[512] = "";
     *report = (adi_report){0};
-    ddof_status status = b->table->run(b->device, request, report, why, sizeof why);
-    if (status != DDOF_OK)
-        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+    ddof_status status = t->run(device, request, report, why, sizeof why);
+    if (status != DDOF_OK && t != &ddof_cpu_backend) /* the CPU's solvers said why */
+        return ddof_fail(context, status, "%s backend: %s",
+                         ddof_backend_name(context->backend.kind),
                          why[0] ? why : ddof_status_string(status));
-    if (max_coc >= 0.0f)
+    if (status == DDOF_OK && max_coc >= 0.0f)
         report->max_coc = max_coc;
-    return DDOF_OK;
+    return status;
 }
 
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
@@ -287,11 +276,11 @@ int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
     const ddof_backend_table *t = b->table;
     return b->device && r->solver != DDOF_SOLVER_REFERENCE_F64 && r->coc &&
            t->table_size >= offsetof(ddof_backend_table, run_layers) + sizeof t->run_layers &&
-           t->run_layers && (!r->disc || device_runs_disc(b));
+           t->run_layers && (!r->disc || table_runs_disc(t, b->device));
 }
 
-ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
-                                      adi_layers_report *report)
+ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+                                    adi_layers_report *report)
 {
     ddof_backend_state *b = &context->backend;
     char why[512] = "";

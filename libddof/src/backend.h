@@ -2,23 +2,32 @@
 /* backend.h - the core's side of the backend seam (backend.c): running a request on the
  * context's backend, and what the planner asks of it. What crosses the seam (the request, the
  * report, the backend's table) is in ddof_backend_seam.h, which the GL plugin includes alone.
- * The CPU backend is adi.c, lens_adi.c and the double references.
+ * Every backend is a table of that shape: the GL plugin's, loaded at run time, and the CPU's
+ * (backend_cpu.c: adi.c, lens_adi.c and the double references), so one dispatch serves both.
  */
 #ifndef DDOF_BACKEND_H
 #define DDOF_BACKEND_H
 
 #include "adi.h"
 
+/* ---- the CPU's table (backend_cpu.c) ------------------------------------------------------ */
+
+extern const ddof_backend_table ddof_cpu_backend;
+
+/* The CPU's device: the context itself (its threads and scratch). */
+ddof_device *ddof_cpu_device(ddof_context *context);
+
 /* ---- the core's side (backend.c) ---------------------------------------------------------- */
 
-/* Runs one diffusion on the context's backend: the double reference and the CPU solvers here,
- * everything else on the loaded device. */
+/* Runs one diffusion on the backend that takes it: the context's loaded device, else the CPU
+ * (the double reference always, and a disc kernel the device does not run). */
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
 
-/* Whether the disc kernel runs with this solver on the context's backend: on the CPU with
- * Thomas (lens_adi.c), on a device whose table says so with Thomas, and with REFERENCE_F64
- * everywhere (the core runs the reference itself). */
-int ddof_backend_runs_disc(const ddof_context *context, ddof_solver solver);
+/* The disc kernel's table when the context's backend runs `kernel` with this solver, else NULL:
+ * the heat kernel runs (ddof_stats.kernel says which ran). A disc kernel has a complex form of
+ * the Thomas solver only (on the CPU and on a device that runs it) and the double reference. */
+const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
+                                            ddof_kernel kernel);
 
 /* DDOF_OK when the context's backend can run this solver/precision, else a failure recorded
  * in the context (before any output is written). */
@@ -30,8 +39,8 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
 
 /* The whole layered frame on the device; a failure is recorded in the context. */
-ddof_status ddof_run_layers_on_device(ddof_context *context, const adi_layers_request *request,
-                                      adi_layers_report *report);
+ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+                                    adi_layers_report *report);
 
 /* Whether the context's device draws cards (ddof_render_cards), and the call. */
 int ddof_backend_runs_cards(const ddof_context *context);

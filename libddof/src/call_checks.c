@@ -120,11 +120,6 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
     if ((unsigned)p->kernel >= DDOF_KERNEL_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "params.kernel %u is not a kernel",
                          (unsigned)p->kernel);
-    /* The disc kernel has a complex form of the Thomas solver only (on the CPU and on a
-     * device that runs it) and the double reference; anything else runs the heat kernel, and
-     * ddof_stats.kernel says which ran. */
-    if (p->kernel != DDOF_KERNEL_HEAT && !ddof_backend_runs_disc(context, p->solver))
-        p->kernel = DDOF_KERNEL_HEAT;
     if (p->method == DDOF_METHOD_DIFFUSION) {
         ddof_status supported = ddof_check_backend_supports(context, p->solver, p->precision);
         if (supported != DDOF_OK)
@@ -143,17 +138,6 @@ ddof_status ddof_check_near_spread(ddof_context *context, const ddof_params *p)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_layer is forced on, but the CoC is unsigned: without "
                          "coc_signed = 1 the near field is unknown");
-    return DDOF_OK;
-}
-
-ddof_status ddof_check_element_near(ddof_context *context, const ddof_params *p)
-{
-    if (p->near_spread == DDOF_LAYER_ON || p->near_layer == DDOF_LAYER_ON)
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.%s is forced on, but a foreground element is given: the "
-                         "element is the near field, and the %s works on one image only",
-                         p->near_spread == DDOF_LAYER_ON ? "near_spread" : "near_layer",
-                         p->near_spread == DDOF_LAYER_ON ? "near spread" : "near layer");
     return DDOF_OK;
 }
 
@@ -238,7 +222,7 @@ ddof_status ddof_check_coc_values(ddof_context *context, const ddof_image_in *co
     return DDOF_OK;
 }
 
-void ddof_fill_request_params(adi_request *r, const ddof_params *p)
+void ddof_fill_request_params(const ddof_context *context, adi_request *r, const ddof_params *p)
 {
     r->solver = p->solver;
     r->precision = p->precision;
@@ -246,7 +230,9 @@ void ddof_fill_request_params(adi_request *r, const ddof_params *p)
     r->jacobi_iterations = p->jacobi_iterations;
     r->beta_scale = p->beta_scale;
     r->pixel_aspect = p->pixel_aspect;
-    r->disc = p->method == DDOF_METHOD_DIFFUSION ? ddof_disc_kernel(p->kernel) : NULL;
+    r->disc = p->method == DDOF_METHOD_DIFFUSION
+                  ? ddof_backend_disc_kernel(context, p->solver, p->kernel)
+                  : NULL;
     r->progress = p->progress;
     r->progress_user = p->progress_user;
     r->in_focus_px = p->in_focus_threshold_px;

@@ -8,17 +8,17 @@
 #include "layers.h"
 
 /* The caller's params over the defaults (an older caller's struct lacks the later fields),
- * every value checked, and the kernel resolved for the context's backend (a disc kernel
- * becomes the heat kernel where the solver has no disc form). */
+ * every value checked, the solver and precision against the context's backend. */
 ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, ddof_params *p);
 
 /* A forced near spread or near layer needs signed CoC: judged once the call knows the CoC's
  * sign. */
 ddof_status ddof_check_near_spread(ddof_context *context, const ddof_params *p);
 
-/* A separately rendered foreground element is the near field: neither one-image near effect
- * may be forced on beside it. */
-ddof_status ddof_check_element_near(ddof_context *context, const ddof_params *p);
+/* Whether these params take a foreground element (frame.c, where the element's rules live):
+ * the CoD4 preview blurs one image, and the element is the near field, so neither one-image
+ * near effect may be forced on beside it. */
+ddof_status ddof_check_element_allowed(ddof_context *context, const ddof_params *p);
 
 /* A camera's pixel aspect within what the diffusion accepts (as params.pixel_aspect). */
 ddof_status ddof_check_camera_aspect(ddof_context *context, const ddof_camera *camera);
@@ -39,20 +39,13 @@ ddof_status ddof_check_call_images(ddof_context *context, const ddof_image_in *c
 ddof_status ddof_check_coc_values(ddof_context *context, const ddof_image_in *coc,
                                   size_t stride, int coc_signed, float *max_abs);
 
-/* The request's solver settings from validated params. */
-void ddof_fill_request_params(adi_request *r, const ddof_params *p);
+/* The request's solver settings from validated params; its kernel is the one the context's
+ * backend runs (ddof_backend_disc_kernel). */
+void ddof_fill_request_params(const ddof_context *context, adi_request *r, const ddof_params *p);
 
 /* Validates the element and fills the request's foreground fields; *visible says whether any
  * alpha > 0 (an element with none changes nothing and is skipped). */
 ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *caller,
                                  layers_request *q, int *visible);
-
-/* Plans the frame of a validated request, runs what the plan says (or the CoD4 preview) and
- * reports it in stats (diffuse.c). known_max_coc: the largest |CoC| when the validation found
- * it (a frame below the in-focus threshold then needs no analysis), or negative. seconds_coc:
- * what the CoC stage took before. */
-ddof_status ddof_run_layered(ddof_context *context, layers_request *q, int fg_given,
-                             int fg_visible, float known_max_coc, ddof_stats *stats,
-                             double t_start, double seconds_coc);
 
 #endif

@@ -18,12 +18,6 @@ const disc_kernel *ddof_disc_kernel(ddof_kernel kernel)
     return NULL;
 }
 
-uint32_t ddof_kernel_reach_px(const disc_kernel *disc, float beta_scale, float coc)
-{
-    const float per_px = disc ? disc->reach : 12.0f * sqrtf(beta_scale);
-    return (uint32_t)ceilf(per_px * coc) + 2;
-}
-
 ddof_status ddof_kernel_get_info(ddof_kernel kernel, ddof_kernel_info *info)
 {
     if (!info)

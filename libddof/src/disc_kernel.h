@@ -22,8 +22,8 @@
 /* The table of a disc kernel; NULL for DDOF_KERNEL_HEAT or an unknown value. */
 const disc_kernel *ddof_disc_kernel(ddof_kernel kernel);
 
-/* How far a diffusion of CoC d can carry anything (px), for the kernel that runs: beyond it an
- * effect changes values by less than e^-12. heat: 12 decay lengths of exp(-x / sqrt(k d^2)). */
-uint32_t ddof_kernel_reach_px(const disc_kernel *disc, float beta_scale, float coc);
+/* How far a kernel carries a CoC: ddof_kernel_reach_px, in the seam's layer rules (the device
+ * grows its areas by it too). */
+#include "ddof_layer_rules.h"
 
 #endif

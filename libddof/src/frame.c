@@ -5,6 +5,7 @@
 #include "call_checks.h"
 #include "coc.h"
 #include "element_edges.h"
+#include "frame_run.h"
 
 #include <stdint.h>
 #include <string.h>
@@ -25,6 +26,20 @@ void ddof_frame_init_sized(ddof_frame *frame, size_t size)
 void (ddof_frame_init)(ddof_frame *frame)
 {
     ddof_frame_init_sized(frame, DDOF_FRAME_SIZE_0_5);
+}
+
+ddof_status ddof_check_element_allowed(ddof_context *context, const ddof_params *p)
+{
+    if (p->method == DDOF_METHOD_COD4_PREVIEW)
+        return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                         "the CoD4 preview blurs one image and takes no foreground element");
+    if (p->near_spread == DDOF_LAYER_ON || p->near_layer == DDOF_LAYER_ON)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "params.%s is forced on, but a foreground element is given: the "
+                         "element is the near field, and the %s works on one image only",
+                         p->near_spread == DDOF_LAYER_ON ? "near_spread" : "near_layer",
+                         p->near_spread == DDOF_LAYER_ON ? "near spread" : "near layer");
+    return DDOF_OK;
 }
 
 typedef enum coc_source { SOURCE_CAMERA, SOURCE_CURVE, SOURCE_GIVEN } coc_source;
@@ -89,12 +104,9 @@ static ddof_status check_foreground(ddof_context *context, frame_setup *s, const
                              depth_given ? "depth" : "coc");
         return DDOF_OK;
     }
-    if (p->method == DDOF_METHOD_COD4_PREVIEW)
-        return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
-                         "the CoD4 preview blurs one image and takes no foreground element");
-    ddof_status near = ddof_check_element_near(context, p);
-    if (near != DDOF_OK)
-        return near;
+    ddof_status allowed = ddof_check_element_allowed(context, p);
+    if (allowed != DDOF_OK)
+        return allowed;
     const int wants_coc = s->source == SOURCE_GIVEN;
     if (wants_coc ? !coc_given || depth_given : !depth_given || coc_given)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
@@ -312,11 +324,11 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
         status = prepare_coc(context, &s, &p, r, &max_coc);
     if (status != DDOF_OK)
         return status;
-    ddof_fill_request_params(r, &p);
+    ddof_fill_request_params(context, r, &p);
     if (s.source == SOURCE_CAMERA)
         q.aperture = aperture_of(&s.camera, r->width, r->height);
-    return ddof_run_layered(context, &q, s.has_foreground, fg_visible, max_coc, stats,
-                            t_start, ddof_seconds() - t_start);
+    return ddof_run_frame(context, &q, s.has_foreground, fg_visible, max_coc, stats, t_start,
+                          ddof_seconds() - t_start);
 }
 
 ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,

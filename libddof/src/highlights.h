@@ -111,4 +111,12 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
                              const highlight_aperture *aperture, const highlight_set *set,
                              float *scratch);
 
+/* The image ddof_find_highlights writes its base colour into (the context's scratch, width x
+ * height x channels floats), or NULL when it cannot be had. */
+static inline float *ddof_highlight_base_image(ddof_context *context, const adi_request *r)
+{
+    return ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_BASE,
+                            (size_t)r->width * r->height * r->channels * sizeof(float));
+}
+
 #endif

@@ -4,6 +4,7 @@
 #define DDOF_INTERNAL_H
 
 #include "ddof.h"
+#include "ddof_layer_rules.h"
 #include "float_ops.h"
 #include "thread_pool.h"
 
@@ -30,7 +31,6 @@ enum {
     DDOF_SCRATCH_SOLVER,
     DDOF_SCRATCH_COC,
     DDOF_SCRATCH_FOREGROUND_COC, /* the foreground element's CoC, computed by the frame call */
-    DDOF_SCRATCH_DEVICE_COC,  /* backend.c: the CoC with the in-focus threshold applied */
     DDOF_SCRATCH_HIGHLIGHT_COUNTS, /* highlights.c: per-chunk counts                    */
     DDOF_SCRATCH_HIGHLIGHTS,       /* highlights.c: the highlights found                 */
     DDOF_SCRATCH_HIGHLIGHT_BASE,   /* the colour with the highlights taken out           */
@@ -46,8 +46,19 @@ enum {
     DDOF_SCRATCH_SILHOUETTES,      /* silhouettes.c: the mixed pixels' changes           */
     DDOF_SCRATCH_SILHOUETTE_COLOR, /* silhouettes.c: the colour with their objects out   */
     DDOF_SCRATCH_ELEMENT_EDGES,    /* element_edges.c: the CoC before the strands' fix    */
-    DDOF_SCRATCH_LAYER_FIRST, /* layers.c's working images */
-    DDOF_SCRATCH_COUNT = DDOF_SCRATCH_LAYER_FIRST + 7
+    DDOF_SCRATCH_LAYER_COLOR_COPY, /* frame_run.c: the input, when diffusing in place     */
+    DDOF_SCRATCH_LAYER_COLOR,      /* layers.c: background B or foreground F              */
+    DDOF_SCRATCH_LAYER_MATTE,      /* layers.c: the matte, or the element's carried alpha */
+    DDOF_SCRATCH_LAYER_COC_ABS,    /* layers.c: |CoC| to fill, then the fill's sources     */
+    DDOF_SCRATCH_LAYER_FILLED,     /* layers.c: the filled CoC, then the proximity map    */
+    DDOF_SCRATCH_NEAR_SPREAD,      /* layers.c: the near-spread CoC                       */
+    DDOF_SCRATCH_LAYER_CAPACITY,   /* layers.c: the background's heat capacity            */
+    DDOF_SCRATCH_COD4_QUARTER,     /* preview_cod4.c: quarter-resolution colour images    */
+    DDOF_SCRATCH_COD4_NEAR,        /* preview_cod4.c: quarter-resolution near CoC images  */
+    DDOF_SCRATCH_COD4_STATS,       /* preview_cod4.c: per-chunk statistics of first pass  */
+    DDOF_SCRATCH_COD4_BANDS,       /* preview_cod4.c: per-band rows of the last pass      */
+    DDOF_SCRATCH_COD4_HALO,        /* preview_cod4.c: in place, rows saved before writing */
+    DDOF_SCRATCH_COUNT
 };
 
 struct ddof_backend_table;
@@ -131,10 +142,9 @@ ddof_status ddof_check_image(ddof_context *context, const char *what, const floa
                              uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
                              size_t *stride_floats);
 
-/* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. */
-typedef struct pixel_box {
-    uint32_t x0, y0, x1, y1;
-} pixel_box;
+/* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. The seam's box, so that the
+ * layers' rules (ddof_layer_rules.h) serve the core and a device alike. */
+typedef adi_box pixel_box;
 
 static inline pixel_box box_empty(void)
 {
@@ -144,7 +154,7 @@ static inline pixel_box box_empty(void)
 
 static inline int box_is_empty(pixel_box b)
 {
-    return b.x0 >= b.x1 || b.y0 >= b.y1;
+    return ddof_box_is_empty(b);
 }
 
 static inline void box_add(pixel_box *b, uint32_t x, uint32_t y)
@@ -169,12 +179,7 @@ static inline pixel_box box_union(pixel_box a, pixel_box b)
 /* b grown by margin pixels on every side, within a width x height image. */
 static inline pixel_box box_grow(pixel_box b, uint32_t margin, uint32_t width, uint32_t height)
 {
-    if (box_is_empty(b))
-        return b;
-    pixel_box g = {b.x0 > margin ? b.x0 - margin : 0, b.y0 > margin ? b.y0 - margin : 0,
-                   width - b.x1 > margin ? b.x1 + margin : width,
-                   height - b.y1 > margin ? b.y1 + margin : height};
-    return g;
+    return ddof_box_grow(b, margin, width, height);
 }
 
 /* ddof_image and ddof_image_in share their layout; this is the read-only view of an output. */

@@ -8,7 +8,7 @@
  *               spreads over its edges. GPU Gems 3 ch. 28's D = max(D0, 2 D_blurred - D0)
  *               gives a similar ramp at the edge of a large object, but blurring the CoC map
  *               dilutes a small one (a 5 px light of CoC 20 over an in-focus background kept
- *               0.66 of its peak, a sharp dot in a faint halo; 0.30 now: test_layers); the
+ *               0.66 of its peak, a sharp dot in a faint halo; the cone 0.30: test_layers); the
  *               slope 4 (D falls to 0 a quarter of the CoC away) measured best of 1.5 ... 8
  *               on the accuracy study's two scenes with near objects.
  *  background   matte a from the CoC; holes where a = 0; the CoC filled into the holes (heat
@@ -31,9 +31,7 @@
 #include "backend.h"
 #include "cone_dilate.h"
 #include "disc_kernel.h"
-#include "far_field.h"
 #include "highlights.h"
-#include "silhouettes.h"
 
 #include "parallel_rows.h"
 
@@ -41,34 +39,17 @@
 #include <stdio.h>
 #include <string.h>
 
-/* Extra working images, each kept by the context between calls. */
-enum {
-    SLOT_COLOR_COPY = DDOF_SCRATCH_LAYER_FIRST, /* the input, when diffusing in place   */
-    SLOT_LAYER_COLOR,                           /* background B or foreground F         */
-    SLOT_MAP_A,                                 /* matte                                 */
-    SLOT_MAP_B,                                 /* |CoC| to fill                         */
-    SLOT_MAP_C,                                 /* filled CoC, then the proximity map   */
-    SLOT_SPREAD,                                /* the near-spread CoC                  */
-    SLOT_CAPACITY                               /* background heat capacity             */
-};
-
 /* ---- stages and progress ----------------------------------------------------------------- */
-
-typedef struct stages {
-    ddof_progress_fn progress; /* the caller's */
-    void *user;
-    uint32_t current, count;
-} stages;
 
 /* Maps one diffusion's progress into the whole call's, so the caller sees one rising fraction. */
 static int stage_progress(void *user, float fraction)
 {
-    const stages *s = user;
+    const layer_stages *s = user;
     return s->progress(s->user, ((float)s->current + fraction) / (float)s->count);
 }
 
 /* One diffusion with the request's solver; its figures are added to the report. */
-static ddof_status diffuse(ddof_context *context, adi_request *r, stages *st,
+static ddof_status diffuse(ddof_context *context, adi_request *r, layer_stages *st,
                            layers_report *report)
 {
     if (st->progress) {
@@ -339,9 +320,6 @@ static float *scratch(ddof_context *context, int slot, size_t floats, ddof_statu
     return p;
 }
 
-/* D falls by this much per pixel away from a near-field pixel (see the top of the file). */
-#define NEAR_SPREAD_SLOPE 4.0f
-
 /* Near spread: writes the spread CoC (w x h, 1 channel) into *spread_coc. The dilation runs on
  * the near pixels' box grown by the farthest any of them reaches (max_near / slope). */
 static ddof_status near_spread(ddof_context *context, const layers_request *q, float max_near,
@@ -350,16 +328,17 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
     ddof_status status = DDOF_OK;
-    float *d = scratch(context, SLOT_SPREAD, pixels, &status); /* becomes the spread CoC */
+    /* d becomes the spread CoC */
+    float *d = scratch(context, DDOF_SCRATCH_NEAR_SPREAD, pixels, &status);
     if (status != DDOF_OK)
         return status;
     pixel_job job = {.q = q, .a = d};
     ddof_parallel_rows(context, r->height, near_map_rows, &job);
-    const uint32_t reach = (uint32_t)ceilf(max_near / NEAR_SPREAD_SLOPE) + 1;
+    const uint32_t reach = ddof_near_spread_reach_px(max_near);
     const pixel_box b = box_grow(q->near_box, reach, r->width, r->height);
     if (!box_is_empty(b))
         ddof_cone_dilate(d + (size_t)b.y0 * r->width + b.x0, b.x1 - b.x0, b.y1 - b.y0, r->width,
-                         NEAR_SPREAD_SLOPE);
+                         DDOF_NEAR_SPREAD_SLOPE);
     ddof_parallel_rows(context, r->height, spread_rows, &job);
     *spread_coc = d;
     return DDOF_OK;
@@ -369,17 +348,17 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
 static ddof_status background_level(ddof_context *context, const layers_request *q,
                                     const float *color, size_t color_stride, float ramp_start,
                                     float threshold, float blend_from, const float *spread,
-                                    size_t spread_stride, pixel_box blend, stages *st,
+                                    size_t spread_stride, pixel_box blend, layer_stages *st,
                                     layers_report *report)
 {
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
     ddof_status status = DDOF_OK;
-    float *matte = scratch(context, SLOT_MAP_A, pixels, &status);
-    float *coc_abs = scratch(context, SLOT_MAP_B, pixels, &status);
-    float *filled = scratch(context, SLOT_MAP_C, pixels, &status);
-    float *layer = scratch(context, SLOT_LAYER_COLOR, pixels * r->channels, &status);
-    float *capacity = scratch(context, SLOT_CAPACITY, pixels, &status);
+    float *matte = scratch(context, DDOF_SCRATCH_LAYER_MATTE, pixels, &status);
+    float *coc_abs = scratch(context, DDOF_SCRATCH_LAYER_COC_ABS, pixels, &status);
+    float *filled = scratch(context, DDOF_SCRATCH_LAYER_FILLED, pixels, &status);
+    float *layer = scratch(context, DDOF_SCRATCH_LAYER_COLOR, pixels * r->channels, &status);
+    float *capacity = scratch(context, DDOF_SCRATCH_LAYER_CAPACITY, pixels, &status);
     if (status != DDOF_OK)
         return status;
     pixel_job job = {.q = q, .a = matte, .b = coc_abs, .t0 = ramp_start, .t1 = threshold,
@@ -418,22 +397,16 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     return DDOF_OK;
 }
 
-/* The colour with the highlights taken out (ddof_find_highlights wrote it). */
-static const float *highlights_base(ddof_context *context, const adi_request *r)
-{
-    return ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_BASE,
-                            (size_t)r->width * r->height * r->channels * sizeof(float));
-}
 
-static ddof_status foreground(ddof_context *context, const layers_request *q, stages *st,
+static ddof_status foreground(ddof_context *context, const layers_request *q, layer_stages *st,
                               layers_report *report)
 {
     const adi_request *r = &q->base;
     const size_t pixels = (size_t)r->width * r->height;
     ddof_status status = DDOF_OK;
-    float *premultiplied = scratch(context, SLOT_LAYER_COLOR, pixels * 4, &status);
-    float *coc_abs = scratch(context, SLOT_MAP_B, pixels, &status);
-    float *filled = scratch(context, SLOT_MAP_C, pixels, &status);
+    float *premultiplied = scratch(context, DDOF_SCRATCH_LAYER_COLOR, pixels * 4, &status);
+    float *coc_abs = scratch(context, DDOF_SCRATCH_LAYER_COC_ABS, pixels, &status);
+    float *filled = scratch(context, DDOF_SCRATCH_LAYER_FILLED, pixels, &status);
     if (status != DDOF_OK)
         return status;
     pixel_job job = {.q = q, .a = premultiplied, .b = coc_abs};
@@ -449,7 +422,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
         er.coc = q->fg_coc;
         er.coc_stride = q->fg_coc_stride;
         er.coc_channels = q->fg_coc_channels;
-        float *base = (float *)highlights_base(context, &er);
+        float *base = ddof_highlight_base_image(context, &er);
         if (!base)
             return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                              "could not allocate the highlight pass's %ux%u image", r->width,
@@ -502,7 +475,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
          * blur, never the sharp pixels beside it). */
         const double t0 = ddof_seconds();
         ddof_scatter_highlights(context, &blur, 0, &q->aperture, &lights,
-                                (float *)highlights_base(context, &blur));
+                                ddof_highlight_base_image(context, &blur));
         report->effects |= DDOF_EFFECT_HIGHLIGHTS;
         report->seconds_highlights += ddof_seconds() - t0;
     }
@@ -510,7 +483,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
     job.b = NULL;
     if (q->fg_carried_alpha && r->channels == 4) {
         /* The element's part of the frame's alpha channel, blurred as its colour is. */
-        float *carried = scratch(context, SLOT_MAP_A, pixels, &status);
+        float *carried = scratch(context, DDOF_SCRATCH_LAYER_MATTE, pixels, &status);
         if (status != DDOF_OK)
             return status;
         adi_request alpha = derived(r, q->fg_carried_alpha, q->fg_carried_stride, 1, carried);
@@ -525,75 +498,11 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, st
     return DDOF_OK;
 }
 
-/* Finds the frame's highlights (colour with 3 or 4 channels) into `set` and the base colour,
- * and writes the pass's plan line. */
-static ddof_status find_highlights(ddof_context *context, const layers_request *q,
-                                   highlight_set *set, layers_report *report)
-{
-    const adi_request *r = &q->base;
-    const ddof_params *p = q->params;
-    char *line = report->highlights_line;
-    const size_t size = sizeof report->highlights_line;
-    if (r->channels < 3) {
-        snprintf(line, size, "highlights: off: %u colour channel%s (the pass needs RGB)",
-                 r->channels, r->channels == 1 ? "" : "s");
-        return DDOF_OK;
-    }
-    float *base = (float *)highlights_base(context, r);
-    if (!base)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the highlight pass's %ux%u image", r->width,
-                         r->height);
-    ddof_status status =
-        ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
-                             &q->aperture, 1, base, set);
-    if (status != DDOF_OK)
-        return status;
-    char shape[48] = "discs";
-    if (q->aperture.image)
-        snprintf(shape, sizeof shape, "the %ux%u aperture image", q->aperture.image_width,
-                 q->aperture.image_height);
-    else if (q->aperture.blades >= 3)
-        snprintf(shape, sizeof shape, "%u-bladed polygons", q->aperture.blades);
-    char hidden[48] = "";
-    if (set->hidden)
-        snprintf(hidden, sizeof hidden, " (+%u hidden by sharp occluders)", set->hidden);
-    if (set->count)
-        snprintf(line, size, "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px%s "
-                             "drawn as %s (%.2f operations per pixel)",
-                 set->count - set->hidden, (double)set->threshold,
-                 (double)DDOF_HIGHLIGHT_MIN_COC_PX, hidden, shape,
-                 (double)set->cost / ((double)r->width * r->height));
-    else if (set->over_budget)
-        snprintf(line, size, "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g "
-                             "px) alone would cost over %.3g operations per frame pixel",
-                 (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
-                 (double)DDOF_HIGHLIGHT_BUDGET);
-    else
-        snprintf(line, size, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
-                 (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
-    return DDOF_OK;
-}
-
-/* Draws the highlights the pass took out into the result (before the foreground element,
- * which covers them). */
-static void draw_highlights(ddof_context *context, const layers_request *q,
-                            const highlight_set *set, layers_report *report)
-{
-    if (!set->count)
-        return;
-    const double t0 = ddof_seconds();
-    ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, &q->aperture, set,
-                            (float *)highlights_base(context, &q->base));
-    report->effects |= DDOF_EFFECT_HIGHLIGHTS;
-    report->seconds_highlights += ddof_seconds() - t0;
-}
-
 /* The background layer's levels, blended into r->out near the edges where it changes
  * anything. `color` is what the midground diffused, `spread` the near-spread CoC or NULL. */
 static ddof_status run_background(ddof_context *context, const layers_request *q,
                                   const float *color, size_t color_stride, const float *spread,
-                                  stages *st, layers_report *report)
+                                  layer_stages *st, layers_report *report)
 {
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
@@ -602,9 +511,9 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
      * pixel): it is computed on those plus twice its reach, and blended within its reach,
      * so the crop's insulated border never shows. Forced on without edges, it covers all. */
-    const float top = p->background_threshold_px * (float)(1u << (p->background_levels - 1));
-    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale,
-                                                ddof_maxf(report->adi.max_coc, top));
+    const uint32_t reach =
+        ddof_background_reach_px(r->disc, r->beta_scale, report->adi.max_coc,
+                                 p->background_threshold_px, p->background_levels);
     pixel_box edges = q->background_box;
     if (box_is_empty(edges))
         edges = (pixel_box){0, 0, r->width, r->height};
@@ -616,14 +525,13 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
     if (spread)
         spread += (size_t)area.y0 * r->width + area.x0;
-    /* Level k >= 1 (threshold t 2^k) ramps up from the previous level's threshold, so a
-     * pixel counts as a hole only at levels well above its own CoC. */
     for (uint32_t level = 0; level < p->background_levels; level++) {
-        const float threshold = p->background_threshold_px * (float)(1u << level);
-        const float ramp_start = level ? 0.5f * threshold : p->background_ramp_start_px;
+        const float threshold = ddof_background_threshold(p->background_threshold_px, level);
+        const float ramp_start =
+            ddof_background_ramp_start(threshold, level, p->background_ramp_start_px);
         status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
-                                  level ? threshold : -INFINITY, spread, r->width, blend,
-                                  st, report);
+                                  ddof_background_blend_from(threshold, level), spread,
+                                  r->width, blend, st, report);
         if (status != DDOF_OK)
             return status;
     }
@@ -632,217 +540,21 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     return DDOF_OK;
 }
 
-/* The far field over the layers' result (far_field.h): before the highlights are drawn, from
- * the colour the layers diffused (without them). */
-static ddof_status far_field(ddof_context *context, const layers_request *q, const float *color,
-                             size_t color_stride, layers_report *report)
-{
-    const double t0 = ddof_seconds();
-    far_field_report far;
-    const ddof_status status = ddof_far_field(context, &q->base, color, color_stride, &far);
-    if (status != DDOF_OK)
-        return status;
-    const double share = 100.0 * (double)far.pixels / ((double)q->base.width * q->base.height);
-    if (far.pixels) {
-        report->effects |= DDOF_EFFECT_FAR_FIELD;
-        snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: on: %.1f%% of pixels, %u level%s",
-                 share, far.levels, far.levels == 1 ? "" : "s");
-    } else {
-        snprintf(report->far_field_line, sizeof report->far_field_line,
-                 "far field: off: every blurred pixel is near a depth edge");
-    }
-    report->seconds_far_field = ddof_seconds() - t0;
-    return DDOF_OK;
-}
-
-/* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
- * highlights are drawn (their discs land behind the object, whole) and the foreground element
- * covers it, estimated from the colour before its objects were taken out of what the layers
- * diffused (ddof_clean_silhouettes). */
-static ddof_status silhouettes(ddof_context *context, const layers_request *q, int pairs,
-                               const float *color, size_t color_stride, layers_report *report)
-{
-    const double t0 = ddof_seconds();
-    silhouette_report split = {0};
-    const ddof_status status =
-        pairs ? ddof_split_silhouettes(context, &q->base, color, color_stride, &split) : DDOF_OK;
-    if (status != DDOF_OK)
-        return status;
-    if (split.pixels) {
-        report->effects |= DDOF_EFFECT_SILHOUETTES;
-        snprintf(report->silhouettes_line, sizeof report->silhouettes_line,
-                 "silhouettes: on: %llu mixed pixels split", (unsigned long long)split.pixels);
-    } else {
-        snprintf(report->silhouettes_line, sizeof report->silhouettes_line,
-                 "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
-                 (double)DDOF_SILHOUETTE_MIN_COC_PX);
-    }
-    report->seconds_silhouettes = ddof_seconds() - t0;
-    return DDOF_OK;
-}
-
-/* ---- the whole frame on a device ---------------------------------------------------------- */
-
-static adi_box seam_box(pixel_box b)
-{
-    return (adi_box){b.x0, b.y0, b.x1, b.y1};
-}
-
-/* The plan and the areas this file would use, handed to the device's run_layers, which runs
- * the same steps there (plugin/gl/gl_layers.c): one upload, one read-back. The background's
- * area depends on the midground's largest CoC, so the device grows its edges itself. */
-static ddof_status device_layers(ddof_context *context, const layers_request *q,
-                                 const frame_plan *plan, float max_near_coc,
-                                 layers_report *report)
+layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
 {
     const adi_request *r = &q->base;
-    const ddof_params *p = q->params;
-    adi_layers_request d = {.base = *r, .near_spread = (uint32_t)plan->near_spread,
-                            .near_slope = NEAR_SPREAD_SLOPE};
-    if (plan->near_spread) {
-        const uint32_t reach = (uint32_t)ceilf(max_near_coc / NEAR_SPREAD_SLOPE) + 1;
-        d.near_dilate = seam_box(box_grow(q->near_box, reach, r->width, r->height));
-    }
-    if (plan->background) {
-        d.background_levels = p->background_levels;
-        d.background_threshold_px = p->background_threshold_px;
-        d.background_ramp_start_px = p->background_ramp_start_px;
-        const pixel_box edges = q->background_box;
-        d.background_edges = seam_box(box_is_empty(edges) ? (pixel_box){0, 0, r->width, r->height}
-                                                          : edges);
-    }
-    if (plan->foreground) {
-        d.fg_color = q->fg_color;
-        d.fg_color_stride = q->fg_color_stride;
-        d.fg_coc = q->fg_coc;
-        d.fg_coc_stride = q->fg_coc_stride;
-        d.fg_coc_channels = q->fg_coc_channels;
-        d.fg_premultiplied = (uint32_t)q->fg_premultiplied;
-        d.fg_max_coc = q->fg_max_coc;
-        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
-        d.fg_area = seam_box(box_grow(q->fg_box, reach, r->width, r->height));
-    }
-    adi_layers_report a;
-    const ddof_status status = ddof_run_layers_on_device(context, &d, &a);
-    if (status != DDOF_OK)
-        return status;
-    report->adi = a.adi;
-    report->seconds_background = a.seconds_background;
-    report->seconds_foreground = a.seconds_foreground;
-    report->effects = DDOF_EFFECT_MIDGROUND |
-                      (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
-                      (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
-                      (plan->foreground ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
-    return DDOF_OK;
+    return (layer_stages){r->progress, r->progress_user, 0,
+                          1 + 2 * (plan->background ? q->params->background_levels : 0) +
+                              (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
 }
 
-/* Whether the foreground element holds a pixel the highlight pass would take (bright enough,
- * covered, blurred enough): only then does it need the CPU's pass. */
-static int element_is_bright(const layers_request *q)
-{
-    const float threshold = q->params->highlight_threshold;
-    for (uint32_t y = q->fg_box.y0; y < q->fg_box.y1; y++) {
-        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
-        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
-        for (uint32_t x = q->fg_box.x0; x < q->fg_box.x1; x++) {
-            const float *px = fg + (size_t)x * 4;
-            /* foreground_rows' premultiplication */
-            const float scale = q->fg_premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
-            if (px[3] > 0.0f && ddof_is_highlight(ddof_highlight_brightness(px) * scale,
-                                                  coc[(size_t)x * q->fg_coc_channels],
-                                                  threshold))
-                return 1;
-        }
-    }
-    return 0;
-}
-
-/* Whether the device runs the whole plan. It does, the element's composite included, but the
- * highlights (the frame's, which go under the element, and the element's own, in it), the far
- * field and the silhouettes are the CPU's: a frame with an element and any of them runs on the
- * CPU's layers, one diffusion at a time. */
-static int device_runs_frame(ddof_context *context, const layers_request *q,
-                             const frame_plan *plan, uint32_t frame_highlights)
-{
-    if (!ddof_backend_runs_layers(context, &q->base) || q->fg_carried_alpha)
-        return 0;
-    /* The far field and the silhouettes go under the element, which the device composites
-     * itself. */
-    if ((plan->far_field || plan->silhouettes) && plan->foreground)
-        return 0;
-    const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
-    return !(element_lights && (frame_highlights || element_is_bright(q)));
-}
-
-ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
-                            const frame_plan *plan, float max_near_coc, layers_report *report)
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
+                                   const frame_plan *plan, float max_near_coc,
+                                   const float *diffused, size_t diffused_stride,
+                                   layer_stages *st, layers_report *report)
 {
     const adi_request *r = &q->base;
-    const ddof_params *p = q->params;
-    memset(report, 0, sizeof *report);
-    ddof_status status = DDOF_OK;
-
-    /* The highlight pass takes the highlights out of the colour every layer diffuses (on the
-     * CPU or on a device) and draws them into the result afterwards. */
-    highlight_set highlights = {0};
-    const float *color = r->color;
-    size_t color_stride = r->color_stride;
-    if (plan->highlights) {
-        const double t0 = ddof_seconds();
-        if ((status = find_highlights(context, q, &highlights, report)) != DDOF_OK)
-            return status;
-        if (highlights.count) {
-            color = highlights_base(context, r);
-            color_stride = (size_t)r->width * r->channels;
-        }
-        report->seconds_highlights += ddof_seconds() - t0;
-    }
-
-    /* Diffusing in place overwrites the colour the background layer (on the CPU) and the far
-     * field still need (the highlight pass's base is a copy already). */
-    const int on_device = device_runs_frame(context, q, plan, highlights.count);
-    if (((plan->background && !on_device) || plan->far_field || plan->silhouettes) &&
-        r->out == r->color && color == r->color) {
-        const size_t row = (size_t)r->width * r->channels;
-        float *copy = scratch(context, SLOT_COLOR_COPY, row * r->height, &status);
-        if (status != DDOF_OK)
-            return status;
-        for (uint32_t y = 0; y < r->height; y++)
-            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
-        color = copy;
-        color_stride = row;
-    }
-
-    /* What the layers blur: the silhouettes' objects taken out (silhouettes.h); `color` stays
-     * what the split reads afterwards. */
-    const float *diffused = color;
-    size_t diffused_stride = color_stride;
-    int pairs = 0;
-    if (plan->silhouettes &&
-        (status = ddof_clean_silhouettes(context, r, &diffused, &diffused_stride, &pairs)) !=
-            DDOF_OK)
-        return status;
-
-    if (on_device) {
-        layers_request device_q = *q;
-        device_q.base.color = diffused;
-        device_q.base.color_stride = diffused_stride;
-        if ((status = device_layers(context, &device_q, plan, max_near_coc, report)) != DDOF_OK)
-            return status;
-        if (plan->far_field &&
-            (status = far_field(context, q, diffused, diffused_stride, report)) != DDOF_OK)
-            return status;
-        if (plan->silhouettes &&
-            (status = silhouettes(context, q, pairs, color, color_stride, report)) != DDOF_OK)
-            return status;
-        draw_highlights(context, q, &highlights, report);
-        return DDOF_OK;
-    }
-    stages st = {r->progress, r->progress_user, 0,
-                 1 + 2 * (plan->background ? p->background_levels : 0) +
-                     (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
-
+    ddof_status status;
     adi_request mid = *r;
     mid.color = diffused;
     mid.color_stride = diffused_stride;
@@ -857,33 +569,27 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         report->effects |= DDOF_EFFECT_NEAR_SPREAD;
         report->seconds_foreground += ddof_seconds() - t0;
     }
-    if ((status = diffuse(context, &mid, &st, report)) != DDOF_OK)
+    if ((status = diffuse(context, &mid, st, report)) != DDOF_OK)
         return status;
     report->effects |= DDOF_EFFECT_MIDGROUND;
+    if (plan->background)
+        return run_background(context, q, diffused, diffused_stride, spread, st, report);
+    return DDOF_OK;
+}
 
-    if (plan->background && (status = run_background(context, q, diffused, diffused_stride, spread,
-                                                      &st, report)) != DDOF_OK)
+ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
+                                       layer_stages *st, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const double t0 = ddof_seconds();
+    /* The element's blur reaches no further than its largest CoC carries. */
+    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
+    const pixel_box area = box_grow(q->fg_box, reach, r->width, r->height);
+    const layers_request sub = crop(q, area);
+    const ddof_status status = foreground(context, &sub, st, report);
+    if (status != DDOF_OK)
         return status;
-
-    if (plan->far_field && (status = far_field(context, q, mid.color, mid.color_stride,
-                                               report)) != DDOF_OK)
-        return status;
-    if (plan->silhouettes &&
-        (status = silhouettes(context, q, pairs, color, color_stride, report)) != DDOF_OK)
-        return status;
-    /* Last of the passes that read the colour: the discs are drawn through its buffer. */
-    draw_highlights(context, q, &highlights, report);
-
-    if (plan->foreground) {
-        const double t0 = ddof_seconds();
-        /* The element's blur reaches no further than its largest CoC carries. */
-        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
-        const pixel_box area = box_grow(q->fg_box, reach, r->width, r->height);
-        const layers_request sub = crop(q, area);
-        if ((status = foreground(context, &sub, &st, report)) != DDOF_OK)
-            return status;
-        report->effects |= DDOF_EFFECT_FOREGROUND;
-        report->seconds_foreground += ddof_seconds() - t0;
-    }
+    report->effects |= DDOF_EFFECT_FOREGROUND;
+    report->seconds_foreground += ddof_seconds() - t0;
     return DDOF_OK;
 }

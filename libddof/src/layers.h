@@ -40,15 +40,34 @@ typedef struct layers_report {
     double seconds_highlights;
     double seconds_far_field;
     double seconds_silhouettes;
-    char highlights_line[160]; /* the highlight pass's plan line ("" when it did not look)   */
-    char far_field_line[160];  /* the far field's plan line ("" when it did not look)        */
-    char silhouettes_line[160];/* the silhouettes' plan line ("" when it did not look)      */
 } layers_report;
 
-/* Runs what the plan says; out is written only after every check has passed (the caller's
+/* The frame's diffusions counted, so that the caller's progress sees one rising fraction. */
+typedef struct layer_stages {
+    ddof_progress_fn progress; /* the caller's */
+    void *user;
+    uint32_t current, count;
+} layer_stages;
+
+layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan);
+
+/* The layers behind the foreground element on the CPU (each diffusion on the context's
+ * backend, one at a time): the near spread, the midground of `diffused` and the background
+ * levels, into q->base.out. out is written only after every check has passed (the caller's
  * job), and on error its contents are finite but unspecified. */
-ddof_status ddof_run_layers(ddof_context *context, const layers_request *request,
-                            const frame_plan *plan, float max_near_coc,
-                            layers_report *report);
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
+                                   const frame_plan *plan, float max_near_coc,
+                                   const float *diffused, size_t diffused_stride,
+                                   layer_stages *st, layers_report *report);
+
+/* The foreground element blurred and composited over q->base.out, on the CPU. */
+ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
+                                       layer_stages *st, layers_report *report);
+
+/* Every layer of the plan, the element's composite included, on the context's device in one
+ * run (layers_device.c, the seam's run_layers), of q->base.color. */
+ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
+                                      const frame_plan *plan, float max_near_coc,
+                                      layers_report *report);
 
 #endif

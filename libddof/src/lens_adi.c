@@ -160,8 +160,8 @@ DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index,
         solve_chain(job, ts, n, ts->x, NULL, (size_t)L * C);
 
     /* Into the complex image by the chunked scatter of the heat driver (perf: a lane-by-lane
-     * loop here was a fifth of the row pass): solved lanes take the chain's result, the others
-     * their input and 0. */
+     * loop here measured a fifth of the row pass): solved lanes take the chain's result, the
+     * others their input and 0. */
     float *re_solved[L], *im_solved[L], *re_idle[L];
     for (uint32_t l = 0; l < L; l++) {
         float *tr = l < lanes ? job->t_re + (size_t)(y0 + l) * job->t_stride : NULL;

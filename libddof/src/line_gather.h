@@ -51,8 +51,8 @@ static inline float link_conductance(float scale, float in_focus_px, float coc_a
 
 /* The links of a row batch from its CoC gathered as coc[i][lane] (rows_in with one channel):
  * beta[i][lane] between elements i and i + 1 (0 past the last), which lanes conduct anywhere,
- * and each lane's largest |CoC|. Whole vectors, where reading the sixteen rows element by
- * element was sixteen scalar loads an element. */
+ * and each lane's largest |CoC|. Whole vectors: reading the sixteen rows element by element
+ * would take sixteen scalar loads an element. */
 static DDOF_ALWAYS_INLINE void links_from_gathered(float *restrict beta,
                                                    const float *restrict coc, uint32_t n,
                                                    float scale, float in_focus, const int disc,

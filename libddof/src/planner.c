@@ -10,7 +10,8 @@
  *  - the near-field spread exists to let a blurred near object spread over what lies behind it;
  *    it matters only where a near CoC of at least its threshold borders a pixel with less than
  *    half that CoC (a silhouette the single layer would keep sharp).
- * The decisions and their reasons go to ddof_stats.plan. */
+ * The decisions and their reasons go to ddof_stats.plan: every line of it is written through
+ * ddof_plan_say, the passes' own (what they found) included. */
 #include "planner.h"
 
 #include "far_field.h"
@@ -106,22 +107,50 @@ void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride
     }
 }
 
-/* Appends one line to the plan text (truncating quietly: it is for people). */
-static void say(frame_plan *plan, const char *format, ...) DDOF_PRINTF(2, 3);
-static void say(frame_plan *plan, const char *format, ...)
+void ddof_plan_say(frame_plan *plan, const char *format, ...)
 {
-    size_t used = strlen(plan->text);
-    if (used + 1 >= sizeof plan->text)
+    if (plan->truncated)
         return;
+    char line[DDOF_PLAN_TEXT_SIZE];
     va_list args;
     va_start(args, format);
-    vsnprintf(plan->text + used, sizeof plan->text - used, format, args);
+    const int n = vsnprintf(line, sizeof line, format, args);
     va_end(args);
-    used = strlen(plan->text);
-    if (used + 1 < sizeof plan->text) {
-        plan->text[used] = '\n';
-        plan->text[used + 1] = '\0';
+    /* A line that does not fit whole is left out, and the text says so when it is read. */
+    if (n < 0 || plan->used + (size_t)n + 2 > sizeof plan->text) {
+        plan->truncated = 1;
+        return;
     }
+    memcpy(plan->text + plan->used, line, (size_t)n);
+    plan->used += (size_t)n;
+    plan->text[plan->used++] = '\n';
+    plan->text[plan->used] = '\0';
+}
+
+/* The planner's own lines, under a name that keeps them on one line of source each. */
+#define say ddof_plan_say
+
+/* What marks a plan whose lines did not all fit. */
+static const char cut_mark[] = "(the plan goes on)\n";
+
+void ddof_plan_copy_text(const frame_plan *plan, char *out, size_t size)
+{
+    if (!size)
+        return;
+    if (plan->used < size && !plan->truncated) {
+        memcpy(out, plan->text, plan->used + 1);
+        return;
+    }
+    /* Whole lines up to the room the mark leaves. */
+    size_t keep = 0;
+    for (size_t i = 0; i < plan->used && i + sizeof cut_mark <= size; i++)
+        if (plan->text[i] == '\n')
+            keep = i + 1;
+    memcpy(out, plan->text, keep);
+    if (keep + sizeof cut_mark <= size)
+        memcpy(out + keep, cut_mark, sizeof cut_mark);
+    else
+        out[keep] = '\0';
 }
 
 static const char *forced(ddof_layer_mode mode)
@@ -221,13 +250,14 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
                       "with less than half their CoC",
                 (unsigned long long)a->near_edges, (double)p->near_spread_threshold_px);
         } else {
-            /* The near layer's line gave the largest near CoC; the plan has 512 bytes. */
+            /* The near layer's line gave the largest near CoC, and the caller's copy of the
+             * plan (ddof_stats.plan) has 512 bytes. */
             say(plan, "near spread: off: no blurred near silhouette");
         }
     }
 
     /* Whether any pixel is bright enough needs the colour: the pass itself finds out and
-     * writes its own line (ddof_run_layers). */
+     * says so in the plan (frame_passes.c). */
     if (p->highlights == DDOF_LAYER_OFF)
         say(plan, "highlights: %s", forced(p->highlights));
     else if (a->max_coc < DDOF_HIGHLIGHT_MIN_COC_PX)
@@ -236,7 +266,8 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
     else
         plan->highlights = 1;
 
-    /* Where the blur is smooth needs a distance map: the pass finds out and says (layers.c). */
+    /* Where the blur is smooth needs a distance map: the pass finds out and says
+     * (frame_passes.c). */
     if (p->far_field == DDOF_LAYER_OFF)
         say(plan, "far field: %s", forced(p->far_field));
     else if (a->max_coc < DDOF_FAR_FIELD_MIN_COC_PX)

@@ -17,17 +17,32 @@ typedef struct coc_analysis {
     pixel_box near_box;       /* where the near-field pixels are (CoC < 0)                  */
 } coc_analysis;
 
+#define DDOF_PLAN_TEXT_SIZE 2048
+
 typedef struct frame_plan {
     int copy_only;     /* nothing out of focus and no foreground: output = input       */
     int background;    /* run the background layer(s)                                  */
     int near_spread;   /* spread the near-field CoC before the midground diffusion     */
     int near_layer;    /* split the near field off as the foreground element           */
     int foreground;    /* blur the foreground element and composite it over            */
-    int highlights;    /* look for highlights (the pass says what it found: layers.c) */
-    int far_field;     /* gather the smooth blur (the pass says where: layers.c)      */
+    int highlights;    /* look for highlights (the pass says what it found)            */
+    int far_field;     /* gather the smooth blur (the pass says where)                  */
     int silhouettes;   /* split mixed silhouette pixels (the pass says how many)      */
-    char text[512];    /* the decisions and their reasons, one line each               */
+    /* The decisions and their reasons, one line each, the passes' lines (what they found)
+     * appended as they run: written only through ddof_plan_say, read through
+     * ddof_plan_copy_text. Larger than ddof_stats.plan, so that a plan that overflows the
+     * caller's copy is cut there at a line, with a mark. */
+    char text[DDOF_PLAN_TEXT_SIZE];
+    size_t used;       /* bytes of text before its terminating 0                      */
+    int truncated;     /* a line did not fit: it and every later one are left out      */
 } frame_plan;
+
+/* Appends one line (the format's text and a '\n') to the plan. */
+void ddof_plan_say(frame_plan *plan, const char *format, ...) DDOF_PRINTF(2, 3);
+
+/* The plan's text into out (size bytes, 0-terminated): all of it when it fits, else its whole
+ * lines that fit, then the line "(the plan goes on)". */
+void ddof_plan_copy_text(const frame_plan *plan, char *out, size_t size);
 
 /* One parallel pass over the (validated) CoC field. */
 void ddof_analyse_coc(ddof_context *context, const float *coc, size_t coc_stride,

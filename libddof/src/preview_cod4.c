@@ -70,14 +70,6 @@
 #define BAND_ROWS 64u        /* rows of one task of the last pass                            */
 #define FLUSH_NEAR (1.0f / 1024.0f) /* a spread CoC below this is 0 (running-sum residue)    */
 
-enum {
-    SLOT_QUARTER = DDOF_SCRATCH_LAYER_FIRST, /* quarter-resolution colour images            */
-    SLOT_NEAR,                               /* quarter-resolution near CoC images          */
-    SLOT_STATS,                              /* per-chunk statistics of the first pass      */
-    SLOT_BANDS,                              /* per-band rows of the last pass              */
-    SLOT_HALO                                /* in place: rows saved before any is written  */
-};
-
 /* A box window of radius r + f: weight 1 within r of the centre, f (0 <= f < 1) at r + 1. */
 typedef struct box {
     int64_t r;
@@ -904,11 +896,19 @@ static int allocate(ddof_context *context, preview *p, uint32_t chunks, uint32_t
     const size_t stats_bytes = round_bytes(stats_floats);
     const size_t band_bytes = round_bytes((uint64_t)p->band_floats * bands);
     const size_t halo_bytes = round_bytes((uint64_t)bands * 4 * p->width * C);
-    float *quarter_mem = quarter_bytes ? ddof_scratch_get(context, SLOT_QUARTER, quarter_bytes) : NULL;
-    float *near_mem = p->has_near && near_bytes ? ddof_scratch_get(context, SLOT_NEAR, near_bytes) : NULL;
-    p->stats = stats_bytes ? ddof_scratch_get(context, SLOT_STATS, stats_bytes) : NULL;
-    p->band_memory = band_bytes ? ddof_scratch_get(context, SLOT_BANDS, band_bytes) : NULL;
-    p->halo = p->in_place && halo_bytes ? ddof_scratch_get(context, SLOT_HALO, halo_bytes) : NULL;
+    float *quarter_mem =
+        quarter_bytes ? ddof_scratch_get(context, DDOF_SCRATCH_COD4_QUARTER, quarter_bytes)
+                      : NULL;
+    float *near_mem = p->has_near && near_bytes
+                          ? ddof_scratch_get(context, DDOF_SCRATCH_COD4_NEAR, near_bytes)
+                          : NULL;
+    p->stats =
+        stats_bytes ? ddof_scratch_get(context, DDOF_SCRATCH_COD4_STATS, stats_bytes) : NULL;
+    p->band_memory =
+        band_bytes ? ddof_scratch_get(context, DDOF_SCRATCH_COD4_BANDS, band_bytes) : NULL;
+    p->halo = p->in_place && halo_bytes
+                  ? ddof_scratch_get(context, DDOF_SCRATCH_COD4_HALO, halo_bytes)
+                  : NULL;
     if (!quarter_mem || (p->has_near && !near_mem) || !p->stats || !p->band_memory ||
         (p->in_place && !p->halo))
         return 0;

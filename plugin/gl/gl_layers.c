@@ -8,33 +8,11 @@
  * the CPU's only by the diffusions' float rounding. */
 #include "gl_layers.h"
 
+#include "ddof_layer_rules.h"
+
 #include <math.h>
 #include <stdio.h>
 #include <string.h>
-
-/* ---- boxes (layers.c's arithmetic; the core passes the boxes it can compute up front) ---- */
-
-static int box_empty(adi_box b)
-{
-    return b.x0 >= b.x1 || b.y0 >= b.y1;
-}
-
-static adi_box box_grow(adi_box b, uint32_t margin, uint32_t width, uint32_t height)
-{
-    if (box_empty(b))
-        return b;
-    adi_box g = {b.x0 > margin ? b.x0 - margin : 0, b.y0 > margin ? b.y0 - margin : 0,
-                 width - b.x1 > margin ? b.x1 + margin : width,
-                 height - b.y1 > margin ? b.y1 + margin : height};
-    return g;
-}
-
-/* libddof/src/disc_kernel.c's ddof_kernel_reach_px: how far a kernel carries a CoC. */
-static uint32_t kernel_reach_px(const disc_kernel *disc, float beta_scale, float coc)
-{
-    const float per_px = disc ? disc->reach : 12.0f * sqrtf(beta_scale);
-    return (uint32_t)ceilf(per_px * coc) + 2;
-}
 
 /* ---- the frame's state -------------------------------------------------------------------- */
 
@@ -330,7 +308,7 @@ static int near_spread(frame *f)
     gl_bind(&f->device->gl, 2, slot(f, GL_BUF_SPREAD));
     run_step(f, prog, whole(f));
     const adi_box b = q->near_dilate;
-    if (!box_empty(b) && !cone_dilate(f, GL_BUF_SPREAD, b.y0 * f->w + b.x0, b.x1 - b.x0,
+    if (!ddof_box_is_empty(b) && !cone_dilate(f, GL_BUF_SPREAD, b.y0 * f->w + b.x0, b.x1 - b.x0,
                                       b.y1 - b.y0, f->w, q->near_slope))
         return 0;
     if (!(prog = step_program(f, GL_PROG_LAYER_SPREAD, whole(f))))
@@ -414,17 +392,17 @@ static ddof_status background(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    const float t = q->background_threshold_px;
-    const float top = t * (float)(1u << (q->background_levels - 1));
-    const float largest = f->report->adi.max_coc > top ? f->report->adi.max_coc : top;
-    const uint32_t reach = kernel_reach_px(r->disc, r->beta_scale, largest);
-    const adi_box area = box_grow(q->background_edges, 2 * reach, f->w, f->h);
-    const adi_box blend = box_grow(q->background_edges, reach, f->w, f->h);
+    const uint32_t reach =
+        ddof_background_reach_px(r->disc, r->beta_scale, f->report->adi.max_coc,
+                                 q->background_threshold_px, q->background_levels);
+    const adi_box area = ddof_box_grow(q->background_edges, 2 * reach, f->w, f->h);
+    const adi_box blend = ddof_box_grow(q->background_edges, reach, f->w, f->h);
     for (uint32_t level = 0; level < q->background_levels; level++) {
-        const float threshold = t * (float)(1u << level);
-        const float ramp_start = level ? 0.5f * threshold : q->background_ramp_start_px;
+        const float threshold = ddof_background_threshold(q->background_threshold_px, level);
+        const float ramp_start =
+            ddof_background_ramp_start(threshold, level, q->background_ramp_start_px);
         const ddof_status status = background_level(f, area, blend, ramp_start, threshold,
-                                                    level ? threshold : -INFINITY);
+                                                    ddof_background_blend_from(threshold, level));
         if (status != DDOF_OK)
             return status;
     }
