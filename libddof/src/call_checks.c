@@ -6,14 +6,14 @@
 
 #include "backend.h"
 #include "disc_kernel.h"
-#include "param_bounds.h"
+#include "ddof_param_rules.h"
 #include "parallel_rows.h"
 
 #include <math.h>
 #include <stddef.h>
 #include <string.h>
 
-/* The numeric fields' ranges: param_bounds.c. A range's ends in a message. */
+/* The numeric fields' ranges: ddof_param_rules.h. A range's ends in a message. */
 #define LOW(id) ddof_param_range(id)->lowest
 #define HIGH(id) ddof_param_range(id)->highest
 

@@ -7,6 +7,7 @@
 #include "ddof_gl.h"
 #include "ddof_camera_terms.h"
 #include "ddof_output_struct.h"
+#include "ddof_param_rules.h"
 #include "gl_solve.h"
 
 #include <stddef.h>
@@ -93,21 +94,36 @@ static float in_focus_of(const ddof_params *p)
                : DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX;
 }
 
+/* One field against the core's range for it (ddof_param_rules.h). */
+static int field_ok(param_id id, double value, char *message, size_t size)
+{
+    if (ddof_param_ok(id, value))
+        return 1;
+    const param_range *range = ddof_param_range(id);
+    snprintf(message, size, "params.%s %.9g must be within %.9g..%.9g", range->field, value,
+             range->lowest, range->highest);
+    return 0;
+}
+
+/* The fields this path reads, judged by the ranges every other call is judged by. */
 static ddof_status check_params(const ddof_params *p, char *message, size_t size)
 {
-    if (p->struct_size < offsetof(ddof_params, coc_signed) || p->substeps < 1 ||
-        !(p->beta_scale > 0.0f) || !(p->pixel_aspect > 0.0f) ||
-        (p->solver == DDOF_SOLVER_JACOBI && p->jacobi_iterations < 1)) {
-        snprintf(message, size, "params: not initialised with ddof_params_init, or substeps, "
-                                "beta_scale, pixel_aspect or jacobi_iterations out of range");
+    if (p->struct_size < offsetof(ddof_params, coc_signed)) {
+        snprintf(message, size, "params.struct_size is %u: not initialised with "
+                                "ddof_params_init", p->struct_size);
         return DDOF_ERROR_BAD_PARAMETER;
     }
-    const float in_focus = in_focus_of(p);
-    if (!(in_focus >= 0.0f && in_focus <= DDOF_MAX_COC_PX)) {
-        snprintf(message, size, "params.in_focus_threshold_px %.9g must be within 0..%g",
-                 (double)in_focus, (double)DDOF_MAX_COC_PX);
+    if ((unsigned)p->solver >= DDOF_SOLVER_COUNT_) {
+        snprintf(message, size, "params.solver %u is not a solver", (unsigned)p->solver);
         return DDOF_ERROR_BAD_PARAMETER;
     }
+    if (!field_ok(PARAM_SUBSTEPS, p->substeps, message, size) ||
+        !field_ok(PARAM_BETA_SCALE, p->beta_scale, message, size) ||
+        !field_ok(PARAM_PIXEL_ASPECT, p->pixel_aspect, message, size) ||
+        (p->solver == DDOF_SOLVER_JACOBI &&
+         !field_ok(PARAM_JACOBI_ITERATIONS, p->jacobi_iterations, message, size)) ||
+        !field_ok(PARAM_IN_FOCUS_THRESHOLD, in_focus_of(p), message, size))
+        return DDOF_ERROR_BAD_PARAMETER;
     const ddof_precision precision =
         p->struct_size >= offsetof(ddof_params, precision) + sizeof p->precision
             ? p->precision

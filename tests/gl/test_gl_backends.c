@@ -398,6 +398,37 @@ static void test_host_context(void)
     CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, NULL),
                  DDOF_ERROR_BAD_PARAMETER);
     p.in_focus_threshold_px = DDOF_DEFAULT_IN_FOCUS_THRESHOLD_PX;
+    /* The ranges ddof_diffuse judges by (ddof_param_bounds): each value just past its end is
+     * refused with the field named and nothing written; the end itself runs. */
+    static const struct {
+        const char *field;
+        int above; /* 1: past the highest value, 0: below the lowest */
+    } bounds[] = {{"substeps", 1}, {"beta_scale", 1}, {"pixel_aspect", 1}, {"pixel_aspect", 0}};
+    for (size_t i = 0; i < sizeof bounds / sizeof bounds[0]; i++) {
+        double lowest, highest;
+        CHECK_EQ_INT(ddof_param_bounds(bounds[i].field, &lowest, &highest), DDOF_OK);
+        ddof_params q = p;
+        const double end = bounds[i].above ? highest : lowest;
+        const double past = bounds[i].above ? (strcmp(bounds[i].field, "substeps") == 0
+                                                   ? end + 1.0
+                                                   : (double)nextafterf((float)end, INFINITY))
+                                            : (double)nextafterf((float)end, 0.0f);
+        float *field = strcmp(bounds[i].field, "beta_scale") == 0 ? &q.beta_scale
+                                                                   : &q.pixel_aspect;
+        if (strcmp(bounds[i].field, "substeps") == 0)
+            q.substeps = (uint32_t)past;
+        else
+            *field = (float)past;
+        CHECK_EQ_INT(host_diffuse(gl_host, &q, tex[0], tex[1], tex[2], W, H, NULL),
+                     DDOF_ERROR_BAD_PARAMETER);
+        CHECK_MSG(strstr(host_last_error(gl_host), bounds[i].field) != NULL,
+                  "host refuses %s %.9g with '%s'", bounds[i].field, past,
+                  host_last_error(gl_host));
+        if (strcmp(bounds[i].field, "substeps") != 0) {
+            *field = (float)end;
+            CHECK_EQ_INT(host_diffuse(gl_host, &q, tex[0], tex[1], tex[2], W, H, NULL), DDOF_OK);
+        }
+    }
     /* A wrong texture is a status, not a crash. */
     CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], 987654u, W, H, NULL),
                  DDOF_ERROR_BAD_PARAMETER);
