@@ -92,8 +92,17 @@ static int library_failed(frame_result *result, ddof_context *context, const cha
                       ddof_context_last_error(context));
 }
 
-/* The camera of this frame: the setup's, with the EXR's pixel aspect unless one was given, for
- * the data window. Warns when the sidecar was written for another resolution. */
+/* The frame's pixel aspect, decided once: a camera's given one (the sidecar's or
+ * --pixel-aspect), else the EXR header's. */
+static double frame_pixel_aspect(const frame_setup *setup, const frame_data *d)
+{
+    return setup->options->source == COC_FROM_CAMERA && setup->camera_aspect_given
+               ? setup->camera.pixel_aspect
+               : (double)d->part->pixel_aspect;
+}
+
+/* The camera of this frame: the setup's, with the frame's pixel aspect, for the data window.
+ * Warns when the sidecar was written for another resolution. */
 static int frame_camera(const frame_setup *setup, const frame_paths *paths, const frame_data *d,
                         ddof_camera *camera, frame_result *result)
 {
@@ -101,8 +110,7 @@ static int frame_camera(const frame_setup *setup, const frame_paths *paths, cons
     const uint32_t dw = (uint32_t)(w->max_x - w->min_x + 1);
     const uint32_t dh = (uint32_t)(w->max_y - w->min_y + 1);
     *camera = setup->camera;
-    if (!setup->camera_aspect_given)
-        camera->pixel_aspect = d->part->pixel_aspect;
+    camera->pixel_aspect = frame_pixel_aspect(setup, d);
     if (setup->sidecar_resolution[0] &&
         (setup->sidecar_resolution[0] != dw || setup->sidecar_resolution[1] != dh))
         snprintf(result->warning, sizeof result->warning,
@@ -127,21 +135,24 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
     ddof_status status;
     double t;
 
-    /* The file's pixel aspect, unless a camera brings one: named as the header's when the
-     * diffusion cannot take it (the library would call it params.pixel_aspect). */
+    /* The header's pixel aspect, where it is the frame's, is named as the header's when the
+     * diffusion cannot take it (the library would call it params.pixel_aspect); a camera's
+     * given one is the library's to judge (ddof_camera_check). */
+    const double aspect = frame_pixel_aspect(setup, d);
+    double lowest, highest;
+    ddof_param_bounds("pixel_aspect", &lowest, &highest);
     if ((opt->source != COC_FROM_CAMERA || !setup->camera_aspect_given) &&
-        !(d->part->pixel_aspect >= 0.01f && d->part->pixel_aspect <= 100.0f))
-        return frame_fail(result, "%s: the header's pixelAspectRatio %.9g is outside 0.01..100, "
-                          "the range the diffusion takes%s", paths->input,
-                          (double)d->part->pixel_aspect,
+        !(aspect >= lowest && aspect <= highest))
+        return frame_fail(result, "%s: the header's pixelAspectRatio %.9g is outside %g..%g, "
+                          "the range the diffusion takes%s", paths->input, aspect, lowest,
+                          highest,
                           opt->source == COC_FROM_CAMERA
                               ? " (give the camera's with --pixel-aspect or the sidecar's "
                                 "pixel_aspect)"
                               : "");
     params.progress = link->bar ? on_progress : NULL;
     params.progress_user = link;
-    /* The image's own pixel aspect; a camera brings its own (frame_camera). */
-    params.pixel_aspect = d->part->pixel_aspect;
+    params.pixel_aspect = (float)aspect;
     params.coc_signed = (uint32_t)opt->coc_signed;
     ddof_frame_init(&frame);
     frame.color = (ddof_image_in){d->color, w, h, channels, 0};
@@ -149,9 +160,6 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
         if (frame_camera(setup, paths, d, &camera, result) != 0)
             return -1;
         frame.camera = &camera;
-        /* The camera's aspect is the call's (ddof_render_frame); the file's, which a given
-         * one replaces, must not be judged in its place. */
-        params.pixel_aspect = (float)camera.pixel_aspect;
     } else if (opt->source == COC_FROM_CURVE) {
         frame.curve = &setup->curve;
     }
