@@ -33,7 +33,11 @@ enum {
     DDOF_SCRATCH_FOREGROUND_COC, /* the foreground element's CoC, computed by the frame call */
     DDOF_SCRATCH_HIGHLIGHT_COUNTS, /* highlights.c: per-chunk counts                    */
     DDOF_SCRATCH_HIGHLIGHTS,       /* highlights.c: the highlights found                 */
-    DDOF_SCRATCH_HIGHLIGHT_BASE,   /* the colour with the highlights taken out           */
+    /* One image, three uses in frame_run.c's order: the colour with the highlights taken out
+     * (read by the layers and the passes), then the scratch the frame's discs are drawn
+     * through (the last reader of that colour), then the foreground element's own pass
+     * (after the frame's draw): a second image would cost a frame's colour for nothing. */
+    DDOF_SCRATCH_HIGHLIGHT_BASE,
     DDOF_SCRATCH_NEAR_REST,        /* near_layer.c: the colour with the near field filled */
     DDOF_SCRATCH_NEAR_REST_COC,    /* near_layer.c: its CoC                              */
     DDOF_SCRATCH_NEAR_ELEMENT,     /* near_layer.c: the near field as premultiplied RGBA */
