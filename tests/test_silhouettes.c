@@ -6,6 +6,9 @@
  *    "wall" there: the lens shows the bar's share sharp over the (flat) blurred wall, exactly
  *    cov O + (1 - cov) W; the split gives that, the diffusion alone smears the share away;
  *  - the light is kept; the bar's interior keeps its bits; 3 and 4 channels agree, in place too;
+ *  - a strand of 1.2 px (no pixel wholly inside it) with an object matte
+ *    (ddof_render_frame_with_matte): the shares and colour from the matte match the lens, the
+ *    matte's share is the one used, its bad shapes and values are refused;
  *  - the plan's line and effect bit, OFF, unsigned CoC, one channel, a bad mode. */
 #include "ddof.h"
 #include "test_images.h"
@@ -50,18 +53,33 @@ static ddof_params split_params(ddof_layer_mode silhouettes)
     return p;
 }
 
-static double worst_vs_lens(const float *out, uint32_t ch)
+/* The largest difference from the lens: cov O + (1 - cov) W over the flat wall, the object's
+ * coverage of column x given by `cover`. */
+static double worst_vs_lens(const float *out, uint32_t ch, float (*cover)(uint32_t))
 {
     double worst = 0.0;
     for (uint32_t y = 0; y < H; y++)
         for (uint32_t x = 0; x < W; x++) {
-            const float cov = coverage(x);
+            const float cov = cover(x);
             for (int c = 0; c < 3; c++) {
                 const double lens = cov * object[c] + (1.0 - cov) * wall[c];
                 worst = fmax(worst, fabs(out[((size_t)y * W + x) * ch + (size_t)c] - lens));
             }
         }
     return worst;
+}
+
+/* The light is kept: over the frame each colour of out sums to the input's. */
+static void check_light_kept(const float *color, const float *out)
+{
+    for (int c = 0; c < 3; c++) {
+        double in_sum = 0.0, out_sum = 0.0;
+        for (size_t i = 0; i < NPX; i++) {
+            in_sum += color[i * CH + (size_t)c];
+            out_sum += out[i * CH + (size_t)c];
+        }
+        CHECK_NEAR(out_sum / in_sum, 1.0, 1e-5);
+    }
 }
 
 static void test_bar_over_flat_wall(void)
@@ -82,19 +100,12 @@ static void test_bar_over_flat_wall(void)
     CHECK(!(st.effects & DDOF_EFFECT_SILHOUETTES));
     CHECK_MSG(strstr(st.plan, "silhouettes: forced off") != NULL, "%s", st.plan);
 
-    const double e_on = worst_vs_lens(on, CH), e_off = worst_vs_lens(off, CH);
+    const double e_on = worst_vs_lens(on, CH, coverage);
+    const double e_off = worst_vs_lens(off, CH, coverage);
     CHECK_MSG(e_on < 2e-3, "split: %.4g from the lens", e_on);
     CHECK_MSG(e_off > 0.1, "the diffusion alone is %.4g from the lens: the test shows nothing",
               e_off);
-    /* The light is kept: over the frame each colour sums to the input's. */
-    for (int c = 0; c < 3; c++) {
-        double in_sum = 0.0, out_sum = 0.0;
-        for (size_t i = 0; i < NPX; i++) {
-            in_sum += color[i * CH + (size_t)c];
-            out_sum += on[i * CH + (size_t)c];
-        }
-        CHECK_NEAR(out_sum / in_sum, 1.0, 1e-5);
-    }
+    check_light_kept(color, on);
     /* The bar's interior and the alpha channel keep their bits. */
     size_t changed = 0;
     for (uint32_t y = 0; y < H; y++)
@@ -123,6 +134,136 @@ static void test_bar_over_flat_wall(void)
     free(coc);
     free(on);
     free(off);
+    ddof_context_free(ctx);
+}
+
+/* A strand over [40.6, 41.8]: columns 40 (0.4, its depth the wall's) and 41 (0.8) partly
+ * covered, none wholly. */
+static float strand_coverage(uint32_t x)
+{
+    const double lo = 40.6, hi = 41.8;
+    const double a = fmax(lo, (double)x), b = fmin(hi, (double)x + 1.0);
+    return b > a ? (float)(b - a) : 0.0f;
+}
+
+/* The strand's frame, CoC (0 where it covers half a pixel or more, else 16 behind) and its
+ * matte: two ranks per pixel, the strand's id (bits 0x3f000001) and the wall's (0x3f000002). */
+static void strand_frame(float *color, float *coc, float *matte)
+{
+    const uint32_t strand_id = 0x3f000001u, wall_id = 0x3f000002u;
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const float cov = strand_coverage(x);
+            const size_t i = (size_t)y * W + x;
+            for (uint32_t c = 0; c < CH; c++)
+                color[i * CH + c] = c < 3 ? cov * object[c] + (1.0f - cov) * wall[c] : 1.0f;
+            coc[i] = cov >= 0.5f ? 0.0f : 16.0f;
+            const int strand_first = cov >= 0.5f;
+            const uint32_t first = strand_first ? strand_id : wall_id;
+            const uint32_t second = strand_first ? wall_id : strand_id;
+            memcpy(&matte[i * 4 + 0], &first, sizeof first);
+            matte[i * 4 + 1] = strand_first ? cov : 1.0f - cov;
+            memcpy(&matte[i * 4 + 2], &second, sizeof second);
+            matte[i * 4 + 3] = strand_first ? 1.0f - cov : cov;
+        }
+}
+
+static ddof_status render_strand(ddof_context *ctx, const ddof_params *p, const float *color,
+                                 const float *coc, const ddof_image_in *matte, float *out,
+                                 ddof_stats *st)
+{
+    ddof_frame f;
+    ddof_frame_init(&f);
+    f.color = (ddof_image_in){color, W, H, CH, 0};
+    f.coc = (ddof_image_in){coc, W, H, 1, 0};
+    return ddof_render_frame_with_matte(ctx, p, &f, matte, &(ddof_image){out, W, H, CH, 0},
+                                        st);
+}
+
+static void test_strand_with_matte(void)
+{
+    ddof_context *ctx = make_context(0);
+    const size_t n = NPX * CH;
+    float *color = alloc_f(n), *coc = alloc_f(NPX), *matte = alloc_f(NPX * 4);
+    float *with = alloc_f(n), *without = alloc_f(n);
+    strand_frame(color, coc, matte);
+    ddof_params p = split_params(DDOF_LAYER_AUTO);
+    const ddof_image_in m = {matte, W, H, 4, 0};
+    ddof_stats st = stats_init();
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &m, with, &st), DDOF_OK);
+    CHECK_MSG(strstr(st.plan, "mixed pixels split by the object matte") != NULL, "%s", st.plan);
+    st = stats_init();
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, NULL, without, &st), DDOF_OK);
+    CHECK_MSG(strstr(st.plan, "by the object matte") == NULL, "%s", st.plan);
+    /* Over a flat wall the colours' guess is exact too (its share and colour err together:
+     * their product is right); the matte must be as exact; the diffusion alone is not. */
+    float *off = alloc_f(n), *wrong = alloc_f(n), *lie = alloc_f(NPX * 4);
+    ddof_params q = p;
+    q.silhouettes = DDOF_LAYER_OFF;
+    CHECK_EQ_INT(render_strand(ctx, &q, color, coc, NULL, off, NULL), DDOF_OK);
+    const double e_with = worst_vs_lens(with, CH, strand_coverage);
+    const double e_without = worst_vs_lens(without, CH, strand_coverage);
+    CHECK_MSG(e_with < 2e-3, "with the matte: %.4g from the lens", e_with);
+    CHECK_MSG(e_without < 2e-3, "the colours alone: %.4g from the lens", e_without);
+    const double e_off = worst_vs_lens(off, CH, strand_coverage);
+    CHECK_MSG(e_off > 0.1, "the diffusion alone is %.4g from the lens: the test shows nothing",
+              e_off);
+    /* The matte's share is the one used: a matte that says the strand misses column 40 leaves
+     * that pixel's share smeared, as the diffusion alone does, though its colours tell. */
+    memcpy(lie, matte, NPX * 4 * sizeof(float));
+    for (uint32_t y = 0; y < H; y++) {
+        float *pair = lie + ((size_t)y * W + 40) * 4;
+        pair[1] = 1.0f; /* the wall's rank: all of it */
+        pair[3] = 0.0f; /* the strand's */
+    }
+    const ddof_image_in lying = {lie, W, H, 4, 0};
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &lying, wrong, NULL), DDOF_OK);
+    double off_40 = 0.0, exact_40 = 0.0;
+    for (uint32_t y = 0; y < H; y++)
+        for (int c = 0; c < 3; c++) {
+            const size_t i = ((size_t)y * W + 40) * CH + (size_t)c;
+            off_40 = fmax(off_40, fabs((double)wrong[i] - off[i]));
+            exact_40 = fmax(exact_40, fabs((double)wrong[i] - with[i]));
+        }
+    CHECK_MSG(off_40 < 1e-5 && exact_40 > 0.1,
+              "column 40 with a matte of no strand: %.3g from the diffusion alone, %.3g from "
+              "the split", off_40, exact_40);
+    free(off);
+    free(wrong);
+    free(lie);
+    check_light_kept(color, with);
+    /* A strided matte (a row of 8 floats more) gives the same bits. */
+    const size_t row = (size_t)W * 4 + 8;
+    float *strided = alloc_f(row * H), *again = alloc_f(n);
+    for (uint32_t y = 0; y < H; y++)
+        memcpy(strided + y * row, matte + (size_t)y * W * 4, (size_t)W * 4 * sizeof(float));
+    const ddof_image_in ms = {strided, W, H, 4, row * sizeof(float)};
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &ms, again, NULL), DDOF_OK);
+    CHECK(memcmp(again, with, n * sizeof(float)) == 0);
+
+    /* Bad mattes: refused before anything is written. */
+    memcpy(again, color, n * sizeof(float));
+    const ddof_image_in odd = {matte, W, H, 3, 0}, wide = {matte, W, H, 34, 0};
+    const ddof_image_in small = {matte, W - 1, H, 4, 0}, none = {NULL, W, H, 4, 0};
+    const ddof_image_in short_stride = {matte, W, H, 4, (size_t)W * 4 * sizeof(float) - 4};
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &odd, again, NULL), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &wide, again, NULL), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &small, again, NULL), DDOF_ERROR_BAD_SIZE);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &none, again, NULL), DDOF_ERROR_NULL_POINTER);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &short_stride, again, NULL),
+                 DDOF_ERROR_BAD_PARAMETER);
+    matte[(7 * W + 5) * 4 + 3] = NAN;
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &m, again, NULL), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_MSG(strstr(ddof_context_last_error(ctx), "(5, 7)") != NULL, "%s",
+              ddof_context_last_error(ctx));
+    CHECK(memcmp(again, color, n * sizeof(float)) == 0);
+    free(strided);
+    free(again);
+    free(color);
+    free(coc);
+    free(matte);
+    free(with);
+    free(without);
     ddof_context_free(ctx);
 }
 
@@ -165,6 +306,7 @@ static void test_plan(void)
 int main(void)
 {
     test_bar_over_flat_wall();
+    test_strand_with_matte();
     test_plan();
     return test_report("test_silhouettes");
 }

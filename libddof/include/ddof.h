@@ -946,6 +946,28 @@ DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_p
                                        const ddof_camera *camera, const ddof_card *cards,
                                        uint32_t card_count, const ddof_image *out);
 
+/* ------------------------------------------------------------------------------------------ */
+/* Object mattes for the silhouettes' split (Cryptomatte)                                       */
+
+/* The most (id, coverage) ranks a matte may hold per pixel (Blender writes 6 by default). */
+#define DDOF_MATTE_MAX_RANKS 16
+
+/* ddof_render_frame with an object matte: per pixel, `matte->channels / 2` ranks of (id,
+ * coverage), interleaved: id as Cryptomatte stores it (a float whose bits name the object,
+ * compared bit for bit), coverage 0..1 (the share of the pixel the object covers). The same
+ * width and height as frame->color, channels even and 2..2 * DDOF_MATTE_MAX_RANKS, row_stride
+ * as for images. Where the silhouettes' split runs (params.silhouettes), a mixed pixel's object
+ * share is what the background's object (rank 0 of the blurred pixel beside it) leaves of it,
+ * instead of the guess from the colours on both sides; with it the object's colour is solved
+ * on the sharp side too (a 1-2 px strand, which has no fully covered pixel to show it).
+ * A NaN or infinite coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel; matte NULL is
+ * ddof_render_frame. The CLI reads a render's CryptoObject channels into this. */
+DDOF_API ddof_status ddof_render_frame_with_matte(ddof_context *context,
+                                                  const ddof_params *params,
+                                                  const ddof_frame *frame,
+                                                  const ddof_image_in *matte,
+                                                  const ddof_image *out, ddof_stats *stats);
+
 DDOF_ASSERT_32_BITS(ddof_backend_kind);
 DDOF_ASSERT_32_BITS(ddof_cards_expansion);
 

@@ -7,6 +7,7 @@
 #include "element_edges.h"
 #include "frame_run.h"
 
+#include <math.h>
 #include <stdint.h>
 #include <string.h>
 
@@ -287,8 +288,47 @@ static highlight_aperture aperture_of(const ddof_camera *c, uint32_t width, uint
     };
 }
 
+/* An object matte of the frame's size: an even number of channels, up to
+ * DDOF_MATTE_MAX_RANKS ranks, every coverage finite (ids are bit patterns: any value). */
+static ddof_status read_matte(ddof_context *context, const ddof_image_in *matte,
+                              const adi_request *r, object_matte *m)
+{
+    *m = (object_matte){0};
+    if (!matte)
+        return DDOF_OK;
+    if (!matte->pixels)
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "matte.pixels is NULL");
+    if (matte->width != r->width || matte->height != r->height)
+        return ddof_fail(context, DDOF_ERROR_BAD_SIZE, "the matte is %ux%u, the frame %ux%u",
+                         matte->width, matte->height, r->width, r->height);
+    if (matte->channels < 2 || matte->channels % 2 || matte->channels > 2 * DDOF_MATTE_MAX_RANKS)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "matte.channels %u must be an even 2..%u: (id, coverage) per rank",
+                         matte->channels, 2 * DDOF_MATTE_MAX_RANKS);
+    const size_t row = (size_t)matte->width * matte->channels * sizeof(float);
+    const size_t stride = matte->row_stride ? matte->row_stride : row;
+    if (stride < row || stride % sizeof(float))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "matte.row_stride %zu must be 0 or a multiple of 4 of at least %zu",
+                         matte->row_stride, row);
+    *m = (object_matte){.pairs = matte->pixels, .stride = stride / sizeof(float),
+                        .ranks = matte->channels / 2};
+    for (uint32_t y = 0; y < r->height; y++)
+        for (uint32_t x = 0; x < r->width; x++)
+            for (uint32_t k = 0; k < m->ranks; k++) {
+                const float coverage = m->pairs[(size_t)y * m->stride + (size_t)x * 2 * m->ranks +
+                                                2 * k + 1];
+                if (!isfinite(coverage))
+                    return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                                     "matte coverage at pixel (%u, %u), rank %u, is %g",
+                                     x, y, k, (double)coverage);
+            }
+    return DDOF_OK;
+}
+
 static ddof_status render_frame(ddof_context *context, const ddof_params *params,
-                                const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
+                                const ddof_frame *frame, const ddof_image_in *matte,
+                                const ddof_image *out, ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
     ddof_clear_error(context);
@@ -315,6 +355,8 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
                                         s.source == SOURCE_GIVEN ? "coc" : "depth", out, r,
                                         &s.map_stride);
     if (status == DDOF_OK)
+        status = read_matte(context, matte, r, &q.matte);
+    if (status == DDOF_OK)
         status = check_foreground(context, &s, &p, r);
     if (status == DDOF_OK)
         status = check_coc_out(context, &s, r);
@@ -334,7 +376,14 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
 ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,
                               const ddof_frame *frame, const ddof_image *out, ddof_stats *stats)
 {
-    DDOF_EXCLUSIVE_CALL(context, render_frame(context, params, frame, out, stats));
+    DDOF_EXCLUSIVE_CALL(context, render_frame(context, params, frame, NULL, out, stats));
+}
+
+ddof_status ddof_render_frame_with_matte(ddof_context *context, const ddof_params *params,
+                                         const ddof_frame *frame, const ddof_image_in *matte,
+                                         const ddof_image *out, ddof_stats *stats)
+{
+    DDOF_EXCLUSIVE_CALL(context, render_frame(context, params, frame, matte, out, stats));
 }
 
 static ddof_status depth_of_field(ddof_context *context, const ddof_params *params,
@@ -352,7 +401,7 @@ static ddof_status depth_of_field(ddof_context *context, const ddof_params *para
     frame.color = *color;
     frame.depth = *depth;
     frame.camera = camera;
-    return render_frame(context, params, &frame, out, stats);
+    return render_frame(context, params, &frame, NULL, out, stats);
 }
 
 ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params,

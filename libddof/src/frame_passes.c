@@ -107,13 +107,15 @@ ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q
     const double t0 = ddof_seconds();
     silhouette_report split = {0};
     const ddof_status status =
-        pairs ? ddof_split_silhouettes(context, &q->base, color, color_stride, &split) : DDOF_OK;
+        pairs ? ddof_split_silhouettes(context, &q->base, &q->matte, color, color_stride, &split)
+              : DDOF_OK;
     if (status != DDOF_OK)
         return status;
     if (split.pixels) {
         report->effects |= DDOF_EFFECT_SILHOUETTES;
-        ddof_plan_say(plan, "silhouettes: on: %llu mixed pixels split",
-                      (unsigned long long)split.pixels);
+        ddof_plan_say(plan, "silhouettes: on: %llu mixed pixels split%s",
+                      (unsigned long long)split.pixels,
+                      q->matte.ranks ? " by the object matte" : "");
     } else {
         ddof_plan_say(plan,
                       "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",

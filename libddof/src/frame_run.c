@@ -221,8 +221,8 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     size_t diffused_stride = color_stride;
     int pairs = 0;
     if (plan->silhouettes &&
-        (status = ddof_clean_silhouettes(context, r, &diffused, &diffused_stride, &pairs)) !=
-            DDOF_OK)
+        (status = ddof_clean_silhouettes(context, r, &q->matte, &diffused, &diffused_stride,
+                                         &pairs)) != DDOF_OK)
         return status;
 
     layer_stages st = ddof_layer_stages(q, plan);

@@ -6,6 +6,7 @@
 #include "adi.h"
 #include "highlights.h"
 #include "planner.h"
+#include "silhouettes.h"
 
 /* A validated layered request. */
 typedef struct layers_request {
@@ -29,6 +30,7 @@ typedef struct layers_request {
     pixel_box near_box;        /* where the near-field pixels are (CoC < 0)                  */
     highlight_aperture aperture; /* the highlights' shape (zero: a disc); the aperture ratio  */
                                /* is base.pixel_aspect's part                                  */
+    object_matte matte;        /* ranks 0: none (ddof_render_frame_with_matte)               */
 } layers_request;
 
 /* Everything a layered call reports (folded into ddof_stats by the caller). */

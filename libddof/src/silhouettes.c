@@ -12,9 +12,12 @@
  *    background; it is put back sharp: out(q) = a O + (1 - a) out(q).
  *  - p (its depth says object): its background share stayed sharp; it becomes the blurred
  *    background beside it: out(p) += (1 - a) (out(q) - B).
- * A pixel in several pairs takes the mean over them. Every change is computed from the
- * result before any is applied (a delta image), so rows can run on any thread. Colour channels
- * only; alpha keeps the layers' value. */
+ * With an object matte (Cryptomatte) a is the share of x not covered by the background's
+ * object (the id of rank 0 at the background's pixel), and O is solved from p itself where
+ * the object covers at least MATTE_SOLVE_SHARE of it: O = (p - (1 - a_p) B) / a_p (a strand
+ * of 1-2 px has no pixel wholly inside it). A pixel in several pairs takes the mean over them.
+ * Every change is computed from the result before any is applied (a delta image), so rows can
+ * run on any thread. Colour channels only; alpha keeps the layers' value. */
 #include "silhouettes.h"
 
 #include "float_ops.h"
@@ -23,8 +26,13 @@
 #include <math.h>
 #include <string.h>
 
+/* The smallest object share of p from which its colour gives the object's (the matte's path):
+ * below it the background's error dominates the solve. */
+#define MATTE_SOLVE_SHARE 0.3f
+
 typedef struct split_job {
     const adi_request *r;
+    const object_matte *matte;
     const float *color;
     size_t color_stride;
     float *delta;          /* width x height x 3: what each pixel's colour changes by */
@@ -64,23 +72,70 @@ static const float *out_at(const adi_request *r, int64_t x, int64_t y)
     return r->out + (size_t)y * r->out_stride + (size_t)x * r->channels;
 }
 
+static uint32_t matte_bits(const float *pair, uint32_t rank)
+{
+    uint32_t bits;
+    memcpy(&bits, pair + 2 * rank, sizeof bits);
+    return bits;
+}
+
+static const float *matte_pairs(const object_matte *m, int64_t x, int64_t y)
+{
+    return m->pairs + (size_t)y * m->stride + (size_t)x * 2 * m->ranks;
+}
+
+/* The coverage of object `id` at a pixel, 0..1. */
+static float matte_coverage(const object_matte *m, int64_t x, int64_t y, uint32_t id)
+{
+    const float *pair = matte_pairs(m, x, y);
+    double sum = 0.0;
+    for (uint32_t k = 0; k < m->ranks; k++)
+        if (matte_bits(pair, k) == id)
+            sum += pair[2 * k + 1];
+    return (float)(sum < 0.0 ? 0.0 : sum > 1.0 ? 1.0 : sum);
+}
+
 /* The pair (sharp p, blurred q = p + d): the object's and the background's colours, and the
- * object's share of pixel x. 0 when the two colours are too alike to split by. */
-static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, const float *x,
-                       float object[3], float background[3], float *share)
+ * object's share of pixel (xx, xy), one of the two. 0 when the two colours are too alike to
+ * split by and no matte tells. */
+static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, int64_t xx,
+                       int64_t xy, float object[3], float background[3], float *share)
 {
     const adi_request *r = job->r;
     const int64_t dx = step_x[dir], dy = step_y[dir];
-    const int64_t ox = px - dx, oy = py - dy, bx = px + 2 * dx, by = py + 2 * dy;
-    const float *o = inside(r, ox, oy) && is_sharp(r, coc_at(r, ox, oy)) ? color_at(job, ox, oy)
-                                                                           : color_at(job, px, py);
-    const float *b = inside(r, bx, by) && is_blurred_behind(coc_at(r, bx, by))
-                         ? color_at(job, bx, by)
-                         : color_at(job, px + dx, py + dy);
-    double dot = 0.0, norm = 0.0, size = 0.0;
+    int64_t ox = px - dx, oy = py - dy;
+    const int64_t bx = px + 2 * dx, by = py + 2 * dy;
+    if (!(inside(r, ox, oy) && is_sharp(r, coc_at(r, ox, oy)))) {
+        ox = px;
+        oy = py;
+    }
+    int64_t bgx = px + dx, bgy = py + dy;
+    if (inside(r, bx, by) && is_blurred_behind(coc_at(r, bx, by))) {
+        bgx = bx;
+        bgy = by;
+    }
+    const float *o = color_at(job, ox, oy), *b = color_at(job, bgx, bgy);
+    const float *x = color_at(job, xx, xy);
     for (int c = 0; c < 3; c++) {
         object[c] = o[c];
         background[c] = b[c];
+    }
+    const object_matte *m = job->matte;
+    if (m->ranks) {
+        /* The object's share: all that is not the background's object (the background pixel's
+         * rank 0), so that strands crossing at a pixel count together. */
+        const uint32_t background_id = matte_bits(matte_pairs(m, bgx, bgy), 0);
+        *share = 1.0f - matte_coverage(m, xx, xy, background_id);
+        const float at_p = 1.0f - matte_coverage(m, px, py, background_id);
+        if (at_p >= MATTE_SOLVE_SHARE) {
+            const float *p = color_at(job, px, py);
+            for (int c = 0; c < 3; c++)
+                object[c] = (p[c] - (1.0f - at_p) * b[c]) / at_p;
+        }
+        return 1;
+    }
+    double dot = 0.0, norm = 0.0, size = 0.0;
+    for (int c = 0; c < 3; c++) {
         const double v = (double)o[c] - b[c];
         dot += ((double)x[c] - b[c]) * v;
         norm += v * v;
@@ -103,14 +158,13 @@ typedef struct shares {
 static int blurred_shares(const split_job *job, int64_t x, int64_t y, shares *s)
 {
     const adi_request *r = job->r;
-    const float *here = color_at(job, x, y);
     memset(s, 0, sizeof *s);
     int pairs = 0;
     for (int dir = 0; dir < 4; dir++) {
         const int64_t px = x - step_x[dir], py = y - step_y[dir];
         float object[3], background[3], a;
         if (!inside(r, px, py) || !is_sharp(r, coc_at(r, px, py)) ||
-            !pair_colors(job, px, py, dir, here, object, background, &a))
+            !pair_colors(job, px, py, dir, x, y, object, background, &a))
             continue;
         s->a += a;
         for (int c = 0; c < 3; c++) {
@@ -144,14 +198,13 @@ static int blurred_side(const split_job *job, int64_t x, int64_t y, float delta[
 static int sharp_side(const split_job *job, int64_t x, int64_t y, float delta[3])
 {
     const adi_request *r = job->r;
-    const float *here = color_at(job, x, y);
     double sum[3] = {0.0, 0.0, 0.0};
     int pairs = 0;
     for (int dir = 0; dir < 4; dir++) {
         const int64_t qx = x + step_x[dir], qy = y + step_y[dir];
         float object[3], background[3], a;
         if (!inside(r, qx, qy) || !is_blurred_behind(coc_at(r, qx, qy)) ||
-            !pair_colors(job, x, y, dir, here, object, background, &a))
+            !pair_colors(job, x, y, dir, x, y, object, background, &a))
             continue;
         const float *blurred = out_at(r, qx, qy);
         for (int c = 0; c < 3; c++)
@@ -246,7 +299,8 @@ static void pair_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 }
 
 ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
-                                   const float **color, size_t *color_stride, int *pairs)
+                                   const object_matte *matte, const float **color,
+                                   size_t *color_stride, int *pairs)
 {
     *pairs = 0;
     if (r->channels < 3)
@@ -267,7 +321,7 @@ ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the silhouettes' %ux%u colour", r->width,
                          r->height);
-    split_job job = {.r = r, .color = *color, .color_stride = *color_stride,
+    split_job job = {.r = r, .matte = matte, .color = *color, .color_stride = *color_stride,
                      .cleaned = (float *)(void *)(chunk_pixels + chunks),
                      .chunk_pixels = chunk_pixels};
     ddof_parallel_rows(context, r->height, clean_rows, &job);
@@ -282,8 +336,8 @@ ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
 }
 
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
-                                   const float *color, size_t color_stride,
-                                   silhouette_report *report)
+                                   const object_matte *matte, const float *color,
+                                   size_t color_stride, silhouette_report *report)
 {
     memset(report, 0, sizeof *report);
     if (r->channels < 3)
@@ -295,7 +349,7 @@ ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
     if (!chunk_pixels)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the silhouettes' %ux%u image", r->width, r->height);
-    split_job job = {.r = r, .color = color, .color_stride = color_stride,
+    split_job job = {.r = r, .matte = matte, .color = color, .color_stride = color_stride,
                      .delta = (float *)(void *)(chunk_pixels + chunks),
                      .chunk_pixels = chunk_pixels};
     ddof_parallel_rows(context, r->height, delta_rows, &job);

@@ -17,6 +17,14 @@
  * that splitting it changes nothing a viewer sees. */
 #define DDOF_SILHOUETTE_MIN_COC_PX 4.0f
 
+/* A render's object matte (Cryptomatte): per pixel `ranks` pairs of (id, coverage), `stride`
+ * floats a row; ranks 0: none, the shares come from the colours. */
+typedef struct object_matte {
+    const float *pairs;
+    size_t stride;
+    uint32_t ranks;
+} object_matte;
+
 typedef struct silhouette_report {
     uint64_t pixels; /* mixed pixels split, both sides */
 } silhouette_report;
@@ -27,15 +35,16 @@ typedef struct silhouette_report {
  * of a pair holds the background alone, when its colours tell; else it is left as it is.
  * r: the frame's CoC and size. */
 ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
-                                   const float **color, size_t *color_stride, int *pairs);
+                                   const object_matte *matte, const float **color,
+                                   size_t *color_stride, int *pairs);
 
 /* After the layers, before the highlights are drawn: r is the frame (its signed CoC, size,
  * channels, in-focus threshold) with out holding the result so far, changed in place; color:
  * the colour before ddof_clean_silhouettes (color_stride floats a row), from which each
- * pixel's shares are estimated. 3 or 4 channels (alpha is left as it is); scratch:
- * DDOF_SCRATCH_SILHOUETTES. */
+ * pixel's shares are estimated, or taken from the matte where it has ranks. 3 or 4 channels
+ * (alpha is left as it is); scratch: DDOF_SCRATCH_SILHOUETTES. */
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
-                                   const float *color, size_t color_stride,
-                                   silhouette_report *report);
+                                   const object_matte *matte, const float *color,
+                                   size_t color_stride, silhouette_report *report);
 
 #endif

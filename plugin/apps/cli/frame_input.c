@@ -3,6 +3,8 @@
  * (frame_input.h). */
 #include "frame_input.h"
 
+#include "matte_input.h"
+
 #include <stdint.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -191,6 +193,7 @@ void frame_data_free(frame_data *d)
     free(d->coc);
     free(d->depth_owned);
     free(d->coc_owned);
+    free(d->matte);
 }
 
 /* Opens the input and finds its channels (colour, depth or CoC); names them in result. */
@@ -216,6 +219,11 @@ int frame_input_open(const frame_setup *setup, const frame_paths *paths, frame_d
     if (exrio_find_layout(image, &request, &d->layout, error, sizeof error) != EXRIO_LAYOUT_OK ||
         frame_check_input_parts(opt, image, paths->input, error, sizeof error) != 0)
         return frame_fail(result, "%s", error);
+    d->matte_ranks = matte_find(image, layout, opt->matte, d->matte_index, result->matte_name,
+                                sizeof result->matte_name, error, sizeof error);
+    if (d->matte_ranks < 0)
+        return frame_fail(result, "%s: %s", paths->input, error);
+    result->matte_ranks = d->matte_ranks;
     d->part = &image->parts[layout->part];
     d->pixels = (size_t)d->part->width * d->part->height;
     result->width = d->part->width;
@@ -251,6 +259,8 @@ int frame_input_load(const frame_setup *setup, const frame_paths *paths, frame_d
         wanted[layout->depth] = 1;
     if (layout->coc >= 0)
         wanted[layout->coc] = 1;
+    for (i = 0; i < 2 * d->matte_ranks; i++)
+        wanted[d->matte_index[i]] = 1;
     if (opt->keep_channels)
         for (i = 0; i < d->image.channel_count; i++)
             if (d->image.channels[i].part == layout->part)
@@ -278,6 +288,10 @@ int frame_input_load(const frame_setup *setup, const frame_paths *paths, frame_d
         d->coc_in = float_plane(&d->image, layout->coc, d->pixels, &d->coc_owned);
     }
     d->color = frame_interleave(&d->image, layout->color, layout->color_count, d->pixels);
+    if (d->matte_ranks &&
+        !(d->matte = frame_interleave(&d->image, d->matte_index, 2 * d->matte_ranks, d->pixels)))
+        return frame_fail(result, "out of memory for the matte of a %ux%u frame",
+                          d->part->width, d->part->height);
     d->out = malloc(d->pixels * (size_t)layout->color_count * sizeof *d->out);
     /* The CoC the call used: written out (--write-coc) or drawn (--focus-map). */
     const int want_coc = opt->write_coc || paths->focus_map[0];

@@ -31,6 +31,9 @@ typedef struct frame_data {
     foreground_data fg;
     float *out;                   /* the result, owned                                      */
     float *coc;                   /* the CoC the library used (--write-coc), owned          */
+    int matte_index[2 * DDOF_MATTE_MAX_RANKS]; /* the object matte's channels, by rank      */
+    int matte_ranks;              /* 0: none                                                */
+    float *matte;                 /* interleaved (id, coverage) ranks, owned                */
 } frame_data;
 
 /* Opens the input and finds its channels (colour, depth or CoC); names them in result.

@@ -178,8 +178,11 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
     if (d->coc)
         frame.coc_out = (ddof_image){d->coc, w, h, 1, 0};
     t = cli_now();
-    status = ddof_render_frame(context, &params, &frame,
-                               &(ddof_image){d->out, w, h, channels, 0}, &result->stats);
+    /* The render's object matte, when it has one, gives the silhouettes' split its shares. */
+    const ddof_image_in matte = {d->matte, w, h, 2 * (uint32_t)d->matte_ranks, 0};
+    status = ddof_render_frame_with_matte(context, &params, &frame, d->matte ? &matte : NULL,
+                                          &(ddof_image){d->out, w, h, channels, 0},
+                                          &result->stats);
     result->seconds_dof = cli_now() - t;
     result->seconds_coc = result->stats.seconds_coc;
     if (status != DDOF_OK)

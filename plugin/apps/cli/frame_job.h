@@ -52,6 +52,8 @@ typedef struct frame_result {
     int channels;                 /* colour channels diffused: 3 or 4 */
     char color_name[320];         /* e.g. "ViewLayer.Combined.RGBA" or "R,G,B,A" */
     char depth_name[256];         /* the depth or CoC channel used */
+    char matte_name[256];         /* the object matte used ("" none), e.g. ViewLayer.CryptoObject */
+    int matte_ranks;              /* its (id, coverage) ranks per pixel */
     ddof_stats stats;             /* from the library */
     ddof_backend_info backend;    /* the context's backend: what runs, its renderer, AUTO's note */
     double seconds_read;          /* open + decode (+ depth file) */

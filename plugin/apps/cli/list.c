@@ -6,6 +6,7 @@
 #include "exrio_layout.h"
 #include "frame_paths.h"
 #include "frames.h"
+#include "matte_input.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -59,7 +60,18 @@ static int list_file(const cli_options *o, const char *path)
         printf("; depth %s", image.channels[layout.depth].name);
     if (layout.coc >= 0)
         printf("; CoC %s", image.channels[layout.coc].name);
+    int matte[2 * DDOF_MATTE_MAX_RANKS];
+    char matte_name[256];
+    const int ranks = matte_find(&image, &layout, o->matte, matte, matte_name,
+                                 sizeof matte_name, error, sizeof error);
+    if (ranks > 0)
+        printf("; matte %s (%d ranks)", matte_name, ranks);
     printf("\n");
+    if (ranks < 0) {
+        printf("ddof would not run on it: %s\n", error);
+        exrio_close(&image);
+        return 1;
+    }
     exrio_close(&image);
     return 0;
 }

@@ -117,6 +117,9 @@ const cli_option cli_option_table[] = {
      .help = "colour: a channel prefix (ViewLayer.Combined) or 3-4 names"},
     {"--depth", INPUT, STRING(depth, "NAME"),
      .help = "depth channel (planar camera Z unless --depth-kind radial)"},
+    {"--matte", INPUT, STRING(matte, "auto|off|NAME"),
+     .help = "object matte for the silhouettes' split: a Cryptomatte layer\n"
+             "(auto: CryptoObject when the file has one, beside the colour)"},
     {"--depth-file", INPUT, STRING(depth_file, "FILE.exr"),
      .help = "read depth from another file (#### allowed)"},
     {"--cards", INPUT, STRING(cards_json, "SCENE.json"),

@@ -58,6 +58,7 @@ typedef struct cli_options {
 
     /* channels */
     const char *layer, *color, *depth, *coc_channel;
+    const char *matte;            /* --matte: auto (NULL), off or a Cryptomatte layer */
 
     /* CoC source */
     coc_source source;

@@ -232,6 +232,8 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
     cJSON_AddNumberToObject(o, "height", r->height);
     cJSON_AddStringToObject(o, "color", r->color_name);
     cJSON_AddStringToObject(o, "depth_or_coc", r->depth_name);
+    if (r->matte_ranks)
+        cJSON_AddStringToObject(o, "matte", r->matte_name);
     {
         cJSON *s = cJSON_CreateObject();
         stats_explain(&r->stats, why, sizeof why);
