@@ -221,7 +221,7 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         const ddof_image_in ci_tight = {color, w, h, cch, 0};
         const ddof_image_in zi_tight = {coc, w, h, 1, 0};
         (void)ci_tight;
-        switch (which % 5u) {
+        switch (which % 6u) {
         case 0:
             s = ddof_diffuse(ctx, pp, &ci, &zi, &oi, NULL);
             check_call(ctx, "ddof_diffuse", s, out, before, ofloats, &oi);
@@ -284,6 +284,32 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             check_call(ctx, "ddof_coc_from_curve", s, coc_out, coc_before, (size_t)w * h,
                        &co_img);
             break;
+        case 4: {
+            /* An object matte: 0..4 ranks (odd channel counts too), ids of any bits, coverage
+             * of any value, its own width now and then. */
+            const uint32_t channels = byte(&r) % 9u;
+            const uint32_t mw = byte(&r) < 240 ? w : 1u + byte(&r) % MAX_SIDE;
+            float *matte = malloc((size_t)mw * h * (channels ? channels : 1u) * sizeof *matte);
+            if (!matte)
+                break;
+            for (i = 0; i < (size_t)mw * h * channels; i++) {
+                const uint32_t bits = byte(&r) < 128 ? 0x3f000000u + byte(&r) % 4u : u32(&r);
+                if (i % 2 == 0)
+                    memcpy(&matte[i], &bits, sizeof bits);
+                else
+                    matte[i] = byte(&r) < 240 ? (float)byte(&r) / 255.0f : any_float(&r, 2.0f);
+            }
+            ddof_frame frame;
+            ddof_frame_init(&frame);
+            frame.color = ci;
+            frame.coc = zi;
+            const ddof_image_in mi = {matte, mw, h, channels, 0};
+            s = ddof_render_frame_with_matte(ctx, pp, &frame, byte(&r) < 16 ? NULL : &mi, &oi,
+                                             NULL);
+            check_call(ctx, "ddof_render_frame_with_matte", s, out, before, ofloats, &oi);
+            free(matte);
+            break;
+        }
         default: {
             /* A foreground element of its own size and strides, to reach the mismatch checks. */
             const uint32_t fw = byte(&r) & 1 ? w : 1u + byte(&r) % MAX_SIDE;
