@@ -121,7 +121,7 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
         background[c] = b[c];
     }
     const object_matte *m = job->matte;
-    if (m->ranks) {
+    if (m && m->ranks) {
         /* The object's share: all that is not the background's object (the background pixel's
          * rank 0), so that strands crossing at a pixel count together. */
         const uint32_t background_id = matte_bits(matte_pairs(m, bgx, bgy), 0);

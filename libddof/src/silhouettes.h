@@ -41,8 +41,8 @@ ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
 /* After the layers, before the highlights are drawn: r is the frame (its signed CoC, size,
  * channels, in-focus threshold) with out holding the result so far, changed in place; color:
  * the colour before ddof_clean_silhouettes (color_stride floats a row), from which each
- * pixel's shares are estimated, or taken from the matte where it has ranks. 3 or 4 channels
- * (alpha is left as it is); scratch: DDOF_SCRATCH_SILHOUETTES. */
+ * pixel's shares are estimated, or taken from the matte (NULL or no ranks: none). 3 or 4
+ * channels (alpha is left as it is); scratch: DDOF_SCRATCH_SILHOUETTES. */
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
                                    const object_matte *matte, const float *color,
                                    size_t color_stride, silhouette_report *report);
