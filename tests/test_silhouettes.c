@@ -8,7 +8,8 @@
  *  - the light is kept; the bar's interior keeps its bits; 3 and 4 channels agree, in place too;
  *  - a strand of 1.2 px (no pixel wholly inside it) with an object matte
  *    (ddof_render_frame_with_matte): the shares and colour from the matte match the lens, the
- *    matte's share is the one used, its bad shapes and values are refused;
+ *    matte's share is the one used, its bad shapes, values and an overlap with the output
+ *    are refused;
  *  - the plan's line and effect bit, OFF, unsigned CoC, one channel, a bad mode. */
 #include "ddof.h"
 #include "test_images.h"
@@ -251,6 +252,9 @@ static void test_strand_with_matte(void)
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &small, again, NULL), DDOF_ERROR_BAD_SIZE);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &none, again, NULL), DDOF_ERROR_NULL_POINTER);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &short_stride, again, NULL),
+                 DDOF_ERROR_BAD_PARAMETER);
+    const ddof_image_in in_output = {again, W, H, 4, 0}; /* the output's own bytes */
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &in_output, again, NULL),
                  DDOF_ERROR_BAD_PARAMETER);
     matte[(7 * W + 5) * 4 + 3] = NAN;
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &m, again, NULL), DDOF_ERROR_BAD_PARAMETER);

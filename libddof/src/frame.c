@@ -311,6 +311,14 @@ static ddof_status read_matte(ddof_context *context, const ddof_image_in *matte,
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "matte.row_stride %zu must be 0 or a multiple of 4 of at least %zu",
                          matte->row_stride, row);
+    /* The split reads it after the layers wrote the output: the two must not share bytes. */
+    const char *lo, *hi, *out_lo, *out_hi;
+    byte_range(matte->pixels, matte->width, matte->height, matte->channels, stride, &lo, &hi);
+    byte_range(r->out, r->width, r->height, r->channels, r->out_stride * sizeof(float), &out_lo,
+               &out_hi);
+    if (ranges_overlap(lo, hi, out_lo, out_hi))
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "the matte overlaps the output image in memory");
     *m = (object_matte){.pairs = matte->pixels, .stride = stride / sizeof(float),
                         .ranks = matte->channels / 2};
     for (uint32_t y = 0; y < r->height; y++)
