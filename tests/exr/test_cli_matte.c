@@ -28,14 +28,16 @@ static void make_matte(const scene *s, float planes[4][N])
 }
 
 /* The scene with the matte under `layer` (its r, g, b, a: ids stored as `id_type`; `with_a`
- * 0 leaves the last channel out). */
+ * 0 leaves the last channel out), and under `second` (NULL: none) a matte of other ids. */
 static void write_with_matte(const char *path, const scene *s, float matte[4][N],
-                             const char *layer, exrio_pixel_type id_type, int with_a)
+                             const char *layer, exrio_pixel_type id_type, int with_a,
+                             const char *second)
 {
-    static char names[4][64];
-    const char *all_names[9];
-    exrio_pixel_type types[9];
-    const void *planes[9];
+    static char names[8][64];
+    static float other[4][N];
+    const char *all_names[13];
+    exrio_pixel_type types[13];
+    const void *planes[13];
     int count = 0;
     const char *base[5] = {"A", "B", "G", "R", "Z"};
     const float *base_planes[5] = {s->rgba[3], s->rgba[2], s->rgba[1], s->rgba[0], s->z};
@@ -51,6 +53,19 @@ static void write_with_matte(const char *path, const scene *s, float matte[4][N]
         all_names[count] = names[c];
         types[count] = c % 2 == 0 ? id_type : EXRIO_FLOAT;
         planes[count++] = matte[c];
+    }
+    for (int c = 0; second && c < 4; c++) {
+        for (size_t i = 0; i < N; i++) {
+            const uint32_t id = 0x3e000000u + (uint32_t)(i % 7);
+            if (c % 2 == 0)
+                memcpy(&other[c][i], &id, sizeof id);
+            else
+                other[c][i] = 0.5f;
+        }
+        snprintf(names[4 + c], sizeof names[4 + c], "%s00.%c", second, "rgba"[c]);
+        all_names[count] = names[4 + c];
+        types[count] = EXRIO_FLOAT;
+        planes[count++] = other[c];
     }
     const exrio_box box = test_box(0, 0, W, H);
     CHECK(test_write_exr(path, &box, NULL, count, all_names, types, planes,
@@ -105,7 +120,7 @@ static int case_matte(void)
               "the test shows nothing\n%s", stats.plan);
 
     /* Found beside the colour, handed to the library: its result, bit for bit. */
-    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_FLOAT, 1);
+    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_FLOAT, 1, NULL);
     CHECK(ddof(in, "-o", test_path(dir, "auto.exr"), "--camera", json, "--pixel-type", "float",
                "--threads", "1", "--stats", test_path(dir, "auto.json"), NULL) == 0);
     CHECK(compare_output(test_path(dir, "auto.exr"), want, 1, 0.0, 0) == 0);
@@ -134,19 +149,24 @@ static int case_matte(void)
     free(off);
     free(plain);
     free(with);
-    write_with_matte(in, &s, matte, "crypto_object", EXRIO_FLOAT, 1);
+    write_with_matte(in, &s, matte, "crypto_object", EXRIO_FLOAT, 1, NULL);
     CHECK(ddof(in, "-o", test_path(dir, "named.exr"), "--camera", json, "--pixel-type", "float",
                "--threads", "1", "--matte", "crypto_object", NULL) == 0);
     CHECK(compare_output(test_path(dir, "named.exr"), want, 1, 0.0, 0) == 0);
+    /* Both spellings in one file: auto takes one layer whole, never channels of both. */
+    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_FLOAT, 1, "crypto_object");
+    CHECK(ddof(in, "-o", test_path(dir, "both.exr"), "--camera", json, "--pixel-type", "float",
+               "--threads", "1", NULL) == 0);
+    CHECK(compare_output(test_path(dir, "both.exr"), want, 1, 0.0, 0) == 0);
 
     /* What it cannot use: a matte named but absent, ids in half floats, a channel missing. */
     CHECK(ddof(in, "-o", test_path(dir, "x.exr"), "--camera", json, "--matte", "CryptoAsset",
                NULL) != 0);
     CHECK(err_contains("no matte CryptoAsset"));
-    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_HALF, 1);
+    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_HALF, 1, NULL);
     CHECK(ddof(in, "-o", test_path(dir, "x.exr"), "--camera", json, NULL) != 0);
     CHECK(err_contains("only 32-bit float holds them"));
-    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_FLOAT, 0);
+    write_with_matte(in, &s, matte, "CryptoObject", EXRIO_FLOAT, 0, NULL);
     CHECK(ddof(in, "-o", test_path(dir, "x.exr"), "--camera", json, NULL) != 0);
     CHECK(err_contains("sub-layer 00 without its a channel"));
     CHECK(!test_file_exists(test_path(dir, "x.exr")));

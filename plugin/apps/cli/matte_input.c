@@ -65,8 +65,11 @@ int matte_find(const exrio_image *image, const exrio_layout *layout, const char 
             !parse_channel(full + prefix, &length, &sub, &slot) ||
             !is_wanted(full + prefix, length, automatic ? NULL : name) || sub >= SUBS)
             continue;
+        /* One layer whole: a file with both spellings gives the first it holds, never a mix. */
         if (!found[0])
             snprintf(found, found_size, "%.*s", (int)(prefix + length), full);
+        else if (strlen(found) != prefix + length || strncmp(full, found, prefix + length) != 0)
+            continue;
         channel[sub][slot] = c;
     }
     int ranks = 0;
