@@ -247,12 +247,12 @@ static void test_strand_with_matte(void)
     const ddof_image_in odd = {matte, W, H, 3, 0}, wide = {matte, W, H, 34, 0};
     const ddof_image_in small = {matte, W - 1, H, 4, 0}, none = {NULL, W, H, 4, 0};
     const ddof_image_in short_stride = {matte, W, H, 4, (size_t)W * 4 * sizeof(float) - 4};
-    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &odd, again, NULL), DDOF_ERROR_BAD_PARAMETER);
-    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &wide, again, NULL), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &odd, again, NULL), DDOF_ERROR_BAD_CHANNELS);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &wide, again, NULL), DDOF_ERROR_BAD_CHANNELS);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &small, again, NULL), DDOF_ERROR_BAD_SIZE);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &none, again, NULL), DDOF_ERROR_NULL_POINTER);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &short_stride, again, NULL),
-                 DDOF_ERROR_BAD_PARAMETER);
+                 DDOF_ERROR_BAD_STRIDE);
     const ddof_image_in in_output = {again, W, H, 4, 0}; /* the output's own bytes */
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &in_output, again, NULL),
                  DDOF_ERROR_BAD_PARAMETER);

@@ -955,8 +955,8 @@ DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_p
 /* ddof_render_frame with an object matte: per pixel, `matte->channels / 2` ranks of (id,
  * coverage), interleaved: id as Cryptomatte stores it (a float whose bits name the object,
  * compared bit for bit), coverage 0..1 (the share of the pixel the object covers). The same
- * width and height as frame->color, channels even and 2..2 * DDOF_MATTE_MAX_RANKS, row_stride
- * as for images. Where the silhouettes' split runs (params.silhouettes), a mixed pixel's object
+ * width and height as frame->color, channels even and 2..2 * DDOF_MATTE_MAX_RANKS
+ * (DDOF_ERROR_BAD_CHANNELS otherwise), row_stride as for images. Where the silhouettes' split runs (params.silhouettes), a mixed pixel's object
  * share is what the background's object (rank 0 of the blurred pixel beside it) leaves of it,
  * instead of the guess from the colours on both sides; with it the object's colour is solved
  * on the sharp side too (a 1-2 px strand, which has no fully covered pixel to show it).

@@ -288,39 +288,39 @@ static highlight_aperture aperture_of(const ddof_camera *c, uint32_t width, uint
     };
 }
 
-/* An object matte of the frame's size: an even number of channels, up to
- * DDOF_MATTE_MAX_RANKS ranks, every coverage finite (ids are bit patterns: any value). */
+/* An object matte: an image (ddof_check_image's rules) of the frame's size, an even number of
+ * channels up to DDOF_MATTE_MAX_RANKS ranks, every coverage finite (ids are bit patterns: any
+ * value), no byte shared with the output. */
 static ddof_status read_matte(ddof_context *context, const ddof_image_in *matte,
                               const adi_request *r, object_matte *m)
 {
     *m = (object_matte){0};
     if (!matte)
         return DDOF_OK;
-    if (!matte->pixels)
-        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "matte.pixels is NULL");
+    size_t stride;
+    ddof_status status =
+        ddof_check_image_up_to(context, "matte", matte->pixels, matte->width, matte->height,
+                               matte->channels, 2 * DDOF_MATTE_MAX_RANKS, matte->row_stride,
+                               &stride);
+    if (status != DDOF_OK)
+        return status;
     if (matte->width != r->width || matte->height != r->height)
         return ddof_fail(context, DDOF_ERROR_BAD_SIZE, "the matte is %ux%u, the frame %ux%u",
                          matte->width, matte->height, r->width, r->height);
-    if (matte->channels < 2 || matte->channels % 2 || matte->channels > 2 * DDOF_MATTE_MAX_RANKS)
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "matte.channels %u must be an even 2..%u: (id, coverage) per rank",
-                         matte->channels, 2 * DDOF_MATTE_MAX_RANKS);
-    const size_t row = (size_t)matte->width * matte->channels * sizeof(float);
-    const size_t stride = matte->row_stride ? matte->row_stride : row;
-    if (stride < row || stride % sizeof(float))
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "matte.row_stride %zu must be 0 or a multiple of 4 of at least %zu",
-                         matte->row_stride, row);
+    if (matte->channels % 2)
+        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS,
+                         "the matte has %u channels: (id, coverage) per rank, an even count",
+                         matte->channels);
     /* The split reads it after the layers wrote the output: the two must not share bytes. */
     const char *lo, *hi, *out_lo, *out_hi;
-    byte_range(matte->pixels, matte->width, matte->height, matte->channels, stride, &lo, &hi);
+    byte_range(matte->pixels, matte->width, matte->height, matte->channels,
+               stride * sizeof(float), &lo, &hi);
     byte_range(r->out, r->width, r->height, r->channels, r->out_stride * sizeof(float), &out_lo,
                &out_hi);
     if (ranges_overlap(lo, hi, out_lo, out_hi))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "the matte overlaps the output image in memory");
-    *m = (object_matte){.pairs = matte->pixels, .stride = stride / sizeof(float),
-                        .ranks = matte->channels / 2};
+    *m = (object_matte){.pairs = matte->pixels, .stride = stride, .ranks = matte->channels / 2};
     for (uint32_t y = 0; y < r->height; y++)
         for (uint32_t x = 0; x < r->width; x++)
             for (uint32_t k = 0; k < m->ranks; k++) {

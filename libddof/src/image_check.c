@@ -55,6 +55,15 @@ ddof_status ddof_check_image(ddof_context *context, const char *what, const floa
                              uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
                              size_t *stride_floats)
 {
+    return ddof_check_image_up_to(context, what, pixels, width, height, channels, 4, row_stride,
+                                  stride_floats);
+}
+
+ddof_status ddof_check_image_up_to(ddof_context *context, const char *what, const float *pixels,
+                                   uint32_t width, uint32_t height, uint32_t channels,
+                                   uint32_t most_channels, size_t row_stride,
+                                   size_t *stride_floats)
+{
     if (!pixels)
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s.pixels is NULL", what);
     if (width == 0 || height == 0 || width > DDOF_MAX_DIMENSION || height > DDOF_MAX_DIMENSION)
@@ -63,9 +72,9 @@ ddof_status ddof_check_image(ddof_context *context, const char *what, const floa
     if ((uint64_t)width * height > DDOF_MAX_PIXELS)
         return ddof_fail(context, DDOF_ERROR_BAD_SIZE, "%s is %ux%u, more than %u pixels", what,
                          width, height, DDOF_MAX_PIXELS);
-    if (channels < 1 || channels > 4)
-        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS, "%s has %u channels; 1..4 allowed",
-                         what, channels);
+    if (channels < 1 || channels > most_channels)
+        return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS, "%s has %u channels; 1..%u allowed",
+                         what, channels, most_channels);
     const size_t row_bytes = (size_t)width * channels * sizeof(float);
     const size_t stride = row_stride ? row_stride : row_bytes;
     if (stride < row_bytes)

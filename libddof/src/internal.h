@@ -145,6 +145,11 @@ ddof_status ddof_read_struct(ddof_context *context, const void *caller, size_t m
 ddof_status ddof_check_image(ddof_context *context, const char *what, const float *pixels,
                              uint32_t width, uint32_t height, uint32_t channels, size_t row_stride,
                              size_t *stride_floats);
+/* The same for an image of up to most_channels channels (ddof_check_image: 4). */
+ddof_status ddof_check_image_up_to(ddof_context *context, const char *what, const float *pixels,
+                                   uint32_t width, uint32_t height, uint32_t channels,
+                                   uint32_t most_channels, size_t row_stride,
+                                   size_t *stride_floats);
 
 /* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. The seam's box, so that the
  * layers' rules (ddof_layer_rules.h) serve the core and a device alike. */
