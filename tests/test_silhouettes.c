@@ -9,7 +9,7 @@
  *  - a strand of 1.2 px (no pixel wholly inside it) with an object matte
  *    (ddof_render_frame_with_matte): the shares and colour from the matte match the lens, the
  *    matte's share is the one used, its bad shapes, values and an overlap with the output
- *    are refused;
+ *    are refused; across a far light, the matte's shares hide and show the light's disc;
  *  - the plan's line and effect bit, OFF, unsigned CoC, one channel, a bad mode. */
 #include "ddof.h"
 #include "test_images.h"
@@ -271,6 +271,62 @@ static void test_strand_with_matte(void)
     ddof_context_free(ctx);
 }
 
+/* The increase of out's red over its row 5 (outside every disc) at (x, 23), the disc's row. */
+static double lift(const float *out, uint32_t x)
+{
+    return (double)out[((size_t)23 * W + x) * CH] - out[((size_t)5 * W + x) * CH];
+}
+
+/* The strand across a far light (3 x 3 pixels at columns 35-37, CoC 16: its disc reaches 28-44):
+ * through a lens the strand's mixed pixels show the disc behind their uncovered share, and their
+ * covered share hides it. With the matte the discs are drawn before the split: the sharp pixel
+ * (column 41, 0.8 covered) gains 0.2 of the disc beside it, the blurred one (column 40, 0.4
+ * covered) keeps 0.6 of the disc; the disc is what the frame without the strand gets. The
+ * colours' guess keeps the discs whole behind the split: the sharp pixel gains nothing. */
+static void test_strand_across_a_light(void)
+{
+    ddof_context *ctx = make_context(0);
+    const size_t n = NPX * CH;
+    float *color = alloc_f(n), *coc = alloc_f(NPX), *matte = alloc_f(NPX * 4);
+    float *bare = alloc_f(n), *bare_coc = alloc_f(NPX);
+    float *with = alloc_f(n), *without = alloc_f(n), *bare_out = alloc_f(n);
+    strand_frame(color, coc, matte);
+    static const float dark[3] = {0.05f, 0.04f, 0.03f}, light[3] = {20.0f, 18.0f, 15.0f};
+    for (size_t i = 0; i < NPX; i++) {
+        const uint32_t x = (uint32_t)(i % W), y = (uint32_t)(i / W);
+        const int lit = x >= 35 && x <= 37 && y >= 22 && y <= 24;
+        const float cov = strand_coverage(x);
+        for (int c = 0; c < 3; c++) {
+            const float behind = lit ? light[c] : dark[c];
+            color[i * CH + (size_t)c] = cov * object[c] + (1.0f - cov) * behind;
+            bare[i * CH + (size_t)c] = behind;
+        }
+        bare[i * CH + 3] = 1.0f;
+        bare_coc[i] = 16.0f;
+    }
+    ddof_params p = split_params(DDOF_LAYER_AUTO);
+    const ddof_image_in m = {matte, W, H, 4, 0};
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &m, with, NULL), DDOF_OK);
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, NULL, without, NULL), DDOF_OK);
+    CHECK_EQ_INT(render_strand(ctx, &p, bare, bare_coc, NULL, bare_out, NULL), DDOF_OK);
+    const double disc_40 = lift(bare_out, 40), disc_beside_41 =
+        0.5 * (lift(bare_out, 40) + lift(bare_out, 42));
+    CHECK_MSG(disc_40 > 0.05, "the disc reaches column 40 with %.4g: the test shows nothing",
+              disc_40);
+    CHECK_NEAR(lift(with, 41) / (0.2 * disc_beside_41), 1.0, 0.25);
+    CHECK_NEAR(lift(with, 40) / (0.6 * disc_40), 1.0, 0.25);
+    CHECK_MSG(fabs(lift(without, 41)) < 1e-6, "the colours' split: %.4g", lift(without, 41));
+    free(color);
+    free(coc);
+    free(matte);
+    free(bare);
+    free(bare_coc);
+    free(with);
+    free(without);
+    free(bare_out);
+    ddof_context_free(ctx);
+}
+
 static void test_plan(void)
 {
     ddof_context *ctx = make_context(1);
@@ -311,6 +367,7 @@ int main(void)
 {
     test_bar_over_flat_wall();
     test_strand_with_matte();
+    test_strand_across_a_light();
     test_plan();
     return test_report("test_silhouettes");
 }

@@ -959,7 +959,9 @@ DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_p
  * (DDOF_ERROR_BAD_CHANNELS otherwise), row_stride as for images. Where the silhouettes' split runs (params.silhouettes), a mixed pixel's object
  * share is what the background's object (rank 0 of the blurred pixel beside it) leaves of it,
  * instead of the guess from the colours on both sides; with it the object's colour is solved
- * on the sharp side too (a 1-2 px strand, which has no fully covered pixel to show it).
+ * on the sharp side too (a 1-2 px strand, which has no fully covered pixel to show it), and
+ * the split comes after the highlights' discs: a mixed pixel's uncovered share shows the disc
+ * of a far light behind it, its covered share hides it (a strand across a light).
  * A NaN or infinite coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel, as is a matte that
  * shares bytes with out; matte NULL is ddof_render_frame. The CLI reads a render's CryptoObject channels into this. */
 DDOF_API ddof_status ddof_render_frame_with_matte(ddof_context *context,

@@ -60,15 +60,16 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
 }
 
 /* Draws the highlights the pass took out into the result (before the foreground element,
- * which covers them). */
+ * which covers them), through `scratch` or the colour's buffer. */
 void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
-                               const highlight_set *set, layers_report *report)
+                               const highlight_set *set, float *scratch,
+                               layers_report *report)
 {
     if (!set->count)
         return;
     const double t0 = ddof_seconds();
     ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, &q->aperture, set,
-                            ddof_highlight_base_image(context, &q->base));
+                            scratch ? scratch : ddof_highlight_base_image(context, &q->base));
     report->effects |= DDOF_EFFECT_HIGHLIGHTS;
     report->seconds_highlights += ddof_seconds() - t0;
 }
@@ -97,8 +98,8 @@ ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
 }
 
 /* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
- * highlights are drawn (their discs land behind the object, whole) and the foreground element
- * covers it, estimated from the colour before its objects were taken out of what the layers
+ * highlights are drawn (their discs land behind the object, whole; with a matte after them,
+ * frame_run.c) and the foreground element covers it, estimated from the colour before its objects were taken out of what the layers
  * diffused (ddof_clean_silhouettes). */
 ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
                                   const float *color, size_t color_stride, frame_plan *plan,

@@ -11,9 +11,11 @@
 ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_request *q,
                                       highlight_set *set, frame_plan *plan);
 
-/* Draws what the highlight pass took out into the result. */
+/* Draws what the highlight pass took out into the result, through `scratch` (width x height x
+ * 3 floats), or NULL: through the colour's buffer, ddof_highlight_base_image (then the last
+ * reader of that colour). */
 void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
-                               const highlight_set *set, layers_report *report);
+                               const highlight_set *set, float *scratch, layers_report *report);
 
 /* The far field over the layers' result, from the colour the layers diffused. */
 ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,

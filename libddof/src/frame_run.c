@@ -171,6 +171,36 @@ static int device_runs_frame(ddof_context *context, const layers_request *q,
     return !(element_lights && (frame_highlights || element_is_bright(q)));
 }
 
+/* The silhouettes' split and the highlights' discs over the layers' result. The discs are
+ * drawn through the colour's buffer, the last of its readers, so they come after the split:
+ * a disc then lands whole behind a mixed pixel's object share. With an object matte the shares
+ * are the render's own, and the split comes after the discs (drawn through the split's scratch,
+ * still free): a mixed pixel's background share then shows the disc behind it and its object
+ * share hides it, as a strand across a light does through a lens. The colours' guess of the
+ * share errs too often for that: it would cut dark notches into the discs. */
+static ddof_status split_and_draw(ddof_context *context, const layers_request *q,
+                                  frame_plan *plan, int pairs, const float *color,
+                                  size_t color_stride, const highlight_set *highlights,
+                                  layers_report *report)
+{
+    const int split = plan->silhouettes;
+    if (split && pairs && highlights->count && q->matte.ranks) {
+        float *scratch = ddof_silhouettes_scratch(context, &q->base);
+        if (!scratch)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the silhouettes' %ux%u image", q->base.width,
+                             q->base.height);
+        ddof_pass_draw_highlights(context, q, highlights, scratch, report);
+        return ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan, report);
+    }
+    ddof_status status = DDOF_OK;
+    if (split && (status = ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan,
+                                                 report)) != DDOF_OK)
+        return status;
+    ddof_pass_draw_highlights(context, q, highlights, NULL, report);
+    return DDOF_OK;
+}
+
 /* The planned frame's layers and the passes around them. Where the layers run is decided
  * here, once, after the highlights are found (the device's run takes them only where the
  * element does not need the CPU's pass). */
@@ -240,13 +270,9 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     if (plan->far_field && (status = ddof_pass_far_field(context, q, diffused, diffused_stride,
                                                          plan, report)) != DDOF_OK)
         return status;
-    if (plan->silhouettes &&
-        (status = ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan,
-                                              report)) !=
-            DDOF_OK)
+    if ((status = split_and_draw(context, q, plan, pairs, color, color_stride, &highlights,
+                                 report)) != DDOF_OK)
         return status;
-    /* Last of the passes that read the colour: the discs are drawn through its buffer. */
-    ddof_pass_draw_highlights(context, q, &highlights, report);
     /* On the CPU the element goes over all of it (the device composited it already). */
     if (plan->foreground && !on_device)
         return ddof_run_foreground_on_cpu(context, q, &st, report);

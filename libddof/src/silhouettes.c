@@ -335,6 +335,15 @@ ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
     return DDOF_OK;
 }
 
+float *ddof_silhouettes_scratch(ddof_context *context, const adi_request *r)
+{
+    const uint32_t chunks = ddof_row_chunks(r->height);
+    const size_t pixels = (size_t)r->width * r->height;
+    uint64_t *chunk_pixels = ddof_scratch_get(
+        context, DDOF_SCRATCH_SILHOUETTES, chunks * sizeof(uint64_t) + 3 * pixels * sizeof(float));
+    return chunk_pixels ? (float *)(void *)(chunk_pixels + chunks) : NULL;
+}
+
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
                                    const object_matte *matte, const float *color,
                                    size_t color_stride, silhouette_report *report)

@@ -38,13 +38,19 @@ ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
                                    const object_matte *matte, const float **color,
                                    size_t *color_stride, int *pairs);
 
-/* After the layers, before the highlights are drawn: r is the frame (its signed CoC, size,
- * channels, in-focus threshold) with out holding the result so far, changed in place; color:
- * the colour before ddof_clean_silhouettes (color_stride floats a row), from which each
- * pixel's shares are estimated, or taken from the matte (NULL or no ranks: none). 3 or 4
- * channels (alpha is left as it is); scratch: DDOF_SCRATCH_SILHOUETTES. */
+/* After the layers, before the highlights are drawn (after them with a matte, frame_run.c):
+ * r is the frame (its signed CoC, size, channels, in-focus threshold) with out holding the
+ * result so far, changed in place; color: the colour before ddof_clean_silhouettes
+ * (color_stride floats a row), from which each pixel's shares are estimated, or taken from
+ * the matte (NULL or no ranks: none). 3 or 4 channels (alpha is left as it is); scratch:
+ * DDOF_SCRATCH_SILHOUETTES. */
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
                                    const object_matte *matte, const float *color,
                                    size_t color_stride, silhouette_report *report);
+
+/* The split's delta image (DDOF_SCRATCH_SILHOUETTES: width x height x 3 floats), free for
+ * another pass until ddof_split_silhouettes runs (the highlights' discs are drawn through it
+ * when the split comes after them); NULL when it cannot be allocated. */
+float *ddof_silhouettes_scratch(ddof_context *context, const adi_request *r);
 
 #endif
