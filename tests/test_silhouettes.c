@@ -8,8 +8,9 @@
  *  - the light is kept; the bar's interior keeps its bits; 3 and 4 channels agree, in place too;
  *  - a strand of 1.2 px (no pixel wholly inside it) with an object matte
  *    (ddof_render_frame_with_matte): the shares and colour from the matte match the lens, the
- *    matte's share is the one used, its bad shapes, values and an overlap with the output
- *    are refused; across a far light, the matte's shares hide and show the light's disc;
+ *    matte's share is the one used, over the world (no id behind the strand) too, its bad
+ *    shapes, values and an overlap with the output are refused; across a far light, the
+ *    matte's shares hide and show the light's disc;
  *  - the plan's line and effect bit, OFF, unsigned CoC, one channel, a bad mode. */
 #include "ddof.h"
 #include "test_images.h"
@@ -241,6 +242,25 @@ static void test_strand_with_matte(void)
     const ddof_image_in ms = {strided, W, H, 4, row * sizeof(float)};
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &ms, again, NULL), DDOF_OK);
     CHECK(memcmp(again, with, n * sizeof(float)) == 0);
+
+    /* A wall that is the world (the sky: no object, so no id; Cryptomatte's coverages then sum
+     * below 1): only the strand's ranks are left, and the split is the same. */
+    float *sky = alloc_f(NPX * 4);
+    for (size_t i = 0; i < NPX; i++) {
+        uint32_t id;
+        memcpy(&id, &matte[i * 4], sizeof id);
+        const int strand_first = id == 0x3f000001u;
+        const float cov = strand_first ? matte[i * 4 + 1] : matte[i * 4 + 3];
+        memcpy(&sky[i * 4], cov > 0.0f ? &(uint32_t){0x3f000001u} : &(uint32_t){0u}, 4);
+        sky[i * 4 + 1] = cov;
+        sky[i * 4 + 2] = sky[i * 4 + 3] = 0.0f; /* empty ranks: id 0, coverage 0 */
+    }
+    const ddof_image_in world = {sky, W, H, 4, 0};
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &world, again, NULL), DDOF_OK);
+    const double e_world = worst_vs_lens(again, CH, strand_coverage);
+    CHECK_MSG(e_world < 2e-3, "a matte of the strand over the world: %.4g from the lens",
+              e_world);
+    free(sky);
 
     /* Bad mattes: refused before anything is written. */
     memcpy(again, color, n * sizeof(float));

@@ -13,7 +13,8 @@
  *  - p (its depth says object): its background share stayed sharp; it becomes the blurred
  *    background beside it: out(p) += (1 - a) (out(q) - B).
  * With an object matte (Cryptomatte) a is the share of x not covered by the background's
- * object (the id of rank 0 at the background's pixel), and O is solved from p itself where
+ * object (the id of rank 0 at the background's pixel, or the world, what no object covers,
+ * where that covers more of it), and O is solved from p itself where
  * the object covers at least MATTE_SOLVE_SHARE of it: O = (p - (1 - a_p) B) / a_p (a strand
  * of 1-2 px has no pixel wholly inside it). A pixel in several pairs takes the mean over them.
  * Every change is computed from the result before any is applied (a delta image), so rows can
@@ -95,6 +96,29 @@ static float matte_coverage(const object_matte *m, int64_t x, int64_t y, uint32_
     return (float)(sum < 0.0 ? 0.0 : sum > 1.0 ? 1.0 : sum);
 }
 
+/* The coverage of every object at a pixel, 0..1 (the rest is the world's). */
+static float matte_coverage_sum(const object_matte *m, int64_t x, int64_t y)
+{
+    const float *pair = matte_pairs(m, x, y);
+    double sum = 0.0;
+    for (uint32_t k = 0; k < m->ranks; k++)
+        sum += pair[2 * k + 1];
+    return (float)(sum < 0.0 ? 0.0 : sum > 1.0 ? 1.0 : sum);
+}
+
+/* The share of pixel (x, y) that the background pixel (bx, by) shows: its dominant object
+ * (rank 0), or the world where no object covers most of it (the sky: Cryptomatte has no id for
+ * what no object covers, only coverages that sum below 1). */
+static float background_coverage(const object_matte *m, int64_t x, int64_t y, int64_t bx,
+                                 int64_t by)
+{
+    const float *pair = matte_pairs(m, bx, by);
+    const float world = 1.0f - matte_coverage_sum(m, bx, by);
+    if (world > pair[1])
+        return 1.0f - matte_coverage_sum(m, x, y);
+    return matte_coverage(m, x, y, matte_bits(pair, 0));
+}
+
 /* The pair (sharp p, blurred q = p + d): the object's and the background's colours, and the
  * object's share of pixel (xx, xy), one of the two. 0 when the two colours are too alike to
  * split by and no matte tells. */
@@ -122,11 +146,10 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
     }
     const object_matte *m = job->matte;
     if (m && m->ranks) {
-        /* The object's share: all that is not the background's object (the background pixel's
-         * rank 0), so that strands crossing at a pixel count together. */
-        const uint32_t background_id = matte_bits(matte_pairs(m, bgx, bgy), 0);
-        *share = 1.0f - matte_coverage(m, xx, xy, background_id);
-        const float at_p = 1.0f - matte_coverage(m, px, py, background_id);
+        /* The object's share: all that is not the background's (its pixel's rank 0, or the
+         * world), so that strands crossing at a pixel count together. */
+        *share = 1.0f - background_coverage(m, xx, xy, bgx, bgy);
+        const float at_p = 1.0f - background_coverage(m, px, py, bgx, bgy);
         if (at_p >= MATTE_SOLVE_SHARE) {
             const float *p = color_at(job, px, py);
             for (int c = 0; c < 3; c++)
