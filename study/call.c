@@ -56,8 +56,29 @@ ddof_status study_run_call(study_call *c)
         element.coc = (ddof_image_in){f->fg_coc, f->width, f->height, 1, 0};
         element.premultiplied = 1;
     }
-    ddof_status st = ddof_diffuse_layers(c->ctx, &p, &color, &coc, fg ? &element : NULL, &out,
-                                         &c->stats);
+    ddof_status st;
+    if (c->cfg->matte) {
+        /* The scene's object matte for the split: the frame call that takes one. */
+        if (!f->matte_ranks) {
+            snprintf(c->error, sizeof c->error, "%s has no matte.exr (per scene: the tables "
+                     "of the presets against the baselines)", c->scene->name);
+            return DDOF_ERROR_UNSUPPORTED;
+        }
+        ddof_frame frame;
+        ddof_frame_init(&frame);
+        frame.color = color;
+        frame.coc = coc;
+        if (fg) {
+            frame.foreground_color = element.color;
+            frame.foreground_coc = element.coc;
+            frame.foreground_premultiplied = 1;
+        }
+        const ddof_image_in matte = {f->matte, f->width, f->height, 2 * f->matte_ranks, 0};
+        st = ddof_render_frame_with_matte(c->ctx, &p, &frame, &matte, &out, &c->stats);
+    } else {
+        st = ddof_diffuse_layers(c->ctx, &p, &color, &coc, fg ? &element : NULL, &out,
+                                 &c->stats);
+    }
     if (st != DDOF_OK)
         snprintf(c->error, sizeof c->error, "%s: %s", ddof_status_string(st),
                  ddof_context_last_error(c->ctx));

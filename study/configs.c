@@ -15,9 +15,10 @@
 #include <string.h>
 
 /* After the layers' name: the far field's gather on (ddof_params.far_field AUTO), then the
- * silhouettes' split (ddof_params.silhouettes AUTO). */
+ * silhouettes' split (ddof_params.silhouettes AUTO), then the scene's object matte for it. */
 #define FAR_FIELD_SUFFIX "+ff"
 #define SILHOUETTES_SUFFIX "+sil"
+#define MATTE_SUFFIX "+matte"
 
 /* Strips `suffix` off the end of `token`; whether it was there. */
 static int strip_suffix(char *token, const char *suffix)
@@ -67,9 +68,9 @@ void study_config_make_id(study_config *cfg)
         snprintf(solver, sizeof solver, "jacobi%u", cfg->jacobi_iterations);
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
-    char ff[16];
-    snprintf(ff, sizeof ff, "%s%s", cfg->far_field ? FAR_FIELD_SUFFIX : "",
-             cfg->silhouettes ? SILHOUETTES_SUFFIX : "");
+    char ff[24];
+    snprintf(ff, sizeof ff, "%s%s%s", cfg->far_field ? FAR_FIELD_SUFFIX : "",
+             cfg->silhouettes ? SILHOUETTES_SUFFIX : "", cfg->matte ? MATTE_SUFFIX : "");
     if (cfg->kernel != DDOF_KERNEL_HEAT) { /* a disc has no sub-steps or k */
         snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/%s/%s%s", ddof_backend_name(cfg->backend),
                  solver, precision_token(cfg), ddof_kernel_name(cfg->kernel),
@@ -187,7 +188,10 @@ int study_config_parse(const char *id, study_config *out)
         return -1;
     out->beta_scale = k;
     found = 0;
+    out->matte = strip_suffix(parts[5], MATTE_SUFFIX);
     out->silhouettes = strip_suffix(parts[5], SILHOUETTES_SUFFIX);
+    if (out->matte && !out->silhouettes)
+        return -1; /* the matte serves the split only */
     out->far_field = strip_suffix(parts[5], FAR_FIELD_SUFFIX);
     for (int l = 0; l < LAYERS_COUNT_; l++)
         if (!strcmp(parts[5], layer_names[l])) {
@@ -227,9 +231,9 @@ void study_config_label(const study_config *cfg, char *out, size_t size)
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
     k_text(cfg->beta_scale, k, sizeof k);
-    char ff[40];
-    snprintf(ff, sizeof ff, "%s%s", cfg->far_field ? " + far field" : "",
-             cfg->silhouettes ? " + silhouettes" : "");
+    char ff[64];
+    snprintf(ff, sizeof ff, "%s%s%s", cfg->far_field ? " + far field" : "",
+             cfg->silhouettes ? " + silhouettes" : "", cfg->matte ? " + object matte" : "");
     if (cfg->kernel != DDOF_KERNEL_HEAT) {
         snprintf(out, size, "%s %s %s %s%s", ddof_backend_name(cfg->backend), solver,
                  ddof_kernel_name(cfg->kernel), study_layers_name(cfg->layers), ff);
@@ -323,9 +327,16 @@ static int add_far_field(study_config_list *list)
             c.layers = layers[l];
             static const uint32_t substeps[] = {1, 2, 4};
             static const float k_heat[] = {16, 24};
-            for (int split = 0; split < 2; split++) {
-                c.silhouettes = split;
-                const char *sweep = split ? "far field,silhouettes" : "far field";
+            /* 0: no split, 1: the colours' split, 2: the split by the scene's object matte
+             * (the AUTO layers only: what the presets can be). */
+            for (int split = 0; split < 3; split++) {
+                if (split == 2 && layers[l] != LAYERS_AUTO)
+                    continue;
+                c.silhouettes = split > 0;
+                c.matte = split == 2;
+                const char *sweep = split == 2   ? "far field,silhouettes,matte"
+                                    : split == 1 ? "far field,silhouettes"
+                                                 : "far field";
                 if (k != DDOF_KERNEL_HEAT) {
                     c.substeps = 1;
                     c.beta_scale = DDOF_MOMENT_BETA_SCALE;
@@ -451,8 +462,12 @@ int study_config_named(study_config_list *list, const char *name)
         study_config far = disc;
         far.far_field = 1;
         far.silhouettes = 1;
+        study_config matte = far;
+        matte.matte = 1;
         return study_config_add(list, &base, "base") | study_config_add(list, &disc, "kernel") |
-               study_config_add(list, &far, "far field") | add_baseline(list, "pinhole");
+               study_config_add(list, &far, "far field") |
+               study_config_add(list, &matte, "far field,silhouettes,matte") |
+               add_baseline(list, "pinhole");
     }
     if (!strcmp(name, "baselines"))
         return add_baseline(list, "pinhole") | add_baseline(list, "cod4") |

@@ -95,6 +95,7 @@ static cJSON *settings_json(const study_scene *scene, const study_config *cfg)
                                 cfg->kind == STUDY_DEFOCUS ? "blender" : "cpu");
     }
     cJSON_AddBoolToObject(r, "fg_element", fg);
+    cJSON_AddBoolToObject(r, "matte", cfg->matte);
     cJSON_AddBoolToObject(r, "rest_image", fg && cfg->layers == LAYERS_FG &&
                                                scene->small.rest_rgba != NULL);
     return r;

@@ -5,6 +5,7 @@
  *   camera.json        the camera sidecar
  *   fg.exr             optional: the near objects alone (premultiplied RGBA + Depth.Z)
  *   rest.exr           optional (with fg.exr): everything but the near objects, as pinhole.exr
+ *   matte.exr          optional: the pinhole render with its object matte (Cryptomatte)
  *   pinhole_1080.exr   optional: the pinhole render at 1920x1080, for timings
  *   defocus.exr/.json  optional: Blender's Defocus node on pinhole.exr, and its timing
  *   defocus_1080.json  optional: its timing at 1920x1080
@@ -253,6 +254,7 @@ static void frame_free(study_frame *f)
     free(f->fg_coc);
     free(f->rest_rgba);
     free(f->rest_coc);
+    free(f->matte);
     memset(f, 0, sizeof *f);
 }
 
@@ -362,6 +364,11 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         }
     }
 
+    snprintf(path, sizeof path, "%s/matte.exr", dir);
+    if (exists(path) && study_read_matte(path, s->small.width, s->small.height, &s->small.matte,
+                                         &s->small.matte_ranks, error, size) != 0)
+        goto failed;
+
     s->band = malloc(pixels);
     if (!s->band) {
         fail(error, size, "out of memory");
@@ -402,6 +409,15 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
         if (s->small.rest_rgba && upscale_layer(ctx, s, s->small.rest_rgba, rest_depth,
                                                 &L->rest_rgba, &L->rest_coc, error, size) != 0)
             goto failed;
+        /* The matte likewise: ids are copied, never blended. */
+        if (s->small.matte) {
+            L->matte_ranks = s->small.matte_ranks;
+            if (!(L->matte = resample(s->small.matte, s->small.width, s->small.height,
+                                      2 * L->matte_ranks, L->width, L->height))) {
+                fail(error, size, "out of memory");
+                goto failed;
+            }
+        }
     }
 
     for (int n = 0; n < STUDY_NODE_COUNT; n++)

@@ -64,6 +64,8 @@ typedef struct study_config {
     int node;                 /* STUDY_DEFOCUS: which Blender's node (study_node_names)        */
     int far_field;            /* the far field's gather (AUTO): "+ff" after the layers' name   */
     int silhouettes;          /* the mixed pixels' split (AUTO): "+sil" after that            */
+    int matte;                /* with silhouettes: the scene's object matte (matte.exr) for    */
+                              /* the split, "+matte" after "+sil"; an input, not a setting     */
 } study_config;
 
 typedef struct study_config_list {
@@ -105,6 +107,8 @@ typedef struct study_frame {
     float *rest_coc;      /* its CoC                                                             */
     int fg_resampled;     /* 1: fg and rest upscaled (nearest) from the small frame (no 1080p   */
                           /* renders of them): for timing only                                  */
+    float *matte;         /* matte.exr's Cryptomatte: matte_ranks interleaved (id, coverage)    */
+    uint32_t matte_ranks; /* pairs a pixel (0: no matte); at 1080p upscaled (nearest), timing   */
 } study_frame;
 
 /* One Blender's Defocus node on a scene. */
@@ -134,6 +138,11 @@ typedef struct study_scene {
 } study_scene;
 
 /* Loads the scene folder; on failure returns -1 with a message. ctx computes the CoC. */
+/* The object matte of matte.exr (width x height, as `ddof --matte auto` finds it): *ranks
+ * pairs of (id, coverage) a pixel into *pairs (malloc'd); 0, or -1 with error. */
+int study_read_matte(const char *path, uint32_t width, uint32_t height, float **pairs,
+                     uint32_t *ranks, char *error, size_t size);
+
 int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_scene *scene,
                      char *error, size_t size);
 void study_scene_free(study_scene *scene);

@@ -53,7 +53,8 @@ def config_name(c):
     solver = c.solver + ("%d" % c.jacobi if c.solver == "jacobi" else "")
     prec = {"packed half": " half", "double": " (double)"}.get(c.precision, "")
     layers = c.layers + (" + far field" if c.first.get("far_field", "off") != "off" else "") + \
-        (" + silhouettes" if c.first.get("silhouettes", "off") != "off" else "")
+        (" + silhouettes" if c.first.get("silhouettes", "off") != "off" else "") + \
+        (" + object matte" if c.first.get("matte") else "")
     if c.kernel != "heat":
         return "%s %s%s, %s, %s" % (c.backend, solver, prec, c.kernel, layers)
     return "%s %s%s, n=%s, k=%s, %s" % (c.backend, solver, prec, c.substeps, k_text(c.k),

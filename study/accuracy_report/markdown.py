@@ -270,6 +270,8 @@ def against_baselines_lines(study, chosen, args, rel):
     if fg_id in study.by_id and any(study.scenes[x].get("fg_element")
                                     for x in study.scene_order):
         cols.append((fg_id, "default + fg element"))
+    if d.id + "+matte" in study.by_id:
+        cols.append((d.id + "+matte", "default + object matte"))
     cols += [("cod4", "CoD4"), ("gather", "gather")] + [
         (cid, NODE_NAMES[cid].replace("Defocus node", "node")) for cid in NODE_IDS]
     cols = [(cid, name) for cid, name in cols if cid in study.by_id]
@@ -284,7 +286,10 @@ def against_baselines_lines(study, chosen, args, rel):
              "default preset's settings with the near layer off (the near spread instead); "
              "*default + fg element*: the default "
              "preset's settings with the scene's separately rendered foreground element over "
-             "the rest of the scene (scenes that have one; the others: near spread on)."
+             "the rest of the scene (scenes that have one; the others: near spread on); "
+             "*default + object matte*: the default preset's settings with the scene's "
+             "Cryptomatte (matte.exr: Blender's CryptoObject pass, 6 ranks) for the "
+             "silhouettes' split, `ddof --matte` (scenes that have one)."
              % (", ".join(study.with_smooth) or "none in these results"))
     L.append("")
     L.append("| scene | " + " | ".join(name for _, name in cols) + " | bar |")

@@ -85,6 +85,7 @@ class Config:
         self.substeps = first.get("substeps")
         self.k = first.get("beta_scale")
         self.layers = first.get("layers", "")
+        self.matte = bool(first.get("matte"))  # the scene's object matte: an input
         self.kernel = first.get("kernel", "heat")
         blurred = study.blurred
         self.available = all(per_scene.get(s, {}).get("available") for s in study.scene_order
@@ -145,6 +146,7 @@ class Config:
             return True
         if self.kind != "diffusion" or self.backend != "cpu":
             return False
-        if self.layers not in PRESET_LAYERS or self.precision not in ("float", "double"):
+        if self.layers not in PRESET_LAYERS or self.precision not in ("float", "double") or \
+                self.matte:
             return False
         return self.solver in PRESET_SOLVERS or (self.solver == "jacobi" and self.jacobi == 50)

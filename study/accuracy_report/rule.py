@@ -33,8 +33,8 @@ FINAL_MARGIN_DB = 1.0
 
 # Only settings a preset can hold and the CPU can run: ddof_params_init_preset sets method,
 # solver, substeps, beta_scale, background, background_levels, near_spread, near_layer,
-# far_field and silhouettes (Jacobi keeps its default 50 sweeps); no foreground element (that is
-# an input, not a setting).
+# far_field and silhouettes (Jacobi keeps its default 50 sweeps); no foreground element and no
+# object matte (those are inputs, not settings).
 PRESET_SOLVERS = {"thomas", "cr", "pcr", "reference"}
 PRESET_LAYERS = {"single", "bg", "bg2", "bgnear", "auto", "auto2", "autospread"}
 

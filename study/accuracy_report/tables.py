@@ -22,18 +22,23 @@ def silhouette_table(study, chosen):
     cols = [("pinhole", "pinhole")] + [(chosen[n].id, n) for n in PRESET_ORDER]
     if before != default.id:
         cols.append((before, "default without far field and split"))
+    if default.id + "+matte" in study.by_id:
+        cols.append((default.id + "+matte", "default + object matte"))
     cols += [(cid, NODE_NAMES[cid].replace("Defocus node", "node")) for cid in NODE_IDS]
     cols = [(cid, name) for cid, name in cols if cid in study.by_id]
     L = ["The silhouette band (issue 29: the pixels within %g px of an in-focus pixel that "
          "borders one with |CoC| >= %g px, `study_silhouettes` in `study/metrics.c`: where the "
-         "mixed pixels of thin sharp structure are), PSNR in dB:" % (2, 2), "",
+         "mixed pixels of thin sharp structure are), PSNR in dB; *default + object matte*: "
+         "the default with the scene's Cryptomatte for the split (`ddof --matte`), – on a "
+         "scene without one:" % (2, 2), "",
          "| scene | share | " + " | ".join(name for _, name in cols) + " |",
          "|---|---:|" + "---:|" * len(cols)]
     for sc in study.with_silhouette:
         share = 100.0 * study.scenes[sc]["silhouette_pixels"] / (
             study.scenes[sc]["width"] * study.scenes[sc]["height"])
         L.append("| %s | %.1f%% | %s |" % (sc, share, " | ".join(
-            fmt(study.by_id[cid].silhouette[sc]) for cid, _ in cols)))
+            fmt(study.by_id[cid].silhouette[sc]) if study.by_id[cid].per.get(sc, {}).get(
+                "available") else "–" for cid, _ in cols)))
     L.append("")
     return L
 

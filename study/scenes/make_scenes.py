@@ -4,7 +4,8 @@
     blender -b --factory-startup --python-exit-code 1 --python study/scenes/make_scenes.py -- \
         --out DIR [--scenes a,b,...] [--size WxH] [--samples-pinhole N] [--samples-truth N] \
         [--samples-1080 N] [--no-1080] [--smoke] [--force] [--seed N] \
-        [--only pinhole,truth,fg,rest,1080] [--threads N] [--aperture B,R,A] [--adopt] [--verbose]
+        [--only pinhole,truth,fg,rest,matte,1080] [--threads N] [--aperture B,R,A] [--adopt] \
+        [--verbose]
 
 For each scene, into DIR/<scene>/:
   pinhole.exr        the input ddof gets: Blender multilayer EXR, ViewLayer.Combined.R/G/B/A
@@ -18,6 +19,9 @@ For each scene, into DIR/<scene>/:
                      in the layout of pinhole.exr: `ddof pinhole.exr --foreground fg.exr`;
   rest.exr           scenes with near objects only: the complement of fg.exr, everything but
                      the near objects (what lies behind them), layout of pinhole.exr;
+  matte.exr          the pinhole render with Blender's object matte beside it (Cryptomatte:
+                     ViewLayer.CryptoObject00-02.r/g/b/a, 6 ranks of id and coverage, float;
+                     its Combined pass is pinhole.exr's), for `ddof --matte`;
   pinhole_1080.exr   the pinhole render at 1920x1080 with few samples (for timings), and
   camera_1080.json   its sidecar (the same camera, resolution [1920, 1080]);
   render.json        what was rendered with which settings, and how long each render took.
@@ -67,7 +71,7 @@ def parse_args():
         "make_scenes.py",
         {"out": None, "scenes": ",".join(SCENE_NAMES), "size": "480x270",
          "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
-         "seed": "1", "only": "pinhole,truth,fg,rest,1080", "threads": "2",
+         "seed": "1", "only": "pinhole,truth,fg,rest,matte,1080", "threads": "2",
          "aperture": "0,0,1"},
         {"no-1080", "smoke", "force", "verbose", "adopt"}, required=("out",))
     if args["smoke"]:
@@ -149,7 +153,7 @@ def make_scene(args, name, tag):
 
     for (fname, kind, w, h, samples), key in todo:
         label = {"pinhole": "pinhole", "truth": "truth", "fg": "foreground element",
-                 "rest": "rest (no near objects)"}[kind]
+                 "rest": "rest (no near objects)", "matte": "pinhole with the object matte"}[kind]
         print("%s: %s %dx%d, %d samples ... " % (tag, label, w, h, samples), end="",
               flush=True)
         seconds = render_output(scene, args, cam, near, os.path.join(out, fname), kind, w, h,

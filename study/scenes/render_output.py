@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Rendering one output of a study scene: the pinhole input (multilayer, with depth), the lens
-truth, the near objects alone (fg) or everything but them (rest), with Cycles settings that make
+truth, the near objects alone (fg) or everything but them (rest), the pinhole with the object
+matte (Cryptomatte) beside it, with Cycles settings that make
 the render deterministic and noise-free but for the lens and the pixel footprint."""
 
 import bpy
@@ -9,7 +10,7 @@ from camera import add_camera
 from script_util import film_and_file, render_to
 
 
-def configure(scene, args, width, height, samples, multilayer, transparent=False):
+def configure(scene, args, width, height, samples, multilayer, transparent=False, matte=False):
     scene.render.engine = "CYCLES"
     cycles = scene.cycles
     cycles.device = "CPU"
@@ -25,6 +26,11 @@ def configure(scene, args, width, height, samples, multilayer, transparent=False
     cycles.transparent_max_bounces = 0
     cycles.caustics_reflective = cycles.caustics_refractive = False
     film_and_file(scene, width, height, args["threads"], multilayer, transparent)
+    # The object matte as Blender writes it by default (6 ranks: CryptoObject00-02, 32-bit
+    # float whatever the file's depth); it leaves the Combined pass as it is.
+    layer = scene.view_layers[0]
+    layer.use_pass_cryptomatte_object = matte
+    layer.pass_cryptomatte_depth = 6
 
 
 def render_output(scene, args, cam, near, path, kind, width, height, samples):
@@ -37,5 +43,5 @@ def render_output(scene, args, cam, near, path, kind, width, height, samples):
         bpy.data.objects.remove(scene.camera, do_unlink=True)
     add_camera(scene, cam, lens_dof=(kind == "truth"), aperture=args["aperture_set"])
     configure(scene, args, width, height, samples, multilayer=(kind != "truth"),
-              transparent=(kind == "fg"))
+              transparent=(kind == "fg"), matte=(kind == "matte"))
     return render_to(scene, path, args["verbose"], "make_scenes.py")

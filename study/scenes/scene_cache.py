@@ -31,6 +31,8 @@ def plan_outputs(args, name, has_near):
         plan.append(("fg.exr", "fg", w, h, sp))
     if has_near and "rest" in want:
         plan.append(("rest.exr", "rest", w, h, sp))
+    if "matte" in want:
+        plan.append(("matte.exr", "matte", w, h, sp))
     if "1080" in want:
         plan.append(("pinhole_1080.exr", "pinhole", 1920, 1080, int(args["samples-1080"])))
     return plan

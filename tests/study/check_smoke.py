@@ -43,6 +43,17 @@ if base and pinhole:
           "Thomas agrees with the double-precision solve (%s dB)" % base.get("ref_psnr"))
     check(base.get("host_bytes", 0) > 0, "memory is reported")
 
+# The split by the scene's object matte (matte.exr, rendered for the smoke scene too): measured,
+# an input rather than a setting (never a preset), and its id parses back.
+far, matte = (res.get("cpu/thomas/f32/disc-2x2/auto+ff+sil" + s) for s in ("", "+matte"))
+check(far is not None and matte is not None and matte.get("available") and
+      matte.get("matte") is True and far.get("matte") is False,
+      "the split with and without the scene's object matte were measured")
+if far and matte and matte.get("available"):
+    check(isinstance(matte.get("psnr"), (int, float)) and
+          matte["psnr"] > pinhole["psnr"] + 1.0,
+          "the matte's result beats the pinhole (%s dB)" % matte.get("psnr"))
+
 md = os.path.join(out, "accuracy.md")
 check(os.path.isfile(md), "report %s" % md)
 if os.path.isfile(md):

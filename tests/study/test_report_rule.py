@@ -114,6 +114,19 @@ check("| a | 30.00 (4.2) | 28.00 (4.2) |" in text, "bar row of scene a")
 check("/ 45.00" not in text or "/ 50.00" in text, "smooth column shows the best node's")
 check("No candidate" not in text, "no 'no candidate' note when the rules are met")
 
+# The default's settings with the scenes' object matte, faster and more accurate than all: an
+# input, never a preset; the per-scene tables show it as the default's column.
+with_matte = lines + [result("cpu/thomas/f32/disc-2x2/auto+matte", sc, p + 3.0, b + 3.0, 500.0,
+                             smooth=p + 10, base=dict(diffusion("m", "disc-2x2"), matte=True))
+                      for sc, (p, b) in zip(SC, configs["cpu/thomas/f32/disc-2x2/auto"][0])]
+chosen, study, text = run(with_matte)
+check(all(not c.id.endswith("+matte") for c in chosen.values()),
+      "a configuration with the object matte is never a preset (%s)"
+      % [c.id for c in chosen.values()])
+check("default + object matte" in text and "| a | 15.00 / 14.00 / 20.00 |" in text,
+      "the per-scene table has the default's object-matte column")
+check("34.20 / 32.00" in text, "the matte column holds its result on scene a")
+
 # Nothing meets the bar or the margin: the report must say so.
 for line in lines:
     if line.get("type") == "result" and line["id"].startswith("cpu/") and line["scene"] == "b":
