@@ -19,10 +19,12 @@ def at(cam, u, v, dist):
     return (u * half_w, dist, cam["height"] + v * half_h)
 
 
-def add_camera(scene, cam, lens_dof, aperture=(0, 0.0, 1.0)):
+def add_camera(scene, cam, lens_dof, aperture=(0, 0.0, 1.0), sensor_mm=SENSOR_MM):
+    """The scene's camera; sensor_mm wider than SENSOR_MM for an overscanned render (the frame
+    grown by a margin at the same pixel pitch: overscan_sensor_mm)."""
     data = bpy.data.cameras.new("Camera")
     data.lens = cam["focal_mm"]
-    data.sensor_width = SENSOR_MM
+    data.sensor_width = sensor_mm
     data.sensor_fit = "AUTO"
     data.clip_start = 0.05
     data.clip_end = 1000.0
@@ -40,10 +42,16 @@ def add_camera(scene, cam, lens_dof, aperture=(0, 0.0, 1.0)):
     return obj
 
 
-def camera_sidecar(cam, width, height, aperture=(0, 0.0, 1.0)):
+def overscan_sensor_mm(width, margin):
+    """The sensor width that keeps the pixel pitch of a width-pixel frame (landscape, AUTO fit:
+    the sensor spans the width) when margin pixels are rendered on each side."""
+    return SENSOR_MM * (width + 2 * margin) / width
+
+
+def camera_sidecar(cam, width, height, aperture=(0, 0.0, 1.0), sensor_mm=SENSOR_MM):
     sidecar = {
         "focal_length_mm": cam["focal_mm"],
-        "sensor_width_mm": SENSOR_MM,
+        "sensor_width_mm": sensor_mm,
         "sensor_fit": "AUTO",
         "fstop": cam["fstop"],
         "focus_distance_m": cam["focus_m"],

@@ -4,8 +4,8 @@
     blender -b --factory-startup --python-exit-code 1 --python study/scenes/make_scenes.py -- \
         --out DIR [--scenes a,b,...] [--size WxH] [--samples-pinhole N] [--samples-truth N] \
         [--samples-1080 N] [--no-1080] [--smoke] [--force] [--seed N] \
-        [--only pinhole,truth,fg,rest,matte,1080] [--threads N] [--aperture B,R,A] [--adopt] \
-        [--verbose]
+        [--only pinhole,truth,fg,rest,matte,1080] [--threads N] [--aperture B,R,A] \
+        [--overscan PX] [--adopt] [--verbose]
 
 For each scene, into DIR/<scene>/:
   pinhole.exr        the input ddof gets: Blender multilayer EXR, ViewLayer.Combined.R/G/B/A
@@ -59,7 +59,7 @@ import time
 import bpy
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-from camera import camera_sidecar, coc_px  # noqa: E402
+from camera import camera_sidecar, coc_px, overscan_sensor_mm  # noqa: E402
 from render_output import render_output  # noqa: E402
 from scene_builders import BUILDERS, SCENE_NAMES  # noqa: E402
 from scene_cache import code_fingerprint, output_key, plan_outputs, up_to_date  # noqa: E402
@@ -72,7 +72,7 @@ def parse_args():
         {"out": None, "scenes": ",".join(SCENE_NAMES), "size": "480x270",
          "samples-pinhole": "256", "samples-truth": None, "samples-1080": "16",
          "seed": "1", "only": "pinhole,truth,fg,rest,matte,1080", "threads": "2",
-         "aperture": "0,0,1"},
+         "aperture": "0,0,1", "overscan": "0"},
         {"no-1080", "smoke", "force", "verbose", "adopt"}, required=("out",))
     if args["smoke"]:
         args.update({"scenes": "thin_bars", "size": "96x54", "samples-pinhole": "4",
@@ -89,6 +89,10 @@ def parse_args():
     args["only_set"] = set(args["only"].split(","))
     if args["no-1080"]:
         args["only_set"].discard("1080")
+    args["overscan_px"] = int(args["overscan"])
+    if args["overscan_px"] and ("1080" in args["only_set"] or w < h):
+        raise SystemExit("make_scenes.py: --overscan grows the scenes' own (landscape) frame: "
+                         "add --no-1080")
     return args
 
 
@@ -108,9 +112,16 @@ def read_manifest(path):
     return manifest
 
 
+def frame_sidecar(cam, args):
+    """camera.json of the renders at the scenes' own size: with --overscan, of the grown frame
+    (its resolution and its wider sensor, the same pixel pitch)."""
+    m = args["overscan_px"]
+    return camera_sidecar(cam, args["width"] + 2 * m, args["height"] + 2 * m,
+                          args["aperture_set"], overscan_sensor_mm(args["width"], m))
+
+
 def write_sidecars(out, args, cam):
-    write_json(os.path.join(out, "camera.json"),
-               camera_sidecar(cam, args["width"], args["height"], args["aperture_set"]))
+    write_json(os.path.join(out, "camera.json"), frame_sidecar(cam, args))
     if "1080" in args["only_set"]:
         # The same camera with the 1080p frame's resolution (ddof warns when a sidecar's
         # resolution is not the frame's).
@@ -143,7 +154,7 @@ def make_scene(args, name, tag):
     manifest.update({
         "scene": name,
         "doc": BUILDERS[name].__doc__,
-        "camera": camera_sidecar(cam, args["width"], args["height"], args["aperture_set"]),
+        "camera": frame_sidecar(cam, args),
         "near_objects": near,
         "max_coc_px_at_infinity": round(coc_px(cam, 1e10, args["width"]), 2),
         "threads": int(args["threads"]),
@@ -154,10 +165,11 @@ def make_scene(args, name, tag):
     for (fname, kind, w, h, samples), key in todo:
         label = {"pinhole": "pinhole", "truth": "truth", "fg": "foreground element",
                  "rest": "rest (no near objects)", "matte": "pinhole with the object matte"}[kind]
-        print("%s: %s %dx%d, %d samples ... " % (tag, label, w, h, samples), end="",
-              flush=True)
+        margin = args["overscan_px"] if (w, h) == (args["width"], args["height"]) else 0
+        print("%s: %s %dx%d, %d samples ... " % (tag, label, w + 2 * margin, h + 2 * margin,
+                                                 samples), end="", flush=True)
         seconds = render_output(scene, args, cam, near, os.path.join(out, fname), kind, w, h,
-                                samples)
+                                samples, margin)
         print("%.1f s" % seconds, flush=True)
         key["seconds"] = round(seconds, 2)
         key["threads"] = int(args["threads"])

@@ -6,7 +6,7 @@ the render deterministic and noise-free but for the lens and the pixel footprint
 
 import bpy
 
-from camera import add_camera
+from camera import add_camera, overscan_sensor_mm
 from script_util import film_and_file, render_to
 
 
@@ -33,15 +33,18 @@ def configure(scene, args, width, height, samples, multilayer, transparent=False
     layer.pass_cryptomatte_depth = 6
 
 
-def render_output(scene, args, cam, near, path, kind, width, height, samples):
-    """Renders the built scene's output of this kind into path; returns the seconds it took."""
+def render_output(scene, args, cam, near, path, kind, width, height, samples, margin=0):
+    """Renders the built scene's output of this kind into path; returns the seconds it took.
+    margin: pixels rendered beyond each side of the width x height frame (overscan: the
+    sensor grows with them, the pixel pitch stays)."""
     for obj in scene.objects:
         if obj.type == "MESH":
             obj.visible_camera = (obj.name in near) if kind == "fg" else \
                 (obj.name not in near) if kind == "rest" else True
     if scene.camera is not None:
         bpy.data.objects.remove(scene.camera, do_unlink=True)
-    add_camera(scene, cam, lens_dof=(kind == "truth"), aperture=args["aperture_set"])
-    configure(scene, args, width, height, samples, multilayer=(kind != "truth"),
+    add_camera(scene, cam, lens_dof=(kind == "truth"), aperture=args["aperture_set"],
+               sensor_mm=overscan_sensor_mm(width, margin))
+    configure(scene, args, width + 2 * margin, height + 2 * margin, samples, multilayer=(kind != "truth"),
               transparent=(kind == "fg"), matte=(kind == "matte"))
     return render_to(scene, path, args["verbose"], "make_scenes.py")

@@ -68,8 +68,11 @@ def output_key(args, entry, blender, code):
     """What render.json records of an output: its kind, size, samples, seed, Blender version,
     aperture and code fingerprint (and, once rendered, its time and threads)."""
     fname, kind, w, h, samples = entry
-    return {"kind": kind, "size": [w, h], "samples": samples, "seed": int(args["seed"]),
-            "blender": blender, "aperture": list(args["aperture_set"]), "code": code}
+    key = {"kind": kind, "size": [w, h], "samples": samples, "seed": int(args["seed"]),
+           "blender": blender, "aperture": list(args["aperture_set"]), "code": code}
+    if args.get("overscan_px"):  # absent at 0: the renders recorded before it stay valid
+        key["overscan_px"] = args["overscan_px"]
+    return key
 
 
 def up_to_date(args, recorded, path, key):
@@ -79,4 +82,5 @@ def up_to_date(args, recorded, path, key):
     if args["adopt"]:
         recorded = dict(recorded, code=key["code"])
     return (not args["force"] and os.path.exists(path) and
-            all(recorded.get(k) == v for k, v in key.items()))
+            all(recorded.get(k) == v for k, v in key.items()) and
+            recorded.get("overscan_px", 0) == key.get("overscan_px", 0))
