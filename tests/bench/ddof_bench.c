@@ -37,6 +37,7 @@ typedef struct bench {
     float *coc_sharp, *coc_half; /* all in focus; top half in focus, bottom half 2 px   */
     float *coc_sub;              /* sub-pixel everywhere (0 to 0.18 px): in focus        */
     float *fg_color, *fg_coc;    /* a foreground element: a disc, alpha 1, CoC 30 px   */
+    float *matte;                /* the scene's object matte: (id, coverage) x 2 ranks   */
 } bench;
 
 static double now(void)
@@ -84,10 +85,35 @@ typedef struct run_config {
     ddof_kernel kernel;
     int whole_preset; /* the default preset as it is (its kernel and sub-steps), layered */
     int far_field_off, silhouettes_off; /* a whole preset without that pass */
+    int matte;                          /* with the scene's object matte (the frame call) */
 } run_config;
 
-static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0};
-static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1, 0, 0};
+static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
+static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1, 0, 0, 0};
+
+/* One call of the configuration. */
+static ddof_status run_once(const bench *b, ddof_context *context, const ddof_params *params,
+                            const float *coc, run_config config, ddof_stats *stats)
+{
+    ddof_image_in color = {b->color, b->width, b->height, 4, 0};
+    ddof_image_in coc_image = {coc, b->width, b->height, 1, 0};
+    ddof_image out = {b->out, b->width, b->height, 4, 0};
+    if (config.matte) {
+        ddof_frame frame;
+        ddof_frame_init(&frame);
+        frame.color = color;
+        frame.coc = coc_image;
+        const ddof_image_in matte = {b->matte, b->width, b->height, 4, 0};
+        return ddof_render_frame_with_matte(context, params, &frame, &matte, &out, stats);
+    }
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){b->fg_color, b->width, b->height, 4, 0};
+    fg.coc = (ddof_image_in){b->fg_coc, b->width, b->height, 1, 0};
+    return config.layered ? ddof_diffuse_layers(context, params, &color, &coc_image,
+                                                config.foreground ? &fg : NULL, &out, stats)
+                          : ddof_diffuse(context, params, &color, &coc_image, &out, stats);
+}
 
 /* Median seconds of one call; exits on error (a benchmark has nothing to hide). */
 static double time_config(const bench *b, ddof_context *context, ddof_solver solver,
@@ -112,21 +138,11 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
         params.silhouettes = DDOF_LAYER_OFF;
     params.solver = solver;
     params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
-    ddof_image_in color = {b->color, b->width, b->height, 4, 0};
-    ddof_image_in coc_image = {coc, b->width, b->height, 1, 0};
-    ddof_image out = {b->out, b->width, b->height, 4, 0};
-    ddof_foreground fg;
-    ddof_foreground_init(&fg);
-    fg.color = (ddof_image_in){b->fg_color, b->width, b->height, 4, 0};
-    fg.coc = (ddof_image_in){b->fg_coc, b->width, b->height, 1, 0};
     double t[64];
     for (uint32_t i = 0; i <= b->reps; i++) {
         ddof_stats stats = {.struct_size = sizeof stats};
         double t0 = now();
-        ddof_status status =
-            config.layered ? ddof_diffuse_layers(context, &params, &color, &coc_image,
-                                                 config.foreground ? &fg : NULL, &out, &stats)
-                           : ddof_diffuse(context, &params, &color, &coc_image, &out, &stats);
+        ddof_status status = run_once(b, context, &params, coc, config, &stats);
         double seconds = now() - t0;
         last_device_bytes = stats.device_bytes;
         if (status == DDOF_ERROR_UNSUPPORTED)
@@ -176,8 +192,9 @@ static void make_scene(bench *b)
     b->coc_sub = malloc(pixels * sizeof(float));
     b->fg_color = malloc(pixels * 4 * sizeof(float));
     b->fg_coc = malloc(pixels * sizeof(float));
+    b->matte = malloc(pixels * 4 * sizeof(float));
     if (!b->color || !b->out || !b->coc_scene || !b->coc_2 || !b->coc_200 || !b->coc_sharp ||
-        !b->coc_half || !b->coc_sub || !b->fg_color || !b->fg_coc) {
+        !b->coc_half || !b->coc_sub || !b->fg_color || !b->fg_coc || !b->matte) {
         fprintf(stderr, "ddof-bench: out of memory\n");
         exit(1);
     }
@@ -194,6 +211,12 @@ static void make_scene(bench *b)
                                        : (v > 0.6f ? 25.0f * (v - 0.6f) / 0.4f : 0.0f);
             const int in_object = u > 0.45f && u < 0.55f && v > 0.2f && v < 0.8f;
             b->coc_scene[i] = in_object ? 0.0f : depth_coc;
+            /* The matte: the object whole or the wall whole (ids are bit patterns). */
+            const uint32_t ids[2] = {in_object ? 1u : 2u, in_object ? 2u : 1u};
+            memcpy(&b->matte[4 * i], &ids[0], sizeof ids[0]);
+            memcpy(&b->matte[4 * i + 2], &ids[1], sizeof ids[1]);
+            b->matte[4 * i + 1] = 1.0f;
+            b->matte[4 * i + 3] = 0.0f;
             b->coc_2[i] = 2.0f;
             b->coc_200[i] = 200.0f;
             b->coc_half[i] = v < 0.5f ? 0.0f : 2.0f;
@@ -222,6 +245,10 @@ static void bench_passes(const bench *b, ddof_context *all)
     printf("default_frame_ms %.3f\n", 1e3 * frame);
     printf("default_frame_vs_far_field_off %.3f\n", frame / far_off);
     printf("default_frame_vs_silhouettes_off %.3f\n", frame / split_off);
+    run_config with_matte = default_frame;
+    with_matte.matte = 1;
+    const double matte = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_scene, with_matte);
+    printf("matte_frame_vs_silhouettes_off %.3f\n", matte / split_off);
     const double flat = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, default_frame);
     const double flat_split_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, no_split);
     const double flat_far_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, no_far);
@@ -240,7 +267,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
     ddof_params defaults;
     ddof_params_init(&defaults);
     const run_config heat = single_layer;
-    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0};
+    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0, 0};
     const run_config kernels[2] = {heat, disc};
     const char *names[2] = {"heat", "disc_default"};
     double scene[2];
@@ -260,7 +287,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
         fflush(stdout);
     }
     printf("speed_disc_default_vs_heat %.3f\n", scene[1] / scene[0]);
-    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0};
+    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0, 0};
     const double sub_layers = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, planned);
     const double sub_single = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, disc);
     printf("speed_sub_pixel_layers_ms %.3f\n", 1e3 * sub_layers);
@@ -305,8 +332,8 @@ static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddo
 {
     const double heat = time_diffuse(b, all, DDOF_SOLVER_THOMAS, b->coc_scene);
     for (int k = 1; k < DDOF_KERNEL_COUNT_; k++) {
-        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0};
-        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0};
+        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0, 0};
+        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0, 0};
         char name[32];
         snprintf(name, sizeof name, "%s", ddof_kernel_name((ddof_kernel)k));
         name[4] = '_'; /* disc_2x2: one token */
@@ -474,9 +501,9 @@ int main(int argc, char **argv)
     if (!strcmp(only, "all") || !strcmp(only, "layers")) {
         bench_passes(&b, all);
         /* Layers and the planner, Thomas, all threads. */
-        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0, 0, 0};
-        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0, 0, 0};
-        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0};
+        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
+        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
+        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
         const double single = time_diffuse(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene);
         const double bg = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, background);
         const double layers3 = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, three);
@@ -514,5 +541,6 @@ int main(int argc, char **argv)
     free(b.coc_sub);
     free(b.fg_color);
     free(b.fg_coc);
+    free(b.matte);
     return 0;
 }
