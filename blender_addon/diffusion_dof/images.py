@@ -59,13 +59,18 @@ def forget_spent_images():
     _spent.clear()
 
 
-def read_exr(path):
-    """Loads a file the File Output node wrote, raw (no colour transform); None if missing."""
+def read_exr(path, exact=False):
+    """Loads a file the File Output node wrote, raw (no colour transform); None if missing.
+    exact: every float as written, bit for bit (Cryptomatte's ids): as data (Non-Color) and
+    with its alpha channel packed (never premultiplied or unpremultiplied)."""
     if not os.path.isfile(path):
         return None
     image = bpy.data.images.load(path, check_existing=False)
     try:
         image.colorspace_settings.is_data = True
+        if exact:  # set before the pixels are read: they load on first use
+            image.colorspace_settings.name = "Non-Color"
+            image.alpha_mode = "CHANNEL_PACKED"
         return read_image(image)
     finally:
         retire_image(image)
