@@ -10,7 +10,8 @@ Scene: a strand (a bar 6 mm wide, about 0.75 px) in focus at 3 m before a checke
   are Cryptomatte's hashes of the objects' names; the result equals the library's on the kept
   colour and depth with that matte, and differs from the matte-off result on the strand's edge.
 - Object Matte Off, and Auto without the pass: ddof_render_frame, bit for bit the same result.
-- Overscan (the grown frame's matte) and a foreground collection take the matte too.
+- Re-apply of the kept inputs takes the kept matte (the render's result bit for bit); overscan
+  (the grown frame's matte) and a foreground collection take the matte too.
 - The main File Output node keeps Combined and Depth only; turning Diffusion DOF off removes
   the matte's node.
 With DDOF_MATTE_TRUTH=1 it also renders Cycles' lens DOF (1024 samples) and prints the PSNR of
@@ -245,6 +246,12 @@ if matte is not None:
     print("matte auto vs the library with the matte: largest difference %.3g" % worst)
     checks.check(worst <= 1e-6, "matte auto: the result differs from the library's with the "
                  "matte by %.3g" % worst)
+
+# Re-apply of the kept inputs takes the kept matte: the render's result bit for bit.
+bpy.ops.diffusion_dof.apply_images(color=addon.images.INPUT_IMAGE,
+                                   depth=addon.images.DEPTH_IMAGE, output="Re-applied")
+reapplied = u.pixels(bpy.data.images["Re-applied"])
+checks.check(bits(reapplied) == bits(on), "Re-apply: not the render's result with the matte")
 
 # Object Matte Off: today's call, today's result.
 s.object_matte = "OFF"
