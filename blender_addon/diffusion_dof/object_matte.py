@@ -5,11 +5,11 @@ Blender writes a view layer's CryptoObject pass as sub-layers CryptoObject00, 01
 sub-layer k holds ranks 2k and 2k + 1 as (r, g) = (id, coverage) and (b, a) = (id, coverage),
 the id a float whose bits name the object (compared bit for bit), the ranks by coverage, most
 first. ddof_render_frame_with_matte takes per pixel 2 * ranks channels, interleaved: so a
-pixel's channels are its sub-layers' RGBA one after the other. The floats are copied as they
-are (array slices copy the 4 bytes of each: never through a Python float).
+pixel's channels are its sub-layers' RGBA one after the other. The floats are copied as 32-bit
+words (numpy, which Blender bundles, over uint32 views): never through a float operation.
 """
 
-import array
+import numpy as np
 
 if __package__:
     from . import ddof_abi as abi
@@ -33,19 +33,18 @@ def slots(count):
 
 
 def pack(layers, pixel_count):
-    """(buffer, channels): the sub-layers' RGBA buffers (array('f') of pixel_count * 4 each, in
-    order) interleaved per pixel into one array('f') of pixel_count * 4 * len(layers), so that
-    pixel p's channels 4k .. 4k + 3 are sub-layer k's r, g, b, a (ranks 2k and 2k + 1 as (id,
-    coverage)). The bits of every float are kept. Raises ValueError on a buffer of another
-    size or without layers."""
+    """(buffer, channels): the sub-layers' RGBA buffers (float32 buffers of pixel_count * 4
+    each, in order) interleaved per pixel into one float32 array of pixel_count * 4 *
+    len(layers), so that pixel p's channels 4k .. 4k + 3 are sub-layer k's r, g, b, a (ranks 2k
+    and 2k + 1 as (id, coverage)). The bits of every float are kept. Raises ValueError on a
+    buffer of another size or without layers."""
     if not layers:
         raise ValueError("an object matte needs at least one sub-layer")
-    channels = 4 * len(layers)
-    out = array.array("f", bytes(4 * pixel_count * channels))
+    words = []
     for k, layer in enumerate(layers):
         if len(layer) != 4 * pixel_count:
             raise ValueError("sub-layer %d of the object matte has %d values, not %d"
                              % (k, len(layer), 4 * pixel_count))
-        for c in range(4):
-            out[4 * k + c::channels] = layer[c::4]
-    return out, channels
+        words.append(np.frombuffer(layer, dtype=np.uint32).reshape(pixel_count, 4))
+    out = np.concatenate(words, axis=1).view(np.float32).ravel()
+    return out, 4 * len(layers)

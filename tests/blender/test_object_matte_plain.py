@@ -1,12 +1,13 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The add-on's object matte packing (object_matte.py), from a plain python3: Cryptomatte's
+"""The add-on's object matte packing (object_matte.py), without bpy: Cryptomatte's
 sub-layers (CryptoObject00, 01, ...: r, g, b, a = id, coverage, id, coverage of ranks 2k and
 2k + 1) become per pixel 2 * ranks interleaved channels in rank order, every float's bits kept
 (ids whose bits are a NaN's, a denormal's, a negative zero's or the largest exponent's are still
 ids); sub-layers of another size are refused; the sub-layer count of a Cryptomatte depth is
 capped at the library's 16 ranks.
 
-    python3 test_object_matte_plain.py
+    python3 test_object_matte_plain.py      (a python3 with numpy, or Blender's Python:
+    blender -b --python test_object_matte_plain.py)
 """
 
 import array
