@@ -154,6 +154,13 @@ class Library:
             fn.restype = restype
             fn.argtypes = argtypes
         self._dll = dll
+        # Experimental calls may change between minor versions: only the binding's own.
+        same_minor = abi.version_tuple(self.version_number)[:2] == abi.BINDING_VERSION
+        for name, (restype, argtypes) in abi.EXPERIMENTAL_PROTOTYPES.items():
+            if same_minor and hasattr(dll, name):
+                fn = getattr(dll, name)
+                fn.restype, fn.argtypes = restype, argtypes
+        self.has_matte = same_minor and hasattr(dll, "ddof_render_frame_with_matte")
 
     # -- small wrappers ----------------------------------------------------------------------
 
@@ -289,12 +296,12 @@ class Library:
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
                        camera, params=None, threads=0, foreground=None, preset=None,
-                       backend="cpu", plugin_path=None, cancel=None):
+                       backend="cpu", plugin_path=None, cancel=None, matte=None):
         """One frame with a context of its own: Session.depth_of_field (see there)."""
         with self.session(threads, backend, plugin_path) as session:
             return session.depth_of_field(width, height, color, color_channels, depth,
                                           depth_channels, camera, params, foreground, preset,
-                                          cancel)
+                                          cancel, matte=matte)
 
     def make_camera(self, camera):
         """A ddof_camera from a dict of its fields (lens_model, sensor_fit as names)."""
@@ -359,7 +366,7 @@ class Session:
 
     def depth_of_field(self, width, height, color, color_channels, depth, depth_channels,
                        camera, params=None, foreground=None, preset=None, cancel=None,
-                       window=None):
+                       window=None, matte=None):
         """Diffusion depth of field of one frame, in one ddof_render_frame call.
 
         color, depth: array.array('f') of width * height * channels floats (the depth's first
@@ -372,7 +379,10 @@ class Session:
         the call then raises Cancelled. window: None, or (x, y, frame width, frame height): the
         buffers are frames of that size and the call covers their width x height pixels at
         (x, y), read and written through the library's row stride; out is then the colour
-        frame with the window's result in it.
+        frame with the window's result in it. matte: None (ddof_render_frame), or (buffer,
+        channels) of the same size: per pixel channels / 2 ranks of (id, coverage) interleaved,
+        Cryptomatte's ids bit for bit (ddof_render_frame_with_matte, experimental: used only
+        with a library of the binding's own minor version, Library.has_matte; else ignored).
         Returns (out, stats): out an array.array('f') like color, stats a dict of ddof_stats
         plus 'backend_name', 'renderer', 'hardware', 'backend_note', 'method_name'. Raises
         DdofError with the library's message on bad input or combinations it refuses.
@@ -410,11 +420,29 @@ class Session:
         out_img = _window_image(abi.Image, out, width, height, color_channels, window)
         stats = abi.Stats()
         stats.struct_size = ctypes.sizeof(abi.Stats)
-        status = self._dll.ddof_render_frame(self._ctx, ctypes.byref(p), ctypes.byref(frame),
-                                             ctypes.byref(out_img), ctypes.byref(stats))
+        matte_img = self._matte_image(matte, width, height, count, window)
+        if matte_img is None:
+            status = self._dll.ddof_render_frame(self._ctx, ctypes.byref(p), ctypes.byref(frame),
+                                                 ctypes.byref(out_img), ctypes.byref(stats))
+        else:
+            status = self._dll.ddof_render_frame_with_matte(
+                self._ctx, ctypes.byref(p), ctypes.byref(frame), ctypes.byref(matte_img),
+                ctypes.byref(out_img), ctypes.byref(stats))
         del callback
         self.library._check(self._ctx, status, "depth of field")
-        return out, self._stats_dict(stats)
+        result = self._stats_dict(stats)
+        result["matte_ranks"] = 0 if matte_img is None else matte_img.channels // 2
+        return out, result
+
+    def _matte_image(self, matte, width, height, count, window):
+        """The ddof_image_in of a (buffer, channels) matte, or None (no matte, or a library
+        without the experimental call of this binding's version)."""
+        if matte is None or not self.library.has_matte:
+            return None
+        buf, channels = matte
+        if len(buf) != count * channels:
+            raise ValueError("the matte buffer does not match %dx%d" % (width, height))
+        return _window_image(abi.ImageIn, buf, width, height, channels, window)
 
     def render_cards(self, width, height, camera, cards, strips=None):
         """Cards (docs/cards.md) seen through `camera` (a dict, Library.make_camera) into a

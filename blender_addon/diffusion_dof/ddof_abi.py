@@ -321,6 +321,18 @@ PROTOTYPES = {
                                   ctypes.POINTER(Card), ctypes.c_uint32, ctypes.POINTER(Image)]),
 }
 
+# Experimental functions (ddof.h's DDOF_EXPERIMENTAL section: they may change between minor
+# versions): used only when the library has them and is of the binding's own minor version.
+EXPERIMENTAL_PROTOTYPES = {
+    # Cryptomatte ranks for the silhouettes' split
+    "ddof_render_frame_with_matte": (_enum, [c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Frame),
+                                             ctypes.POINTER(ImageIn), ctypes.POINTER(Image),
+                                             ctypes.POINTER(Stats)]),
+}
+
+# ddof_render_frame_with_matte: the most (id, coverage) ranks a matte may hold per pixel.
+MATTE_MAX_RANKS = 16
+
 
 def version_tuple(number):
     """DDOF_VERSION_NUMBER (MAJOR * 10000 + MINOR * 100 + PATCH) as (major, minor, patch)."""

@@ -4,7 +4,7 @@ the passes the File Output node wrote, the camera, the render border's region, t
 plan and the library options. The call itself (library_call.py) then runs on a worker thread
 without touching Blender data."""
 
-from . import binding, frame_region, images, library_call, passes
+from . import binding, frame_region, images, library_call, object_matte, passes
 from . import camera as camera_mod
 from .errors import SetupError
 from .overscan_render import crop_frame, overscan_camera
@@ -31,13 +31,15 @@ class FrameInputs:
     """A frame's passes and settings as plain data. color, depth: (buffer, channels);
     foreground: None or the dict binding.Session.depth_of_field takes; region: the render
     border's frame_region.Region or None; fallback: with overscan, the frame as rendered and
-    cropped, (buffer, width, height, channels), to write if the call fails."""
+    cropped, (buffer, width, height, channels), to write if the call fails; matte: None or the
+    object matte (buffer, channels), object_matte.pack of the CryptoObject sub-layers."""
 
     def __init__(self, width, height, color, depth, camera, camera_info, foreground):
         self.width, self.height = width, height
         self.color, self.depth = color, depth
         self.camera, self.camera_info = camera, camera_info
         self.foreground = foreground
+        self.matte = None
         self.region = None
         self.fallback = None
         self.options = None
@@ -45,7 +47,8 @@ class FrameInputs:
     def call_args(self):
         """The arguments of library_call.run_region for this frame."""
         return (self.width, self.height, self.color[0], self.color[1], self.depth[0],
-                self.depth[1], self.camera, self.foreground, self.region, self.options)
+                self.depth[1], self.camera, self.foreground, self.region, self.options,
+                self.matte)
 
 
 def _check_setup(job):
@@ -94,6 +97,22 @@ def _read_foreground(job, width, height):
     return {"color": fg_color[0], "depth": fg_depth[0], "depth_channels": fg_depth[3]}
 
 
+def _read_matte(job, width, height):
+    """The object matte of the frame (object_matte.pack), or None without one. The sub-layers
+    are read bit for bit (images.read_exr exact) in the same row order as the colour."""
+    if not job.matte:
+        return None
+    layers = []
+    for slot in job.matte:
+        data = images.read_exr(job.files[slot], exact=True)
+        if data is None or data[1:] != (width, height, 4):
+            raise SetupError("The object matte (%s) of frame %d is missing or has another "
+                             "size: click Set Up Passes and render again, or set Object Matte "
+                             "to Off." % (slot.rstrip("_"), job.frame))
+        layers.append(data[0])
+    return object_matte.pack(layers, width * height)
+
+
 def read(job, scene, settings):
     """The FrameInputs of a queued frame (main thread). Raises SetupError."""
     _check_setup(job)
@@ -105,6 +124,7 @@ def read(job, scene, settings):
     foreground = _read_foreground(job, width, height) if job.foreground else None
     frame = FrameInputs(width, height, (buf, channels), (depth[0], depth[3]), cam, info,
                         foreground)
+    frame.matte = _read_matte(job, width, height)
     plan = job.overscan
     if plan is not None:
         frame.camera = overscan_camera(plan, settings, cam, width, height)

@@ -88,11 +88,13 @@ def finish(job, scene, settings, frame, out, stats, worker):
     compositing, see _composited)."""
     width, height, channels = frame.width, frame.height, frame.color[1]
     color, depth, foreground = frame.color[0], frame.depth, frame.foreground
+    matte = frame.matte
     plan = job.overscan
     if plan is not None:  # the frame out of the grown render
         out, color, cropped_depth, foreground = crop_all(
             plan, (out, channels), frame.fallback[0], depth, foreground)
         depth = (cropped_depth, depth[1])
+        matte = matte and (crop_frame(plan, *matte), matte[1])
         width, height = plan.width, plan.height
     pixels = out
     if composite.has_compositing(scene, settings):
@@ -101,7 +103,8 @@ def finish(job, scene, settings, frame, out, stats, worker):
             return
     image = images.store_result(images.RESULT_IMAGE, width, height, channels, pixels)
     if settings.keep_inputs:
-        images.keep_inputs(width, height, (color, channels), depth, foreground)
+        images.keep_inputs(width, height, (color, channels), depth, foreground, matte,
+                           scene.name)
     path = None
     if job.write and settings.write_frames:
         try:

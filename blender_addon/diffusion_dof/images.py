@@ -55,17 +55,23 @@ def free_spent_images():
 
 
 def forget_spent_images():
-    """Forgets the retired images of a file that is no longer loaded."""
+    """Forgets the retired images (and kept mattes) of a file that is no longer loaded."""
     _spent.clear()
+    _kept_mattes.clear()
 
 
-def read_exr(path):
-    """Loads a file the File Output node wrote, raw (no colour transform); None if missing."""
+def read_exr(path, exact=False):
+    """Loads a file the File Output node wrote, raw (no colour transform); None if missing.
+    exact: every float as written, bit for bit (Cryptomatte's ids): as data (Non-Color) and
+    with its alpha channel packed (never premultiplied or unpremultiplied)."""
     if not os.path.isfile(path):
         return None
     image = bpy.data.images.load(path, check_existing=False)
     try:
         image.colorspace_settings.is_data = True
+        if exact:  # set before the pixels are read: they load on first use
+            image.colorspace_settings.name = "Non-Color"
+            image.alpha_mode = "CHANNEL_PACKED"
         return read_image(image)
     finally:
         retire_image(image)
@@ -89,8 +95,28 @@ def store_result(name, width, height, channels, pixels, data=False):
     return image
 
 
-def keep_inputs(width, height, color, depth, foreground):
-    """Keeps a frame's passes ((buffer, channels) each) for Re-apply and the focus tools."""
+# The object matte of the kept inputs, by scene name: (buffer, channels, width, height). In
+# memory only (an image holds at most 4 channels, and the ids' bits must not go through one):
+# Re-apply of the kept inputs uses it; a file loaded again re-applies without it.
+_kept_mattes = {}
+
+
+def kept_matte(scene_name, color_name, width, height):
+    """The matte kept with the scene's kept inputs, (buffer, channels), when the colour image
+    is the kept input of that size; else None."""
+    kept = _kept_mattes.get(scene_name)
+    if kept is None or color_name != INPUT_IMAGE or kept[2:] != (width, height):
+        return None
+    return kept[:2]
+
+
+def keep_inputs(width, height, color, depth, foreground, matte=None, scene_name=""):
+    """Keeps a frame's passes ((buffer, channels) each) for Re-apply and the focus tools, and
+    its object matte ((buffer, channels) or None) for Re-apply."""
+    if matte is None:
+        _kept_mattes.pop(scene_name, None)
+    else:
+        _kept_mattes[scene_name] = (matte[0], matte[1], width, height)
     store_result(INPUT_IMAGE, width, height, color[1], color[0])
     store_result(DEPTH_IMAGE, width, height, depth[1], depth[0], data=True)
     if foreground is not None:

@@ -26,11 +26,12 @@ class Job:
     """A rendered frame, as plain data: its scene's name, its pass files, what the render
     handlers found."""
 
-    def __init__(self, scene, frame, foreground, extra=(), plan=None):
+    def __init__(self, scene, frame, foreground, extra=(), plan=None, matte=()):
         self.scene_name = scene.name
         self.frame = frame
         self.extra = list(extra)  # the passes the user's compositing reads (their slots)
-        self.files = passes.frame_files(scene, frame, foreground, self.extra)
+        self.matte = list(matte)  # the object matte's sub-layers (their slots), in order
+        self.files = passes.frame_files(scene, frame, foreground, self.extra, self.matte)
         self.foreground = foreground
         self.overscan = plan      # overscan.Plan of the render, or None
         self.camera = None

@@ -50,31 +50,32 @@ def close_session():
 
 
 def run(width, height, color, color_channels, depth, depth_channels, camera, foreground,
-        options, window=None):
-    """One frame in the render's session with library_options() `options` (window: as
-    binding.Session.depth_of_field takes it); returns (out, stats). Raises LibraryError,
+        options, window=None, matte=None):
+    """One frame in the render's session with library_options() `options` (window, matte: as
+    binding.Session.depth_of_field takes them); returns (out, stats). Raises LibraryError,
     DdofError, binding.Cancelled (cancel_event set)."""
     return session_for(options["threads"], options["backend"]).depth_of_field(
         width, height, color, color_channels, depth, depth_channels, camera, options["params"],
         foreground=foreground, preset=options["preset"],
-        cancel=lambda _f: cancel_event.is_set(), window=window)
+        cancel=lambda _f: cancel_event.is_set(), window=window, matte=matte)
 
 
 def run_region(width, height, color, color_channels, depth, depth_channels, camera,
-               foreground, region, options):
+               foreground, region, options, matte=None):
     """run() for a render that may be a render border's (region: a frame_region.Region or
     None): the camera is the full frame's, and with a full-size image only the border's pixels
-    go to the library (through its row stride); the rest of the frame is returned as
-    rendered."""
+    go to the library (through its row stride, the matte's too); the rest of the frame is
+    returned as rendered."""
     if region is None:
         return run(width, height, color, color_channels, depth, depth_channels, camera,
-                   foreground, options)
+                   foreground, options, matte=matte)
     camera = dict(camera, **region.camera_fields())
     if region.cropped:
         return run(width, height, color, color_channels, depth, depth_channels, camera,
-                   foreground, options)
+                   foreground, options, matte=matte)
     return run(region.width, region.height, color, color_channels, depth, depth_channels,
-               camera, foreground, options, window=(region.x, region.y, width, height))
+               camera, foreground, options, window=(region.x, region.y, width, height),
+               matte=matte)
 
 
 class Call(threading.Thread):

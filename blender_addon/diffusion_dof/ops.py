@@ -80,10 +80,13 @@ class DIFFUSION_DOF_OT_apply_images(bpy.types.Operator):
             # Images of the scene's render border (the kept passes) keep their place in the
             # frame; other images are frames of their own.
             region = frame_inputs.scene_region(scene, width, height, strict=False)
+            # The kept inputs' object matte, with them (Object Matte not Off).
+            matte = None if settings.object_matte == "OFF" else images.kept_matte(
+                scene.name, color_img.name, width, height)
             library_call.cancel_event.clear()
             out, stats = library_call.run_region(width, height, color, channels, depth,
                                                  dchannels, cam, foreground, region,
-                                                 library_call.library_options(settings))
+                                                 library_call.library_options(settings), matte)
             images.store_result(self.output or images.RESULT_IMAGE, width, height, channels,
                                 out)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:

@@ -18,7 +18,7 @@ import zlib
 
 import bpy
 
-from . import compat
+from . import compat, object_matte
 from . import settings as settings_mod
 from .errors import SetupError
 
@@ -27,7 +27,11 @@ RLAYERS_NODE = "DDOF Render Layers"
 FG_RLAYERS_NODE = "DDOF Foreground Render Layers"
 OUTPUT_NODE = "DDOF Passes"
 FG_OUTPUT_NODE = "DDOF Foreground Passes"
-MANAGED_NODES = (OUTPUT_NODE, FG_OUTPUT_NODE, RLAYERS_NODE, FG_RLAYERS_NODE, FRAME_NODE)
+# The object matte's own File Output node: its slots are not the main node's, so they are never
+# taken for passes the user's compositing reads (extra_slots).
+MATTE_OUTPUT_NODE = "DDOF Matte Passes"
+MANAGED_NODES = (OUTPUT_NODE, FG_OUTPUT_NODE, MATTE_OUTPUT_NODE, RLAYERS_NODE, FG_RLAYERS_NODE,
+                 FRAME_NODE)
 
 SLOT_COLOR = "color_"
 SLOT_DEPTH = "depth_"
@@ -53,7 +57,7 @@ def temp_dir(scene):
     return os.path.join(base, "diffusion_dof", "%s_%06x" % (safe, tag))
 
 
-def frame_files(scene, frame, foreground=False, extra=()):
+def frame_files(scene, frame, foreground=False, extra=(), matte=()):
     """{slot: path} of the files the File Output node wrote for a frame (called once they are
     written). Whether their names end in ".exr" depends on the Blender version and the scene's
     Output properties > File Extensions (compat.file_output_extension): the name that exists
@@ -65,7 +69,7 @@ def frame_files(scene, frame, foreground=False, extra=()):
         number = "%0*d" % (FRAME_DIGITS, frame)
     expected = compat.file_output_extension(scene)
     slots = [SLOT_COLOR, SLOT_DEPTH] + ([SLOT_FG_COLOR, SLOT_FG_DEPTH] if foreground else []) \
-        + list(extra)
+        + list(extra) + list(matte)
     files = {}
     for slot in slots:
         stem = os.path.join(folder, slot + number)
@@ -205,6 +209,8 @@ def missing_setup(scene, settings):
                 "session or scene name)")
     if compat.file_output_paths(out) != _slot_paths(_main_slots(scene, settings, tree)[0]):
         return "the passes your compositing reads are not all written for the add-on"
+    if matte_slots(scene) != object_matte.slots(matte_layers(scene, settings)):
+        return "the object matte's passes are not set up as the view layer renders them"
     want_fg = settings.foreground_collection is not None
     if want_fg != (tree.nodes.get(FG_OUTPUT_NODE) is not None):
         return "the foreground setup is out of date"
@@ -303,6 +309,8 @@ def _ensure_setup(scene):
     # The other passes the user's compositing reads, as rendered (composite.py).
     links += [(tree.nodes[node].outputs[socket], out.inputs[2 + i])
               for i, (node, socket) in enumerate(sources)]
+    links += _matte_links(tree, rl, matte_layers(scene, settings), frame, folder,
+                          (x0 + 320.0, y0 - 220.0))
 
     fg_collection = settings.foreground_collection
     if fg_collection is not None:
@@ -329,6 +337,55 @@ def _ensure_setup(scene):
                 tree.links.remove(old)
             tree.links.new(source, target)
     return changes
+
+
+def matte_layers(scene, settings):
+    """The CryptoObject sub-layers to write for the add-on: none with Object Matte off or
+    without the view layer's Cryptomatte Object pass (never turned on for the user)."""
+    layer = render_view_layer(scene, settings)
+    if settings.object_matte == "OFF" or not layer.use_pass_cryptomatte_object:
+        return 0
+    return object_matte.layer_count(layer.pass_cryptomatte_depth)
+
+
+def object_matte_hint(scene, settings):
+    """A sentence for the panel when Object Matte is Auto but the pass is off, else ''."""
+    try:
+        layer = render_view_layer(scene, settings)
+    except SetupError:
+        return ""
+    if settings.object_matte == "OFF" or layer.use_pass_cryptomatte_object:
+        return ""
+    return ("View Layer > Passes > Cryptomatte > Object is off: turning it on sharpens thin "
+            "in-focus edges over a blurred background.")
+
+
+def _matte_links(tree, rl, count, frame, folder, location):
+    """The managed File Output node of the CryptoObject sub-layers (32-bit float RGBA, as
+    data: the ids' bits must survive) and its links; the node removed when count is 0."""
+    if count == 0:
+        node = tree.nodes.get(MATTE_OUTPUT_NODE)
+        if node is not None:
+            tree.nodes.remove(node)
+        return []
+    names = [object_matte.SOCKET % k for k in range(count)]
+    missing = [name for name in names if rl.outputs.get(name) is None]
+    if missing:
+        raise SetupError("The Render Layers node of view layer '%s' has no %s output in this "
+                         "Blender version." % (rl.layer, missing[0]))
+    out = _output_node(tree, MATTE_OUTPUT_NODE, "Diffusion DOF: object matte to the add-on",
+                       location, frame, folder, object_matte.slots(count), ("RGBA",) * count)
+    return [(rl.outputs[name], out.inputs[k]) for k, name in enumerate(names)]
+
+
+def matte_slots(scene):
+    """The slots of the object matte's File Output node, as it is set up now ([] without it);
+    read-only, so safe on the render thread."""
+    tree = node_tree(scene)
+    out = tree.nodes.get(MATTE_OUTPUT_NODE) if tree is not None else None
+    if out is None:
+        return []
+    return [p[:-FRAME_DIGITS] for p in compat.file_output_paths(out)]
 
 
 def _depth_socket(node):

@@ -27,7 +27,7 @@ import bpy
 from bpy.app.handlers import persistent
 
 from . import camera as camera_mod
-from . import composite, escape_watch, images, jobs, library_call, passes, report
+from . import composite, escape_watch, images, jobs, library_call, object_matte, passes, report
 from . import settings as settings_mod
 from .errors import SetupError
 from .overscan_render import restore_overscan, start_overscan
@@ -56,7 +56,7 @@ def on_render_init(scene, _depsgraph=None):
         return
     library_call.cancel_event.clear()
     state = {"error": None, "restore_dof": None, "lens_dof_on": False, "started": time.time(),
-             "overscan": None, "extra": []}
+             "overscan": None, "extra": [], "matte": []}
     main = _is_main_thread()
     try:
         if main:
@@ -68,6 +68,7 @@ def on_render_init(scene, _depsgraph=None):
                 raise SetupError("this render cannot get depth of field (%s): click Set Up "
                                  "Passes in the Diffusion DOF panel and render again." % problem)
         state["extra"] = passes.extra_slots(scene)
+        state["matte"] = passes.matte_slots(scene)
     except SetupError as err:
         state["error"] = str(err)
         report.log(str(err))
@@ -112,7 +113,7 @@ def on_render_post(scene, _depsgraph=None):
     if state is None or settings is None:
         return
     job = jobs.Job(scene, scene.frame_current, settings.foreground_collection is not None,
-              state["extra"], state["overscan"])
+              state["extra"], state["overscan"], state["matte"])
     job.error = state["error"]
     job.lens_dof_on = state["lens_dof_on"]
     job.started = state["started"]
@@ -211,19 +212,25 @@ def on_depsgraph_update_post(scene, _depsgraph=None):
 
 
 def _sync_pass_slots(scene, settings):
-    """After an edit of the compositor in the UI: the managed File Output node writes the passes
-    the user's compositing now reads (a render with the UI cannot set that up itself: its
-    handlers run on the render thread). Only between renders, on the main thread."""
+    """After an edit in the UI: the managed File Output nodes write the passes the user's
+    compositing now reads and the object matte the view layer now renders (a render with the UI
+    cannot set that up itself: its handlers run on the render thread). Only between renders, on
+    the main thread."""
     if jobs.render_state or not _is_main_thread():
         return
     try:
         tree = passes.node_tree(scene)
-        wanted = [e[0] for e in composite.pass_slots(scene, settings, tree)] if tree else []
-        if tree is not None and tree.nodes.get(passes.OUTPUT_NODE) is not None \
-                and passes.extra_slots(scene) != wanted:
+        if tree is None or tree.nodes.get(passes.OUTPUT_NODE) is None:
+            return
+        wanted = [e[0] for e in composite.pass_slots(scene, settings, tree)]
+        matte = object_matte.slots(passes.matte_layers(scene, settings))
+        changed = [what for what, now, want in (
+            ("the passes your compositing reads", passes.extra_slots(scene), wanted),
+            ("the object matte (Cryptomatte)", passes.matte_slots(scene), matte)) if now != want]
+        if changed:
             for line in passes.ensure_setup(scene):
                 report.log(line)
-            report.log("the passes your compositing reads are written for the add-on now")
+            report.log("%s: written for the add-on now" % " and ".join(changed))
     except SetupError as err:
         report.log(str(err))
 

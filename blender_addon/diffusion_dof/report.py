@@ -39,5 +39,7 @@ def summary(stats):
         what = "copied (nothing out of focus)"
     else:
         what = " + ".join(stats["effect_names"]) or "nothing"
+        if stats.get("matte_ranks"):
+            what += " (object matte, %d ranks)" % stats["matte_ranks"]
     return "%.3f s on %s, largest CoC %.1f px, %s" % (
         stats["seconds_total"], backend_line(stats), stats["max_coc_px"], what)

@@ -134,6 +134,15 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
         description="Near objects rendered separately with alpha and blurred on top (Kass et "
                     "al. 3.2), so that they turn partly transparent. Cycles only; the objects "
                     "stay in the lighting of the main render as indirect-only objects")
+    object_matte: EnumProperty(
+        name="Object Matte",
+        items=[("AUTO", "Auto", "Use the view layer's Cryptomatte Object pass when it renders "
+                                "one (View Layer > Passes > Cryptomatte > Object)", 0),
+               ("OFF", "Off", "Split mixed edge pixels by their colours only", 1)],
+        default="AUTO", update=_on_setup_change,
+        description="Which object covers how much of a pixel at the edge of a sharp object "
+                    "over a blurred background, from Cryptomatte: sharpens thin in-focus edges "
+                    "and strands. The pass is not turned on for you")
     view_layer: StringProperty(
         name="View Layer", default="", update=_on_setup_change,
         description="The view layer whose passes get depth of field (empty: the first view "

@@ -128,6 +128,10 @@ def draw_expert(layout, context):
     layout.prop(s, "background")
     layout.prop(s, "near_spread")
     layout.prop(s, "foreground_collection")
+    layout.prop(s, "object_matte")
+    hint = passes.object_matte_hint(scene, s)
+    if hint:
+        _wrapped(layout, hint, icon="INFO")
     layout.prop_search(s, "view_layer", scene, "view_layers")
     layout.prop(s, "backend")
     last = report.reports.get(scene.name)

@@ -119,6 +119,7 @@ def main():
         "DDOF_CARDS_EXPAND_OFFSET": abi.CARDS_EXPAND_OFFSET,
         "DDOF_CARDS_EXPAND_CENTROID": abi.CARDS_EXPAND_CENTROID,
         "DDOF_CARD_MAX_VERTICES": abi.CARD_MAX_VERTICES,
+        "DDOF_MATTE_MAX_RANKS": abi.MATTE_MAX_RANKS,
     }
     # Every status by name, in order.
     for value, name in enumerate(abi.STATUS_NAMES):

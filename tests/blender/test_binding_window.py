@@ -2,8 +2,9 @@
 """The add-on's binding, from a plain python3 with the built library: a window of full-size
 buffers (a render border without crop) goes to the library through its row stride, and the
 result is bit for bit the one of the window's pixels copied out, run tightly packed and copied
-back, with and without a foreground element; outside the window the frame is left as it was.
-A window outside its frame is refused.
+back, with and without a foreground element, and with an object matte (its pixels read through
+the same window: a NaN coverage inside the window is refused, one outside it is not read);
+outside the window the frame is left as it was. A window outside its frame is refused.
 
     python3 test_binding_window.py LIBRARY
 """
@@ -54,20 +55,29 @@ for i in range(W * H):
 camera = {"focal_length_mm": 85.0, "fstop": 1.4, "focus_distance_m": 3.0, "frame_width": W,
           "frame_height": H, "window_x": X, "window_y": Y}
 foreground = {"color": fg_color, "depth": fg_depth, "depth_channels": 1}
+# An object matte of 2 ranks: each depth block an object (its id's bits from its number),
+# fully covering its pixels; in-focus blocks beside far ones make the silhouettes' split run.
+matte = binding.new_buffer(W * H * 4)
+for i in range(W * H):
+    block = (i % W) // 8 + 16 * ((i // W) // 6)
+    matte[4 * i:4 * i + 4] = binding.array.array("f", [1.0 + block / 64.0, 1.0, 0.0, 0.0])
 
 with lib.session(threads=2) as session:
-    for name, fg in (("plain", None), ("foreground", foreground)):
+    for name, fg, mt in (("plain", None, None), ("foreground", foreground, None),
+                         ("matte", None, matte)):
+        part_matte = None if mt is None else (crop(mt, W, 4, X, Y, WW, WH), 4)
         part_fg = None if fg is None else {
             "color": crop(fg["color"], W, 4, X, Y, WW, WH),
             "depth": crop(fg["depth"], W, 1, X, Y, WW, WH), "depth_channels": 1}
         packed, stats = session.depth_of_field(
             WW, WH, crop(color, W, 4, X, Y, WW, WH), 4, crop(depth, W, 1, X, Y, WW, WH), 1,
-            camera, {"substeps": 2}, foreground=part_fg)
+            camera, {"substeps": 2}, foreground=part_fg, matte=part_matte)
         want = binding.array.array("f", color)
         paste(want, W, 4, X, Y, WW, WH, packed)
         got, got_stats = session.depth_of_field(WW, WH, color, 4, depth, 1, camera,
                                                 {"substeps": 2}, foreground=fg,
-                                                window=(X, Y, W, H))
+                                                window=(X, Y, W, H),
+                                                matte=None if mt is None else (mt, 4))
         differ = sum(1 for a, b in zip(got, want) if a != b)
         check(len(got) == len(want) and differ == 0, "%s: %d of %d values differ from the "
               "window copied out and back" % (name, differ, len(want)))
@@ -77,6 +87,19 @@ with lib.session(threads=2) as session:
                    if not (X <= i % W < X + WW and Y <= i // W < Y + WH)]
         check(all(got[4 * i:4 * i + 4] == color[4 * i:4 * i + 4] for i in outside),
               "%s: pixels outside the window changed" % name)
+        if mt is not None:
+            check(stats["matte_ranks"] == 2 and got_stats["matte_ranks"] == 2,
+                  "matte: the library was not given the matte's 2 ranks")
+    for name, (x, y), refused in (("inside", (X + 3, Y + 2), True),
+                                  ("outside", (X - 1, Y), False)):
+        bad = binding.array.array("f", matte)
+        bad[4 * (y * W + x) + 1] = float("nan")
+        try:
+            session.depth_of_field(WW, WH, color, 4, depth, 1, camera, window=(X, Y, W, H),
+                                   matte=(bad, 4))
+            check(not refused, "a NaN coverage %s the window was accepted" % name)
+        except binding.DdofError as err:
+            check(refused, "a NaN coverage %s the window was read: %s" % (name, err))
     try:
         session.depth_of_field(WW, WH, color, 4, depth, 1, camera, window=(X + WW, Y, W, H))
         check(False, "a window outside its frame was accepted")

@@ -93,6 +93,8 @@ u.add_plane(scene, "Post", (0.1, 1.0), (0.0, 1.5, 0.0),
 u.configure(scene, samples=7)
 scenes_before = sorted(s.name for s in bpy.data.scenes)
 collections_before = sorted(c.name for c in bpy.data.collections)
+# The Cryptomatte Object pass on: the object matte's managed node is set up (and removed) too.
+scene.view_layers[0].use_pass_cryptomatte_object = True
 compositor_before = compositor_state(scene)
 render_dir = u.scratch_dir("register")
 render_before, _, _, _ = u.render_still(scene, os.path.join(render_dir, "before.exr"))
