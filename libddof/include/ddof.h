@@ -965,8 +965,8 @@ DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_p
  * comes after the highlights' discs: a mixed pixel's uncovered share shows the disc of a far
  * light behind it, its covered share hides it (a strand across a light). A NaN or infinite
  * coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel, as is a matte that shares bytes with
- * out; matte NULL is ddof_render_frame. The CLI reads a render's CryptoObject channels into
- * this. */
+ * out; matte NULL is ddof_render_frame. The CLI (--matte) and the Blender add-on (Object
+ * Matte) read a render's CryptoObject channels into this. */
 DDOF_API ddof_status ddof_render_frame_with_matte(ddof_context *context,
                                                   const ddof_params *params,
                                                   const ddof_frame *frame,
