@@ -9,18 +9,8 @@
 #include "frame_input.h"
 #include "matte_input.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
-
-static int fail(char *error, size_t size, const char *fmt, ...)
-{
-    va_list ap;
-    va_start(ap, fmt);
-    vsnprintf(error, size, fmt, ap);
-    va_end(ap);
-    return -1;
-}
 
 /* Finds the matte beside the colour of an opened file and loads its channels. */
 static int load_matte(exrio_image *image, uint32_t width, uint32_t height, float **pairs,
@@ -72,9 +62,13 @@ int study_read_matte(const char *path, uint32_t width, uint32_t height, float **
     char message[2048];
     *pairs = NULL;
     *ranks = 0;
-    if (exrio_open(path, &image, message, sizeof message) != EXRIO_OK)
-        return fail(error, size, "%s", message);
+    if (exrio_open(path, &image, message, sizeof message) != EXRIO_OK) {
+        snprintf(error, size, "%s", message);
+        return -1;
+    }
     const int rc = load_matte(&image, width, height, pairs, ranks, message, sizeof message);
     exrio_close(&image);
-    return rc ? fail(error, size, "%s: %s", path, message) : 0;
+    if (rc)
+        snprintf(error, size, "%s: %s", path, message);
+    return rc;
 }
