@@ -99,8 +99,8 @@ ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
 
 /* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
  * highlights are drawn (their discs land behind the object, whole; with a matte after them,
- * frame_run.c) and the foreground element covers it, estimated from the colour before its objects were taken out of what the layers
- * diffused (ddof_clean_silhouettes). */
+ * frame_run.c) and the foreground element covers it, estimated from the colour before its
+ * objects were taken out of what the layers diffused (ddof_clean_silhouettes). */
 ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
                                   const float *color, size_t color_stride, frame_plan *plan,
                                   layers_report *report)

@@ -37,7 +37,8 @@ enum {
      * (read by the layers and the passes), then the scratch the frame's discs are drawn
      * through (the last reader of that colour; with an object matte the split reads it after
      * the discs, which then go through the split's own scratch), then the foreground
-     * element's own pass (after the frame's draw): a second image would cost a frame's colour for nothing. */
+     * element's own pass (after the frame's draw): a second image would cost a frame's colour
+     * for nothing. */
     DDOF_SCRATCH_HIGHLIGHT_BASE,
     DDOF_SCRATCH_NEAR_REST,        /* near_layer.c: the colour with the near field filled */
     DDOF_SCRATCH_NEAR_REST_COC,    /* near_layer.c: its CoC                              */

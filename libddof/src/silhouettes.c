@@ -14,9 +14,9 @@
  *    background beside it: out(p) += (1 - a) (out(q) - B).
  * With an object matte (Cryptomatte) a is the share of x not covered by the background's
  * object (the id of rank 0 at the background's pixel, or the world, what no object covers,
- * where that covers more of it), and O is solved from p itself where
- * the object covers at least MATTE_SOLVE_SHARE of it: O = (p - (1 - a_p) B) / a_p (a strand
- * of 1-2 px has no pixel wholly inside it). A pixel in several pairs takes the mean over them.
+ * where that covers more of it), and O is solved from p itself where the object covers at
+ * least MATTE_SOLVE_SHARE of it: O = (p - (1 - a_p) B) / a_p (a strand of 1-2 px has no pixel
+ * wholly inside it). A pixel in several pairs takes the mean over them.
  * Every change is computed from the result before any is applied (a delta image), so rows can
  * run on any thread. Colour channels only; alpha keeps the layers' value. */
 #include "silhouettes.h"
@@ -358,13 +358,22 @@ ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,
     return DDOF_OK;
 }
 
-float *ddof_silhouettes_scratch(ddof_context *context, const adi_request *r)
+/* The split's scratch: per-chunk pixel counts, then the delta image (width x height x 3). */
+static uint64_t *split_scratch(ddof_context *context, const adi_request *r, float **delta)
 {
     const uint32_t chunks = ddof_row_chunks(r->height);
     const size_t pixels = (size_t)r->width * r->height;
     uint64_t *chunk_pixels = ddof_scratch_get(
         context, DDOF_SCRATCH_SILHOUETTES, chunks * sizeof(uint64_t) + 3 * pixels * sizeof(float));
-    return chunk_pixels ? (float *)(void *)(chunk_pixels + chunks) : NULL;
+    *delta = chunk_pixels ? (float *)(void *)(chunk_pixels + chunks) : NULL;
+    return chunk_pixels;
+}
+
+float *ddof_silhouettes_scratch(ddof_context *context, const adi_request *r)
+{
+    float *delta;
+    split_scratch(context, r, &delta);
+    return delta;
 }
 
 ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
@@ -375,15 +384,13 @@ ddof_status ddof_split_silhouettes(ddof_context *context, const adi_request *r,
     if (r->channels < 3)
         return DDOF_OK;
     const uint32_t chunks = ddof_row_chunks(r->height);
-    const size_t pixels = (size_t)r->width * r->height;
-    uint64_t *chunk_pixels = ddof_scratch_get(
-        context, DDOF_SCRATCH_SILHOUETTES, chunks * sizeof(uint64_t) + 3 * pixels * sizeof(float));
+    float *delta;
+    uint64_t *chunk_pixels = split_scratch(context, r, &delta);
     if (!chunk_pixels)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                          "could not allocate the silhouettes' %ux%u image", r->width, r->height);
     split_job job = {.r = r, .matte = matte, .color = color, .color_stride = color_stride,
-                     .delta = (float *)(void *)(chunk_pixels + chunks),
-                     .chunk_pixels = chunk_pixels};
+                     .delta = delta, .chunk_pixels = chunk_pixels};
     ddof_parallel_rows(context, r->height, delta_rows, &job);
     for (uint32_t c = 0; c < chunks; c++)
         report->pixels += chunk_pixels[c];
