@@ -114,6 +114,32 @@ static void test_one_highlight(void)
 }
 
 /* A far highlight beside an in-focus column and a nearer region: neither gets its light. */
+/* A highlight near the frame's left edge: the part of its disc past the edge is light that
+ * leaves the frame, as through a lens, not light folded back into it. One pixel of 200 at
+ * x = 3 with CoC 24: the edge (x = -0.5) cuts the disc of radius 12 at 3.5 px from its centre,
+ * leaving 68.3% of its area inside. */
+static void test_light_leaves_at_the_border(void)
+{
+    static frame f;
+    flat(&f, 24.0f);
+    const int cx = 3, cy = 40;
+    for (int c = 0; c < 3; c++)
+        f.color[(cy * W + cx) * 4 + c] = 200.0f;
+    ddof_stats st = {.struct_size = sizeof st};
+    CHECK(run(&f, DDOF_LAYER_AUTO, &st) == DDOF_OK);
+    CHECK(st.effects & DDOF_EFFECT_HIGHLIGHTS);
+    const double r = 12.0, d = 3.5;
+    const double inside = 1.0 - (r * r * acos(d / r) - d * sqrt(r * r - d * d)) / (3.14159265358979 * r * r);
+    const double excess = 200.0 - 0.25; /* above the default threshold */
+    for (int c = 0; c < 3; c++) {
+        /* The base is diffused with its sum kept: the rest is the disc's light in the frame. */
+        const double kept = channel_sum(f.out, c) - (channel_sum(f.color, c) - excess);
+        CHECK_MSG(fabs(kept / excess - inside) < 0.02,
+                  "channel %d: %.4f of the light in the frame, the lens keeps %.4f", c,
+                  kept / excess, inside);
+    }
+}
+
 static void test_occlusion(void)
 {
     static frame f, g;
@@ -538,6 +564,7 @@ int main(void)
     co.thread_count = 2;
     CHECK(ddof_context_create(&co, &ctx) == DDOF_OK);
     test_one_highlight();
+    test_light_leaves_at_the_border();
     test_occlusion();
     test_split_by_bar();
     test_wide_occluder();

@@ -6,7 +6,7 @@ Python). See docs/blender-addon.md."""
 bl_info = {
     "name": "Diffusion DOF",
     "author": "ddof",
-    "version": (0, 8, 0),
+    "version": (0, 9, 0),
     "blender": (3, 4, 0),
     "location": "Properties > Render > Diffusion DOF; Compositor > Sidebar > Diffusion DOF",
     "description": "Depth of field by simulated diffusion on the Combined and Depth passes",

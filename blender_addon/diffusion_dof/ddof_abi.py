@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The ctypes mirror of ddof.h (libddof/include/ddof.h, API version 0.8): its enums and defines,
+"""The ctypes mirror of ddof.h (libddof/include/ddof.h, API version 0.9): its enums and defines,
 its structures field by field, the prototypes of the functions the add-on calls, and the version
 rule. No bpy and no loaded library: binding.py loads the library and calls it with these
 structures; tests/blender/check_abi.py compares them with the C header's.
@@ -10,7 +10,7 @@ import ctypes
 # The ddof.h these structures mirror. A library is usable when its version is compatible (see
 # version_compatible): the same major and a minor >= ours (structs are only appended, and a
 # library accepts an older caller's layout: ddof.h, Conventions).
-BINDING_VERSION = (0, 8)
+BINDING_VERSION = (0, 9)
 # The soname of the ABI line (libddof/CMakeLists.txt), a name the library may be installed under.
 SONAME = "libddof.so.0.5"
 
@@ -193,7 +193,9 @@ class Params(ctypes.Structure):
                 ("near_layer_threshold_px", ctypes.c_float),
                 # version 0.8
                 ("far_field", _enum),
-                ("silhouettes", _enum)]
+                ("silhouettes", _enum),
+                # version 0.9
+                ("blurred_edges", _enum)]
 
 
 class Stats(ctypes.Structure):

@@ -88,7 +88,7 @@ extern "C" {
 /* Version                                                                                      */
 
 #define DDOF_VERSION_MAJOR 0
-#define DDOF_VERSION_MINOR 8
+#define DDOF_VERSION_MINOR 9
 #define DDOF_VERSION_PATCH 0
 #define DDOF_VERSION_NUMBER (DDOF_VERSION_MAJOR * 10000 + DDOF_VERSION_MINOR * 100 + DDOF_VERSION_PATCH)
 
@@ -547,6 +547,18 @@ typedef struct ddof_params {
                                /* the background's blurred (docs/design.md, "Mixed pixels").  */
                                /* Needs signed CoC and colour with 3 or 4 channels. Default:  */
                                /* the preset's; AUTO and ON: on when such a pair exists.      */
+
+    /* --- version 0.9 of this struct ------------------------------------------------------- */
+    ddof_layer_mode blurred_edges; /* where two blurred surfaces meet (both |CoC| >= 2 px and */
+                               /* 2 px apart: a tree's crown before the sky) with no in-focus */
+                               /* pixel in reach, the far field's gather in depth slices      */
+                               /* instead of the diffusion: the frame cut into up to 4 slices */
+                               /* at such edges, each surface gathered with the lens's shape  */
+                               /* (as the far field), the nearer covering the farther by its  */
+                               /* coverage, the farthest continued under the nearer ones.     */
+                               /* Needs the far field and signed CoC. Default: the preset's;  */
+                               /* AUTO and ON: on when such an edge exists (docs/design.md,   */
+                               /* "The far field").                                           */
 } ddof_params;
 
 /* The default preset (see ddof_params_init_preset). */

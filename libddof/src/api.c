@@ -31,6 +31,7 @@ typedef struct preset_settings {
     ddof_layer_mode near_layer;
     ddof_layer_mode far_field;
     ddof_layer_mode silhouettes;
+    ddof_layer_mode blurred_edges;
 } preset_settings;
 
 /* Written by the accuracy study from its measured front (docs/accuracy.md). */
@@ -91,6 +92,7 @@ static ddof_params preset_params(ddof_preset preset)
         .near_layer_threshold_px = 8.0f,
         .far_field = s->far_field,
         .silhouettes = s->silhouettes,
+        .blurred_edges = s->blurred_edges,
     };
 }
 

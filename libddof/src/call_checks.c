@@ -109,10 +109,13 @@ ddof_status ddof_read_params(ddof_context *context, const ddof_params *caller, d
                          "%.9g is not > 0 and at most %g px",
                          (unsigned)p->near_layer, (double)p->near_layer_threshold_px,
                          (double)DDOF_MAX_COC_PX);
-    if ((unsigned)p->far_field > DDOF_LAYER_ON || (unsigned)p->silhouettes > DDOF_LAYER_ON)
+    if ((unsigned)p->far_field > DDOF_LAYER_ON || (unsigned)p->silhouettes > DDOF_LAYER_ON ||
+        (unsigned)p->blurred_edges > DDOF_LAYER_ON)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "params.far_field %u or silhouettes %u is not a known value",
-                         (unsigned)p->far_field, (unsigned)p->silhouettes);
+                         "params.far_field %u, silhouettes %u or blurred_edges %u is not a "
+                         "known value",
+                         (unsigned)p->far_field, (unsigned)p->silhouettes,
+                         (unsigned)p->blurred_edges);
     if (p->near_layer == DDOF_LAYER_ON && p->near_spread == DDOF_LAYER_ON)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "params.near_layer and near_spread are both forced on: where the near "

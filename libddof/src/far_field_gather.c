@@ -286,7 +286,7 @@ static inline void conic_gather(const far_gather *g, uint32_t channels, uint32_t
     const float top = radius * (bv - root_a) / q, bottom = radius * (bv + root_a) / q;
     const int64_t j0 = (int64_t)ceilf(v0 + top * aspect - 0.5f);
     const int64_t j1 = (int64_t)floorf(v0 + bottom * aspect + 0.5f);
-    float sum[4] = {0.0f, 0.0f, 0.0f, 0.0f}, weights = 0.0f;
+    float sum[FAR_FIELD_MAX_CHANNELS] = {0.0f}, weights = 0.0f;
     /* A small disc's rows are sampled at two Gauss points, a large one's at its centre. */
     const int taps = radius < TWO_TAPS_BELOW ? 2 : 1;
     const float offset = taps == 2 ? GAUSS_POINT : 0.0f, share = 1.0f / (float)taps;
@@ -400,7 +400,7 @@ static inline void blend_row(const far_gather *g, uint32_t channels, uint32_t y)
             continue;
         const float rho = g->radius[i];
         const uint32_t k = level_of(g, rho);
-        float v[4] = {0.0f, 0.0f, 0.0f, 0.0f};
+        float v[FAR_FIELD_MAX_CHANNELS] = {0.0f};
         if (k == 0) {
             float gx, gy;
             radius_gradient(g, x, y, &gx, &gy);
@@ -418,6 +418,10 @@ static inline void blend_row(const far_gather *g, uint32_t channels, uint32_t y)
                 v[c] = top + cell.fv * (bottom - top);
             }
         }
+        if (g->sink) {
+            ddof_far_layer_take(g->sink, i, v);
+            continue;
+        }
         float *o = out + (size_t)x * channels;
         for (uint32_t c = 0; c < channels; c++)
             o[c] += weight * (v[c] - o[c]);
@@ -430,6 +434,7 @@ static void blend_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     const far_gather *g = user;
     for (uint32_t y = y0; y < y1; y++)
         switch (g->r->channels) {
+        case 5: blend_row(g, 5, y); break;
         case 4: blend_row(g, 4, y); break;
         case 3: blend_row(g, 3, y); break;
         default: blend_row(g, g->r->channels, y); break;

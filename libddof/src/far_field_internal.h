@@ -8,6 +8,12 @@
 #include "internal.h"
 
 #define FAR_FIELD_MAX_LEVELS 16
+/* A depth edge: 4-neighbours whose signed CoC differs by this much (far_field.c); one between
+ * two blurred surfaces: both |CoC| at least FAR_BLURRED_PX (far_layers.c). */
+#define FAR_EDGE_STEP_PX 2.0f
+#define FAR_BLURRED_PX 2.0f
+/* Colour (up to 4) and, in a layer's gather, its coverage. */
+#define FAR_FIELD_MAX_CHANNELS 5
 
 /* A level of the frame, 2^k pixels a side each, and what continues it beyond the frame: the
  * full-resolution frame's edge pixels reduced the same way (a level's own edge pixel would
@@ -24,8 +30,11 @@ typedef struct far_level {
     uint32_t width, height;
 } far_level;
 
+struct far_layer_sink;
+
 typedef struct far_gather {
-    const adi_request *r; /* the frame: out holds the layers' result, blended in place */
+    const adi_request *r; /* the frame: out holds the layers' result, blended in place;
+                           * its channels are the gathered image's                      */
     const float *color;   /* what the layers diffused, color_stride floats a row        */
     size_t color_stride;
     const float *radius;  /* |CoC| / 2 where a pixel blurs, else 0 (width x height)     */
@@ -33,7 +42,14 @@ typedef struct far_gather {
     far_level levels[FAR_FIELD_MAX_LEVELS];
     uint32_t level_count;
     uint32_t level; /* the level a parallel pass works on */
+    /* NULL: the gather is blended into r->out by `weight`. Else a depth slice's gather
+     * (far_layers.c): where weight > 0 the gathered premultiplied colour and coverage go to
+     * the sink instead. */
+    struct far_layer_sink *sink;
 } far_gather;
+
+/* Composites one depth slice's gather (channels: colour, then coverage) at frame pixel i. */
+void ddof_far_layer_take(struct far_layer_sink *sink, size_t i, const float *gathered);
 
 /* Builds the levels that radii up to `largest` need, gathers and blends into r->out. */
 ddof_status ddof_far_field_gather(ddof_context *context, far_gather *g, float largest);

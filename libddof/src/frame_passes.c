@@ -82,14 +82,27 @@ ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
 {
     const double t0 = ddof_seconds();
     far_field_report far;
-    const ddof_status status = ddof_far_field(context, &q->base, color, color_stride, &far);
+    const ddof_status status =
+        ddof_far_field(context, &q->base, color, color_stride, plan->blurred_edges, &far);
     if (status != DDOF_OK)
         return status;
-    const double share = 100.0 * (double)far.pixels / ((double)q->base.width * q->base.height);
+    const double pixels = (double)q->base.width * q->base.height;
+    /* Where two blurred surfaces meet (ddof_params.blurred_edges), in the same line: the plan
+     * a caller gets is short. */
+    char edges[80];
+    if (far.slices)
+        snprintf(edges, sizeof edges, "; blurred edges: %.1f%%, %u depth slices",
+                 100.0 * (double)far.layered_pixels / pixels, far.slices);
+    else
+        snprintf(edges, sizeof edges, "; blurred edges: %s",
+                 plan->blurred_edges                            ? "none"
+                 : q->params->blurred_edges == DDOF_LAYER_OFF ? "forced off"
+                                                                : "off (unsigned CoC)");
     if (far.pixels) {
         report->effects |= DDOF_EFFECT_FAR_FIELD;
-        ddof_plan_say(plan, "far field: on: %.1f%% of pixels, %u level%s", share, far.levels,
-                      far.levels == 1 ? "" : "s");
+        ddof_plan_say(plan, "far field: on: %.1f%% of pixels, %u level%s%s",
+                      100.0 * (double)far.pixels / pixels, far.levels,
+                      far.levels == 1 ? "" : "s", edges);
     } else {
         ddof_plan_say(plan, "far field: off: every blurred pixel is near a depth edge");
     }

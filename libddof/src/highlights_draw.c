@@ -22,7 +22,8 @@
  * rule for the whole class: a far highlight's class lands on pixels whose signed CoC is at
  * least half its smallest |CoC| (never on in-focus or nearer pixels); the near class lands
  * everywhere. Each disc's weights are renormalised over the pixels it lands on, counted from
- * per-row prefix counts of the class's rule, so its light is kept. */
+ * per-row prefix counts of the class's rule, so its light is kept; the part of a disc past the
+ * frame's edges counts as landing, so the light that falls there leaves the frame. */
 
 /* The rim's reach beyond the shape's edge in the shape's axes (rows scaled by 1 / aspect): half
  * a pixel, which is more than half a unit vertically when rows are squeezed (aspect < 1). */
@@ -397,16 +398,21 @@ static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
         for (int dy = -reach; dy <= reach; dy++) {
             const int y = (int)h->y + dy;
             disc_row row;
-            if (y < 0 || y >= (int)r->height ||
-                !disc_row_at(&job->shape, h, r->pixel_aspect, dy, &row))
+            if (!disc_row_at(&job->shape, h, r->pixel_aspect, dy, &row))
                 continue;
+            const int row_inside = y >= 0 && y < (int)r->height;
             if (row.inner_l <= row.inner_r) {
-                int a, b;
-                interior_span(r, h, &row, &a, &b);
-                const uint32_t *count = landing_row(job, y);
-                if (a <= b)
+                const int whole = row.inner_r + 1 - row.inner_l;
+                int a = 0, b = -1;
+                if (row_inside)
+                    interior_span(r, h, &row, &a, &b);
+                /* What lies past the frame's edges counts: the light it gets leaves. */
+                sum += (double)(whole - (a <= b ? b + 1 - a : 0));
+                if (a <= b) {
+                    const uint32_t *count = landing_row(job, y);
                     sum += h->hidden ? (double)(b + 1 - a)
                                      : (double)(count[b + 1 - job->bx0] - count[a - job->bx0]);
+                }
             }
             const int steps = rim_steps(&row);
             for (int k = 1; k <= steps; k++)
@@ -414,14 +420,19 @@ static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
                     const int dx = rim_column(&row, k, side);
                     int x;
                     float w;
-                    if (dx != INT_MIN && rim_pixel(job, h, &row, dx, &x, &w) &&
-                        (h->hidden ||
-                         lands(r, job->coc_signed, job->threshold, (uint32_t)x, (uint32_t)y)))
+                    if (dx == INT_MIN)
+                        continue;
+                    if (!rim_pixel(job, h, &row, dx, &x, &w) || !row_inside)
+                        sum += w; /* no weight, or past the frame's edges */
+                    else if (h->hidden ||
+                             lands(r, job->coc_signed, job->threshold, (uint32_t)x, (uint32_t)y))
                         sum += w;
                 }
         }
         /* The centre always lands (its own CoC passes its class's rule), so sum > 0; a hidden
-         * part's disc counts every pixel of the frame it covers. */
+         * part's disc counts every pixel of the frame it covers. Past the frame's edges every
+         * pixel counts, as the lens's disc goes on there: a light near the edge puts part of
+         * its light outside the frame, which the pass does not fold back in. */
         job->weights[i] = sum > 0.0 ? (float)(1.0 / sum) : 0.0f;
     }
 }

@@ -49,6 +49,7 @@ enum {
     DDOF_SCRATCH_HIGHLIGHT_HIDDEN, /* highlights.c: the parts hidden by sharp occluders  */
     DDOF_SCRATCH_FAR_FIELD_MAPS,   /* far_field.c: radius, weight and reach maps          */
     DDOF_SCRATCH_FAR_FIELD_LEVELS, /* far_field_gather.c: levels, prefix sums, samples   */
+    DDOF_SCRATCH_FAR_LAYERS,       /* far_layers.c: the depth slices and their composite  */
     DDOF_SCRATCH_SILHOUETTES,      /* silhouettes.c: the mixed pixels' changes           */
     DDOF_SCRATCH_SILHOUETTE_COLOR, /* silhouettes.c: the colour with their objects out   */
     DDOF_SCRATCH_ELEMENT_EDGES,    /* element_edges.c: the CoC before the strands' fix    */

@@ -275,6 +275,9 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
             (double)DDOF_FAR_FIELD_MIN_COC_PX);
     else
         plan->far_field = 1;
+    /* The far field's line says what became of them (frame_passes.c). */
+    plan->blurred_edges =
+        plan->far_field && p->blurred_edges != DDOF_LAYER_OFF && p->coc_signed;
 
     if (p->silhouettes == DDOF_LAYER_OFF)
         say(plan, "silhouettes: %s", forced(p->silhouettes));

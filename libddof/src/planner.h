@@ -27,6 +27,7 @@ typedef struct frame_plan {
     int foreground;    /* blur the foreground element and composite it over            */
     int highlights;    /* look for highlights (the pass says what it found)            */
     int far_field;     /* gather the smooth blur (the pass says where)                  */
+    int blurred_edges; /* and, where two blurred surfaces meet, in depth slices (likewise) */
     int silhouettes;   /* split mixed silhouette pixels (the pass says how many)      */
     /* The decisions and their reasons, one line each, the passes' lines (what they found)
      * appended as they run: written only through ddof_plan_say, read through

@@ -22,12 +22,12 @@ def settings_c(c):
     if c.kind == "cod4":
         return ("DDOF_METHOD_COD4_PREVIEW", "DDOF_SOLVER_THOMAS", 1, 1.0 / 32,
                 "DDOF_LAYER_AUTO", 1, "DDOF_LAYER_AUTO", "DDOF_KERNEL_HEAT",
-                "DDOF_LAYER_AUTO", "DDOF_LAYER_OFF", "DDOF_LAYER_OFF")
+                "DDOF_LAYER_AUTO", "DDOF_LAYER_OFF", "DDOF_LAYER_OFF", "DDOF_LAYER_OFF")
     return ("DDOF_METHOD_DIFFUSION", SOLVER_C[c.solver], int(c.substeps),
             float(c.k), LAYER_C[f["background"]], int(f["background_levels"]),
             LAYER_C[f["near_spread"]], KERNEL_C[c.kernel],
             LAYER_C[f.get("near_layer", "off")], LAYER_C[f.get("far_field", "off")],
-            LAYER_C[f.get("silhouettes", "off")])
+            LAYER_C[f.get("silhouettes", "off")], LAYER_C[f.get("blurred_edges", "off")])
 
 
 def write_presets(path, chosen, study, smoke):
@@ -43,7 +43,7 @@ def write_presets(path, chosen, study, smoke):
         " * Regenerate with: bash study/run.sh%s" % ("  (THIS IS A SMOKE RUN)" if smoke else ""),
         " * Fields: method, solver, substeps, beta_scale, background, background_levels, "
         "near_spread,",
-        " * kernel, near_layer, far_field, silhouettes */",
+        " * kernel, near_layer, far_field, silhouettes, blurred_edges */",
     ]
     for name in PRESET_ORDER:
         s = settings_c(chosen[name])
@@ -55,9 +55,9 @@ def write_presets(path, chosen, study, smoke):
             # A disc ignores sub-steps and k: keep HEAT_FALLBACK's, so that `--kernel heat` on
             # top of the preset is a sensible heat diffusion.
             s = s[:2] + HEAT_FALLBACK + s[4:]
-        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s, %s, %s, %s}, /* %s */"
+        lines.append("{%s, %s, %d, %sf, %s, %d, %s, %s, %s, %s, %s, %s}, /* %s */"
                      % (s[0], s[1], s[2], float_c(s[3]), s[4], s[5], s[6], s[7], s[8], s[9],
-                        s[10], name))
+                        s[10], s[11], name))
     tmp = path + ".tmp"
     with open(tmp, "w") as f:
         f.write("\n".join(lines) + "\n")

@@ -11,7 +11,7 @@ from materials import _rgb, bricks, checker, emission, multiply, ramp, texture, 
 from objects import box, monkey, plane, rod, set_world, sphere, strand, wall
 
 SCENE_NAMES = ["thin_bars", "thin_strands", "near_occluder", "receding_plane", "highlights",
-               "all_sharp", "near_railing", "near_border", "daylight"]
+               "all_sharp", "near_railing", "near_border", "daylight", "park"]
 
 # Truth samples per scene at the default size: chosen so that two truth renders with
 # different seeds are >= 40 dB apart (README.md, "Noise floor").
@@ -25,6 +25,7 @@ TRUTH_SAMPLES = {
     "near_railing": 2048,
     "near_border": 2048,
     "daylight": 4096,
+    "park": 2048,
 }
 
 
@@ -266,12 +267,9 @@ def build_all_sharp(scene):
     return cam, []
 
 
-def build_daylight(scene):
-    """A post in focus at 2.5 m (85 mm f/1.8, pitched 1.5 deg up) in a park: trees at 28-75 m,
-    grass to the horizon and a bright Nishita sky (no sun disc) behind them, sun glints on the
-    crowns and the grass."""
-    import random
-    cam = dict(focal_mm=85.0, fstop=1.8, focus_m=2.5, height=1.2, pitch=-1.5)
+def _park(scene):
+    """What the park scenes share: the bright Nishita sky (no sun disc), the grass to the
+    horizon, and the bark and leaves materials. Returns (bark, leaves)."""
     world = bpy.data.worlds.new("World")
     scene.world = world
     world.use_nodes = True
@@ -299,6 +297,26 @@ def build_daylight(scene):
              1.5, detail=3.0),
         ramp("ShaderNodeTexVoronoi", [(0.55, 0.6, 0.5), (1.0, 1.0, 1.0)], 3.0)),
         ambient=0.55, key=0.7)
+    return bark, leaves
+
+
+def _sign_post(cam):
+    """The subject: a wooden post with a sign, in focus."""
+    post = unlit("Post", ramp("ShaderNodeTexWave", [(0.35, 0.25, 0.15), (0.6, 0.45, 0.3)],
+                              25.0))
+    y = cam["focus_m"]
+    rod("Post", post, (-0.1, y + 0.03, 0.0), (-0.1, y + 0.03, 1.32), 0.03)
+    sign = unlit("Sign", checker((0.9, 0.88, 0.8, 1), (0.1, 0.3, 0.15, 1), 50.0))
+    wall("Sign", sign, (0.2, 0.12), y - 0.002, 1.22, x_center=-0.1)
+
+
+def build_daylight(scene):
+    """A post in focus at 2.5 m (85 mm f/1.8, pitched 1.5 deg up) in a park: trees at 28-75 m,
+    grass to the horizon and a bright Nishita sky (no sun disc) behind them, sun glints on the
+    crowns and the grass."""
+    import random
+    cam = dict(focal_mm=85.0, fstop=1.8, focus_m=2.5, height=1.2, pitch=-1.5)
+    bark, leaves = _park(scene)
     rng = random.Random(7)
     eye = (0.0, 0.0, cam["height"])
     crowns = []
@@ -315,13 +333,7 @@ def build_daylight(scene):
                  top + r * 0.7 + rng.uniform(0.0, 1.5))
             sphere("Crown%d_%d" % (i, j), leaves, c, r, segments=32, rings=16)
             crowns.append((c, r))
-    # The subject: a wooden post with a sign, in focus at 2.5 m.
-    post = unlit("Post", ramp("ShaderNodeTexWave", [(0.35, 0.25, 0.15), (0.6, 0.45, 0.3)],
-                              25.0))
-    y = cam["focus_m"]
-    rod("Post", post, (-0.1, y + 0.03, 0.0), (-0.1, y + 0.03, 1.32), 0.03)
-    sign = unlit("Sign", checker((0.9, 0.88, 0.8, 1), (0.1, 0.3, 0.15, 1), 50.0))
-    wall("Sign", sign, (0.2, 0.12), y - 0.002, 1.22, x_center=-0.1)
+    _sign_post(cam)
     # Sun glints: small, very bright spots (what the highlight pass takes) where rays through
     # some image points (u, v in -1..1, +v up) hit a crown (28-75 m: CoC 19-21 px), 5 cm in
     # front of it, and on the grass; about 2 px wide in the pinhole.
@@ -346,6 +358,39 @@ def build_daylight(scene):
         sphere("Glint%d" % i, glint, q, 0.0009 * q[1], segments=12, rings=6)
     return cam, []
 
+
+def build_park(scene):
+    """Foliage against a bright sky, everything far but the subject: a post in focus at 2.5 m
+    (85 mm f/1.8, pitched 3 deg up), tree crowns at 12-35 m (CoC 17-20 px) filling the upper
+    frame with gaps of the sky (21 px) between and behind them, so that a fifth of the frame
+    lies where two blurred surfaces meet."""
+    import random
+    cam = dict(focal_mm=85.0, fstop=1.8, focus_m=2.5, height=1.2, pitch=-3.0)
+    bark, leaves = _park(scene)
+    rng = random.Random(11)
+    slope = math.tan(math.radians(3.0))
+    # Crowns (centre x as a share of the half width, distance): each two or three spheres,
+    # their centres at 62-88% up the frame at their distance, radii 3-5% of it.
+    for i, (u, y) in enumerate([(-0.75, 12.0), (0.1, 14.0), (0.8, 17.0), (-0.35, 20.0),
+                                (0.45, 24.0), (-0.9, 27.0), (0.0, 30.0), (0.85, 33.0),
+                                (-0.55, 35.0)]):
+        half_w = y * SENSOR_MM / 2.0 / cam["focal_mm"]
+        half_h = half_w * 9.0 / 16.0
+        x = u * half_w
+        mid = cam["height"] + y * slope
+        lobes = []
+        for j in range(rng.choice((2, 3))):
+            r = y * rng.uniform(0.03, 0.05)
+            c = (x + rng.uniform(-1.5, 1.5) * r, y + rng.uniform(-0.3, 0.3) * r,
+                 mid + half_h * rng.uniform(0.25, 0.75))
+            sphere("Crown%d_%d" % (i, j), leaves, c, r, segments=32, rings=16)
+            lobes.append(c)
+        low = min(c[2] for c in lobes)
+        rod("Trunk%d" % i, bark, (x, y, 0.0), (x, y, low), y * 0.008, vertices=16)
+    _sign_post(cam)
+    return cam, []
+
+
 BUILDERS = {
     "thin_bars": build_thin_bars,
     "thin_strands": build_thin_strands,
@@ -356,4 +401,5 @@ BUILDERS = {
     "near_railing": build_near_railing,
     "near_border": build_near_border,
     "daylight": build_daylight,
+    "park": build_park,
 }

@@ -66,6 +66,7 @@ int main(void)
     F(ddof_params, near_layer_threshold_px);
     F(ddof_params, far_field);
     F(ddof_params, silhouettes);
+    F(ddof_params, blurred_edges);
     END();
     BEGIN(ddof_frame);
     F(ddof_frame, struct_size); F(ddof_frame, color); F(ddof_frame, depth);

@@ -248,6 +248,10 @@ const cli_option cli_option_table[] = {
      .setting = "far_field",
      .help = "smooth blur away from depth edges gathered in the lens's exact\n"
              "disc (docs/design.md)"},
+    {"--blurred-edges", LAYERS, CHOICE(blurred_edges, cli_choices_layer_mode),
+     PARAMS(blurred_edges), .setting = "blurred_edges",
+     .help = "where two blurred surfaces meet, each drawn with the lens's\n"
+             "shape, the nearer over the farther (the far field's depth slices)"},
     {"--silhouettes", LAYERS, CHOICE(silhouettes, cli_choices_layer_mode),
      PARAMS(silhouettes), .setting = "silhouettes",
      .help = "mixed pixels where in-focus objects meet a blurred background\n"

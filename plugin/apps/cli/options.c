@@ -24,6 +24,7 @@ static void defaults(cli_options *o)
     o->near_layer = -1;
     o->far_field = -1;
     o->silhouettes = -1;
+    o->blurred_edges = -1;
     o->highlights = -1;
     o->background_ramp_start = -1.0f;
     o->backend = DDOF_BACKEND_AUTO;

@@ -93,6 +93,7 @@ typedef struct cli_options {
     int near_layer;               /* ddof_layer_mode or -1 */
     int far_field;                /* ddof_layer_mode or -1 */
     int silhouettes;              /* ddof_layer_mode or -1 */
+    int blurred_edges;            /* ddof_layer_mode or -1 */
     float near_layer_threshold;   /* px; 0: default */
     int highlights;               /* ddof_layer_mode or -1 */
     float highlight_threshold;    /* 0: default */

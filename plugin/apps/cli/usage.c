@@ -76,20 +76,21 @@ static void print_preset(FILE *to, ddof_preset preset, const ddof_params *p)
     const char *near_layer = cli_choice_name(&cli_choices_layer_mode, (int)p->near_layer);
     const char *far_field = cli_choice_name(&cli_choices_layer_mode, (int)p->far_field);
     const char *split = cli_choice_name(&cli_choices_layer_mode, (int)p->silhouettes);
+    const char *edges = cli_choice_name(&cli_choices_layer_mode, (int)p->blurred_edges);
     const char *levels = p->background_levels == 1 ? "" : "s";
     fprintf(to, "  %-8s %s", ddof_preset_name(preset),
             cli_choice_name(&cli_choices_method, (int)p->method));
     if (p->method == DDOF_METHOD_DIFFUSION && p->kernel != DDOF_KERNEL_HEAT)
         fprintf(to, ", %s, %s kernel, background %s (%u level%s), near layer %s, near spread %s, "
-                "far field %s, silhouettes %s",
+                "far field %s, blurred edges %s, silhouettes %s",
                 ddof_solver_name(p->solver), ddof_kernel_name(p->kernel), background,
-                p->background_levels, levels, near_layer, near_spread, far_field, split);
+                p->background_levels, levels, near_layer, near_spread, far_field, edges, split);
     else if (p->method == DDOF_METHOD_DIFFUSION)
         fprintf(to, ", %s, %u sub-step%s, k %g, background %s (%u level%s), near layer %s, "
-                "near spread %s, far field %s, silhouettes %s",
+                "near spread %s, far field %s, blurred edges %s, silhouettes %s",
                 ddof_solver_name(p->solver), p->substeps, p->substeps == 1 ? "" : "s",
                 (double)p->beta_scale, background, p->background_levels, levels, near_layer,
-                near_spread, far_field, split);
+                near_spread, far_field, edges, split);
     fputc('\n', to);
 }
 
