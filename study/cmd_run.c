@@ -28,6 +28,7 @@ static cJSON *scene_json(const study_scene *s)
     cJSON_AddNumberToObject(j, "smooth_fraction",
                             (double)s->smooth_pixels / ((double)s->small.width * s->small.height));
     cJSON_AddNumberToObject(j, "silhouette_pixels", (double)s->silhouette_pixels);
+    cJSON_AddNumberToObject(j, "blurred_edge_pixels", (double)s->blurred_edge_pixels);
     cJSON_AddBoolToObject(j, "fg_element", s->small.fg_rgba != NULL);
     cJSON_AddBoolToObject(j, "rest_image", s->small.rest_rgba != NULL);
     cJSON_AddBoolToObject(j, "fg_resampled_large", s->large.fg_resampled);

@@ -14,9 +14,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* After the layers' name: the far field's gather on (ddof_params.far_field AUTO), then the
- * silhouettes' split (ddof_params.silhouettes AUTO), then the scene's object matte for it. */
+/* After the layers' name: the far field's gather on (ddof_params.far_field AUTO), its depth
+ * slices where blurred surfaces meet (ddof_params.blurred_edges AUTO), then the silhouettes' split (ddof_params.silhouettes AUTO), then the scene's object matte for it. */
 #define FAR_FIELD_SUFFIX "+ff"
+#define BLURRED_EDGES_SUFFIX "+be"
 #define SILHOUETTES_SUFFIX "+sil"
 #define MATTE_SUFFIX "+matte"
 
@@ -68,8 +69,9 @@ void study_config_make_id(study_config *cfg)
         snprintf(solver, sizeof solver, "jacobi%u", cfg->jacobi_iterations);
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
-    char ff[24];
-    snprintf(ff, sizeof ff, "%s%s%s", cfg->far_field ? FAR_FIELD_SUFFIX : "",
+    char ff[32];
+    snprintf(ff, sizeof ff, "%s%s%s%s", cfg->far_field ? FAR_FIELD_SUFFIX : "",
+             cfg->blurred_edges ? BLURRED_EDGES_SUFFIX : "",
              cfg->silhouettes ? SILHOUETTES_SUFFIX : "", cfg->matte ? MATTE_SUFFIX : "");
     if (cfg->kernel != DDOF_KERNEL_HEAT) { /* a disc has no sub-steps or k */
         snprintf(cfg->id, sizeof cfg->id, "%s/%s/%s/%s/%s%s", ddof_backend_name(cfg->backend),
@@ -192,7 +194,10 @@ int study_config_parse(const char *id, study_config *out)
     out->silhouettes = strip_suffix(parts[5], SILHOUETTES_SUFFIX);
     if (out->matte && !out->silhouettes)
         return -1; /* the matte serves the split only */
+    out->blurred_edges = strip_suffix(parts[5], BLURRED_EDGES_SUFFIX);
     out->far_field = strip_suffix(parts[5], FAR_FIELD_SUFFIX);
+    if (out->blurred_edges && !out->far_field)
+        return -1; /* the slices are the far field's */
     for (int l = 0; l < LAYERS_COUNT_; l++)
         if (!strcmp(parts[5], layer_names[l])) {
             out->layers = (study_layers)l;
@@ -231,8 +236,9 @@ void study_config_label(const study_config *cfg, char *out, size_t size)
     else
         snprintf(solver, sizeof solver, "%s", ddof_solver_name(cfg->solver));
     k_text(cfg->beta_scale, k, sizeof k);
-    char ff[64];
-    snprintf(ff, sizeof ff, "%s%s%s", cfg->far_field ? " + far field" : "",
+    char ff[96];
+    snprintf(ff, sizeof ff, "%s%s%s%s", cfg->far_field ? " + far field" : "",
+             cfg->blurred_edges ? " + blurred edges" : "",
              cfg->silhouettes ? " + silhouettes" : "", cfg->matte ? " + object matte" : "");
     if (cfg->kernel != DDOF_KERNEL_HEAT) {
         snprintf(out, size, "%s %s %s %s%s", ddof_backend_name(cfg->backend), solver,
@@ -314,7 +320,8 @@ static int add_nodes(study_config_list *list)
 
 /* The far field's gather, alone and with the silhouettes' split, over the configurations a
  * preset could be: the disc kernels and the heat kernel's best k per sub-step count, with the
- * layers on AUTO (and the near spread). */
+ * layers on AUTO (and the near spread). With the AUTO layers and the split, also with the depth
+ * slices where blurred surfaces meet. */
 static int add_far_field(study_config_list *list)
 {
     int rc = 0;
@@ -329,27 +336,33 @@ static int add_far_field(study_config_list *list)
             static const float k_heat[] = {16, 24};
             /* 0: no split, 1: the colours' split, 2: the split by the scene's object matte
              * (the AUTO layers only: what the presets can be). */
-            for (int split = 0; split < 3; split++) {
-                if (split == 2 && layers[l] != LAYERS_AUTO)
-                    continue;
-                c.silhouettes = split > 0;
-                c.matte = split == 2;
-                const char *sweep = split == 2   ? "far field,silhouettes,matte"
-                                    : split == 1 ? "far field,silhouettes"
-                                                 : "far field";
-                if (k != DDOF_KERNEL_HEAT) {
-                    c.substeps = 1;
-                    c.beta_scale = DDOF_MOMENT_BETA_SCALE;
-                    rc |= study_config_add(list, &c, sweep);
-                    continue;
-                }
-                for (size_t n = 0; n < sizeof substeps / sizeof *substeps; n++)
-                    for (size_t b = 0; b < sizeof k_heat / sizeof *k_heat; b++) {
-                        c.substeps = substeps[n];
-                        c.beta_scale = 1.0f / k_heat[b];
+            for (int split = 0; split < 3; split++)
+                for (int slices = 0; slices < 2; slices++) {
+                    if ((split == 2 || slices) && layers[l] != LAYERS_AUTO)
+                        continue;
+                    if (slices && !split)
+                        continue;
+                    c.silhouettes = split > 0;
+                    c.matte = split == 2;
+                    c.blurred_edges = slices;
+                    static const char *const sweeps[2][3] = {
+                        {"far field", "far field,silhouettes", "far field,silhouettes,matte"},
+                        {"far field,blurred edges", "far field,blurred edges,silhouettes",
+                         "far field,blurred edges,silhouettes,matte"}};
+                    const char *sweep = sweeps[slices][split];
+                    if (k != DDOF_KERNEL_HEAT) {
+                        c.substeps = 1;
+                        c.beta_scale = DDOF_MOMENT_BETA_SCALE;
                         rc |= study_config_add(list, &c, sweep);
+                        continue;
                     }
-            }
+                    for (size_t n = 0; n < sizeof substeps / sizeof *substeps; n++)
+                        for (size_t b = 0; b < sizeof k_heat / sizeof *k_heat; b++) {
+                            c.substeps = substeps[n];
+                            c.beta_scale = 1.0f / k_heat[b];
+                            rc |= study_config_add(list, &c, sweep);
+                        }
+                }
         }
     return rc;
 }
@@ -464,8 +477,11 @@ int study_config_named(study_config_list *list, const char *name)
         far.silhouettes = 1;
         study_config matte = far;
         matte.matte = 1;
+        study_config edges = far;
+        edges.blurred_edges = 1;
         return study_config_add(list, &base, "base") | study_config_add(list, &disc, "kernel") |
                study_config_add(list, &far, "far field") |
+               study_config_add(list, &edges, "far field,blurred edges,silhouettes") |
                study_config_add(list, &matte, "far field,silhouettes,matte") |
                add_baseline(list, "pinhole");
     }
@@ -515,6 +531,7 @@ void study_config_params(const study_config *cfg, int fg_element, ddof_params *p
     p->background_levels = 1;
     p->near_layer = DDOF_LAYER_OFF; /* AUTO in the AUTO settings only */
     p->far_field = cfg->far_field ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
+    p->blurred_edges = cfg->blurred_edges ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
     p->silhouettes = cfg->silhouettes ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
     switch (cfg->layers) {
     case LAYERS_SINGLE:

@@ -90,6 +90,7 @@ static cJSON *settings_json(const study_scene *scene, const study_config *cfg)
         cJSON_AddStringToObject(r, "near_layer", layer_mode_name(p.near_layer));
         cJSON_AddStringToObject(r, "far_field", layer_mode_name(p.far_field));
         cJSON_AddStringToObject(r, "silhouettes", layer_mode_name(p.silhouettes));
+        cJSON_AddStringToObject(r, "blurred_edges", layer_mode_name(p.blurred_edges));
     } else {
         cJSON_AddStringToObject(r, "backend",
                                 cfg->kind == STUDY_DEFOCUS ? "blender" : "cpu");
@@ -227,7 +228,7 @@ static void call_outcome(cJSON *r, const study_options *o, const study_scene *sc
 }
 
 /* The errors of the image against the truth (the whole image, the band, the smooth far field,
- * the silhouettes) and, for the diffusion, against the double-precision solve of its settings. */
+ * the silhouettes, where blurred surfaces meet) and, for the diffusion, against the double-precision solve of its settings. */
 static void add_errors(cJSON *r, ddof_context *shared, const study_scene *scene,
                        const study_config *cfg, const float *image, double *psnr, double *band,
                        double *smooth)
@@ -243,6 +244,8 @@ static void add_errors(cJSON *r, ddof_context *shared, const study_scene *scene,
     add_number_or_null(r, "psnr_smooth", *smooth);
     add_number_or_null(r, "psnr_silhouette",
                        study_psnr(image, scene->truth, pixels, scene->silhouette));
+    add_number_or_null(r, "psnr_blurred_edges",
+                       study_psnr(image, scene->truth, pixels, scene->blurred_edges));
     add_number_or_null(r, "rmse_linear", rms);
     if (cfg->kind != STUDY_DIFFUSION)
         return;

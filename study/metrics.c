@@ -139,6 +139,37 @@ size_t study_silhouettes(const float *coc, uint32_t width, uint32_t height,
     return count;
 }
 
+size_t study_blurred_edges(const float *coc, uint32_t width, uint32_t height,
+                           unsigned char *band)
+{
+    const size_t pixels = (size_t)width * height;
+    /* 1 within reach of an edge between blurred surfaces, then 0 within reach of any other
+     * edge: two passes, as the stamps of the second overwrite the first's. */
+    memset(band, 0, pixels);
+    for (int pass = 0; pass < 2; pass++)
+        for (uint32_t y = 0; y < height; y++)
+            for (uint32_t x = 0; x < width; x++) {
+                const float c = coc[(size_t)y * width + x];
+                for (int dir = 0; dir < 2; dir++) {
+                    const uint32_t nx = x + (dir == 0), ny = y + (dir == 1);
+                    if (nx >= width || ny >= height)
+                        continue;
+                    const float d = coc[(size_t)ny * width + nx];
+                    if (!(fabsf(c - d) >= STUDY_EDGE_COC_PX))
+                        continue;
+                    const int blurred = fminf(fabsf(c), fabsf(d)) >= STUDY_EDGE_COC_PX;
+                    if (blurred != (pass == 0))
+                        continue;
+                    stamp_disc(band, width, height, x, y, STUDY_SMOOTH_EDGE_PX, pass == 0);
+                    stamp_disc(band, width, height, nx, ny, STUDY_SMOOTH_EDGE_PX, pass == 0);
+                }
+            }
+    size_t count = 0;
+    for (size_t i = 0; i < pixels; i++)
+        count += band[i];
+    return count;
+}
+
 double study_psnr(const float *a, const float *b, size_t pixels, const unsigned char *mask)
 {
     double sum = 0.0;

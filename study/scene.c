@@ -266,6 +266,7 @@ void study_scene_free(study_scene *s)
     free(s->band);
     free(s->smooth);
     free(s->silhouette);
+    free(s->blurred_edges);
     for (int n = 0; n < STUDY_NODE_COUNT; n++)
         free(s->nodes[n].image);
     memset(s, 0, sizeof *s);
@@ -389,6 +390,13 @@ int study_scene_load(ddof_context *ctx, const char *dir, int want_large, study_s
     }
     s->silhouette_pixels =
         study_silhouettes(s->small.coc, s->small.width, s->small.height, s->silhouette);
+    s->blurred_edges = malloc(pixels);
+    if (!s->blurred_edges) {
+        fail(error, size, "out of memory");
+        goto failed;
+    }
+    s->blurred_edge_pixels =
+        study_blurred_edges(s->small.coc, s->small.width, s->small.height, s->blurred_edges);
     for (size_t i = 0; i < pixels; i++)
         s->max_abs_coc = fmaxf(s->max_abs_coc, fabsf(s->small.coc[i]));
 

@@ -63,6 +63,7 @@ typedef struct study_config {
     ddof_kernel kernel;       /* heat (the ids above) or a disc: "cpu/thomas/f32/disc-2x2/auto" */
     int node;                 /* STUDY_DEFOCUS: which Blender's node (study_node_names)        */
     int far_field;            /* the far field's gather (AUTO): "+ff" after the layers' name   */
+    int blurred_edges;        /* with it, its depth slices (AUTO): "+be" after "+ff"          */
     int silhouettes;          /* the mixed pixels' split (AUTO): "+sil" after that            */
     int matte;                /* with silhouettes: the scene's object matte (matte.exr) for    */
                               /* the split, "+matte" after "+sil"; an input, not a setting     */
@@ -131,6 +132,8 @@ typedef struct study_scene {
     size_t smooth_pixels;
     unsigned char *silhouette; /* 1 in the silhouette band (study_silhouettes)               */
     size_t silhouette_pixels;
+    unsigned char *blurred_edges; /* 1 where two blurred surfaces meet (study_blurred_edges)  */
+    size_t blurred_edge_pixels;
     float max_abs_coc;
     double seconds_coc_small, seconds_coc_large; /* ddof_coc_from_camera, median             */
     study_node nodes[STUDY_NODE_COUNT]; /* the Defocus nodes' results (study_node_names)      */
@@ -182,6 +185,13 @@ size_t study_smooth(const float *coc, const float *rgba, const float *truth, uin
 #define STUDY_SILHOUETTE_PX 2.0f
 size_t study_silhouettes(const float *coc, uint32_t width, uint32_t height,
                          unsigned char *silhouette);
+
+/* The blurred-edge band: where two blurred surfaces meet (a tree's crown before the sky). A
+ * depth edge (STUDY_EDGE_COC_PX) whose two sides both have |CoC| of STUDY_EDGE_COC_PX or more
+ * marks every pixel within STUDY_SMOOTH_EDGE_PX of it, less those within that distance of an
+ * edge touching a sharper pixel (the silhouettes' side). The count. */
+size_t study_blurred_edges(const float *coc, uint32_t width, uint32_t height,
+                           unsigned char *band);
 
 /* PSNR over RGB of sRGB-encoded values clamped to [0, 1], peak 1: plugin/apps/cli/compare.c's
  * definition (`ddof --compare`). mask NULL: every pixel. +inf when identical; NAN when the mask

@@ -35,14 +35,18 @@ def best_node_psnr(study, scene):
 
 
 def bar_misses(c, study, margin=0.0):
-    """[(scene, "image" or "band", c's PSNR, the bar + margin)] where c falls short of the best
-    node + margin: image PSNR on every scene with blur, band PSNR on those with a band. A scene no
-    node ran on has no bar."""
+    """[(scene, "image", "band" or "blurred edges", c's PSNR, the bar + margin)] where c falls
+    short of the best node + margin: image PSNR on every scene with blur, band PSNR on those with
+    a band, the blurred-edge band's on those with one. A scene no node ran on has no bar."""
     misses = []
     for s in study.blurred:
         for key, what, value in (("psnr", "image", c.psnr.get(s, math.nan)),
-                                 ("psnr_band", "band", c.band.get(s, math.nan))):
+                                 ("psnr_band", "band", c.band.get(s, math.nan)),
+                                 ("psnr_blurred_edges", "blurred edges",
+                                  c.blurred_edges.get(s, math.nan))):
             if what == "band" and s not in study.with_band:
+                continue
+            if what == "blurred edges" and s not in study.with_blurred_edges:
                 continue
             bar, _ = best_node(study, s, key)
             if math.isnan(bar):

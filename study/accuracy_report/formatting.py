@@ -53,6 +53,7 @@ def config_name(c):
     solver = c.solver + ("%d" % c.jacobi if c.solver == "jacobi" else "")
     prec = {"packed half": " half", "double": " (double)"}.get(c.precision, "")
     layers = c.layers + (" + far field" if c.first.get("far_field", "off") != "off" else "") + \
+        (" + blurred edges" if c.first.get("blurred_edges", "off") != "off" else "") + \
         (" + silhouettes" if c.first.get("silhouettes", "off") != "off" else "") + \
         (" + object matte" if c.first.get("matte") else "")
     if c.kernel != "heat":

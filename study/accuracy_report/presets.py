@@ -90,3 +90,15 @@ def choose_presets(study):
         notes.append("The final preset is the default's configuration: no candidate within "
                      "the budget is more accurate.")
     return chosen, front, cands
+
+
+def held_out_presets(study):
+    """[(scene, {preset: Config})] for every scene with blur: the presets the rule chooses on
+    the other scenes, to be judged on the one left out (a preset chosen on a set of scenes and
+    judged on the same set is fit to them)."""
+    out = []
+    for scene in study.blurred:
+        chosen, _, _ = choose_presets(study.without(scene))
+        if chosen:
+            out.append((scene, chosen))
+    return out

@@ -1,6 +1,7 @@
 # SPDX-License-Identifier: MIT
 """Reading results.jsonl: the study's scenes and configurations with their measurements."""
 
+import copy
 import json
 import math
 
@@ -56,6 +57,18 @@ class Study:
                         self.seconds += float(rec.get("seconds", 0.0))
                         self.peak_rss = max(self.peak_rss, float(rec.get("peak_rss_bytes", 0)))
         register_nodes(self.order)
+        self._derive()
+
+    def without(self, scene):
+        """The same results with one scene left out: for choosing the presets on the other
+        scenes and judging them on the one left out."""
+        other = copy.copy(self)
+        other.scene_order = [s for s in self.scene_order if s != scene]
+        other._derive()
+        return other
+
+    def _derive(self):
+        """The scene lists and the configurations' measures over self.scene_order."""
         self.blurred = [s for s in self.scene_order if self.scenes[s].get("blurred")]
         self.with_band = [s for s in self.blurred if self.scenes[s].get("band_pixels", 0) > 0]
         # The smooth far field (study_smooth, study/metrics.c); results before it lack it.
@@ -64,6 +77,9 @@ class Study:
         # The silhouette band (study_silhouettes); results before it lack it.
         self.with_silhouette = [s for s in self.blurred
                                 if self.scenes[s].get("silhouette_pixels", 0) > 0]
+        # Where two blurred surfaces meet (study_blurred_edges); results before it lack it.
+        self.with_blurred_edges = [s for s in self.blurred
+                                   if self.scenes[s].get("blurred_edge_pixels", 0) > 0]
         self.has_large = any(self.scenes[s].get("large_width") for s in self.scene_order)
         self.configs = [Config(cid, self.results[cid], self) for cid in self.order]
         self.by_id = {c.id: c for c in self.configs}
@@ -113,6 +129,8 @@ class Config:
                        for s in study.scene_order}
         self.silhouette = {s: num(per_scene.get(s, {}).get("psnr_silhouette"))
                            for s in study.scene_order}
+        self.blurred_edges = {s: num(per_scene.get(s, {}).get("psnr_blurred_edges"))
+                              for s in study.scene_order}
         self.image_mean = mean([self.psnr[s] for s in blurred])
         self.band_mean = mean([self.band[s] for s in study.with_band])
         if any(math.isnan(self.psnr[s]) for s in blurred):

@@ -1,5 +1,6 @@
 # SPDX-License-Identifier: MIT
-"""The report's tables: configurations, scenes, the bar, the silhouette band, the machine."""
+"""The report's tables: configurations, scenes, the bar, the silhouette band, the blurred-edge
+band, the presets held out, the machine."""
 
 import math
 
@@ -39,6 +40,79 @@ def silhouette_table(study, chosen):
         L.append("| %s | %.1f%% | %s |" % (sc, share, " | ".join(
             fmt(study.by_id[cid].silhouette[sc]) if study.by_id[cid].per.get(sc, {}).get(
                 "available") else "–" for cid, _ in cols)))
+    L.append("")
+    return L
+
+
+def blurred_edge_table(study, chosen):
+    """The blurred-edge band per scene: the presets, the default without the depth slices, and
+    the nodes."""
+    if not study.with_blurred_edges:
+        return []
+    default = chosen["default"]
+    before = default.id.replace("+be", "")
+    cols = [("pinhole", "pinhole")] + [(chosen[n].id, n) for n in PRESET_ORDER]
+    if before != default.id:
+        cols.append((before, "default without blurred edges"))
+    cols += [(cid, NODE_NAMES[cid].replace("Defocus node", "node")) for cid in NODE_IDS]
+    cols = [(cid, name) for cid, name in cols if cid in study.by_id]
+    L = ["The blurred-edge band (issue 39: the pixels within 12 px of a depth edge whose two "
+         "sides both have |CoC| >= 2 px, less those within 12 px of an edge at a sharper pixel, "
+         "`study_blurred_edges` in `study/metrics.c`: where two blurred surfaces meet, a tree's "
+         "crown before the sky), PSNR in dB:", "",
+         "| scene | share | " + " | ".join(name for _, name in cols) + " |",
+         "|---|---:|" + "---:|" * len(cols)]
+    for sc in study.with_blurred_edges:
+        share = 100.0 * study.scenes[sc]["blurred_edge_pixels"] / (
+            study.scenes[sc]["width"] * study.scenes[sc]["height"])
+        L.append("| %s | %.1f%% | %s |" % (sc, share, " | ".join(
+            fmt(study.by_id[cid].blurred_edges[sc]) if study.by_id[cid].per.get(sc, {}).get(
+                "available") else "–" for cid, _ in cols)))
+    L.append("")
+    return L
+
+
+def held_out_table(study, held_out, chosen_all):
+    """Each preset chosen on every scene but one and judged on the one left out, against the
+    best node there: image / band / blurred-edge band, and the smallest margin."""
+    if not held_out:
+        return []
+    L = ["### The presets held out", "",
+         "Leave one scene out: for every scene with blur, the rule above chooses the presets on "
+         "the other scenes alone, and the table judges them on the scene left out. PSNR image / "
+         "band / blurred-edge band in dB (– where the scene has no such band); *margin*: the "
+         "smallest of the three differences to the best Defocus node's (the bar, each metric "
+         "separately); *config*: the configuration chosen without the scene (= where it is the "
+         "preset chosen on all scenes).", "",
+         "| scene | " + " | ".join("%s | %s margin | %s config" % (n, n, n)
+                                   for n in PRESET_ORDER) + " | bar |",
+         "|---|" + "---:|---:|---|" * len(PRESET_ORDER) + "---:|"]
+    keys = (("psnr", "psnr"), ("band", "psnr_band"), ("blurred_edges", "psnr_blurred_edges"))
+
+    def values(c, sc):
+        out = []
+        for attr, key in keys:
+            if key == "psnr_band" and sc not in study.with_band:
+                out.append(math.nan)
+            elif key == "psnr_blurred_edges" and sc not in study.with_blurred_edges:
+                out.append(math.nan)
+            else:
+                out.append(getattr(c, "psnr" if attr == "psnr" else attr)[sc])
+        return out
+
+    for sc, chosen in held_out:
+        bar = [best_node(study, sc, key)[0] for _, key in keys]
+        cells = []
+        for name in PRESET_ORDER:
+            c = study.by_id[chosen[name].id]  # measured on every scene, the left-out one too
+            v = values(c, sc)
+            margins = [a - b for a, b in zip(v, bar) if not math.isnan(a) and not math.isnan(b)]
+            cells.append("%s | %s | %s" % (" / ".join(fmt(x) for x in v if not math.isnan(x)),
+                                           fmt(min(margins)) if margins else "–",
+                                           "=" if c.id == chosen_all[name].id
+                                           else short(config_name(c))))
+        L.append("| %s | %s | %s |" % (sc, " | ".join(cells),
+                                       " / ".join(fmt(x) for x in bar if not math.isnan(x))))
     L.append("")
     return L
 

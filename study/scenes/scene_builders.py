@@ -11,7 +11,8 @@ from materials import _rgb, bricks, checker, emission, multiply, ramp, texture, 
 from objects import box, monkey, plane, rod, set_world, sphere, strand, wall
 
 SCENE_NAMES = ["thin_bars", "thin_strands", "near_occluder", "receding_plane", "highlights",
-               "all_sharp", "near_railing", "near_border", "daylight", "park"]
+               "all_sharp", "near_railing", "near_border", "daylight", "park",
+               "street", "night_lights"]
 
 # Truth samples per scene at the default size: chosen so that two truth renders with
 # different seeds are >= 40 dB apart (README.md, "Noise floor").
@@ -26,6 +27,8 @@ TRUTH_SAMPLES = {
     "near_border": 2048,
     "daylight": 4096,
     "park": 2048,
+    "street": 2048,
+    "night_lights": 8192,
 }
 
 
@@ -391,6 +394,64 @@ def build_park(scene):
     return cam, []
 
 
+
+def build_street(scene):
+    """A textured ball 0.9 m from the lens filling a fifth of the frame (CoC ~22 px), a crate in
+    focus at 5 m on a receding paved street (50 mm f/1.4), house fronts at 25 m."""
+    cam = dict(focal_mm=50.0, fstop=1.4, focus_m=5.0, height=1.3, pitch=3.0)
+    set_world(scene, (0.6, 0.7, 0.85))
+    paving = unlit("Paving", multiply(
+        texture("ShaderNodeTexBrick", [(0.55, 0.5, 0.45, 1), (0.35, 0.33, 0.3, 1)], 1.0,
+                bricks(0.3, 0.15, 0.015, (0.12, 0.11, 0.1, 1.0))),
+        ramp("ShaderNodeTexNoise", [(0.7, 0.7, 0.7), (1.0, 1.0, 1.0)], 4.0)))
+    plane("Street", paving, (60.0, 400.0), (0.0, 200.0, 0.0))
+    fronts = unlit("Fronts", texture("ShaderNodeTexBrick", [(0.75, 0.45, 0.3, 1),
+                                                           (0.85, 0.75, 0.6, 1)], 1.0,
+                                     bricks(0.9, 0.35, 0.05, (0.3, 0.28, 0.25, 1.0))))
+    wall("Fronts", fronts, (60.0, 24.0), 25.0, 12.0)
+    crate = unlit("Box", checker((0.15, 0.35, 0.6, 1), (0.8, 0.85, 0.9, 1), 4.0))
+    box("Crate", crate, (-0.3, 5.2, 0.4), (0.8, 0.8, 0.8), 25.0)
+    ball = unlit("Ball", multiply(
+        checker((0.85, 0.2, 0.1, 1), (0.95, 0.85, 0.3, 1), 40.0),
+        ramp("ShaderNodeTexNoise", [(0.6, 0.6, 0.6), (1.0, 1.0, 1.0)], 8.0)))
+    obj = sphere("Ball", ball, at(cam, 0.5, -0.35, 0.9), 0.125, segments=48, rings=24)
+    return cam, [obj.name]
+
+
+def build_night_lights(scene):
+    """Night: thin twigs and a wire in focus at 3 m (85 mm f/1.4) before 55 small lights at
+    12-30 m (CoC 18-20 px), many of them within a disc of the frame's edges and a few just
+    past them, over a dark wall."""
+    import random
+    cam = dict(focal_mm=85.0, fstop=1.4, focus_m=3.0, height=1.2, pitch=0.0)
+    set_world(scene, (0.004, 0.005, 0.01))
+    back = unlit("Back", texture("ShaderNodeTexBrick", [(0.03, 0.025, 0.02, 1),
+                                                        (0.015, 0.015, 0.02, 1)], 1.0,
+                                 bricks(0.8, 0.3, 0.05, (0.005, 0.005, 0.006, 1.0))))
+    wall("Back", back, (60.0, 30.0), 40.0, 1.2)
+    rng = random.Random(5)
+    warm = [(1.0, 0.7, 0.35), (1.0, 0.85, 0.55), (0.6, 0.8, 1.0), (1.0, 0.55, 0.3)]
+    for i in range(55):
+        if i < 30:  # along the edges: within about a disc of them, a few just past
+            side = i % 4
+            t, e = rng.uniform(-1.0, 1.0), rng.uniform(0.86, 1.04)
+            u, v = [(-e, t), (e, t), (t, -e), (t, e)][side]
+        else:
+            u, v = rng.uniform(-0.85, 0.85), rng.uniform(-0.85, 0.85)
+        dist = rng.uniform(12.0, 30.0)
+        strength = rng.choice((8.0, 20.0, 50.0))
+        sphere("Light%d" % i, emission("Light%d" % i, warm[i % 4], strength),
+               at(cam, u, v, dist), 0.0022 * dist)
+    twig = unlit("Twig", (0.06, 0.045, 0.03))
+    for i in range(7):
+        p0 = at(cam, rng.uniform(-1.1, -0.2), rng.uniform(-0.9, 0.9), 3.0)
+        p1 = at(cam, rng.uniform(0.2, 1.1), rng.uniform(-0.9, 0.9), 3.0)
+        rod("Twig%d" % i, twig, p0, p1, rng.uniform(0.002, 0.005), vertices=8)
+    wire = unlit("Wire", (0.02, 0.02, 0.02))
+    rod("Wire", wire, at(cam, -1.2, 0.55, 3.05), at(cam, 1.2, 0.4, 3.05), 0.0012, vertices=8)
+    return cam, []
+
+
 BUILDERS = {
     "thin_bars": build_thin_bars,
     "thin_strands": build_thin_strands,
@@ -402,4 +463,6 @@ BUILDERS = {
     "near_border": build_near_border,
     "daylight": build_daylight,
     "park": build_park,
+    "street": build_street,
+    "night_lights": build_night_lights,
 }

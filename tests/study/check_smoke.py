@@ -74,7 +74,8 @@ if os.path.isfile(inc):
     entry = re.compile(r"^\{DDOF_METHOD_[A-Z0-9_]+, DDOF_SOLVER_[A-Z0-9_]+, \d+, [0-9.e+-]+f, "
                        r"DDOF_LAYER_(AUTO|ON|OFF), \d+, DDOF_LAYER_(AUTO|ON|OFF), "
                        r"DDOF_KERNEL_(HEAT|DISC_\dX\d), DDOF_LAYER_(AUTO|ON|OFF), "
-                       r"DDOF_LAYER_(AUTO|ON|OFF), DDOF_LAYER_(AUTO|ON|OFF)\}, "
+                       r"DDOF_LAYER_(AUTO|ON|OFF), DDOF_LAYER_(AUTO|ON|OFF), "
+                       r"DDOF_LAYER_(AUTO|ON|OFF)\}, "
                        r"/\* (preview|default|final) \*/$")
     lines = [line for line in open(inc).read().splitlines() if line.startswith("{")]
     check(len(lines) == 3 and all(entry.match(line) for line in lines),

@@ -114,6 +114,36 @@ check("| a | 30.00 (4.2) | 28.00 (4.2) |" in text, "bar row of scene a")
 check("/ 45.00" not in text or "/ 50.00" in text, "smooth column shows the best node's")
 check("No candidate" not in text, "no 'no candidate' note when the rules are met")
 
+# Leave one scene out: on scene a alone every disc is within a's budget and beats its bar by
+# 1 dB, so the final chosen without b is disc-2x3 (the most accurate; over b's budget), judged on
+# b: image 33.60 / band 28.70 against the bar 32.00 / 27.50, a margin of 1.20 dB; the default
+# chosen without b is the one chosen on both (=).
+held = text[text.index("### The presets held out"):]
+row_b = [line for line in held.splitlines() if line.startswith("| b |")]
+check(len(row_b) == 1 and "33.60 / 28.70 | 1.20 | cpu thomas, disc-2x3" in row_b[0]
+      and "| 31.20 / 28.40 | " not in row_b[0],
+      "held-out row of b: %r" % row_b)
+check(len(row_b) == 1 and "| 33.00 / 28.40 | 0.90 | = |" in row_b[0],
+      "the default held out on b is the default chosen on both: %r" % row_b)
+
+# The blurred-edge band is part of the bar where a scene has one: disc-2x2 beats the node's
+# image and band on a but not where its blurred surfaces meet, so the default is disc-3x3.
+edges = []
+for line in lines:
+    line = dict(line)
+    if line.get("type") == "scene" and line["scene"] == "a":
+        line["blurred_edge_pixels"] = 100
+    if line.get("type") == "result" and line["scene"] == "a":
+        line["psnr_blurred_edges"] = {"defocus": 34.0, "defocus-4.2": 35.0, "pinhole": 20.0,
+                                      "cpu/thomas/f32/disc-2x2/auto": 34.0}.get(line["id"],
+                                                                                  36.0)
+    edges.append(line)
+chosen, study, text = run(edges)
+check(chosen["default"].id == "cpu/thomas/f32/disc-3x3/auto",
+      "default %s, want disc-3x3 (disc-2x2 misses the blurred-edge bar)" % chosen["default"].id)
+check("The blurred-edge band" in text and "| a | 0.1% |" in text,
+      "the blurred-edge band table")
+
 # The default's settings with the scenes' object matte, faster and more accurate than all: an
 # input, never a preset; the per-scene tables show it as the default's column.
 with_matte = lines + [result("cpu/thomas/f32/disc-2x2/auto+matte", sc, p + 3.0, b + 3.0, 500.0,
