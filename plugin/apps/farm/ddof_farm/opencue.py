@@ -7,6 +7,7 @@ pyoutline reads its configuration when imported, so outline_config.py writes it 
 
 import os
 import subprocess
+import tempfile
 
 import outline
 import outline.cuerun
@@ -31,7 +32,7 @@ class DdofChunk(outline.layer.Layer):
         chunk = frame_lists.format_frames(sorted(frames))
         argv = list(self.get_arg("ddof_command")) + ["--frames", chunk, "--skip-existing",
                                                       "--stats", self.get_arg("stats_prefix") +
-                                                      chunk + ".json"]
+                                                      frame_lists.chunk_name(chunk) + ".json"]
         result = subprocess.run(argv, cwd=self.get_arg("workdir"), check=False)
         if result.returncode != 0:
             raise RuntimeError("ddof exited with %d on frames %s (its last line names the "
@@ -64,17 +65,30 @@ def build(job, render_command=None, layers=("render", "ddof")):
 def launch_local(job, render_command=None):
     """Runs the outline here through pyoutline's local dispatcher, one task at a time. That
     dispatcher runs frames in order and ignores dependencies, so the renders (when given) run
-    as an outline of their own first."""
+    as an outline of their own first. Returns the tasks that failed ("FRAME-LAYER"): the
+    dispatcher only logs them, so the package's frame wrapper (wrappers/local_wrap_frame)
+    lists them in the file DDOF_FARM_FAILED_TASKS names."""
     # The tasks run in child processes (pycuerun) that load this module to run DdofChunk.
     package_root = os.path.dirname(HERE)
     path = os.environ.get("PYTHONPATH", "")
     if package_root not in path.split(os.pathsep):
         os.environ["PYTHONPATH"] = package_root + (os.pathsep + path if path else "")
     spec = frame_lists.format_frames(job.frames)
-    if render_command:
-        outline.cuerun.launch(build(job, render_command, ("render",)), backend="local",
-                              range=spec)
-    outline.cuerun.launch(build(job, None, ("ddof",)), backend="local", range=spec)
+    outline_dir = os.path.join(job.stats_dir, "outline")
+    os.makedirs(outline_dir, exist_ok=True)
+    fd, failed_path = tempfile.mkstemp(prefix="failed_tasks_", dir=outline_dir)
+    os.close(fd)
+    os.environ["DDOF_FARM_FAILED_TASKS"] = failed_path
+    try:
+        if render_command:
+            outline.cuerun.launch(build(job, render_command, ("render",)), backend="local",
+                                  range=spec)
+        outline.cuerun.launch(build(job, None, ("ddof",)), backend="local", range=spec)
+        with open(failed_path, encoding="utf-8") as f:
+            return [line.strip() for line in f if line.strip()]
+    finally:
+        del os.environ["DDOF_FARM_FAILED_TASKS"]
+        os.unlink(failed_path)
 
 
 def submit(job, render_command=None):
