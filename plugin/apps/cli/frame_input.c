@@ -209,6 +209,11 @@ int frame_input_open(const frame_setup *setup, const frame_paths *paths, frame_d
 
     if (input_file_open_exr(paths->input, "input", image, error, sizeof error) != EXRIO_OK)
         return frame_fail(result, "%s", error);
+    /* The ground truth is read after the output is written: a truth that cannot be opened
+     * fails the frame here, before its output appears. */
+    if (paths->compare[0] &&
+        input_file_check(paths->compare, "ground truth", error, sizeof error) != 0)
+        return frame_fail(result, "ground truth: %s", error);
     memset(&request, 0, sizeof request);
     request.layer = opt->layer;
     request.color = opt->color;
