@@ -173,10 +173,61 @@ static int case_matte(void)
     return test_finish("test_cli matte");
 }
 
+/* The scene with CryptoObject sub-layers `subs` (e.g. {1}: 01 without 00) of the matte. */
+static void write_subs(const char *path, const scene *s, float matte[4][N], const int *subs,
+                       int count)
+{
+    static char names[8][64];
+    const char *all_names[13] = {"A", "B", "G", "R", "Z"};
+    exrio_pixel_type types[13];
+    const void *planes[13] = {s->rgba[3], s->rgba[2], s->rgba[1], s->rgba[0], s->z};
+    int n = 5;
+    for (int c = 0; c < 13; c++)
+        types[c] = EXRIO_FLOAT;
+    for (int k = 0; k < count; k++)
+        for (int c = 0; c < 4; c++) {
+            snprintf(names[n - 5], sizeof names[0], "CryptoObject%02d.%c", subs[k], "rgba"[c]);
+            all_names[n] = names[n - 5];
+            planes[n++] = matte[c];
+        }
+    const exrio_box box = test_box(0, 0, W, H);
+    CHECK(test_write_exr(path, &box, NULL, n, all_names, types, planes,
+                         EXRIO_COMPRESSION_NONE) == 0);
+}
+
+/* A matte whose sub-layers do not run from 00 without a gap is refused, not ignored. */
+static int case_matte_gap(void)
+{
+    static scene s;
+    static float matte[4][N];
+    const char *in = test_path(dir, "in.exr"), *json = test_path(dir, "camera.json");
+    const char *camera =
+        "{\"focal_length_mm\": 200, \"sensor_width_mm\": 36, \"sensor_fit\": \"AUTO\","
+        " \"fstop\": 1.4, \"focus_distance_m\": 3.0, \"resolution\": [48, 32],"
+        " \"pixel_aspect\": 1.0}";
+    static const int only_01[1] = {1}, gap[2] = {0, 2}, whole[2] = {0, 1};
+    make_scene(&s, 0);
+    make_matte(&s, matte);
+    test_write_file(json, camera, strlen(camera));
+    write_subs(in, &s, matte, only_01, 1);
+    CHECK(ddof(in, "-o", test_path(dir, "x.exr"), "--camera", json, NULL) != 0);
+    CHECK(err_contains("has sub-layer 01 but not 00"));
+    write_subs(in, &s, matte, gap, 2);
+    CHECK(ddof(in, "-o", test_path(dir, "x.exr"), "--camera", json, NULL) != 0);
+    CHECK(err_contains("has sub-layer 02 but not 01"));
+    CHECK(!test_file_exists(test_path(dir, "x.exr")));
+    write_subs(in, &s, matte, whole, 2);
+    CHECK(ddof(in, "-o", test_path(dir, "x.exr"), "--camera", json, NULL) == 0);
+    CHECK(ddof("--list", in, NULL) == 0);
+    CHECK(out_contains("matte CryptoObject (4 ranks)"));
+    return test_finish("test_cli matte_gap");
+}
+
 int main(int argc, char **argv)
 {
     static const cli_case cases[] = {
         {"matte", case_matte},
+        {"matte_gap", case_matte_gap},
     };
     return cli_test_main(argc, argv, "test_cli_matte", cases, sizeof cases / sizeof cases[0]);
 }

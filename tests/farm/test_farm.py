@@ -128,7 +128,8 @@ def main():
     # as a farm retries a task.
     job = json.load(open(os.path.join(scratch, "job.json"), encoding="utf-8"))
     run = job["steps"][0]["script"]["actions"]["onRun"]
-    argv = [run["command"]] + [a.replace("{{Task.Param.Frames}}", "6-10") for a in run["args"]]
+    argv = [run["command"]] + [a.replace("{{Task.Param.Frames}}", "6-10")
+                              .replace("{{Task.Param.Chunk}}", "6-10") for a in run["args"]]
     argv = ["kill/d_####.exr" if a == "jd/d_####.exr" else a for a in argv]
     first = os.path.join(scratch, "kill", "d_0006.exr")
     proc = subprocess.Popen(argv + ["--jobs", "1"], cwd=scratch)
@@ -167,6 +168,49 @@ def main():
     r = farm("report", "bad-stats", cwd=scratch)
     check(r.returncode == 1 and "frame 13 failed" in r.stdout,
           "report of the failed chunk: %s" % r.stdout.strip().splitlines()[:2])
+
+    # A job folder and file names a shell or OpenJD would read as code: $(...), quotes, spaces,
+    # {{...}}. The tasks pass them on as written (the wrapper and the template never re-read
+    # them), through OpenCue's local backend and openjd run.
+    odd = os.path.join(scratch, "job $(touch INJECTED) 'q' {{Param.X}}")
+    os.makedirs(odd)
+    for f in (1, 2):
+        shutil.copyfile(os.path.join(samples, "pinhole.exr"), os.path.join(odd, "in {{x}}_%d.exr" % f))
+    shutil.copyfile(os.path.join(samples, "camera.json"), os.path.join(odd, "cam $(x).json"))
+    odd_args = ["in {{x}}_#.exr", "--camera", "cam $(x).json", "-q"]
+    r = farm("opencue", "--local", "--frames", "1-2", "--chunk", "1", "--stats-dir", "s {{y}}",
+             "--ddof", ddof, "--", *odd_args, "-o", "cue $(y)_#.exr", cwd=odd)
+    r2 = farm("openjd", "-o", "job {{x}}.json", "--frames", "1-2", "--chunk", "2",
+              "--stats-dir", "s {{y}}", "--ddof", ddof, "--", *odd_args, "-o", "jd {{z}}_#.exr",
+              cwd=odd)
+    r3 = subprocess.run([openjd, "run", "job {{x}}.json"], cwd=odd, capture_output=True, text=True)
+    written = sorted(n for n in os.listdir(odd) if n.startswith(("cue", "jd")))
+    injected = [os.path.join(d, n) for d, _, ns in os.walk(scratch) for n in ns if n == "INJECTED"]
+    check(r.returncode == 0 and r2.returncode == 0 and r3.returncode == 0 and not injected and
+          written == ["cue $(y)_1.exr", "cue $(y)_2.exr", "jd {{z}}_1.exr", "jd {{z}}_2.exr"],
+          "paths with $(...), quotes, spaces and {{...}} run as written: %s, injected %s, %s"
+          % (written, injected, (r.stderr + r2.stderr + r3.stdout)[-300:]))
+
+    # Frames on twos with 4-digit numbers in chunks of 20 through the local backend: every frame
+    # once, in the job's chunks, each --stats name short (a chunk's list would pass 255 bytes
+    # in chunks of 50).
+    for f in range(1001, 1100, 2):
+        os.symlink("r_0001.exr", os.path.join(scratch, "in", "t_%04d.exr" % f))
+    r = farm("opencue", "--local", "--frames", "1001-1099x2", "--chunk", "20", "--stats-dir",
+             "twos-stats", "--ddof", ddof, "--", "in/t_####.exr", "--camera", "camera.json", "-q",
+             "-o", "twos/d_####.exr", cwd=scratch)
+    written = sorted(os.listdir(os.path.join(scratch, "twos")))
+    stats = sorted(n for n in os.listdir(os.path.join(scratch, "twos-stats")) if n.endswith(".json"))
+    check(r.returncode == 0 and written == ["d_%04d.exr" % f for f in range(1001, 1100, 2)] and
+          len(stats) == 3 and stats[0].startswith("chunk_1001-1039_"),
+          "OpenCue local, 1001-1099x2 in chunks of 20: %d frames, stats %s" % (len(written), stats))
+
+    # A chunk whose frame fails: ddof-farm opencue --local exits 1 naming the task.
+    os.remove(os.path.join(odd, "in {{x}}_2.exr"))
+    r = farm("opencue", "--local", "--frames", "1-2", "--chunk", "1", "--stats-dir", "f {{y}}",
+             "--ddof", ddof, "--", *odd_args, "-o", "fail_#.exr", cwd=odd)
+    check(r.returncode == 1 and "1 task failed: 2-ddof" in r.stderr,
+          "OpenCue local, frame 2 missing: exit %d, %s" % (r.returncode, r.stderr[-200:]))
 
     print("%d failed" % len(failures))
     return 1 if failures else 0

@@ -3,6 +3,7 @@
 #include "aperture_image.h"
 
 #include "exrio.h"
+#include "input_file.h"
 
 #include <stdio.h>
 #include <stdlib.h>
@@ -28,7 +29,7 @@ float *aperture_image_read(const char *path, uint32_t *width, uint32_t *height, 
 {
     exrio_image image;
     float *pixels = NULL;
-    if (exrio_open(path, &image, error, error_size) != EXRIO_OK)
+    if (input_file_open_exr(path, "aperture image", &image, error, error_size) != EXRIO_OK)
         return NULL;
     const int c = aperture_channel(&image);
     unsigned char *wanted = calloc((size_t)image.channel_count + 1, 1);

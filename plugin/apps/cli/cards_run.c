@@ -5,6 +5,7 @@
 #include "cards_scene.h"
 #include "cli_clock.h"
 #include "exrio.h"
+#include "half_range.h"
 #include "output_file.h"
 
 #include <ddof.h>
@@ -22,8 +23,14 @@ static int write_cards_output(const cli_options *o, const float *rgba, uint32_t 
     exrio_write_spec spec;
     output_file file;
     for (int c = 0; c < 4; c++) {
+        const int type = half_range_type(o->pixel_type >= 0 ? (exrio_pixel_type)o->pixel_type
+                                                            : EXRIO_HALF,
+                                         o->pixel_type >= 0, rgba + c, (size_t)w * h, 4,
+                                         names[c], error, error_size);
+        if (type < 0)
+            return -1;
         channels[c].name = names[c];
-        channels[c].type = o->pixel_type >= 0 ? (exrio_pixel_type)o->pixel_type : EXRIO_HALF;
+        channels[c].type = (exrio_pixel_type)type;
         channels[c].pixels = rgba + c;
         channels[c].pixel_stride = 16;
         channels[c].line_stride = (size_t)w * 16;
@@ -55,9 +62,20 @@ int cards_run(const cli_options *o)
         return CLI_EXIT_USAGE;
     }
     int rc = CLI_EXIT_OK;
-    if (!scene.width || !scene.height) {
+    const char *clobbered = cards_scene_input_at(&scene, o->cards_json, o->output);
+    if (clobbered) {
+        fprintf(stderr, "ddof: refusing to write %s: it is an input (%s); ddof never "
+                "overwrites its input\n", o->output, clobbered);
+        rc = CLI_EXIT_USAGE;
+    } else if (!scene.width || !scene.height) {
         fprintf(stderr, "ddof: %s: the camera needs \"resolution\": [width, height], the "
                 "output's size\n", o->cards_json);
+        rc = CLI_EXIT_USAGE;
+    } else if (scene.width > DDOF_MAX_DIMENSION || scene.height > DDOF_MAX_DIMENSION ||
+               (uint64_t)scene.width * scene.height > DDOF_MAX_PIXELS) {
+        fprintf(stderr, "ddof: %s: the camera's resolution %ux%u is over the limits (each side "
+                "at most %u, at most %u pixels)\n", o->cards_json, scene.width, scene.height,
+                DDOF_MAX_DIMENSION, DDOF_MAX_PIXELS);
         rc = CLI_EXIT_USAGE;
     }
     if (rc == CLI_EXIT_OK) {

@@ -4,6 +4,8 @@
 
 #include "camera_json.h"
 #include "exrio.h"
+#include "input_file.h"
+#include "json_strict.h"
 
 #include <cJSON.h>
 #include <png.h>
@@ -13,18 +15,20 @@
 #include <stdlib.h>
 #include <string.h>
 #include <strings.h>
+#include <sys/stat.h>
 
 static char *read_file(const char *path, size_t *size, char *error, size_t error_size)
 {
-    FILE *f = fopen(path, "rb");
+    FILE *f = input_file_open(path, "cards scene", error, error_size);
     char *text = NULL;
     long n;
-    if (!f || fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
+    if (!f)
+        return NULL;
+    if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
         !(text = malloc((size_t)n + 1)) || fread(text, 1, (size_t)n, f) != (size_t)n) {
         snprintf(error, error_size, "cannot read cards scene %s", path);
         free(text);
-        if (f)
-            fclose(f);
+        fclose(f);
         return NULL;
     }
     fclose(f);
@@ -58,10 +62,14 @@ static float srgb_to_linear(float v)
 static float *read_png(const char *path, uint32_t *w, uint32_t *h, char *error, size_t size)
 {
     png_image image;
+    FILE *f = input_file_open(path, "card texture", error, size);
+    if (!f)
+        return NULL;
     memset(&image, 0, sizeof image);
     image.version = PNG_IMAGE_VERSION;
-    if (!png_image_begin_read_from_file(&image, path)) {
+    if (!png_image_begin_read_from_stdio(&image, f)) {
         snprintf(error, size, "%s: not a readable PNG (%s)", path, image.message);
+        fclose(f);
         return NULL;
     }
     image.format = PNG_FORMAT_RGBA;
@@ -70,10 +78,12 @@ static float *read_png(const char *path, uint32_t *w, uint32_t *h, char *error, 
     if (!rgba || !png_image_finish_read(&image, NULL, bytes, 0, NULL)) {
         snprintf(error, size, "%s: %s", path, rgba ? image.message : "out of memory");
         png_image_free(&image);
+        fclose(f);
         free(bytes);
         free(rgba);
         return NULL;
     }
+    fclose(f);
     for (size_t i = 0; i < (size_t)image.width * image.height; i++) {
         const float a = bytes[i * 4 + 3] / 255.0f;
         for (int c = 0; c < 3; c++)
@@ -86,6 +96,15 @@ static float *read_png(const char *path, uint32_t *w, uint32_t *h, char *error, 
     return rgba;
 }
 
+/* Which of R, G, B, A (index: their channels, -1 absent) is stored as UINT, or -1. */
+static int uint_texture_channel(const exrio_image *image, const int index[4])
+{
+    for (int c = 0; c < 4; c++)
+        if (index[c] >= 0 && image->channels[index[c]].type == EXRIO_UINT)
+            return c;
+    return -1;
+}
+
 /* An EXR's R, G, B (and A, else 1) as interleaved floats. */
 static float *read_exr(const char *path, uint32_t *w, uint32_t *h, char *error, size_t size)
 {
@@ -93,7 +112,7 @@ static float *read_exr(const char *path, uint32_t *w, uint32_t *h, char *error, 
     exrio_image image;
     float *rgba = NULL;
     int index[4], c;
-    if (exrio_open(path, &image, error, size) != EXRIO_OK)
+    if (input_file_open_exr(path, "card texture", &image, error, size) != EXRIO_OK)
         return NULL;
     unsigned char *wanted = calloc((size_t)image.channel_count + 1, 1);
     for (c = 0; c < 4; c++) {
@@ -101,8 +120,13 @@ static float *read_exr(const char *path, uint32_t *w, uint32_t *h, char *error, 
         if (index[c] >= 0 && wanted)
             wanted[index[c]] = 1;
     }
+    const int uint_channel = uint_texture_channel(&image, index);
     if (index[0] < 0 || index[1] < 0 || index[2] < 0) {
         snprintf(error, size, "%s: a card image needs channels R, G and B", path);
+    } else if (uint_channel >= 0) {
+        snprintf(error, size, "%s: channel %s is UINT (whole numbers such as ids, not a "
+                 "colour); a card image's R, G, B and A are half or float", path,
+                 names[uint_channel]);
     } else if (!wanted) {
         snprintf(error, size, "out of memory");
     } else if (exrio_load(&image, wanted, error, size) == EXRIO_OK) {
@@ -137,8 +161,39 @@ static int numbers(const cJSON *item, int n, float *out)
     return 0;
 }
 
+/* The texture of file `file` from the scene's list, decoded and added when no card showed that
+ * file (by identity: "a.png" and "./a.png" are one) before. */
+static const cards_texture *texture_for(cards_scene *scene, const char *file, char *error,
+                                        size_t size)
+{
+    cards_texture *t = &scene->textures[scene->texture_count];
+    struct stat st;
+    const int known = stat(file, &st) == 0;
+    for (uint32_t i = 0; known && i < scene->texture_count; i++)
+        if (scene->textures[i].device == st.st_dev && scene->textures[i].inode == st.st_ino)
+            return &scene->textures[i];
+    memset(t, 0, sizeof *t);
+    t->pixels = ends_with(file, ".png") ? read_png(file, &t->width, &t->height, error, size)
+                                        : read_exr(file, &t->width, &t->height, error, size);
+    if (!t->pixels)
+        return NULL;
+    t->path = strdup(file);
+    if (!t->path) {
+        free(t->pixels);
+        snprintf(error, size, "out of memory");
+        return NULL;
+    }
+    /* The identity of the file read: stat again, since the reader may have seen another one. */
+    if (stat(file, &st) == 0) {
+        t->device = st.st_dev;
+        t->inode = st.st_ino;
+    }
+    scene->texture_count++;
+    return t;
+}
+
 static int read_card(const char *path, const cJSON *item, int k, ddof_card *card,
-                     float **texture, char *error, size_t size)
+                     cards_scene *scene, char *error, size_t size)
 {
     static const float corner_uv[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
     const cJSON *image = cJSON_GetObjectItemCaseSensitive(item, "image");
@@ -146,7 +201,7 @@ static int read_card(const char *path, const cJSON *item, int k, ddof_card *card
     const cJSON *uv = cJSON_GetObjectItemCaseSensitive(item, "uv");
     const int n = cJSON_IsArray(corners) ? cJSON_GetArraySize(corners) : 0;
     char file[4096];
-    uint32_t w = 0, h = 0;
+    const cards_texture *texture;
     if (!cJSON_IsObject(item) || !cJSON_IsString(image)) {
         snprintf(error, size, "%s: card %d needs \"image\" (a file name)", path, k);
         return -1;
@@ -172,11 +227,10 @@ static int read_card(const char *path, const cJSON *item, int k, ddof_card *card
         }
     }
     resolve_path(path, image->valuestring, file, sizeof file);
-    *texture = ends_with(file, ".png") ? read_png(file, &w, &h, error, size)
-                                       : read_exr(file, &w, &h, error, size);
-    if (!*texture)
+    texture = texture_for(scene, file, error, size);
+    if (!texture)
         return -1;
-    card->texture = (ddof_image_in){*texture, w, h, 4, 0};
+    card->texture = (ddof_image_in){texture->pixels, texture->width, texture->height, 4, 0};
     return 0;
 }
 
@@ -184,11 +238,11 @@ int cards_scene_read(const char *path, cards_scene *scene, char *error, size_t e
 {
     size_t size = 0;
     char *text = read_file(path, &size, error, error_size);
-    cJSON *root = text ? cJSON_Parse(text) : NULL;
+    cJSON *root = text ? json_strict_parse(text, size, path, "a cards scene is {\"camera\": "
+                                           "{...}, \"cards\": [...]}", error, error_size)
+                       : NULL;
     int rc = -1;
     memset(scene, 0, sizeof *scene);
-    if (text && !root)
-        snprintf(error, error_size, "%s: not valid JSON", path);
     const cJSON *camera = root ? cJSON_GetObjectItemCaseSensitive(root, "camera") : NULL;
     const cJSON *cards = root ? cJSON_GetObjectItemCaseSensitive(root, "cards") : NULL;
     if (root && (!cJSON_IsObject(camera) || !cJSON_IsArray(cards) ||
@@ -212,7 +266,7 @@ int cards_scene_read(const char *path, cards_scene *scene, char *error, size_t e
                 snprintf(error, error_size, "out of memory");
             for (uint32_t k = 0; rc == 0 && k < scene->count; k++)
                 rc = read_card(path, cJSON_GetArrayItem(cards, (int)k), (int)k,
-                               &scene->cards[k], &scene->textures[k], error, error_size);
+                               &scene->cards[k], scene, error, error_size);
         }
         free(camera_text);
     }
@@ -223,10 +277,26 @@ int cards_scene_read(const char *path, cards_scene *scene, char *error, size_t e
     return rc;
 }
 
+const char *cards_scene_input_at(const cards_scene *scene, const char *path,
+                                 const char *candidate)
+{
+    struct stat st, in;
+    if (stat(candidate, &st) != 0)
+        return NULL;
+    if (stat(path, &in) == 0 && in.st_dev == st.st_dev && in.st_ino == st.st_ino)
+        return path;
+    for (uint32_t i = 0; i < scene->texture_count; i++)
+        if (scene->textures[i].device == st.st_dev && scene->textures[i].inode == st.st_ino)
+            return scene->textures[i].path;
+    return NULL;
+}
+
 void cards_scene_free(cards_scene *scene)
 {
-    for (uint32_t k = 0; scene->textures && k < scene->count; k++)
-        free(scene->textures[k]);
+    for (uint32_t k = 0; scene->textures && k < scene->texture_count; k++) {
+        free(scene->textures[k].path);
+        free(scene->textures[k].pixels);
+    }
     free(scene->textures);
     free(scene->cards);
     memset(scene, 0, sizeof *scene);

@@ -4,6 +4,7 @@
 
 #include "exrio_layout.h"
 #include "frame_input.h"
+#include "input_file.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -20,7 +21,7 @@ int frame_compare_with_truth(const frame_paths *paths, const float *color, const
     const size_t pixels = (size_t)part->width * part->height;
     int i;
 
-    if (exrio_open(paths->compare, &truth, error, sizeof error) != EXRIO_OK)
+    if (input_file_open_exr(paths->compare, "ground truth", &truth, error, sizeof error) != EXRIO_OK)
         return frame_fail(result, "ground truth: %s", error);
     memset(&request, 0, sizeof request);
     if (exrio_find_layout(&truth, &request, &layout, error, sizeof error) != EXRIO_LAYOUT_OK) {

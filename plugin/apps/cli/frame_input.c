@@ -3,6 +3,7 @@
  * (frame_input.h). */
 #include "frame_input.h"
 
+#include "input_file.h"
 #include "matte_input.h"
 
 #include <stdint.h>
@@ -81,7 +82,7 @@ static int read_depth_file(const frame_setup *setup, const frame_paths *paths,
     unsigned char *wanted;
     const exrio_part *dp;
     int idx;
-    if (exrio_open(paths->depth_file, depth_image, error, sizeof error) != EXRIO_OK)
+    if (input_file_open_exr(paths->depth_file, "depth file", depth_image, error, sizeof error) != EXRIO_OK)
         return frame_fail(result, "%s", error);
     idx = exrio_find_depth(depth_image, layout->color_prefix, setup->options->depth);
     if (idx < 0) {
@@ -132,7 +133,7 @@ static int read_foreground(const frame_setup *setup, const frame_paths *paths,
     int i, plane;
 
     if (paths->foreground[0]) {
-        if (exrio_open(paths->foreground, file, error, sizeof error) != EXRIO_OK)
+        if (input_file_open_exr(paths->foreground, "foreground element", file, error, sizeof error) != EXRIO_OK)
             return frame_fail(result, "foreground element: %s", error);
         source = file;
     }
@@ -206,8 +207,13 @@ int frame_input_open(const frame_setup *setup, const frame_paths *paths, frame_d
     exrio_image *image = &d->image;
     const exrio_layout *layout = &d->layout;
 
-    if (exrio_open(paths->input, image, error, sizeof error) != EXRIO_OK)
+    if (input_file_open_exr(paths->input, "input", image, error, sizeof error) != EXRIO_OK)
         return frame_fail(result, "%s", error);
+    /* The ground truth is read after the output is written: a truth that cannot be opened
+     * fails the frame here, before its output appears. */
+    if (paths->compare[0] &&
+        input_file_check(paths->compare, "ground truth", error, sizeof error) != 0)
+        return frame_fail(result, "ground truth: %s", error);
     memset(&request, 0, sizeof request);
     request.layer = opt->layer;
     request.color = opt->color;

@@ -5,6 +5,7 @@
 #include "cli_clock.h"
 #include "focus_map.h"
 #include "frame_compare.h"
+#include "half_range.h"
 #include "output_file.h"
 #include "preview.h"
 
@@ -36,8 +37,15 @@ static int write_output(const frame_setup *setup, const frame_paths *paths,
         return frame_fail(result, "out of memory");
     for (c = 0; c < channels; c++) {
         /* --keep-channels keeps the input's layout, so the colour keeps its names too. */
+        const int kept = half_range_type(type, opt->pixel_type >= 0, out + c,
+                                         (size_t)part->width * part->height, (size_t)channels,
+                                         plain[c], error, sizeof error);
+        if (kept < 0) {
+            free(list);
+            return frame_fail(result, "%s", error);
+        }
         list[count].name = opt->keep_channels ? image->channels[layout->color[c]].name : plain[c];
-        list[count].type = type;
+        list[count].type = (exrio_pixel_type)kept;
         list[count].pixels = out + c;
         list[count].pixel_stride = (size_t)channels * sizeof(float);
         list[count].line_stride = (size_t)part->width * (size_t)channels * sizeof(float);

@@ -6,6 +6,7 @@
 #include "exrio_layout.h"
 #include "frame_paths.h"
 #include "frames.h"
+#include "input_file.h"
 #include "matte_input.h"
 
 #include <stdio.h>
@@ -20,7 +21,7 @@ static int list_file(const cli_options *o, const char *path)
     exrio_layout_request request;
     char error[2048];
     int p, c;
-    if (exrio_open(path, &image, error, sizeof error) != EXRIO_OK) {
+    if (input_file_open_exr(path, "file to list", &image, error, sizeof error) != EXRIO_OK) {
         fprintf(stderr, "ddof: %s\n", error);
         return 1;
     }

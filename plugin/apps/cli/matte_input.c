@@ -72,8 +72,21 @@ int matte_find(const exrio_image *image, const exrio_layout *layout, const char 
             continue;
         channel[sub][slot] = c;
     }
+    /* The sub-layers run from 00 without a gap: a missing 00 (01 present) or 01 (02 present)
+     * is a damaged or mis-named matte, not a file without one. */
+    int last = -1;
+    for (int sub = 0; sub < SUBS; sub++)
+        for (int slot = 0; slot < 4; slot++)
+            if (channel[sub][slot] >= 0)
+                last = sub;
     int ranks = 0;
-    for (int sub = 0; sub < SUBS && channel[sub][0] >= 0; sub++) {
+    for (int sub = 0; sub <= last; sub++) {
+        if (channel[sub][0] < 0 && channel[sub][1] < 0 && channel[sub][2] < 0 &&
+            channel[sub][3] < 0) {
+            snprintf(error, error_size, "the matte %s has sub-layer %02d but not %02d: its "
+                     "sub-layers run from 00 without a gap", found, last, sub);
+            return -1;
+        }
         for (int slot = 0; slot < 4; slot++) {
             const int c = channel[sub][slot];
             if (c < 0) {

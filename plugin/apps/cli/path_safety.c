@@ -2,7 +2,7 @@
 /* path_safety.c - the outputs' paths judged before they are written (path_safety.h). */
 #include "path_safety.h"
 
-#include "exrio.h"
+#include "exr_whole.h"
 #include "output_file.h"
 
 #include <stdio.h>
@@ -141,6 +141,86 @@ static int check_no_input_overwritten(const cli_options *o, const frame_paths *p
     return refused ? -1 : 0;
 }
 
+/* Where an output will be, whether or not it exists yet: its directory's identity and its
+ * name in it (output_check_target refuses a link at an output path, so the name is the file). */
+typedef struct output_slot {
+    dev_t dev;
+    ino_t ino;
+    const char *name;
+    const char *path;
+    int frame, kind;
+} output_slot;
+
+static int compare_slots(const void *pa, const void *pb)
+{
+    const output_slot *a = pa, *b = pb;
+    if (a->dev != b->dev)
+        return a->dev < b->dev ? -1 : 1;
+    if (a->ino != b->ino)
+        return a->ino < b->ino ? -1 : 1;
+    return strcmp(a->name, b->name);
+}
+
+/* The slot of `path`: 0, or -1 when its directory does not exist (output_check_directory
+ * says so later). */
+static int output_slot_of(const char *path, output_slot *slot)
+{
+    char folder[PATH_MAX];
+    const char *slash = strrchr(path, '/');
+    struct stat st;
+    if (!slash)
+        snprintf(folder, sizeof folder, ".");
+    else
+        snprintf(folder, sizeof folder, "%.*s", slash == path ? 1 : (int)(slash - path), path);
+    if (stat(folder, &st) != 0)
+        return -1;
+    slot->dev = st.st_dev;
+    slot->ino = st.st_ino;
+    slot->name = slash ? slash + 1 : path;
+    slot->path = path;
+    return 0;
+}
+
+/* No two frames write one file: with patterns, frame 0's --preview q_1#.exr is frame 10's
+ * output q_10.exr. The outputs do not exist yet, so each is known by its directory's identity
+ * and its name. */
+static int check_outputs_distinct(const frame_paths *paths, int count)
+{
+    static const char *const kind[4] = {"output", "preview", "input preview", "focus map"};
+    output_slot *slots;
+    size_t n = 0, i;
+    int refused = 0;
+    if (count < 2)
+        return 0; /* one frame: frame_check_paths */
+    slots = malloc((size_t)count * 4 * sizeof *slots);
+    if (!slots) {
+        fprintf(stderr, "ddof: out of memory\n");
+        return -1;
+    }
+    for (int f = 0; f < count; f++) {
+        const char *outputs[4] = {paths[f].output, paths[f].preview, paths[f].preview_input,
+                                  paths[f].focus_map};
+        for (int k = 0; k < 4; k++)
+            if (outputs[k][0] && output_slot_of(outputs[k], &slots[n]) == 0) {
+                slots[n].frame = paths[f].frame;
+                slots[n].kind = k;
+                n++;
+            }
+    }
+    qsort(slots, n, sizeof *slots, compare_slots);
+    for (i = 1; i < n && !refused; i++) {
+        const output_slot *a = &slots[i - 1], *b = &slots[i];
+        if (compare_slots(a, b) == 0) {
+            fprintf(stderr, "ddof: frame %d's %s %s is also frame %d's %s (%s): one would "
+                    "overwrite the other\n", a->frame, kind[a->kind], a->path, b->frame,
+                    kind[b->kind], b->path);
+            refused = 1;
+        }
+    }
+    free(slots);
+    return refused ? -1 : 0;
+}
+
 int path_safety_check_outputs(const cli_options *o, const frame_paths *paths, int count)
 {
     char error[2048];
@@ -166,7 +246,8 @@ int path_safety_check_outputs(const cli_options *o, const frame_paths *paths, in
                 return -1;
             }
     }
-    if (check_no_input_overwritten(o, paths, count) != 0)
+    if (check_no_input_overwritten(o, paths, count) != 0 ||
+        check_outputs_distinct(paths, count) != 0)
         return -1;
     for (i = 0; o->stats_path && i < count; i++) { /* nor may --stats be one of the outputs */
         const char *outputs[4] = {paths[i].output, paths[i].preview, paths[i].preview_input,
@@ -240,8 +321,6 @@ int frame_outputs_complete(const cli_options *options, const frame_paths *paths)
                               paths->focus_map};
     const char *inputs[5] = {paths->input, paths->depth_file, paths->foreground,
                              options->camera_json, options->compare ? paths->compare : NULL};
-    exrio_image image;
-    char error[1024];
     int o, i;
     for (o = 0; o < 4; o++) {
         struct stat st;
@@ -253,10 +332,7 @@ int frame_outputs_complete(const cli_options *options, const frame_paths *paths)
             if (!newer_than(&st, inputs[i]))
                 return 0;
     }
-    /* Outputs appear only by renaming a complete temporary file, so an output that opens as
-     * an EXR is one ddof finished (or one a user put there deliberately). */
-    if (exrio_open(paths->output, &image, error, sizeof error) != EXRIO_OK)
-        return 0;
-    exrio_close(&image);
-    return 1;
+    /* Outputs appear only by renaming a complete temporary file, but a copy or a full disk
+     * elsewhere can cut one after its header: the EXR must open and hold every chunk. */
+    return exr_file_whole(paths->output);
 }

@@ -7,6 +7,7 @@
 #include "exrio.h"
 #include "frame_input.h"
 #include "frame_paths.h"
+#include "input_file.h"
 #include "option_table.h"
 #include "path_safety.h"
 
@@ -124,7 +125,7 @@ static int probe_first_frame(const cli_options *o, const frame_paths *first, uin
     char error[2048];
     int rc;
     *pixels = 0;
-    if (exrio_open(first->input, &probe, error, sizeof error) != EXRIO_OK)
+    if (input_file_open_exr(first->input, "input", &probe, error, sizeof error) != EXRIO_OK)
         return 0;
     *pixels = (uint64_t)probe.parts[0].width * probe.parts[0].height;
     rc = frame_check_input_parts(o, &probe, first->input, error, sizeof error);

@@ -62,7 +62,12 @@ def _opencue(args):
         raise JobError("OpenCue needs pyoutline (pip install opencue-pyoutline): %s" % err)
     render = shlex.split(args.render) if args.render else None
     if args.local:
-        opencue.launch_local(job, render)
+        failed = opencue.launch_local(job, render)
+        if failed:
+            print("ddof-farm: %d task%s failed: %s (its log above names the failed frames)"
+                  % (len(failed), "" if len(failed) == 1 else "s", ", ".join(failed)),
+                  file=sys.stderr)
+            return 1
     else:
         opencue.submit(job, render)
 

@@ -13,6 +13,10 @@ import shutil
 from . import frames as frame_lists
 
 
+# The options each task sets itself; ddof also reads them as --name=value.
+FARM_OPTIONS = ("--frames", "--stats", "--skip-existing")
+
+
 class JobError(ValueError):
     """A job that cannot be made as asked."""
 
@@ -23,8 +27,8 @@ class SequenceJob:
         if not ddof_args:
             raise JobError("no ddof arguments: give them after --, e.g. "
                            "-- render_####.exr -o dof/dof_####.exr --camera camera.json")
-        for option in ("--frames", "--stats", "--skip-existing"):
-            if option in ddof_args:
+        for option in FARM_OPTIONS:
+            if any(a == option or a.startswith(option + "=") for a in ddof_args):
                 raise JobError("%s is the farm's to set per chunk; leave it out of the ddof "
                                "arguments" % option)
         self.ddof_args = list(ddof_args)
@@ -40,7 +44,7 @@ class SequenceJob:
         self.name = name
 
     def stats_path(self, chunk):
-        return os.path.join(self.stats_dir, "chunk_%s.json" % chunk)
+        return os.path.join(self.stats_dir, "chunk_%s.json" % frame_lists.chunk_name(chunk))
 
     def command(self, chunk):
         """The argv of one chunk (a --frames list), to run in self.workdir."""

@@ -32,8 +32,11 @@ def load(paths):
         with open(path, encoding="utf-8") as f:
             try:
                 stats = json.load(f)
-            except json.JSONDecodeError as err:
+            except (json.JSONDecodeError, UnicodeDecodeError) as err:
                 raise ValueError("%s is not a ddof --stats file: %s" % (path, err)) from None
+        problem = _shape_problem(stats)
+        if problem:
+            raise ValueError("%s is not a ddof --stats file: %s" % (path, problem))
         for record in stats.get("frames", []):
             previous = frames.get(record["frame"])
             # A frame another attempt computed stays computed when this one only skipped it.
@@ -41,6 +44,41 @@ def load(paths):
                 continue
             frames[record["frame"]] = dict(record, stats_file=path)
     return frames
+
+
+def _is_number(value):
+    return isinstance(value, (int, float)) and not isinstance(value, bool)
+
+
+def _shape_problem(stats):
+    """What in a parsed --stats file the merge cannot read, or None: {"frames": [record, ...]},
+    each record an object with an integer "frame" and, where present, a string "status" and
+    "error", "seconds" an object whose "frame" is a number, "simulated" an object whose "plan"
+    is a list of strings."""
+    if not isinstance(stats, dict):
+        return "not a JSON object"
+    records = stats.get("frames", [])
+    if not isinstance(records, list):
+        return '"frames" is not a list'
+    for i, record in enumerate(records):
+        where = "frame record %d" % i
+        if not isinstance(record, dict):
+            return "%s is not an object" % where
+        frame = record.get("frame")
+        if not isinstance(frame, int) or isinstance(frame, bool) or frame < 0:
+            return '%s has no "frame" number' % where
+        for key in ("status", "error"):
+            if key in record and not isinstance(record[key], str):
+                return '%s: "%s" is not a string' % (where, key)
+        seconds = record.get("seconds", {})
+        if not isinstance(seconds, dict) or ("frame" in seconds and
+                                             not _is_number(seconds["frame"])):
+            return '%s: "seconds" is not an object of numbers' % where
+        simulated = record.get("simulated", {})
+        plan = simulated.get("plan", []) if isinstance(simulated, dict) else None
+        if not isinstance(plan, list) or not all(isinstance(line, str) for line in plan):
+            return '%s: "simulated" is not an object with a "plan" of strings' % where
+    return None
 
 
 def summary(frames):

@@ -34,15 +34,42 @@ function splitArguments(text) {
     return words;
 }
 
+// The options each task sets itself (ddof also reads them as --name=value).
+const FARM_OPTIONS = ["--frames", "--stats", "--skip-existing"];
+
+// FNV-1a, 32 bits, of a chunk's text (ASCII: digits, ',' and '-'), as 8 hex digits.
+function fnv1a32(text) {
+    let h = 0x811c9dc5;
+    for (let i = 0; i < text.length; i++)
+        h = Math.imul(h ^ text.charCodeAt(i), 0x01000193) >>> 0;
+    return h.toString(16).padStart(8, "0");
+}
+
+// A short name unique to a chunk, for its --stats file: the chunk itself when it is one frame
+// or one run, else its first and last frames and a hash of it (frames on twos would otherwise
+// make a name longer than a file name may be). As ddof_farm/frames.py chunk_name.
+function chunkName(chunk) {
+    if (!chunk.includes(","))
+        return chunk;
+    const parts = chunk.split(",");
+    const first = parts[0].split("-")[0];
+    const lastRun = parts[parts.length - 1].split("-");
+    return `${first}-${lastRun[lastRun.length - 1]}_${fnv1a32(chunk)}`;
+}
+
 function compileJob(job) {
     const settings = job.settings;
     const args = splitArguments(settings.arguments);
+    for (const arg of args)
+        for (const option of FARM_OPTIONS)
+            if (arg === option || arg.startsWith(option + "="))
+                throw new Error(`${option} is the job's to set per task; leave it out of ddof's arguments`);
     for (const chunk of frameChunker(settings.frames, settings.chunk_size)) {
         const task = author.Task(`ddof-${chunk}`, "misc");
         task.addCommand(author.Command("exec", {
             exe: settings.ddof,
             args: args.concat(["--frames", chunk, "--skip-existing", "--stats",
-                               path.join(settings.stats_dir, `chunk_${chunk}.json`)]),
+                               path.join(settings.stats_dir, `chunk_${chunkName(chunk)}.json`)]),
         }));
         job.addTask(task);
     }
