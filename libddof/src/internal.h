@@ -55,6 +55,7 @@ enum {
     DDOF_SCRATCH_ELEMENT_EDGES,    /* element_edges.c: the CoC before the strands' fix    */
     DDOF_SCRATCH_LAYER_COLOR_COPY, /* frame_run.c: the input, when diffusing in place     */
     DDOF_SCRATCH_LAYER_COLOR,      /* layers.c: background B or foreground F              */
+    DDOF_SCRATCH_ELEMENT_SHARP,    /* layers.c: the element before its blur, to gather    */
     DDOF_SCRATCH_LAYER_MATTE,      /* layers.c: the matte, or the element's carried alpha */
     DDOF_SCRATCH_LAYER_COC_ABS,    /* layers.c: |CoC| to fill, then the fill's sources     */
     DDOF_SCRATCH_LAYER_FILLED,     /* layers.c: the filled CoC, then the proximity map    */

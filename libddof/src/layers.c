@@ -31,6 +31,7 @@
 #include "backend.h"
 #include "cone_dilate.h"
 #include "disc_kernel.h"
+#include "far_field.h"
 #include "highlights.h"
 
 #include "parallel_rows.h"
@@ -462,13 +463,36 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
     if ((status = diffuse(context, &spread, st, report)) != DDOF_OK)
         return status;
 
-    /* Premultiplied colour and alpha spread together (in place): coverage falls below 1. */
+    /* Premultiplied colour and alpha spread together: coverage falls below 1. In place, unless
+     * the far field gathers from the element afterwards. */
+    const int gather = q->params->far_field != DDOF_LAYER_OFF;
+    if (gather && element == premultiplied) {
+        float *copy = scratch(context, DDOF_SCRATCH_ELEMENT_SHARP, pixels * 4, &status);
+        if (status != DDOF_OK)
+            return status;
+        memcpy(copy, premultiplied, pixels * 4 * sizeof(float));
+        element = copy;
+    }
     adi_request blur = derived(r, element, (size_t)r->width * 4, 4, premultiplied);
     blur.coc = filled;
     blur.coc_stride = r->width;
     blur.coc_channels = 1;
     if ((status = diffuse(context, &blur, st, report)) != DDOF_OK)
         return status;
+    /* Away from the element's own depth edges (its CoC filled outwards is smooth) its blur is
+     * the lens's shape too (far_field.h): each point's premultiplied colour and coverage over
+     * its own disc, blended over the diffusion's result toward such edges. So a blurred near
+     * object's interior and its see-through rim are the lens's, not the diffusion's blob. */
+    if (gather) {
+        const double t0 = ddof_seconds();
+        far_field_report far;
+        if ((status = ddof_far_field(context, &blur, element, (size_t)r->width * 4, 0, &far)) !=
+            DDOF_OK)
+            return status;
+        if (far.pixels)
+            report->effects |= DDOF_EFFECT_FAR_FIELD;
+        report->seconds_far_field += ddof_seconds() - t0;
+    }
     if (lights.count) {
         /* Light added to the element's colour, over whatever lies behind it; it lands where
          * the element's spread CoC reaches (|CoC| at least half the disc's: the element's
