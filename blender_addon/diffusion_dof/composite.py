@@ -51,23 +51,31 @@ def _is_dof_layer(node, scene, layer_name, copy=None):
     return node.scene in (None, scene, copy) and node.layer == layer_name
 
 
+def _hands_on_render(tree, scene, layer_name):
+    """Whether a compositor tree outputs the render as it is: its output fed straight from the
+    depth-of-field view layer's Image (a Render Layers node, or 5.x's Group Input), or no
+    output at all (5.x: the render layers' image then)."""
+    out = compat.output_node(tree)
+    if out is None or not out.inputs or not out.inputs[0].is_linked:
+        return True
+    link = out.inputs[0].links[0]
+    source = link.from_node
+    if source.mute:
+        return False
+    if compat.is_render_input(source):
+        return link.from_socket == source.outputs[0]
+    return (source.bl_idname == RLAYERS and source.name not in passes.MANAGED_NODES
+            and link.from_socket.name == "Image" and _is_dof_layer(source, scene, layer_name))
+
+
 def has_compositing(scene, settings):
     """Whether the compositor does more to the written image than hand on the depth-of-field
     view layer's Image (anything between it and the output, another view layer, ...)."""
     if not scene.render.use_compositing:
         return False
-    tree = compat.compositor_tree(scene)
-    if tree is None:
-        return False
-    out = compat.output_node(tree)
-    if out is None or not out.inputs or not out.inputs[0].is_linked:
-        return False
-    link = out.inputs[0].links[0]
-    source = link.from_node
-    direct = (source.bl_idname == RLAYERS and source.name not in passes.MANAGED_NODES
-              and link.from_socket.name == "Image" and not source.mute
-              and _is_dof_layer(source, scene, passes.render_view_layer(scene, settings).name))
-    return not direct
+    layer = passes.render_view_layer(scene, settings).name
+    return not all(_hands_on_render(tree, scene, layer)
+                   for tree in compat.compositing_trees(scene))
 
 
 def slot_name(node_name, socket_name):
@@ -81,15 +89,15 @@ def _socket_kind(socket):
     return {"VALUE": "FLOAT", "VECTOR": "VECTOR"}.get(socket.type, "RGBA")
 
 
-def pass_slots(scene, settings, tree):
+def pass_slots(scene, settings):
     """[(slot, node name, socket name, kind)] of the passes the user's compositing reads besides
     the depth-of-field image (the Alpha of another view layer comes with its Image): what the
     managed File Output node writes for it. Empty without compositing."""
-    if tree is None or not has_compositing(scene, settings):
+    if not has_compositing(scene, settings):
         return []
     layer = passes.render_view_layer(scene, settings).name
     slots = {}
-    for node in _user_render_layers(tree):
+    for node in [n for tree in compat.compositing_trees(scene) for n in _user_render_layers(tree)]:
         if node.mute:
             continue
         dof = _is_dof_layer(node, scene, layer)
@@ -140,6 +148,23 @@ def _replace_render_layers(tree, node, dof, images):
     tree.nodes.remove(node)
 
 
+def _replace_group_input(tree, node, images):
+    """5.x: feeds the links out of the Group Input's first output (the render) from the
+    depth-of-field image instead, and removes the node (with a Group Input Blender renders
+    the scene again for the copy)."""
+    for index, socket in enumerate(node.outputs):
+        if not socket.is_linked:
+            continue
+        if index != 0:
+            raise SetupError("your compositor reads its Group Input's '%s', which the add-on "
+                             "cannot give it on the depth-of-field image" % socket.name)
+        image_node = tree.nodes.get(IMAGE_NODE % DOF_KEY) or \
+            _new_image_node(tree, DOF_KEY, images[DOF_KEY], node.location)
+        for link in list(socket.links):
+            tree.links.new(image_node.outputs["Image"], link.to_socket)
+    tree.nodes.remove(node)
+
+
 def _make_copy(scene, settings, images):
     copy = scene.copy()
     copy[COPY_KEY] = scene.name
@@ -148,9 +173,14 @@ def _make_copy(scene, settings, images):
             del copy[key]  # e.g. the overscan's restore record: the user's scene's alone
     copy.name = "DDOF Compositing: " + scene.name
     if compat.NODE_GROUP_COMPOSITOR:
-        group = scene.compositing_node_group.copy()
+        trees = compat.compositing_trees(scene)
+        if len(trees) != 1:
+            bpy.data.scenes.remove(copy)
+            raise SetupError("the add-on runs one compositor effect on the depth-of-field "
+                             "image, and this scene has %d enabled for rendering" % len(trees))
+        group = trees[0].copy()
         group[COPY_KEY] = scene.name
-        copy.compositing_node_group = group
+        compat.set_compositor_tree(copy, group)
     tree = _copy_tree(copy)
     for name in passes.MANAGED_NODES:
         node = tree.nodes.get(name)
@@ -159,6 +189,8 @@ def _make_copy(scene, settings, images):
     layer = passes.render_view_layer(scene, settings).name
     for node in _user_render_layers(tree):
         _replace_render_layers(tree, node, _is_dof_layer(node, scene, layer, copy), images)
+    for node in [n for n in tree.nodes if compat.is_render_input(n)]:
+        _replace_group_input(tree, node, images)
     r = copy.render
     r.use_sequencer = False  # the compositor alone
     r.use_border = False
@@ -183,6 +215,13 @@ def run(scene, settings, frame, images, width, height):
     if copy is None:
         copy = _make_copy(scene, settings, images)
     tree = _copy_tree(copy)
+    dof_node = tree.nodes.get(IMAGE_NODE % DOF_KEY)
+    if dof_node is None or not any(s.is_linked for s in dof_node.outputs):
+        # Rendering the copy would write the frame without depth of field.
+        raise SetupError("your compositing does not read the image of view layer '%s' (a "
+                         "Render Layers node of it, or the Group Input), so its output would "
+                         "not have the depth of field"
+                         % passes.render_view_layer(scene, settings).name)
     for key, image in images.items():
         node = tree.nodes.get(IMAGE_NODE % key)
         if node is not None and node.image != image:
