@@ -165,6 +165,21 @@ def _replace_group_input(tree, node, images):
     tree.nodes.remove(node)
 
 
+def _render_reader(tree, top=False, seen=()):
+    """The name of a node in the tree (or in a node group it uses) through which the compositor
+    still reads the render: a Render Layers node, or the top tree's Group Input (5.x); else
+    None."""
+    for node in tree.nodes:
+        if node.bl_idname == RLAYERS or top and compat.is_render_input(node):
+            return node.name
+        group = getattr(node, "node_tree", None)
+        if group is not None and group not in seen:
+            inner = _render_reader(group, seen=seen + (group,))
+            if inner is not None:
+                return "%s > %s" % (node.name, inner)
+    return None
+
+
 def _make_copy(scene, settings, images):
     copy = scene.copy()
     copy[COPY_KEY] = scene.name
@@ -215,13 +230,12 @@ def run(scene, settings, frame, images, width, height):
     if copy is None:
         copy = _make_copy(scene, settings, images)
     tree = _copy_tree(copy)
-    dof_node = tree.nodes.get(IMAGE_NODE % DOF_KEY)
-    if dof_node is None or not any(s.is_linked for s in dof_node.outputs):
-        # Rendering the copy would write the frame without depth of field.
-        raise SetupError("your compositing does not read the image of view layer '%s' (a "
-                         "Render Layers node of it, or the Group Input), so its output would "
-                         "not have the depth of field"
-                         % passes.render_view_layer(scene, settings).name)
+    reader = _render_reader(tree, top=True)
+    if reader is not None:
+        # Rendering the copy would render the scene again and composite that, without the
+        # depth of field.
+        raise SetupError("your compositing reads the render through '%s', which the add-on "
+                         "cannot give the depth-of-field image" % reader)
     for key, image in images.items():
         node = tree.nodes.get(IMAGE_NODE % key)
         if node is not None and node.image != image:
