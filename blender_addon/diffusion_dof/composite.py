@@ -180,6 +180,44 @@ def _render_reader(tree, top=False, seen=()):
     return None
 
 
+def _own_copy(tree, scene):
+    group = tree.copy()
+    group[COPY_KEY] = scene.name
+    return group
+
+
+def _effect_chain(trees, scene):
+    """5.3's stack of effects as one node group that applies them in order: a group node of a
+    copy of each, the first fed from the Group Input (the render, replaced like a user's), each
+    next one from the one before."""
+    chain = bpy.data.node_groups.new("DDOF Compositing: " + scene.name, "CompositorNodeTree")
+    chain[COPY_KEY] = scene.name
+    chain.interface.new_socket("Image", in_out="INPUT", socket_type="NodeSocketColor")
+    chain.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    source = chain.nodes.new("NodeGroupInput").outputs[0]
+    for k, tree in enumerate(trees):
+        node = chain.nodes.new("CompositorNodeGroup")
+        node.node_tree = _own_copy(tree, scene)
+        node.location = (200.0 * (k + 1), 0.0)
+        if not node.inputs or not node.outputs:
+            raise SetupError("compositor effect '%s' has no image input or output" % tree.name)
+        chain.links.new(source, node.inputs[0])
+        source = node.outputs[0]
+    chain.links.new(source, chain.nodes.new("NodeGroupOutput").inputs[0])
+    return chain
+
+
+def _prepare(tree, scene, layer, copy, images):
+    """The user's tree (a copy) made to read the images: without the managed nodes, every
+    Render Layers node replaced."""
+    for name in passes.MANAGED_NODES:
+        node = tree.nodes.get(name)
+        if node is not None:
+            tree.nodes.remove(node)
+    for node in _user_render_layers(tree):
+        _replace_render_layers(tree, node, _is_dof_layer(node, scene, layer, copy), images)
+
+
 def _make_copy(scene, settings, images):
     copy = scene.copy()
     copy[COPY_KEY] = scene.name
@@ -187,25 +225,23 @@ def _make_copy(scene, settings, images):
         if key != COPY_KEY:
             del copy[key]  # e.g. the overscan's restore record: the user's scene's alone
     copy.name = "DDOF Compositing: " + scene.name
-    if compat.NODE_GROUP_COMPOSITOR:
-        trees = compat.compositing_trees(scene)
-        if len(trees) != 1:
-            bpy.data.scenes.remove(copy)
-            raise SetupError("the add-on runs one compositor effect on the depth-of-field "
-                             "image, and this scene has %d enabled for rendering" % len(trees))
-        group = trees[0].copy()
-        group[COPY_KEY] = scene.name
-        compat.set_compositor_tree(copy, group)
-    tree = _copy_tree(copy)
-    for name in passes.MANAGED_NODES:
-        node = tree.nodes.get(name)
-        if node is not None:
-            tree.nodes.remove(node)
     layer = passes.render_view_layer(scene, settings).name
-    for node in _user_render_layers(tree):
-        _replace_render_layers(tree, node, _is_dof_layer(node, scene, layer, copy), images)
-    for node in [n for n in tree.nodes if compat.is_render_input(n)]:
-        _replace_group_input(tree, node, images)
+    try:
+        if compat.NODE_GROUP_COMPOSITOR:
+            trees = compat.compositing_trees(scene)
+            tree = _own_copy(trees[0], scene) if len(trees) == 1 else _effect_chain(trees,
+                                                                                   scene)
+            compat.set_compositor_tree(copy, tree)
+            for node in tree.nodes if len(trees) > 1 else ():
+                if node.bl_idname == "CompositorNodeGroup":
+                    _prepare(node.node_tree, scene, layer, copy, images)
+        tree = _copy_tree(copy)
+        _prepare(tree, scene, layer, copy, images)
+        for node in [n for n in tree.nodes if compat.is_render_input(n)]:
+            _replace_group_input(tree, node, images)
+    except SetupError:
+        bpy.data.scenes.remove(copy)
+        raise
     r = copy.render
     r.use_sequencer = False  # the compositor alone
     r.use_border = False
