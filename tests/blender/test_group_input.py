@@ -8,7 +8,9 @@ Scene: a checker wall at 12 m behind a card in focus at 3 m (100 mm f/1.4). The 
 image D (the 'Diffusion DOF Raw' image) must reach the written frame through such a group:
 Group Input -> Group Output writes D (before: the pinhole render P), Group Input -> Invert ->
 Group Output writes 1 - D (before: 1 - P, and the report said the frame had depth of field).
-5.3's stack of effects applies them all, in order, to D (two Invert effects: D). In 5.3 the add-on uses the effects API: its nodes go into the effect the scene has
+A Render Layers node inside a node group the compositor uses would make the compositing run
+render the scene again: the frame fails, never a success. 5.3's stack of effects applies them
+all, in order, to D (two Invert effects: D). In 5.3 the add-on uses the effects API: its nodes go into the effect the scene has
 (Compositor > New's), an effect it had to make goes again when it is unticked or disabled, and
 Scene.compositing_node_group (deprecated for removal in 6.0) is never read. 3.x/4.x have no
 Group Input compositing: a skip.
@@ -119,6 +121,23 @@ checks.check(report is not None and report["ok"] and max_diff(written, inverted)
              "Group Input -> Invert: written frame vs 1 - D %.4f (vs 1 - pinhole %.4f); "
              "report %r" % (max_diff(written, inverted),
                             max_diff(written, [1.0 - v for v in pinhole]), report))
+
+# A node group in the compositor that reads the render itself (a Render Layers node inside):
+# the copy would render the scene again and write that; the frame fails instead.
+inner = bpy.data.node_groups.new("UA Inner", "CompositorNodeTree")
+inner.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+inner_rl, inner_out = inner.nodes.new("CompositorNodeRLayers"), inner.nodes.new("NodeGroupOutput")
+inner.links.new(inner_rl.outputs["Image"], inner_out.inputs[0])
+group_node = invert.nodes.new("CompositorNodeGroup")
+group_node.node_tree = inner
+invert_node = next(n for n in invert.nodes if n.bl_idname == "CompositorNodeInvert")
+invert.links.new(group_node.outputs[0], invert_node.inputs["Color"])
+written, dof, report = render("nested_render_layers", True)
+checks.check(report is not None and not report["ok"] and "reads the render" in report["message"],
+             "a Render Layers node inside a node group: report %r" % (report,))
+invert.nodes.remove(group_node)
+invert.links.new(next(n for n in invert.nodes if n.bl_idname == "NodeGroupInput").outputs[0],
+                 invert_node.inputs["Color"])
 
 if EFFECTS:
     # Two effects in the stack, applied in order: Invert twice gives D back.
