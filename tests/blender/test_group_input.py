@@ -10,10 +10,10 @@ Group Input -> Group Output writes D (before: the pinhole render P), Group Input
 Group Output writes 1 - D (before: 1 - P, and the report said the frame had depth of field).
 A Render Layers node inside a node group the compositor uses would make the compositing run
 render the scene again: the frame fails, never a success. 5.3's stack of effects applies them
-all, in order, to D (two Invert effects: D). In 5.3 the add-on uses the effects API: its nodes go into the effect the scene has
-(Compositor > New's), an effect it had to make goes again when it is unticked or disabled, and
-Scene.compositing_node_group (deprecated for removal in 6.0) is never read. 3.x/4.x have no
-Group Input compositing: a skip.
+all, in order, to D (two Invert effects: D). In 5.3 the add-on uses the effects API: its
+nodes go into the effect the scene has (Compositor > New's), an effect it had to make goes
+again when it is unticked or disabled, and Scene.compositing_node_group (deprecated for removal
+in 6.0) is never read. 3.x/4.x have no Group Input compositing: a skip.
 """
 
 import os
