@@ -304,6 +304,11 @@ def remove_copies():
     for copy in [s for s in bpy.data.scenes if is_copy(s)]:
         bpy.data.scenes.remove(copy, do_unlink=True)
     if compat.NODE_GROUP_COMPOSITOR:
-        for group in [g for g in bpy.data.node_groups if g.get(COPY_KEY) is not None]:
-            if group.users == 0:
+        # A copy of a 5.3 effect is used by the group that chains them: removed after it.
+        while True:
+            spent = [g for g in bpy.data.node_groups
+                     if g.get(COPY_KEY) is not None and g.users == 0]
+            if not spent:
+                break
+            for group in spent:
                 bpy.data.node_groups.remove(group)

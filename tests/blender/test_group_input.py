@@ -146,6 +146,9 @@ if EFFECTS:
     checks.check(report is not None and report["ok"] and max_diff(written, dof) < 1e-3,
                  "two Invert effects: written frame vs D %.4f (vs the pinhole render %.4f); "
                  "report %r" % (max_diff(written, dof), max_diff(written, pinhole), report))
+    left = [g.name for g in bpy.data.node_groups if g.get(addon.composite.COPY_KEY)] + \
+        [s.name for s in bpy.data.scenes if addon.composite.is_copy(s)]
+    checks.check(left == [], "the compositing copies left after the render: %r" % left)
     for effect in [e for e in scene.compositor_effects if e.node_group == second]:
         scene.compositor_effects.remove(effect)
     # No effect: the add-on makes one, and takes it away when unticked, or disabled.
