@@ -145,10 +145,11 @@ _PLAIN_NODES = {"CompositorNodeRLayers", "CompositorNodeComposite"}
 
 def release_compositor_tree(scene):
     """Leaves the compositor as it was before ensure_compositor_tree made one, once the add-on's
-    nodes are gone: 5.x unassigns the node group it created (an empty group makes Blender 5.x
-    render nothing) and removes it when nothing else uses it; 3.x/4.x turns compositing nodes
-    off again. A tree the user has since put nodes of their own into is left as it is. Returns
-    what it did, as a sentence, or ''."""
+    nodes are gone: 5.3 removes the effect it made (and its group, when nothing else uses it);
+    5.0 unassigns the node group it created (an empty group makes Blender 5.x render nothing)
+    and removes it when nothing else uses it; 3.x/4.x turns compositing nodes off again. A tree
+    the user has since put nodes of their own into is left as it is. 5.3's mark on the group
+    that held the nodes goes too. Returns what it did, as a sentence, or ''."""
     if COMPOSITOR_EFFECTS:
         for tree in _effect_groups(scene):
             if tree.get(HOLDS_NODES_KEY) is not None:
