@@ -34,22 +34,37 @@ from . import render, ops, cards, ui  # noqa: E402,F401
 _MODULES = (settings, ops, cards, ui, render)
 
 
+class _FileData:
+    """While register() runs: the open file's data readable through bpy.data. Blender 3.x runs
+    register() with bpy.data restricted (bpy_restrict_state: enabling the add-on in a session
+    as well as at start-up; 4.2+ restricts only the import), so a re-enabled add-on would leave
+    its scenes not set up. The C module's handle on the data is not restricted: bpy.data points
+    at it for the set-up, as 4.2+ allows, and back at the restricted one after."""
+
+    def __enter__(self):
+        self.saved = bpy.data
+        if not hasattr(bpy.data, "scenes"):
+            import _bpy
+            bpy.data = _bpy.data
+        return bpy.data
+
+    def __exit__(self, *_exc):
+        bpy.data = self.saved
+
+
 def register():
     for module in _MODULES:
         module.register()
     # Scenes already open (enabling the add-on in a session, or a script's register()): make
-    # the ones with Diffusion DOF on ready. bpy.data is not readable while Blender starts up;
-    # load_post does it for the file that is loaded then.
-    try:
-        scenes = list(bpy.data.scenes)
-    except AttributeError:
-        scenes = []
-    for scene in scenes:
-        if scene.diffusion_dof.enabled:
-            try:
-                passes.ensure_setup(scene)
-            except errors.SetupError as err:
-                report.log("%s: %s" % (scene.name, err))
+    # the ones with Diffusion DOF on ready. At start-up these are the startup file's; load_post
+    # sets up the file loaded then.
+    with _FileData() as data:
+        for scene in list(getattr(data, "scenes", ())):
+            if scene.diffusion_dof.enabled:
+                try:
+                    passes.ensure_setup(scene)
+                except errors.SetupError as err:
+                    report.log("%s: %s" % (scene.name, err))
 
 
 def unregister():

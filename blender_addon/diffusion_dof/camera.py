@@ -105,6 +105,15 @@ def camera_settings(scene, settings, depsgraph=None, cam_obj=None):
     return camera, info
 
 
+def for_blender_rows(camera):
+    """The camera for images handed to the library in Blender's row order (bottom row first):
+    the library takes row 0 as the top, so it sees the frame upside down, and an upside-down
+    polygon is turned the other way: the aperture's rotation is negated, so that the blades
+    turn as Cycles turns them. Images flipped to the library's order first (the cards) take
+    the camera as it is."""
+    return dict(camera, aperture_rotation_deg=-camera.get("aperture_rotation_deg", 0.0))
+
+
 def aperture_words(camera):
     """The aperture when it is not round and plain: "6 blades at 15 deg, ratio 2", or ""."""
     words = []

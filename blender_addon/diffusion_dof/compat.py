@@ -3,7 +3,11 @@
 only there: the rest of the add-on has one code path.
 
 - The compositor tree: scene.use_nodes + scene.node_tree up to 4.x; from 5.0 a node group in
-  scene.compositing_node_group, which a scene does not get by itself.
+  scene.compositing_node_group, which a scene does not get by itself; 5.3 makes it a stack of
+  effects (scene.compositor_effects, each with its node group, applied in order) and deprecates
+  compositing_node_group (the active effect's group; setting it makes an effect) for removal.
+- The render's image in a 5.x node group: its Group Input's first output (Blender feeds the
+  render into it), besides any Render Layers node.
 - The Composite node: a render needs one up to 4.x; 5.0 removed it (a render's image is the
   render layers' unless the group has an output).
 - The File Output node: base_path + file_slots[].path + use_node_format up to 4.x; 5.0:
@@ -26,12 +30,16 @@ import bpy
 
 VERSION = tuple(bpy.app.version)
 NODE_GROUP_COMPOSITOR = "compositing_node_group" in bpy.types.Scene.bl_rna.properties  # 5.0+
+COMPOSITOR_EFFECTS = "compositor_effects" in bpy.types.Scene.bl_rna.properties  # 5.3+
 COMPOSITOR_TREE_NAME = "Compositing"  # the name Blender 5.0's UI gives a new one too
 BPY_PROPS_AS_ID_PROPERTIES = VERSION < (5, 0, 0)
 # Marks, on the scene, a compositor the add-on made, so that release_compositor_tree undoes just
 # that: the name of the 5.x node group it created and assigned, or (3.x/4.x, where it turned
 # compositing nodes on) the names of the nodes the tree held then.
 MADE_TREE_KEY = "diffusion_dof_made_compositor"
+# 5.3: marks the effect node group that holds the add-on's nodes (the active effect's when they
+# were added), so that they stay in one group when another effect becomes the active one.
+HOLDS_NODES_KEY = "diffusion_dof_holds_nodes"
 
 
 def layer_collection(view_layer):
@@ -48,16 +56,72 @@ def layer_collection(view_layer):
     return root
 
 
+def _effect_groups(scene, for_render=False):
+    """5.3: the node groups of the scene's compositor effects, in the order they apply."""
+    return [e.node_group for e in scene.compositor_effects
+            if e.node_group is not None and (e.enable_for_render or not for_render)]
+
+
 def compositor_tree(scene, even_off=False):
-    """The scene's compositor tree, or None when it has none (or compositing nodes are off,
-    unless even_off)."""
+    """The scene's compositor tree, the one that holds (or is to hold) the add-on's nodes, or
+    None when it has none (or compositing nodes are off, unless even_off). 5.3: the effect
+    group marked as holding them, else the active effect's."""
+    if COMPOSITOR_EFFECTS:
+        marked = [g for g in _effect_groups(scene) if g.get(HOLDS_NODES_KEY)]
+        if marked:
+            return marked[0]
+        active = scene.compositor_effects.active
+        return active.node_group if active is not None else None
     if NODE_GROUP_COMPOSITOR:
         return scene.compositing_node_group
     return scene.node_tree if scene.use_nodes or even_off else None
 
 
+def compositing_trees(scene):
+    """The compositor trees a render applies to the render, in order ([] without compositing
+    nodes): 5.3 the node groups of the effects enabled for rendering; else the one tree."""
+    if COMPOSITOR_EFFECTS:
+        return _effect_groups(scene, for_render=True)
+    tree = compositor_tree(scene)
+    return [tree] if tree is not None else []
+
+
+def _new_effect_group(scene, name):
+    """5.3: a new compositor effect whose node group hands the render on unchanged (Group
+    Input -> Group Output, as Compositor > New makes it)."""
+    tree = bpy.data.node_groups.new(name, "CompositorNodeTree")
+    tree.interface.new_socket("Image", in_out="INPUT", socket_type="NodeSocketColor")
+    tree.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    gi = tree.nodes.new("NodeGroupInput")
+    go = tree.nodes.new("NodeGroupOutput")
+    gi.location, go.location = (-200.0, 0.0), (200.0, 0.0)
+    tree.links.new(gi.outputs[0], go.inputs[0])
+    effect = scene.compositor_effects.new(name=name)
+    effect.node_group = tree
+    return tree
+
+
+def set_compositor_tree(scene, tree):
+    """Makes `tree` the scene's compositor (the copy that runs the user's compositing): 5.3 its
+    only effect; 5.0 its node group."""
+    if COMPOSITOR_EFFECTS:
+        scene.compositor_effects.clear()
+        scene.compositor_effects.new(name=tree.name).node_group = tree
+    else:
+        scene.compositing_node_group = tree
+
+
 def ensure_compositor_tree(scene):
     """(tree, changed): the scene's compositor tree, made (and turned on) when it has none."""
+    if COMPOSITOR_EFFECTS:
+        tree = compositor_tree(scene)
+        made = tree is None
+        if made:
+            tree = _new_effect_group(scene, COMPOSITOR_TREE_NAME)
+            scene[MADE_TREE_KEY] = tree.name
+        if not tree.get(HOLDS_NODES_KEY):
+            tree[HOLDS_NODES_KEY] = True
+        return tree, made
     if NODE_GROUP_COMPOSITOR:
         tree = scene.compositing_node_group
         if tree is not None:
@@ -81,14 +145,30 @@ _PLAIN_NODES = {"CompositorNodeRLayers", "CompositorNodeComposite"}
 
 def release_compositor_tree(scene):
     """Leaves the compositor as it was before ensure_compositor_tree made one, once the add-on's
-    nodes are gone: 5.x unassigns the node group it created (an empty group makes Blender 5.x
-    render nothing) and removes it when nothing else uses it; 3.x/4.x turns compositing nodes
-    off again. A tree the user has since put nodes of their own into is left as it is. Returns
-    what it did, as a sentence, or ''."""
+    nodes are gone: 5.3 removes the effect it made (and its group, when nothing else uses it);
+    5.0 unassigns the node group it created (an empty group makes Blender 5.x render nothing)
+    and removes it when nothing else uses it; 3.x/4.x turns compositing nodes off again. A tree
+    the user has since put nodes of their own into is left as it is. 5.3's mark on the group
+    that held the nodes goes too. Returns what it did, as a sentence, or ''."""
+    if COMPOSITOR_EFFECTS:
+        for tree in _effect_groups(scene):
+            if tree.get(HOLDS_NODES_KEY) is not None:
+                del tree[HOLDS_NODES_KEY]
     made = scene.get(MADE_TREE_KEY)
     if made is None:
         return ""
     del scene[MADE_TREE_KEY]
+    if COMPOSITOR_EFFECTS:
+        effect = next((e for e in scene.compositor_effects
+                       if e.node_group is not None and e.node_group.name == str(made)), None)
+        tree = effect.node_group if effect is not None else None
+        if tree is None or any(n.bl_idname not in ("NodeGroupInput", "NodeGroupOutput")
+                               for n in tree.nodes):
+            return ""
+        scene.compositor_effects.remove(effect)
+        if tree.users == 0:
+            bpy.data.node_groups.remove(tree)
+        return "removed the compositor effect it had made"
     if NODE_GROUP_COMPOSITOR:
         tree = scene.compositing_node_group
         if tree is None or tree.name != str(made) or len(tree.nodes):
@@ -112,9 +192,15 @@ def needs_composite_node():
 
 def output_node(tree):
     """The node whose image the compositor outputs: the Composite node up to 4.x, the group
-    output in 5.0; None when there is none."""
+    output from 5.0; None when there is none."""
     kind = "NodeGroupOutput" if NODE_GROUP_COMPOSITOR else "CompositorNodeComposite"
     return next((n for n in tree.nodes if n.bl_idname == kind), None)
+
+
+def is_render_input(node):
+    """Whether the node is a 5.x node group's Group Input, whose first output Blender feeds
+    the render into."""
+    return NODE_GROUP_COMPOSITOR and node.bl_idname == "NodeGroupInput"
 
 
 # -- the File Output node --------------------------------------------------------------------

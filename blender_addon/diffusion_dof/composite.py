@@ -51,23 +51,31 @@ def _is_dof_layer(node, scene, layer_name, copy=None):
     return node.scene in (None, scene, copy) and node.layer == layer_name
 
 
+def _hands_on_render(tree, scene, layer_name):
+    """Whether a compositor tree outputs the render as it is: its output fed straight from the
+    depth-of-field view layer's Image (a Render Layers node, or 5.x's Group Input), or no
+    output at all (5.x: the render layers' image then)."""
+    out = compat.output_node(tree)
+    if out is None or not out.inputs or not out.inputs[0].is_linked:
+        return True
+    link = out.inputs[0].links[0]
+    source = link.from_node
+    if source.mute:
+        return False
+    if compat.is_render_input(source):
+        return link.from_socket == source.outputs[0]
+    return (source.bl_idname == RLAYERS and source.name not in passes.MANAGED_NODES
+            and link.from_socket.name == "Image" and _is_dof_layer(source, scene, layer_name))
+
+
 def has_compositing(scene, settings):
     """Whether the compositor does more to the written image than hand on the depth-of-field
     view layer's Image (anything between it and the output, another view layer, ...)."""
     if not scene.render.use_compositing:
         return False
-    tree = compat.compositor_tree(scene)
-    if tree is None:
-        return False
-    out = compat.output_node(tree)
-    if out is None or not out.inputs or not out.inputs[0].is_linked:
-        return False
-    link = out.inputs[0].links[0]
-    source = link.from_node
-    direct = (source.bl_idname == RLAYERS and source.name not in passes.MANAGED_NODES
-              and link.from_socket.name == "Image" and not source.mute
-              and _is_dof_layer(source, scene, passes.render_view_layer(scene, settings).name))
-    return not direct
+    layer = passes.render_view_layer(scene, settings).name
+    return not all(_hands_on_render(tree, scene, layer)
+                   for tree in compat.compositing_trees(scene))
 
 
 def slot_name(node_name, socket_name):
@@ -81,15 +89,15 @@ def _socket_kind(socket):
     return {"VALUE": "FLOAT", "VECTOR": "VECTOR"}.get(socket.type, "RGBA")
 
 
-def pass_slots(scene, settings, tree):
+def pass_slots(scene, settings):
     """[(slot, node name, socket name, kind)] of the passes the user's compositing reads besides
     the depth-of-field image (the Alpha of another view layer comes with its Image): what the
     managed File Output node writes for it. Empty without compositing."""
-    if tree is None or not has_compositing(scene, settings):
+    if not has_compositing(scene, settings):
         return []
     layer = passes.render_view_layer(scene, settings).name
     slots = {}
-    for node in _user_render_layers(tree):
+    for node in [n for tree in compat.compositing_trees(scene) for n in _user_render_layers(tree)]:
         if node.mute:
             continue
         dof = _is_dof_layer(node, scene, layer)
@@ -140,6 +148,76 @@ def _replace_render_layers(tree, node, dof, images):
     tree.nodes.remove(node)
 
 
+def _replace_group_input(tree, node, images):
+    """5.x: feeds the links out of the Group Input's first output (the render) from the
+    depth-of-field image instead, and removes the node (with a Group Input Blender renders
+    the scene again for the copy)."""
+    for index, socket in enumerate(node.outputs):
+        if not socket.is_linked:
+            continue
+        if index != 0:
+            raise SetupError("your compositor reads its Group Input's '%s', which the add-on "
+                             "cannot give it on the depth-of-field image" % socket.name)
+        image_node = tree.nodes.get(IMAGE_NODE % DOF_KEY) or \
+            _new_image_node(tree, DOF_KEY, images[DOF_KEY], node.location)
+        for link in list(socket.links):
+            tree.links.new(image_node.outputs["Image"], link.to_socket)
+    tree.nodes.remove(node)
+
+
+def _render_reader(tree, top=False, seen=()):
+    """The name of a node in the tree (or in a node group it uses) through which the compositor
+    still reads the render: a Render Layers node, or the top tree's Group Input (5.x); else
+    None."""
+    for node in tree.nodes:
+        if node.bl_idname == RLAYERS or top and compat.is_render_input(node):
+            return node.name
+        group = getattr(node, "node_tree", None)
+        if group is not None and group not in seen:
+            inner = _render_reader(group, seen=seen + (group,))
+            if inner is not None:
+                return "%s > %s" % (node.name, inner)
+    return None
+
+
+def _own_copy(tree, scene):
+    group = tree.copy()
+    group[COPY_KEY] = scene.name
+    return group
+
+
+def _effect_chain(trees, scene):
+    """5.3's stack of effects as one node group that applies them in order: a group node of a
+    copy of each, the first fed from the Group Input (the render, replaced like a user's), each
+    next one from the one before."""
+    chain = bpy.data.node_groups.new("DDOF Compositing: " + scene.name, "CompositorNodeTree")
+    chain[COPY_KEY] = scene.name
+    chain.interface.new_socket("Image", in_out="INPUT", socket_type="NodeSocketColor")
+    chain.interface.new_socket("Image", in_out="OUTPUT", socket_type="NodeSocketColor")
+    source = chain.nodes.new("NodeGroupInput").outputs[0]
+    for k, tree in enumerate(trees):
+        node = chain.nodes.new("CompositorNodeGroup")
+        node.node_tree = _own_copy(tree, scene)
+        node.location = (200.0 * (k + 1), 0.0)
+        if not node.inputs or not node.outputs:
+            raise SetupError("compositor effect '%s' has no image input or output" % tree.name)
+        chain.links.new(source, node.inputs[0])
+        source = node.outputs[0]
+    chain.links.new(source, chain.nodes.new("NodeGroupOutput").inputs[0])
+    return chain
+
+
+def _prepare(tree, scene, layer, copy, images):
+    """The user's tree (a copy) made to read the images: without the managed nodes, every
+    Render Layers node replaced."""
+    for name in passes.MANAGED_NODES:
+        node = tree.nodes.get(name)
+        if node is not None:
+            tree.nodes.remove(node)
+    for node in _user_render_layers(tree):
+        _replace_render_layers(tree, node, _is_dof_layer(node, scene, layer, copy), images)
+
+
 def _make_copy(scene, settings, images):
     copy = scene.copy()
     copy[COPY_KEY] = scene.name
@@ -147,18 +225,23 @@ def _make_copy(scene, settings, images):
         if key != COPY_KEY:
             del copy[key]  # e.g. the overscan's restore record: the user's scene's alone
     copy.name = "DDOF Compositing: " + scene.name
-    if compat.NODE_GROUP_COMPOSITOR:
-        group = scene.compositing_node_group.copy()
-        group[COPY_KEY] = scene.name
-        copy.compositing_node_group = group
-    tree = _copy_tree(copy)
-    for name in passes.MANAGED_NODES:
-        node = tree.nodes.get(name)
-        if node is not None:
-            tree.nodes.remove(node)
     layer = passes.render_view_layer(scene, settings).name
-    for node in _user_render_layers(tree):
-        _replace_render_layers(tree, node, _is_dof_layer(node, scene, layer, copy), images)
+    try:
+        if compat.NODE_GROUP_COMPOSITOR:
+            trees = compat.compositing_trees(scene)
+            tree = _own_copy(trees[0], scene) if len(trees) == 1 else _effect_chain(trees,
+                                                                                   scene)
+            compat.set_compositor_tree(copy, tree)
+            for node in tree.nodes if len(trees) > 1 else ():
+                if node.bl_idname == "CompositorNodeGroup":
+                    _prepare(node.node_tree, scene, layer, copy, images)
+        tree = _copy_tree(copy)
+        _prepare(tree, scene, layer, copy, images)
+        for node in [n for n in tree.nodes if compat.is_render_input(n)]:
+            _replace_group_input(tree, node, images)
+    except SetupError:
+        bpy.data.scenes.remove(copy)
+        raise
     r = copy.render
     r.use_sequencer = False  # the compositor alone
     r.use_border = False
@@ -183,6 +266,12 @@ def run(scene, settings, frame, images, width, height):
     if copy is None:
         copy = _make_copy(scene, settings, images)
     tree = _copy_tree(copy)
+    reader = _render_reader(tree, top=True)
+    if reader is not None:
+        # Rendering the copy would render the scene again and composite that, without the
+        # depth of field.
+        raise SetupError("your compositing reads the render through '%s', which the add-on "
+                         "cannot give the depth-of-field image" % reader)
     for key, image in images.items():
         node = tree.nodes.get(IMAGE_NODE % key)
         if node is not None and node.image != image:
@@ -215,6 +304,11 @@ def remove_copies():
     for copy in [s for s in bpy.data.scenes if is_copy(s)]:
         bpy.data.scenes.remove(copy, do_unlink=True)
     if compat.NODE_GROUP_COMPOSITOR:
-        for group in [g for g in bpy.data.node_groups if g.get(COPY_KEY) is not None]:
-            if group.users == 0:
+        # A copy of a 5.3 effect is used by the group that chains them: removed after it.
+        while True:
+            spent = [g for g in bpy.data.node_groups
+                     if g.get(COPY_KEY) is not None and g.users == 0]
+            if not spent:
+                break
+            for group in spent:
                 bpy.data.node_groups.remove(group)

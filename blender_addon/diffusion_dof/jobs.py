@@ -36,6 +36,9 @@ class Job:
         self.overscan = plan      # overscan.Plan of the render, or None
         self.camera = None
         self.error = None
+        # Blender refused to render it (no camera): processed to report why, not dropped when
+        # the render is cancelled.
+        self.refused = False
         self.lens_dof_on = False
         self.write = False
         self.ready = False

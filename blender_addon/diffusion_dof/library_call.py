@@ -7,6 +7,7 @@ frames, and the cancel flag that stops a running call."""
 import threading
 
 from . import binding, report
+from .camera import for_blender_rows
 
 # Set to stop the library call that runs (Esc, a cancelled render): its progress callback
 # answers "stop" and the frame is left as rendered. Cleared when a render starts.
@@ -52,11 +53,12 @@ def close_session():
 def run(width, height, color, color_channels, depth, depth_channels, camera, foreground,
         options, window=None, matte=None):
     """One frame in the render's session with library_options() `options` (window, matte: as
-    binding.Session.depth_of_field takes them); returns (out, stats). Raises LibraryError,
-    DdofError, binding.Cancelled (cancel_event set)."""
+    binding.Session.depth_of_field takes them); the buffers in Blender's row order (bottom
+    first). Returns (out, stats). Raises LibraryError, DdofError, binding.Cancelled
+    (cancel_event set)."""
     return session_for(options["threads"], options["backend"]).depth_of_field(
-        width, height, color, color_channels, depth, depth_channels, camera, options["params"],
-        foreground=foreground, preset=options["preset"],
+        width, height, color, color_channels, depth, depth_channels, for_blender_rows(camera),
+        options["params"], foreground=foreground, preset=options["preset"],
         cancel=lambda _f: cancel_event.is_set(), window=window, matte=matte)
 
 

@@ -207,7 +207,7 @@ def missing_setup(scene, settings):
             os.path.normpath(temp_dir(scene)):
         return ("the managed File Output node writes to another folder (another Blender "
                 "session or scene name)")
-    if compat.file_output_paths(out) != _slot_paths(_main_slots(scene, settings, tree)[0]):
+    if compat.file_output_paths(out) != _slot_paths(_main_slots(scene, settings)[0]):
         return "the passes your compositing reads are not all written for the add-on"
     if matte_slots(scene) != object_matte.slots(matte_layers(scene, settings)):
         return "the object matte's passes are not set up as the view layer renders them"
@@ -301,7 +301,7 @@ def _ensure_setup(scene):
         raise SetupError(f"Diffusion DOF cannot create its folder for the render passes "
                          f"({folder}): {err.strerror}. Check the temporary folder in "
                          f"Preferences > File Paths.") from err
-    slots, kinds, sources = _main_slots(scene, settings, tree)
+    slots, kinds, sources = _main_slots(scene, settings)
     out = _output_node(tree, OUTPUT_NODE, "Diffusion DOF: passes to the add-on",
                        (x0 + 320.0, y0), frame, folder, slots, kinds)
     depth_socket = _depth_socket(rl)
@@ -400,11 +400,11 @@ def _slot_paths(slots):
     return [slot + "#" * FRAME_DIGITS for slot in slots]
 
 
-def _main_slots(scene, settings, tree):
+def _main_slots(scene, settings):
     """(slots, socket kinds, [(node, socket)] of the extra passes) of the main File Output node:
     Combined and Depth, then the passes the user's compositing reads (composite.pass_slots)."""
     from . import composite  # composite imports this module
-    extra = composite.pass_slots(scene, settings, tree)
+    extra = composite.pass_slots(scene, settings)
     return ((SLOT_COLOR, SLOT_DEPTH) + tuple(e[0] for e in extra),
             ("RGBA", "FLOAT") + tuple(e[3] for e in extra), [(e[1], e[2]) for e in extra])
 

@@ -115,6 +115,11 @@ def on_render_post(scene, _depsgraph=None):
     job = jobs.Job(scene, scene.frame_current, settings.foreground_collection is not None,
               state["extra"], state["overscan"], state["matte"])
     job.error = state["error"]
+    if scene.camera is None:  # Blender refuses to render the frame (render_cancel follows)
+        try:
+            camera_mod.camera_settings(scene, settings)
+        except SetupError as err:
+            job.error, job.refused = str(err), True
     job.lens_dof_on = state["lens_dof_on"]
     job.started = state["started"]
     with jobs.lock:
@@ -142,7 +147,7 @@ def _finish(scene, cancelled):
     with jobs.lock:
         for job in list(jobs.queued):
             if job.scene_name == scene.name:
-                if cancelled:
+                if cancelled and not job.refused:
                     jobs.queued.remove(job)
                     for path in job.files.values():
                         if os.path.exists(path):
@@ -222,7 +227,7 @@ def _sync_pass_slots(scene, settings):
         tree = passes.node_tree(scene)
         if tree is None or tree.nodes.get(passes.OUTPUT_NODE) is None:
             return
-        wanted = [e[0] for e in composite.pass_slots(scene, settings, tree)]
+        wanted = [e[0] for e in composite.pass_slots(scene, settings)]
         matte = object_matte.slots(passes.matte_layers(scene, settings))
         changed = [what for what, now, want in (
             ("the passes your compositing reads", passes.extra_slots(scene), wanted),

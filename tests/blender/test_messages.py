@@ -170,6 +170,25 @@ checks.check(report is not None and not report["ok"] and
              "compositor" not in report["message"], "no-camera render report: %r" % (report,))
 scene.camera = cam
 
+# The same through Blender's own handlers (render_init, render_post, then render_cancel), after
+# a frame that got depth of field: the frame's report says there is no camera, not the last
+# frame's success line; also when the frame file was to be written.
+for write_still in (False, True):
+    bpy.ops.render.render()
+    last = dict(addon.report.reports.get(scene.name) or {})
+    scene.camera = None
+    scene.render.filepath = os.path.join(u.scratch_dir("messages"), "no_camera_")
+    try:
+        bpy.ops.render.render(write_still=write_still)
+    except RuntimeError as err:
+        print("Blender: %s" % str(err).strip())
+    report = addon.report.reports.get(scene.name)
+    checks.check(last.get("ok") and report is not None and not report["ok"] and
+                 "has no active camera" in report["message"],
+                 "no-camera render after a good one (write_still %s): %r, before %r"
+                 % (write_still, report, last.get("message")))
+    scene.camera = cam
+
 # Another resolution: the result image follows.
 scene.render.resolution_percentage = 50
 bpy.ops.render.render()
