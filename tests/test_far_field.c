@@ -10,6 +10,9 @@
  *    whatever the CoC, the pixel aspect or the frame's size;
  *  - next to depth edges the layers' result is kept bit for bit, and in-focus pixels keep theirs;
  *  - the planner's line and the effect bit, OFF bit for bit the diffusion alone, the bad mode;
+ *  - a foreground element's blur too: a textured disc of CoC 12 over a sharp background against
+ *    the lens (its premultiplied colour and coverage over each point's disc), far closer than
+ *    its diffusion alone;
  *  - the hard cases: CoC far beyond the frame, pixel aspects of 0.01 and 100, colours at
  *    DDOF_MAX_COLOR, a 1-pixel-high frame, 3 and 4 channels alike, in place. */
 #include "ddof.h"
@@ -248,6 +251,80 @@ static void test_plan(void)
     free(b);
 }
 
+/* A separately rendered element: a textured disc of radius 20 (alpha 1), CoC 12 everywhere,
+ * over a flat sharp background of 0.5. The lens: its premultiplied colour and coverage each
+ * spread over the disc of radius 6 around every point (4 x 4 samples a pixel), the background
+ * showing through what the coverage leaves. */
+static void test_element_is_the_lens(void)
+{
+    const size_t n = NPX * CH;
+    float *color = alloc_f(n), *coc = alloc_f(NPX), *fg_color = alloc_f(n), *fg_coc = alloc_f(NPX);
+    float *on = alloc_f(n), *off = alloc_f(n);
+    double *ref = malloc(n * sizeof *ref);
+    block_texture(fg_color, W, H, CH, 31, 0.1, 0.9);
+    for (uint32_t y = 0; y < H; y++)
+        for (uint32_t x = 0; x < W; x++) {
+            const size_t i = (size_t)y * W + x;
+            const double dx = x - 48.0, dy = y - 36.0;
+            const float a = dx * dx + dy * dy < 400.0 ? 1.0f : 0.0f;
+            for (int c = 0; c < CH; c++) {
+                fg_color[i * CH + c] = c == 3 ? a : a * fg_color[i * CH + c];
+                color[i * CH + c] = c == 3 ? 1.0f : 0.5f;
+            }
+            fg_coc[i] = 12.0f;
+            coc[i] = 0.0f;
+        }
+    const double r = 6.0;
+    for (int y = 0; y < H; y++)
+        for (int x = 0; x < W; x++) {
+            double sum[CH] = {0}, weights = 0.0;
+            for (int qy = y - 8; qy <= y + 8; qy++)
+                for (int qx = x - 8; qx <= x + 8; qx++) {
+                    int covered = 0;
+                    for (int sy = 0; sy < 4; sy++)
+                        for (int sx = 0; sx < 4; sx++) {
+                            const double dx = x + (sx + 0.5) / 4 - 0.5 - qx;
+                            const double dy = y + (sy + 0.5) / 4 - 0.5 - qy;
+                            covered += dx * dx + dy * dy < r * r;
+                        }
+                    weights += covered;
+                    if (!covered || qx < 0 || qy < 0 || qx >= W || qy >= H)
+                        continue;
+                    for (int c = 0; c < CH; c++)
+                        sum[c] += covered * fg_color[((size_t)qy * W + qx) * CH + c];
+                }
+            const double cover = sum[3] / weights;
+            for (int c = 0; c < CH; c++)
+                ref[((size_t)y * W + x) * CH + c] =
+                    sum[c] / weights + (1.0 - cover) * (c == 3 ? 1.0 : 0.5);
+        }
+    ddof_foreground fg;
+    ddof_foreground_init(&fg);
+    fg.color = (ddof_image_in){fg_color, W, H, CH, 0};
+    fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
+    fg.premultiplied = 1;
+    ddof_params p = far_params(DDOF_LAYER_AUTO);
+    p.highlights = DDOF_LAYER_OFF;
+    ddof_stats st = stats_init();
+    CHECK_EQ_INT(diffuse_layers(ctx, &p, color, coc, &fg, on, W, H, CH, &st), DDOF_OK);
+    CHECK(st.effects & DDOF_EFFECT_FAR_FIELD);
+    p.far_field = DDOF_LAYER_OFF;
+    CHECK_EQ_INT(diffuse_layers(ctx, &p, color, coc, &fg, off, W, H, CH, NULL), DDOF_OK);
+    const double e_on = rms_vs(on, ref, n), e_off = rms_vs(off, ref, n);
+    if (verbose)
+        printf("  element CoC 12: RMS vs the lens %.4f (diffusion %.4f)\n", e_on, e_off);
+    CHECK_MSG(e_on <= 0.002, "element: RMS %.4f against the lens (measured 0.0012)", e_on);
+    CHECK_MSG(e_on < 0.6 * e_off, "element: gather %.4f not well below the diffusion %.4f", e_on,
+              e_off);
+    free(color);
+    free(coc);
+    free(fg_color);
+    free(fg_coc);
+    free(on);
+    free(off);
+    free(ref);
+}
+
 /* Colours at DDOF_MAX_COLOR stay finite; 3 and 4 channels give the same RGB; in place is the
  * same as out of place. */
 static void test_hard_inputs(void)
@@ -293,6 +370,7 @@ int main(void)
     test_constant_stays_constant();
     test_edges_keep_the_layers();
     test_plan();
+    test_element_is_the_lens();
     test_hard_inputs();
     ddof_context_free(ctx);
     return test_report("test_far_field");

@@ -335,6 +335,7 @@ static void test_element_highlight(void)
         ddof_params p;
         ddof_params_init(&p);
         p.highlights = pass ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
+        p.far_field = DDOF_LAYER_OFF; /* the element's gather would draw the flat disc too */
         ddof_stats st = {.struct_size = sizeof st};
         CHECK(ddof_diffuse_layers(ctx, &p, &(ddof_image_in){f.color, W, H, 4, 0},
                                   &(ddof_image_in){f.coc, W, H, 1, 0}, &fg,
