@@ -36,6 +36,7 @@ typedef struct bench {
     float *color, *coc_scene, *coc_2, *coc_200, *out;
     float *coc_sharp, *coc_half; /* all in focus; top half in focus, bottom half 2 px   */
     float *coc_sub;              /* sub-pixel everywhere (0 to 0.18 px): in focus        */
+    float *coc_crowns;           /* signed: discs of 30 px before a sky of 40 px          */
     float *fg_color, *fg_coc;    /* a foreground element: a disc, alpha 1, CoC 30 px   */
     float *matte;                /* the scene's object matte: (id, coverage) x 2 ranks   */
 } bench;
@@ -86,10 +87,12 @@ typedef struct run_config {
     int whole_preset; /* the default preset as it is (its kernel and sub-steps), layered */
     int far_field_off, silhouettes_off; /* a whole preset without that pass */
     int matte;                          /* with the scene's object matte (the frame call) */
+    int blurred_edges_off;              /* a whole preset without the far field's slices  */
+    int coc_signed;                     /* the CoC is signed (what lies behind what known)  */
 } run_config;
 
-static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
-static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1, 0, 0, 0};
+static const run_config single_layer = {0, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0, 0, 0};
+static const run_config default_frame = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 1, 0, 0, 0, 0, 0};
 
 /* One call of the configuration. */
 static ddof_status run_once(const bench *b, ddof_context *context, const ddof_params *params,
@@ -136,6 +139,9 @@ static double time_config(const bench *b, ddof_context *context, ddof_solver sol
         params.far_field = DDOF_LAYER_OFF;
     if (config.silhouettes_off)
         params.silhouettes = DDOF_LAYER_OFF;
+    if (config.blurred_edges_off)
+        params.blurred_edges = DDOF_LAYER_OFF;
+    params.coc_signed = (uint32_t)config.coc_signed;
     params.solver = solver;
     params.precision = solver == DDOF_SOLVER_GRUEN ? bench_precision : DDOF_PRECISION_FLOAT;
     double t[64];
@@ -190,11 +196,13 @@ static void make_scene(bench *b)
     b->coc_sharp = calloc(pixels, sizeof(float));
     b->coc_half = malloc(pixels * sizeof(float));
     b->coc_sub = malloc(pixels * sizeof(float));
+    b->coc_crowns = malloc(pixels * sizeof(float));
     b->fg_color = malloc(pixels * 4 * sizeof(float));
     b->fg_coc = malloc(pixels * sizeof(float));
     b->matte = malloc(pixels * 4 * sizeof(float));
     if (!b->color || !b->out || !b->coc_scene || !b->coc_2 || !b->coc_200 || !b->coc_sharp ||
-        !b->coc_half || !b->coc_sub || !b->fg_color || !b->fg_coc || !b->matte) {
+        !b->coc_half || !b->coc_sub || !b->coc_crowns || !b->fg_color || !b->fg_coc ||
+        !b->matte) {
         fprintf(stderr, "ddof-bench: out of memory\n");
         exit(1);
     }
@@ -221,6 +229,10 @@ static void make_scene(bench *b)
             b->coc_200[i] = 200.0f;
             b->coc_half[i] = v < 0.5f ? 0.0f : 2.0f;
             b->coc_sub[i] = 0.18f * u * v; /* the issue's invisible frame: largest 0.18 px */
+            /* Tree crowns before the sky (issue 39): discs of 1/12 of the width every 1/6. */
+            const float cu = u * 6.0f - floorf(u * 6.0f) - 0.5f;
+            const float cv = (v * 6.0f - floorf(v * 6.0f) - 0.5f) * b->height / b->width;
+            b->coc_crowns[i] = cu * cu + cv * cv < 0.25f * 0.25f ? 30.0f : 40.0f;
             const float dx = u - 0.2f, dy = (v - 0.7f) * b->height / b->width;
             const float fg_alpha = dx * dx + dy * dy < 0.01f ? 1.0f : 0.0f;
             for (int k = 0; k < 3; k++)
@@ -254,6 +266,14 @@ static void bench_passes(const bench *b, ddof_context *all)
     const double flat_far_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_200, no_far);
     printf("no_silhouette_frame_vs_silhouettes_off %.3f\n", flat / flat_split_off);
     printf("coc200_frame_vs_far_field_off %.3f\n", flat / flat_far_off);
+    /* Blurred surfaces meeting everywhere (signed CoC: crowns of 30 px before a sky of 40). */
+    run_config crowns = default_frame, crowns_off = default_frame;
+    crowns.coc_signed = crowns_off.coc_signed = 1;
+    crowns_off.blurred_edges_off = 1;
+    const double edges = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_crowns, crowns);
+    const double edges_off = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_crowns, crowns_off);
+    printf("crowns_frame_ms %.3f\n", 1e3 * edges);
+    printf("crowns_frame_vs_blurred_edges_off %.3f\n", edges / edges_off);
     fflush(stdout);
 }
 
@@ -267,7 +287,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
     ddof_params defaults;
     ddof_params_init(&defaults);
     const run_config heat = single_layer;
-    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0, 0};
+    const run_config disc = {0, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0, 0, 0, 0};
     const run_config kernels[2] = {heat, disc};
     const char *names[2] = {"heat", "disc_default"};
     double scene[2];
@@ -287,7 +307,7 @@ static void bench_speed(const bench *b, ddof_context *one, ddof_context *two, dd
         fflush(stdout);
     }
     printf("speed_disc_default_vs_heat %.3f\n", scene[1] / scene[0]);
-    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0, 0};
+    const run_config planned = {1, DDOF_LAYER_AUTO, 0, defaults.kernel, 0, 0, 0, 0, 0, 0};
     const double sub_layers = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, planned);
     const double sub_single = time_config(b, all, DDOF_SOLVER_THOMAS, b->coc_sub, disc);
     printf("speed_sub_pixel_layers_ms %.3f\n", 1e3 * sub_layers);
@@ -332,8 +352,8 @@ static void bench_disc(const bench *b, ddof_context *one, ddof_context *two, ddo
 {
     const double heat = time_diffuse(b, all, DDOF_SOLVER_THOMAS, b->coc_scene);
     for (int k = 1; k < DDOF_KERNEL_COUNT_; k++) {
-        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0, 0};
-        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0, 0};
+        const run_config disc = {0, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0, 0, 0, 0};
+        const run_config layered = {1, DDOF_LAYER_AUTO, 0, (ddof_kernel)k, 0, 0, 0, 0, 0, 0};
         char name[32];
         snprintf(name, sizeof name, "%s", ddof_kernel_name((ddof_kernel)k));
         name[4] = '_'; /* disc_2x2: one token */
@@ -501,9 +521,9 @@ int main(int argc, char **argv)
     if (!strcmp(only, "all") || !strcmp(only, "layers")) {
         bench_passes(&b, all);
         /* Layers and the planner, Thomas, all threads. */
-        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
-        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
-        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0};
+        const run_config background = {1, DDOF_LAYER_ON, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0, 0, 0};
+        const run_config three = {1, DDOF_LAYER_ON, 1, DDOF_KERNEL_HEAT, 0, 0, 0, 0, 0, 0};
+        const run_config planned = {1, DDOF_LAYER_AUTO, 0, DDOF_KERNEL_HEAT, 0, 0, 0, 0, 0, 0};
         const double single = time_diffuse(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene);
         const double bg = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, background);
         const double layers3 = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, three);
@@ -539,6 +559,7 @@ int main(int argc, char **argv)
     free(b.coc_sharp);
     free(b.coc_half);
     free(b.coc_sub);
+    free(b.coc_crowns);
     free(b.fg_color);
     free(b.fg_coc);
     free(b.matte);
