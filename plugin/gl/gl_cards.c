@@ -87,8 +87,7 @@ static GLint at(const gl_functions *gl, GLuint program, const char *name)
 static void frame_uniforms(const gl_functions *gl, GLuint p, const adi_cards_request *r)
 {
     gl->ProgramUniform2f(p, at(gl, p, "frame"), (float)r->width, (float)r->height);
-    gl->ProgramUniform4f(p, at(gl, p, "ray"), (float)r->ray_a, (float)r->ray_bx,
-                         (float)r->ray_c, (float)r->ray_by);
+    gl->ProgramUniform4d(p, at(gl, p, "ray"), r->ray_a, r->ray_bx, r->ray_c, r->ray_by);
     gl->ProgramUniform4f(p, at(gl, p, "lens"), (float)r->k_px, (float)r->focus_m,
                          (float)r->aspect, 0.0f);
     gl->ProgramUniform2f(p, at(gl, p, "radius_limits"), r->min_radius_px, r->max_radius_px);
@@ -100,7 +99,7 @@ static void frame_uniforms(const gl_functions *gl, GLuint p, const adi_cards_req
 
 static void vec3_uniform(const gl_functions *gl, GLuint p, const char *name, const double *v)
 {
-    gl->ProgramUniform3f(p, at(gl, p, name), (float)v[0], (float)v[1], (float)v[2]);
+    gl->ProgramUniform3d(p, at(gl, p, name), v[0], v[1], v[2]);
 }
 
 /* One card: its table into the two textures, its plane's uniforms, its polygon drawn. */
