@@ -952,7 +952,10 @@ DDOF_API void ddof_cards_params_init_sized(ddof_cards_params *params, size_t siz
  * and channel codes) name the card; nothing is written. A card seen exactly edge-on draws
  * nothing. On a context whose backend is GL (EGL, OSMesa) the
  * device draws the cards (vertex and fragment shaders, blending), within float rounding of the
- * CPU; a device failure is DDOF_ERROR_BACKEND_FAILED with its reason. */
+ * CPU; a texture more than GL_MAX_TEXTURE_SIZE - 1 texels a side (its summed-area table is
+ * one larger; 16,383 on llvmpipe), or a frame larger than GL_MAX_TEXTURE_SIZE, is
+ * DDOF_ERROR_UNSUPPORTED naming the limit (nothing written: use the CPU backend); a device
+ * failure is DDOF_ERROR_BACKEND_FAILED with its reason. */
 DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
                                        const ddof_camera *camera, const ddof_card *cards,
                                        uint32_t card_count, const ddof_image *out);

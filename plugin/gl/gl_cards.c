@@ -152,6 +152,16 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
                             size_t size)
 {
     const gl_functions *gl = &device->gl;
+    /* The frame is a texture, and each card's table one texel larger than its texture each
+     * way: checked before GL is asked (which would fail with GL_INVALID_VALUE, 0x501). */
+    GLint max_size = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if ((int64_t)r->width > max_size || (int64_t)r->height > max_size) {
+        snprintf(message, size,
+                 "the %ux%u frame is larger than this renderer's GL_MAX_TEXTURE_SIZE (%d): "
+                 "draw the cards on the CPU backend", r->width, r->height, (int)max_size);
+        return DDOF_ERROR_UNSUPPORTED;
+    }
     GLuint program = cards_program(device, message, size);
     if (!program)
         return DDOF_ERROR_BACKEND_FAILED;
@@ -192,6 +202,15 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
         status = r->card(r->user, i, &card);
         if (status != DDOF_OK)
             break;
+        if ((int64_t)card.tw + 1 > max_size || (int64_t)card.th + 1 > max_size) {
+            snprintf(message, size,
+                     "a card's %ux%u texture needs a %ux%u summed-area table, larger than this "
+                     "renderer's GL_MAX_TEXTURE_SIZE (%d): textures of at most %d px a side, "
+                     "or the CPU backend", card.tw, card.th, card.tw + 1, card.th + 1,
+                     (int)max_size, (int)max_size - 1);
+            status = DDOF_ERROR_UNSUPPORTED;
+            break;
+        }
         /* the frame so far, read by the shader to skip opaque pixels (cards_frag.glsl) */
         gl->ActiveTexture(GL_TEXTURE2);
         gl->BindTexture(GL_TEXTURE_2D, target);

@@ -7,7 +7,8 @@
  * wall (the pixels it makes opaque skipped by the device, as by the CPU); a triangle whose uv lies
  * inside its texture; and a 512x512 texture, whose summed-area table reaches 2^18 where a
  * plain float table would be off by up to 1/64 (the device's table is split to stay exact);
- * and textures magnified until a texel covers 55 px, and thousands. Run as `test_gl_cards osmesa|egl`. */
+ * textures magnified until a texel covers 55 px, and thousands; and a texture too large for
+ * the renderer's textures (refused). Run as `test_gl_cards osmesa|egl`. */
 #ifndef DDOF_EXPERIMENTAL
 #define DDOF_EXPERIMENTAL
 #endif
@@ -185,6 +186,40 @@ static void magnified(void)
     free(t);
 }
 
+/* A texture whose summed-area table exceeds the renderer's GL_MAX_TEXTURE_SIZE (16,384 on
+ * llvmpipe: a 16,384-texel texture's table is 16,385 wide) once failed with "GL error 0x501";
+ * now DDOF_ERROR_UNSUPPORTED naming the limit, the output untouched (or, on a renderer with
+ * larger textures, the CPU's image). */
+static void texture_too_large(void)
+{
+    enum { TW = 16384 };
+    float *t = random_texture(TW, 1, 9, 0);
+    static const double p[4][3] = {{-0.5, -0.1, -2}, {0.5, -0.1, -2}, {0.5, 0.1, -2},
+                                   {-0.5, 0.1, -2}};
+    static const double square[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const ddof_card card = card_of(p, square, 4, t, TW, 1);
+    static float a[W * H * 4], b[W * H * 4];
+    for (int i = 0; i < W * H * 4; i++)
+        b[i] = 7.0f;
+    const ddof_camera cam = camera();
+    CHECK_EQ_INT(ddof_render_cards(cpu, NULL, &cam, &card, 1, &(ddof_image){a, W, H, 4, 0}),
+                 DDOF_OK);
+    const ddof_status s =
+        ddof_render_cards(gl, NULL, &cam, &card, 1, &(ddof_image){b, W, H, 4, 0});
+    printf("a %dx1 texture: %d %s\n", TW, (int)s, ddof_context_last_error(gl));
+    if (s == DDOF_OK) {
+        CHECK(max_diff(a, b, W * H * 4) <= TOL_CARDS);
+    } else {
+        CHECK_EQ_INT(s, DDOF_ERROR_UNSUPPORTED);
+        CHECK(strstr(ddof_context_last_error(gl), "GL_MAX_TEXTURE_SIZE") != NULL);
+        int untouched = 1;
+        for (int i = 0; i < W * H * 4; i++)
+            untouched &= b[i] == 7.0f;
+        CHECK(untouched);
+    }
+    free(t);
+}
+
 int main(int argc, char **argv)
 {
     gl = gl_context_for(backend_from_name(argc > 1 ? argv[1] : NULL));
@@ -196,6 +231,7 @@ int main(int argc, char **argv)
     triangle();
     large_texture();
     magnified();
+    texture_too_large();
     ddof_context_free(cpu);
     ddof_context_free(gl);
     return test_report("test_gl_cards");
