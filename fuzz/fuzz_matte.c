@@ -111,26 +111,26 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
             f.foreground_coc = (ddof_image_in){fg_map, w, h, 1, 0};
     }
     /* coc_out: none, its own buffer, or (refused) a place inside the matte or the output */
+    const int with_matte = fuzz_byte(&r) >= 8;
     const uint8_t where = fuzz_byte(&r) % 8u;
     int coc_own = 0;
     if (where == 1 || where == 2) {
         f.coc_out = (ddof_image){coc, w, h, 1, 0};
         coc_own = 1;
-    } else if (where == 3 && mfloats >= pixels) {
+    } else if (where == 3 && with_matte && mfloats >= pixels) {
         f.coc_out = (ddof_image){matte + (mfloats - pixels) * (fuzz_byte(&r) % 2u), w, h, 1, 0};
     } else if (where == 4) {
         f.coc_out = (ddof_image){out + (pixels * ch - pixels) * (fuzz_byte(&r) % 2u), w, h, 1, 0};
     }
     const ddof_image_in mi = {matte, mw, mh, mch, mpad ? mstride * sizeof(float) : 0u};
     const ddof_image oi = {out, w, h, ch, 0};
-    const int with_matte = fuzz_byte(&r) >= 8;
     const ddof_status s =
         ddof_render_frame_with_matte(ctx, &p, &f, with_matte ? &mi : NULL, &oi, NULL);
     if (!fuzz_known_status(s)) {
         fprintf(stderr, "fuzz_matte: unknown status %d\n", (int)s);
         abort();
     }
-    if (((where == 3 && with_matte) || where == 4) && f.coc_out.pixels && s == DDOF_OK) {
+    if ((where == 3 || where == 4) && f.coc_out.pixels && s == DDOF_OK) {
         fprintf(stderr, "fuzz_matte: coc_out inside the %s was accepted\n",
                 where == 3 ? "matte" : "output");
         abort();
