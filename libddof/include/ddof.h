@@ -970,17 +970,18 @@ DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_p
  * coverage), interleaved: id as Cryptomatte stores it (a float whose bits name the object,
  * compared bit for bit), coverage 0..1 (the share of the pixel the object covers). The same
  * width and height as frame->color (DDOF_ERROR_SIZE_MISMATCH otherwise), channels even and
- * 2..2 * DDOF_MATTE_MAX_RANKS (DDOF_ERROR_BAD_CHANNELS otherwise), row_stride as for images. Where the silhouettes' split
- * runs (params.silhouettes), a mixed pixel's object share is what the background leaves of it
- * (the object of rank 0 of the blurred pixel beside it, or the world, what no object covers
- * and Cryptomatte leaves without an id, where that covers more of the blurred pixel), instead
- * of the guess from the colours on both sides; with it the object's colour is solved on the
- * sharp side too (a 1-2 px strand, which has no fully covered pixel to show it), and the split
- * comes after the highlights' discs: a mixed pixel's uncovered share shows the disc of a far
- * light behind it, its covered share hides it (a strand across a light). A NaN or infinite
- * coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel, as is a matte that shares bytes with
- * out or frame->coc_out; matte NULL is ddof_render_frame. The CLI (--matte) and the Blender add-on (Object
- * Matte) read a render's CryptoObject channels into this. */
+ * 2..2 * DDOF_MATTE_MAX_RANKS (DDOF_ERROR_BAD_CHANNELS otherwise), row_stride as for images.
+ * Where the silhouettes' split runs (params.silhouettes), a mixed pixel's object share is what
+ * the background leaves of it (the object of rank 0 of the blurred pixel beside it, or the
+ * world, what no object covers and Cryptomatte leaves without an id, where that covers more of
+ * the blurred pixel), instead of the guess from the colours on both sides; with it the object's
+ * colour is solved on the sharp side too (a 1-2 px strand, which has no fully covered pixel to
+ * show it), and the split comes after the highlights' discs: a mixed pixel's uncovered share
+ * shows the disc of a far light behind it, its covered share hides it (a strand across a
+ * light). A NaN or infinite coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel, as is a
+ * matte that shares bytes with out or frame->coc_out; matte NULL is ddof_render_frame. The CLI
+ * (--matte) and the Blender add-on (Object Matte) read a render's CryptoObject channels into
+ * this. */
 DDOF_API ddof_status ddof_render_frame_with_matte(ddof_context *context,
                                                   const ddof_params *params,
                                                   const ddof_frame *frame,

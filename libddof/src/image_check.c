@@ -97,7 +97,8 @@ ddof_image_bytes ddof_image_bytes_of(const float *pixels, uint32_t width, uint32
 {
     const size_t row = (size_t)width * channels * sizeof(float);
     const uintptr_t lo = (uintptr_t)pixels;
-    return (ddof_image_bytes){lo, lo + (size_t)(height - 1) * (row_stride ? row_stride : row) + row};
+    const size_t stride = row_stride ? row_stride : row;
+    return (ddof_image_bytes){lo, lo + (size_t)(height - 1) * stride + row};
 }
 
 ddof_status ddof_check_apart(ddof_context *context, const char *what, ddof_image_bytes a,
