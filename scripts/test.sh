@@ -94,9 +94,9 @@ case "$mode" in
     CC=clang cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
         -DDDOF_FUZZ=ON -DDDOF_BUILD_TESTS=OFF -DDDOF_BUILD_BENCH=OFF -DDDOF_BUILD_GL=OFF
     cmake --build build/fuzz -j "$jobs" --target fuzz_exr_read fuzz_camera_json fuzz_options \
-        fuzz_library
+        fuzz_library fuzz_cards_scene fuzz_matte
     found=0
-    for name in exr_read camera_json options library; do
+    for name in exr_read camera_json options library cards_scene matte; do
         # New inputs go to a scratch corpus in the build tree; the committed one is read only.
         work=build/fuzz/work/$name
         mkdir -p "$work" build/fuzz/findings

@@ -368,6 +368,76 @@ static void test_bad_input(ddof_context *ctx)
     CHECK(out[0] == 0.0f && out[W * H * 4 - 1] == 0.0f);
 }
 
+/* Issue 40: a card at z = -1e-10 drew nothing with DDOF_OK (a texel covered so many pixels
+ * that the disc's area in texels fell below what the average resolves); nearer than
+ * DDOF_CARD_MIN_DEPTH_M it is refused naming the vertex, and at that depth it is drawn (an
+ * opaque card over the whole view: opaque everywhere). */
+static void test_near_camera(ddof_context *ctx)
+{
+    static float white[TW * TH * 4], out[W * H * 4];
+    for (int i = 0; i < TW * TH * 4; i++)
+        white[i] = 1.0f;
+    double c[4][3] = {{-1, -1, -1e-10}, {1, -1, -1e-10}, {1, 1, -1e-10}, {-1, 1, -1e-10}};
+    ddof_card card = rect_card(c, white);
+    expect_refused(ctx, &card, 1, DDOF_ERROR_BAD_PARAMETER, "card 0: vertex 0 has z = -1e-10",
+                   "z = -1e-10");
+    for (int k = 0; k < 4; k++)
+        card.position[k][2] = -(float)DDOF_CARD_MIN_DEPTH_M;
+    const ddof_camera cam = test_camera();
+    CHECK_EQ_INT(render(ctx, NULL, &cam, &card, 1, out), DDOF_OK);
+    double lo = 1.0;
+    for (int i = 0; i < W * H; i++)
+        lo = fmin(lo, out[i * 4 + 3]);
+    CHECK_MSG(lo > 1.0 - 1e-6, "a card over the view at 1e-6 m: alpha down to %g", lo);
+}
+
+/* Issue 40: a texture sharing bytes with the output was accepted (the CPU read texels it had
+ * already overwritten); refused naming the card, nothing written. */
+static void test_texture_in_output(ddof_context *ctx)
+{
+    static float out[W * H * 4];
+    const ddof_camera cam = test_camera();
+    ddof_card c[2] = {rect_card(fronto, texture_a), rect_card(fronto, texture_a)};
+    c[1].position[0][2] = c[1].position[1][2] = c[1].position[2][2] = c[1].position[3][2] = -3;
+    for (int i = 0; i < W * H * 4; i++)
+        out[i] = 7.0f;
+    c[1].texture.pixels = out + W * 4 * 5 + 4; /* a 24x16 texture inside the 96x64 output */
+    CHECK_EQ_INT(render(ctx, NULL, &cam, c, 2, out), DDOF_ERROR_BAD_PARAMETER);
+    CHECK_MSG(strstr(ddof_context_last_error(ctx), "overlaps card 1 texture") != NULL, "%s",
+              ddof_context_last_error(ctx));
+    int untouched = 1;
+    for (int i = 0; i < W * H * 4; i++)
+        untouched &= out[i] == 7.0f;
+    CHECK(untouched);
+}
+
+/* ddof_cards_params_init_sized writes only the caller's size (the struct rules of ddof.h): an
+ * older caller's struct is never overrun; the plain name writes the 0.5 layout. */
+static void test_params_sized(ddof_context *ctx)
+{
+    unsigned char bytes[sizeof(ddof_cards_params) + 8];
+    memset(bytes, 0xab, sizeof bytes);
+    ddof_cards_params_init_sized((ddof_cards_params *)(void *)bytes, 8);
+    uint32_t size;
+    memcpy(&size, bytes, sizeof size);
+    CHECK_EQ_INT(size, 8);
+    CHECK(bytes[8] == 0xab && bytes[sizeof bytes - 1] == 0xab);
+    ddof_cards_params p;
+    memset(&p, 0xab, sizeof p);
+    (ddof_cards_params_init)(&p);
+    CHECK_EQ_INT(p.struct_size, DDOF_CARDS_PARAMS_SIZE_0_5);
+    CHECK_EQ_INT(p.strips, 8);
+    ddof_cards_params_init(&p);
+    CHECK_EQ_INT(p.struct_size, sizeof p);
+    CHECK_EQ_INT(p.expansion, DDOF_CARDS_EXPAND_OFFSET);
+    /* Below the first layout: refused before anything runs. */
+    p.struct_size = 8;
+    static float out[W * H * 4];
+    const ddof_camera cam = test_camera();
+    const ddof_card card = rect_card(fronto, texture_a);
+    CHECK_EQ_INT(render(ctx, &p, &cam, &card, 1, out), DDOF_ERROR_BAD_PARAMETER);
+}
+
 /* Seen exactly edge-on, a card draws nothing (and is no error). */
 static void test_edge_on(ddof_context *ctx)
 {
@@ -396,6 +466,9 @@ int main(void)
     test_huge_coc(ctx);
     test_bad_input(ctx);
     test_edge_on(ctx);
+    test_near_camera(ctx);
+    test_texture_in_output(ctx);
+    test_params_sized(ctx);
     ddof_context_free(ctx);
     return test_report("test_cards");
 }

@@ -3,7 +3,12 @@
  * from another thread or from the progress callback, gets DDOF_ERROR_CONTEXT_BUSY and
  * touches nothing; the running call finishes with the right pixels, and the context is free
  * again afterwards. The second thread's call is made while the first is held inside its
- * progress callback, so the overlap is certain, not a matter of timing. */
+ * progress callback, so the overlap is certain, not a matter of timing. ddof_render_cards
+ * too (issue 40: it once ran unguarded, deadlocking from the callback and drawing wrong pixels
+ * beside another thread's call). */
+#ifndef DDOF_EXPERIMENTAL
+#define DDOF_EXPERIMENTAL
+#endif
 #include "test_util.h"
 
 #include <ddof.h>
@@ -14,15 +19,29 @@
 enum { W = 64, H = 48, N = W * H };
 
 static float color[N * 4], coc[N], out[N * 4], want[N * 4], other_out[N * 4];
+static float texture[16 * 16 * 4], cards_out[N * 4];
 static ddof_context *ctx;
 
 typedef struct race {
     pthread_mutex_t lock;
     pthread_cond_t changed;
     int asked, answered, done;
-    ddof_status second[4];  /* the other thread's calls while the first one ran */
+    ddof_status second[5];  /* the other thread's calls while the first one ran */
     ddof_status reentrant;  /* a call from inside the progress callback */
+    ddof_status reentrant_cards;
 } race;
+
+/* One card over the frame, into cards_out. */
+static ddof_status render_card(void)
+{
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    const ddof_card card = {.vertex_count = 4,
+                            .position = {{-1, -1, -2}, {1, -1, -2}, {1, 1, -2.5f}, {-1, 1, -2.5f}},
+                            .uv = {{0, 0}, {1, 0}, {1, 1}, {0, 1}},
+                            .texture = {texture, 16, 16, 4, 0}};
+    return ddof_render_cards(ctx, NULL, &cam, &card, 1, &(ddof_image){cards_out, W, H, 4, 0});
+}
 
 static void *other_thread(void *user)
 {
@@ -47,6 +66,7 @@ static void *other_thread(void *user)
     r->second[1] = ddof_params_check(ctx, &p);
     r->second[2] = ddof_camera_check(ctx, &cam);
     r->second[3] = ddof_context_set_backend(ctx, DDOF_BACKEND_CPU, NULL);
+    r->second[4] = render_card();
     pthread_mutex_lock(&r->lock);
     r->answered = 1;
     pthread_cond_broadcast(&r->changed);
@@ -64,6 +84,7 @@ static int progress(void *user, float fraction)
     ddof_params p;
     ddof_params_init(&p);
     r->reentrant = ddof_params_check(ctx, &p);
+    r->reentrant_cards = render_card();
     pthread_mutex_lock(&r->lock);
     r->asked = 1;
     pthread_cond_broadcast(&r->changed);
@@ -81,7 +102,11 @@ int main(void)
             color[i * 4 + c] = (float)((x * 7 + y * 3 + c * 11) % 17) / 17.0f;
         color[i * 4 + 3] = 1.0f;
         coc[i] = 2.0f + (float)(x % 9);
+        cards_out[i * 4] = cards_out[i * 4 + 1] = cards_out[i * 4 + 2] = -5.0f;
+        cards_out[i * 4 + 3] = -5.0f;
     }
+    for (int i = 0; i < 16 * 16 * 4; i++)
+        texture[i] = (i % 4 == 3) ? 1.0f : (float)(i % 9) / 8.0f;
     ddof_context_options co;
     ddof_context_options_init(&co);
     co.thread_count = 2;
@@ -106,14 +131,16 @@ int main(void)
               ddof_context_last_error(ctx));
     CHECK(r.done);
     CHECK_MSG(memcmp(out, want, sizeof out) == 0, "the first call's pixels changed");
-    for (int k = 0; k < 4; k++)
+    for (int k = 0; k < 5; k++)
         CHECK_MSG(r.second[k] == DDOF_ERROR_CONTEXT_BUSY, "the other thread's call %d: %d", k,
                   (int)r.second[k]);
     CHECK_MSG(r.reentrant == DDOF_ERROR_CONTEXT_BUSY, "a call from the callback: %d",
               (int)r.reentrant);
+    CHECK_MSG(r.reentrant_cards == DDOF_ERROR_CONTEXT_BUSY, "cards from the callback: %d",
+              (int)r.reentrant_cards);
     int touched = 0;
     for (int i = 0; i < N * 4; i++)
-        touched += other_out[i] != -5.0f;
+        touched += (other_out[i] != -5.0f) + (cards_out[i] != -5.0f);
     CHECK_MSG(touched == 0, "the refused call wrote %d values", touched);
     CHECK(strstr(ddof_status_string(DDOF_ERROR_CONTEXT_BUSY), "one context per thread"));
 
@@ -123,6 +150,8 @@ int main(void)
                        &(ddof_image_in){coc, W, H, 1, 0}, &(ddof_image){other_out, W, H, 4, 0},
                        NULL) == DDOF_OK);
     CHECK(memcmp(other_out, want, sizeof want) == 0);
+    CHECK(render_card() == DDOF_OK);
+    CHECK(cards_out[(H / 2 * W + W / 2) * 4 + 3] > 0.5f);
     q = p;
     q.substeps = 0;
     CHECK(ddof_params_check(ctx, &q) == DDOF_ERROR_BAD_PARAMETER);

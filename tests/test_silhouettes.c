@@ -269,13 +269,34 @@ static void test_strand_with_matte(void)
     const ddof_image_in short_stride = {matte, W, H, 4, (size_t)W * 4 * sizeof(float) - 4};
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &odd, again, NULL), DDOF_ERROR_BAD_CHANNELS);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &wide, again, NULL), DDOF_ERROR_BAD_CHANNELS);
-    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &small, again, NULL), DDOF_ERROR_BAD_SIZE);
+    /* another size than the frame's: a mismatch between the call's images (issue 40) */
+    CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &small, again, NULL),
+                 DDOF_ERROR_SIZE_MISMATCH);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &none, again, NULL), DDOF_ERROR_NULL_POINTER);
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &short_stride, again, NULL),
                  DDOF_ERROR_BAD_STRIDE);
     const ddof_image_in in_output = {again, W, H, 4, 0}; /* the output's own bytes */
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &in_output, again, NULL),
                  DDOF_ERROR_BAD_PARAMETER);
+    {
+        /* coc_out inside the matte (issue 40): the CoC would be written over the caller's
+         * const matte before the split reads it; refused as coc_out over any other input,
+         * the matte untouched. */
+        ddof_frame f;
+        ddof_frame_init(&f);
+        f.color = (ddof_image_in){color, W, H, CH, 0};
+        f.coc = (ddof_image_in){coc, W, H, 1, 0};
+        float *kept = alloc_f(NPX * 4);
+        memcpy(kept, matte, NPX * 4 * sizeof(float));
+        f.coc_out = (ddof_image){matte + 1, W, H, 1, 0};
+        CHECK_EQ_INT(ddof_render_frame_with_matte(ctx, &p, &f, &m,
+                                                  &(ddof_image){again, W, H, CH, 0}, NULL),
+                     DDOF_ERROR_BAD_PARAMETER);
+        CHECK_MSG(strstr(ddof_context_last_error(ctx), "coc_out overlaps the matte") != NULL,
+                  "%s", ddof_context_last_error(ctx));
+        CHECK(memcmp(kept, matte, NPX * 4 * sizeof(float)) == 0);
+        free(kept);
+    }
     matte[(7 * W + 5) * 4 + 3] = NAN;
     CHECK_EQ_INT(render_strand(ctx, &p, color, coc, &m, again, NULL), DDOF_ERROR_BAD_PARAMETER);
     CHECK_MSG(strstr(ddof_context_last_error(ctx), "(5, 7)") != NULL, "%s",

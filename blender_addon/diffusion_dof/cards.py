@@ -60,8 +60,8 @@ def image_planes(scene, cam_obj, depsgraph):
     """(cards for Session.render_cards, names of the objects used, faces skipped): every mesh
     face of 3 to 8 vertices the depsgraph shows (and rendering does not hide) whose object's
     material shows an image, in the camera's space (scene units times the unit scale, metres),
-    with the face's uv. Faces with a vertex at or behind the camera's plane are skipped (the
-    library refuses them)."""
+    with the face's uv. Faces with a vertex at, behind or within 1e-6 m of the camera's plane
+    are skipped (the library refuses them)."""
     unit = scene.unit_settings.scale_length or 1.0
     to_camera = cam_obj.evaluated_get(depsgraph).matrix_world.inverted()
     textures, cards, used, skipped = {}, [], [], 0
@@ -89,7 +89,8 @@ def image_planes(scene, cam_obj, depsgraph):
                 loops = range(poly.loop_start, poly.loop_start + poly.loop_total)
                 positions = [tuple(c * unit for c in matrix @ mesh.vertices[
                     mesh.loops[i].vertex_index].co) for i in loops]
-                if any(p[2] >= 0.0 for p in positions):
+                # the library's DDOF_CARD_MIN_DEPTH_M: nearer than 1e-6 m is refused
+                if any(p[2] > -1e-6 for p in positions):
                     skipped += 1
                     continue
                 uv = [(uv_layer.data[i].uv[0], uv_layer.data[i].uv[1]) for i in loops]

@@ -750,7 +750,8 @@ typedef struct ddof_frame {
     uint32_t foreground_premultiplied; /* 1: its RGB is multiplied by alpha. Default 1.      */
     /* Optional: receives the CoC the call used (1 channel, the colour's size, signed as the  */
     /* call used it). Written once every input is valid, before the diffusion runs (so also  */
-    /* when that then fails for memory, the backend or a cancel). Must not overlap an input. */
+    /* when that then fails for memory, the backend or a cancel). Must share no byte with an */
+    /* input (the matte included) or the output: DDOF_ERROR_BAD_PARAMETER.                    */
     ddof_image coc_out;
 } ddof_frame;
 
@@ -914,12 +915,16 @@ DDOF_API ddof_status ddof_kernel_get_step(ddof_kernel kernel, uint32_t component
  * slice area, so a pixel costs the same whatever its radius. */
 
 #define DDOF_CARD_MAX_VERTICES 8u
+/* How near a card's vertex may be: 1 micrometre in front of the camera (Blender's smallest clip
+ * start). Nearer (z = -1e-10), a texel covers so many pixels that the disc's area in texels
+ * falls below what the average resolves, and the card would draw nothing. */
+#define DDOF_CARD_MIN_DEPTH_M 1e-6
 
 typedef struct ddof_card {
     uint32_t vertex_count; /* 3..DDOF_CARD_MAX_VERTICES; planar, convex, either winding          */
     /* camera space in metres: x right, y up, the camera at the origin looking down -z (Blender, */
-    /* OpenGL). Every vertex must have z < 0: a card behind or crossing the camera's plane is   */
-    /* DDOF_ERROR_BAD_PARAMETER (split it first).                                                */
+    /* OpenGL). Every vertex must have z <= -DDOF_CARD_MIN_DEPTH_M: a card behind, crossing or */
+    /* nearer than that to the camera's plane is DDOF_ERROR_BAD_PARAMETER (split it first).      */
     float position[DDOF_CARD_MAX_VERTICES][3];
     /* texture coordinates, affine over the card: (0, 0) the texture's bottom-left corner,      */
     /* (1, 1) its top-right. Texels outside the uv polygon are transparent.                     */
@@ -940,7 +945,12 @@ typedef struct ddof_cards_params {
     uint32_t strips;                /* rectangles per disc, 1..64, default 8                    */
 } ddof_cards_params;
 
-DDOF_API void ddof_cards_params_init(ddof_cards_params *params);
+DDOF_API void (ddof_cards_params_init)(ddof_cards_params *params);
+DDOF_API void ddof_cards_params_init_sized(ddof_cards_params *params, size_t size);
+#define ddof_cards_params_init(params) ddof_cards_params_init_sized((params), sizeof *(params))
+/* The 0.5 layout: what (ddof_cards_params_init) writes and the smallest ddof_render_cards
+ * accepts (see Conventions). */
+#define DDOF_CARDS_PARAMS_SIZE_0_5 (offsetof(ddof_cards_params, strips) + sizeof(uint32_t))
 
 /* Renders `cards` seen through `camera` into `out` (4 channels, premultiplied RGBA; alpha 0
  * where no card lands; every pixel written). The camera's lens model, focus, f-number, sensor
@@ -949,11 +959,15 @@ DDOF_API void ddof_cards_params_init(ddof_cards_params *params);
  * defaults. Order: a card drawn before another that is wholly behind its plane; cards that
  * intersect, or overlap on screen in no consistent order, are DDOF_ERROR_BAD_PARAMETER naming
  * them (split them). Card errors (DDOF_ERROR_BAD_PARAMETER: vertex count, NaN/inf position or
- * uv, z >= 0, a degenerate, non-planar or concave polygon, uv not affine; DDOF_ERROR_BAD_COLOR:
- * NaN/inf texel; the texture's size and channel codes) name the card; nothing is written. A
- * card seen exactly edge-on draws nothing. On a context whose backend is GL (EGL, OSMesa) the
+ * uv, z > -DDOF_CARD_MIN_DEPTH_M, a degenerate, non-planar or concave polygon, uv not affine,
+ * a texture sharing bytes with out; DDOF_ERROR_BAD_COLOR: NaN/inf texel; the texture's size
+ * and channel codes) name the card; nothing is written. A card seen exactly edge-on draws
+ * nothing. On a context whose backend is GL (EGL, OSMesa) the
  * device draws the cards (vertex and fragment shaders, blending), within float rounding of the
- * CPU; a device failure is DDOF_ERROR_BACKEND_FAILED with its reason. */
+ * CPU; a texture more than GL_MAX_TEXTURE_SIZE - 1 texels a side (its summed-area table is
+ * one larger; 16,383 on llvmpipe), or a frame larger than GL_MAX_TEXTURE_SIZE, is
+ * DDOF_ERROR_UNSUPPORTED naming the limit (nothing written: use the CPU backend); a device
+ * failure is DDOF_ERROR_BACKEND_FAILED with its reason. */
 DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
                                        const ddof_camera *camera, const ddof_card *cards,
                                        uint32_t card_count, const ddof_image *out);
@@ -967,18 +981,19 @@ DDOF_API ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_p
 /* ddof_render_frame with an object matte: per pixel, `matte->channels / 2` ranks of (id,
  * coverage), interleaved: id as Cryptomatte stores it (a float whose bits name the object,
  * compared bit for bit), coverage 0..1 (the share of the pixel the object covers). The same
- * width and height as frame->color, channels even and 2..2 * DDOF_MATTE_MAX_RANKS
- * (DDOF_ERROR_BAD_CHANNELS otherwise), row_stride as for images. Where the silhouettes' split
- * runs (params.silhouettes), a mixed pixel's object share is what the background leaves of it
- * (the object of rank 0 of the blurred pixel beside it, or the world, what no object covers
- * and Cryptomatte leaves without an id, where that covers more of the blurred pixel), instead
- * of the guess from the colours on both sides; with it the object's colour is solved on the
- * sharp side too (a 1-2 px strand, which has no fully covered pixel to show it), and the split
- * comes after the highlights' discs: a mixed pixel's uncovered share shows the disc of a far
- * light behind it, its covered share hides it (a strand across a light). A NaN or infinite
- * coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel, as is a matte that shares bytes with
- * out; matte NULL is ddof_render_frame. The CLI (--matte) and the Blender add-on (Object
- * Matte) read a render's CryptoObject channels into this. */
+ * width and height as frame->color (DDOF_ERROR_SIZE_MISMATCH otherwise), channels even and
+ * 2..2 * DDOF_MATTE_MAX_RANKS (DDOF_ERROR_BAD_CHANNELS otherwise), row_stride as for images.
+ * Where the silhouettes' split runs (params.silhouettes), a mixed pixel's object share is what
+ * the background leaves of it (the object of rank 0 of the blurred pixel beside it, or the
+ * world, what no object covers and Cryptomatte leaves without an id, where that covers more of
+ * the blurred pixel), instead of the guess from the colours on both sides; with it the object's
+ * colour is solved on the sharp side too (a 1-2 px strand, which has no fully covered pixel to
+ * show it), and the split comes after the highlights' discs: a mixed pixel's uncovered share
+ * shows the disc of a far light behind it, its covered share hides it (a strand across a
+ * light). A NaN or infinite coverage is DDOF_ERROR_BAD_PARAMETER naming the pixel, as is a
+ * matte that shares bytes with out or frame->coc_out; matte NULL is ddof_render_frame. The CLI
+ * (--matte) and the Blender add-on (Object Matte) read a render's CryptoObject channels into
+ * this. */
 DDOF_API ddof_status ddof_render_frame_with_matte(ddof_context *context,
                                                   const ddof_params *params,
                                                   const ddof_frame *frame,

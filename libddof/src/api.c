@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* api.c - version, defaults of the parameter structs, names. */
+#include "cards.h"
 #include "internal.h"
 
 #include <string.h>
@@ -163,6 +164,14 @@ void ddof_foreground_init_sized(ddof_foreground *foreground, size_t size)
     write_prefix(foreground, size, &full, sizeof full);
 }
 
+void ddof_cards_params_init_sized(ddof_cards_params *params, size_t size)
+{
+    const ddof_cards_params full = {.struct_size = sizeof full,
+                                    .expansion = DDOF_CARDS_EXPAND_OFFSET,
+                                    .strips = CARDS_DEFAULT_STRIPS};
+    write_prefix(params, size, &full, sizeof full);
+}
+
 /* The plain names: called by binaries built against 0.5, whose structs have the 0.5 layout. */
 ddof_status (ddof_params_init_preset)(ddof_params *params, ddof_preset preset)
 {
@@ -187,6 +196,11 @@ void (ddof_curve_init)(ddof_curve *curve)
 void (ddof_foreground_init)(ddof_foreground *foreground)
 {
     ddof_foreground_init_sized(foreground, DDOF_FOREGROUND_SIZE_0_5);
+}
+
+void (ddof_cards_params_init)(ddof_cards_params *params)
+{
+    ddof_cards_params_init_sized(params, DDOF_CARDS_PARAMS_SIZE_0_5);
 }
 
 const char *ddof_kernel_name(ddof_kernel kernel)

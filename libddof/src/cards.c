@@ -10,16 +10,6 @@
 #include <math.h>
 #include <string.h>
 
-void ddof_cards_params_init(ddof_cards_params *params)
-{
-    if (!params)
-        return;
-    memset(params, 0, sizeof *params);
-    params->struct_size = sizeof *params;
-    params->expansion = DDOF_CARDS_EXPAND_OFFSET;
-    params->strips = CARDS_DEFAULT_STRIPS;
-}
-
 double cards_radius(const cards_view *view, double z)
 {
     double coc = view->k_px * fabs(1.0 - view->focus_m / z);
@@ -46,11 +36,11 @@ static cards_view view_of(const ddof_camera *camera, uint32_t width, uint32_t he
 static ddof_status read_params(ddof_context *context, const ddof_cards_params *caller,
                                ddof_cards_params *p)
 {
-    ddof_cards_params_init(p);
+    ddof_cards_params_init_sized(p, sizeof *p);
     if (!caller)
         return DDOF_OK;
-    ddof_status status = ddof_read_struct(context, caller, sizeof *p, p, sizeof *p,
-                                          "cards params");
+    ddof_status status = ddof_read_struct(context, caller, DDOF_CARDS_PARAMS_SIZE_0_5, p,
+                                          sizeof *p, "cards params");
     if (status != DDOF_OK)
         return status;
     if ((unsigned)p->expansion > DDOF_CARDS_EXPAND_CENTROID || p->strips < 1 ||
@@ -59,6 +49,22 @@ static ddof_status read_params(ddof_context *context, const ddof_cards_params *c
                          "cards params: expansion %u must be 0 or 1, strips %u within 1..%u",
                          (unsigned)p->expansion, p->strips, CARDS_MAX_STRIPS);
     return DDOF_OK;
+}
+
+/* A card's texture (validated by cards_setup) sharing no byte with the output: the CPU reads
+ * the texture while it writes the output. */
+static ddof_status check_texture_apart(ddof_context *context, const ddof_card *card,
+                                       uint32_t index, const ddof_image *out)
+{
+    char what[48];
+    snprintf(what, sizeof what, "card %u texture", index);
+    const ddof_image_in *t = &card->texture;
+    return ddof_check_apart(context, "the output image",
+                            ddof_image_bytes_of(out->pixels, out->width, out->height,
+                                                out->channels, out->row_stride),
+                            what,
+                            ddof_image_bytes_of(t->pixels, t->width, t->height, t->channels,
+                                                t->row_stride));
 }
 
 static ddof_status check_out(ddof_context *context, const ddof_image *out, size_t *stride)
@@ -74,12 +80,10 @@ static ddof_status check_out(ddof_context *context, const ddof_image *out, size_
     return status;
 }
 
-ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
-                              const ddof_camera *camera, const ddof_card *cards,
-                              uint32_t card_count, const ddof_image *out)
+static ddof_status render_cards(ddof_context *context, const ddof_cards_params *params,
+                                const ddof_camera *camera, const ddof_card *cards,
+                                uint32_t card_count, const ddof_image *out)
 {
-    if (!context)
-        return DDOF_ERROR_NULL_POINTER;
     ddof_clear_error(context);
     if (!camera || (!cards && card_count))
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "camera or cards is NULL");
@@ -103,8 +107,11 @@ ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *pa
             status = ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "no memory for %u cards",
                                card_count);
     }
-    for (uint32_t i = 0; status == DDOF_OK && i < card_count; i++)
+    for (uint32_t i = 0; status == DDOF_OK && i < card_count; i++) {
         status = cards_setup(context, &view, &p, &cards[i], i, &setups[i]);
+        if (status == DDOF_OK)
+            status = check_texture_apart(context, &cards[i], i, out);
+    }
     if (status == DDOF_OK)
         status = cards_order(context, setups, card_count, order);
     if (status == DDOF_OK && ddof_backend_runs_cards(context)) {
@@ -135,4 +142,11 @@ ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *pa
     ddof_free(&context->allocator, setups);
     ddof_free(&context->allocator, order);
     return status;
+}
+
+ddof_status ddof_render_cards(ddof_context *context, const ddof_cards_params *params,
+                              const ddof_camera *camera, const ddof_card *cards,
+                              uint32_t card_count, const ddof_image *out)
+{
+    DDOF_EXCLUSIVE_CALL(context, render_cards(context, params, camera, cards, card_count, out));
 }

@@ -43,11 +43,12 @@ static ddof_status card_plane(ddof_context *context, const ddof_card *card, card
             s->p[k][a] = card->position[k][a];
             s->origin[a] += s->p[k][a] / s->n;
         }
-        if (!(s->p[k][2] < 0.0))
+        if (!(card->position[k][2] <= -(float)DDOF_CARD_MIN_DEPTH_M)) /* -1e-6f accepted */
             return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                             "card %u: vertex %u has z = %g: the card is behind or crosses the "
-                             "camera's plane (every z must be < 0; split the card)",
-                             s->index, k, s->p[k][2]);
+                             "card %u: vertex %u has z = %g: the card is behind, crosses or "
+                             "nearly touches the camera's plane (every z must be <= -%g m; "
+                             "split the card)",
+                             s->index, k, s->p[k][2], DDOF_CARD_MIN_DEPTH_M);
     }
     for (uint32_t k = 0; k < s->n; k++) {
         const double *a = s->p[k], *b = s->p[(k + 1) % s->n];

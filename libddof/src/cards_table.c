@@ -123,9 +123,12 @@ static void sum_columns(void *user, uint32_t b0, uint32_t b1, uint32_t chunk)
                 here[k] = above[k] + here[k];
             if (c0 < count_row) {
                 uint32_t *count = t->count + (size_t)j * count_row;
+                /* the row above by its own pointer: count[k - count_row] wraps k - count_row
+                 * (k < count_row), an overflowing pointer offset (UBSan, fuzz_cards_scene) */
+                const uint32_t *count_above = count - count_row;
                 const size_t k1 = c1 < count_row ? c1 : count_row;
                 for (size_t k = c0; k < k1; k++)
-                    count[k] += count[k - count_row];
+                    count[k] += count_above[k];
             }
         }
     }

@@ -119,23 +119,11 @@ static ddof_status check_foreground(ddof_context *context, frame_setup *s, const
                           &s->fg_map_stride);
 }
 
-/* The bytes a validated image spans: [*lo, *hi). */
-static void byte_range(const float *pixels, uint32_t width, uint32_t height, uint32_t channels,
-                       size_t row_stride, const char **lo, const char **hi)
-{
-    const size_t row = (size_t)width * channels * sizeof(float);
-    *lo = (const char *)pixels;
-    *hi = *lo + (size_t)(height - 1) * (row_stride ? row_stride : row) + row;
-}
-
-static int ranges_overlap(const char *a_lo, const char *a_hi, const char *b_lo,
-                          const char *b_hi)
-{
-    /* Pointers into different objects are compared as addresses. */
-    return (uintptr_t)a_lo < (uintptr_t)b_hi && (uintptr_t)b_lo < (uintptr_t)a_hi;
-}
-
-static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const adi_request *r)
+/* coc_out: valid, the frame's size with 1 channel, sharing no byte with an input (the matte
+ * included: the split reads it after the CoC is written) or the output. The matte, when
+ * given, is already validated. */
+static ddof_status check_coc_out(ddof_context *context, frame_setup *s,
+                                 const ddof_image_in *matte, const adi_request *r)
 {
     const ddof_image *c = &s->frame.coc_out;
     if (!c->pixels)
@@ -148,34 +136,28 @@ static ddof_status check_coc_out(ddof_context *context, frame_setup *s, const ad
         return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
                          "coc_out is %ux%u with %u channels; it must be %ux%u with 1 channel",
                          c->width, c->height, c->channels, r->width, r->height);
-    /* By byte range, not base pointer: the colour's alpha (`color + 3` with its stride), an
-     * address inside an input or `out + 1` all overlap. Images are already validated. */
     const ddof_frame *f = &s->frame;
-    const ddof_image_in *inputs[6] = {&f->color, &f->depth, &f->coc, &f->foreground_color,
-                                      &f->foreground_depth, &f->foreground_coc};
-    static const char *const names[6] = {"colour", "depth", "coc", "foreground colour",
-                                         "foreground depth", "foreground coc"};
-    const char *lo, *hi;
-    byte_range(c->pixels, c->width, c->height, c->channels, c->row_stride, &lo, &hi);
-    for (int i = 0; i < 6; i++) {
-        const char *in_lo, *in_hi;
-        if (!inputs[i]->pixels)
+    const ddof_image_in *inputs[7] = {&f->color, &f->depth, &f->coc, &f->foreground_color,
+                                      &f->foreground_depth, &f->foreground_coc, matte};
+    static const char *const names[7] = {"the frame's colour", "the frame's depth",
+                                         "the frame's coc", "the frame's foreground colour",
+                                         "the frame's foreground depth",
+                                         "the frame's foreground coc", "the matte"};
+    const ddof_image_bytes bytes =
+        ddof_image_bytes_of(c->pixels, c->width, c->height, c->channels, c->row_stride);
+    for (int i = 0; i < 7; i++) {
+        if (!inputs[i] || !inputs[i]->pixels)
             continue;
-        byte_range(inputs[i]->pixels, inputs[i]->width, inputs[i]->height,
-                   inputs[i]->channels, inputs[i]->row_stride, &in_lo, &in_hi);
-        if (ranges_overlap(lo, hi, in_lo, in_hi))
-            return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                             "coc_out overlaps the frame's %s in memory; it must not overlap "
-                             "an input or the output", names[i]);
+        status = ddof_check_apart(context, "coc_out", bytes, names[i],
+                                  ddof_image_bytes_of(inputs[i]->pixels, inputs[i]->width,
+                                                      inputs[i]->height, inputs[i]->channels,
+                                                      inputs[i]->row_stride));
+        if (status != DDOF_OK)
+            return status;
     }
-    const char *out_lo, *out_hi;
-    byte_range(r->out, r->width, r->height, r->channels, r->out_stride * sizeof(float),
-               &out_lo, &out_hi);
-    if (ranges_overlap(lo, hi, out_lo, out_hi))
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "coc_out overlaps the output image in memory; it must not overlap an "
-                         "input or the output");
-    return DDOF_OK;
+    return ddof_check_apart(context, "coc_out", bytes, "the output image",
+                            ddof_image_bytes_of(r->out, r->width, r->height, r->channels,
+                                                r->out_stride * sizeof(float)));
 }
 
 /* The CoC of `depth` (validated, stride in floats) from the setup's camera or curve. */
@@ -305,21 +287,21 @@ static ddof_status read_matte(ddof_context *context, const ddof_image_in *matte,
     if (status != DDOF_OK)
         return status;
     if (matte->width != r->width || matte->height != r->height)
-        return ddof_fail(context, DDOF_ERROR_BAD_SIZE, "the matte is %ux%u, the frame %ux%u",
+        return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH, "the matte is %ux%u, the frame %ux%u",
                          matte->width, matte->height, r->width, r->height);
     if (matte->channels % 2)
         return ddof_fail(context, DDOF_ERROR_BAD_CHANNELS,
                          "the matte has %u channels: (id, coverage) per rank, an even count",
                          matte->channels);
     /* The split reads it after the layers wrote the output: the two must not share bytes. */
-    const char *lo, *hi, *out_lo, *out_hi;
-    byte_range(matte->pixels, matte->width, matte->height, matte->channels,
-               stride * sizeof(float), &lo, &hi);
-    byte_range(r->out, r->width, r->height, r->channels, r->out_stride * sizeof(float), &out_lo,
-               &out_hi);
-    if (ranges_overlap(lo, hi, out_lo, out_hi))
-        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
-                         "the matte overlaps the output image in memory");
+    status = ddof_check_apart(context, "the output image",
+                              ddof_image_bytes_of(r->out, r->width, r->height, r->channels,
+                                                  r->out_stride * sizeof(float)),
+                              "the matte",
+                              ddof_image_bytes_of(matte->pixels, matte->width, matte->height,
+                                                  matte->channels, matte->row_stride));
+    if (status != DDOF_OK)
+        return status;
     *m = (object_matte){.pairs = matte->pixels, .stride = stride, .ranks = matte->channels / 2};
     for (uint32_t y = 0; y < r->height; y++)
         for (uint32_t x = 0; x < r->width; x++)
@@ -367,7 +349,7 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
     if (status == DDOF_OK)
         status = check_foreground(context, &s, &p, r);
     if (status == DDOF_OK)
-        status = check_coc_out(context, &s, r);
+        status = check_coc_out(context, &s, matte, r);
     if (status == DDOF_OK && s.has_foreground)
         status = prepare_foreground(context, &s, &q, &fg_visible);
     if (status == DDOF_OK)

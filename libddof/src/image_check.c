@@ -91,3 +91,22 @@ ddof_status ddof_check_image_up_to(ddof_context *context, const char *what, cons
     *stride_floats = stride / sizeof(float);
     return DDOF_OK;
 }
+
+ddof_image_bytes ddof_image_bytes_of(const float *pixels, uint32_t width, uint32_t height,
+                                     uint32_t channels, size_t row_stride)
+{
+    const size_t row = (size_t)width * channels * sizeof(float);
+    const uintptr_t lo = (uintptr_t)pixels;
+    const size_t stride = row_stride ? row_stride : row;
+    return (ddof_image_bytes){lo, lo + (size_t)(height - 1) * stride + row};
+}
+
+ddof_status ddof_check_apart(ddof_context *context, const char *what, ddof_image_bytes a,
+                             const char *other, ddof_image_bytes b)
+{
+    if (a.lo < b.hi && b.lo < a.hi)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
+                         "%s overlaps %s in memory; an image the call writes must not share a "
+                         "byte with another image of the call", what, other);
+    return DDOF_OK;
+}

@@ -155,6 +155,22 @@ ddof_status ddof_check_image_up_to(ddof_context *context, const char *what, cons
                                    uint32_t most_channels, size_t row_stride,
                                    size_t *stride_floats);
 
+/* The bytes a validated image spans, [lo, hi): by byte range, not base pointer, so that the
+ * colour's alpha (`color + 3` with its stride), an address inside an image or `out + 1` all
+ * count as overlapping it. row_stride in bytes, 0 for packed rows (as ddof_image). */
+typedef struct ddof_image_bytes {
+    uintptr_t lo, hi;
+} ddof_image_bytes;
+ddof_image_bytes ddof_image_bytes_of(const float *pixels, uint32_t width, uint32_t height,
+                                     uint32_t channels, size_t row_stride);
+
+/* The one rule on images that share memory: an image a call writes (`what`) shares no byte
+ * with another image of the call (`other`, an input or another output); otherwise
+ * DDOF_ERROR_BAD_PARAMETER naming both. (Only ddof_diffuse's colour and out may be the very
+ * same buffer, in place: its own check.) */
+ddof_status ddof_check_apart(ddof_context *context, const char *what, ddof_image_bytes a,
+                             const char *other, ddof_image_bytes b);
+
 /* A rectangle of pixels [x0, x1) x [y0, y1); empty when x0 >= x1. The seam's box, so that the
  * layers' rules (ddof_layer_rules.h) serve the core and a device alike. */
 typedef adi_box pixel_box;

@@ -87,8 +87,7 @@ static GLint at(const gl_functions *gl, GLuint program, const char *name)
 static void frame_uniforms(const gl_functions *gl, GLuint p, const adi_cards_request *r)
 {
     gl->ProgramUniform2f(p, at(gl, p, "frame"), (float)r->width, (float)r->height);
-    gl->ProgramUniform4f(p, at(gl, p, "ray"), (float)r->ray_a, (float)r->ray_bx,
-                         (float)r->ray_c, (float)r->ray_by);
+    gl->ProgramUniform4d(p, at(gl, p, "ray"), r->ray_a, r->ray_bx, r->ray_c, r->ray_by);
     gl->ProgramUniform4f(p, at(gl, p, "lens"), (float)r->k_px, (float)r->focus_m,
                          (float)r->aspect, 0.0f);
     gl->ProgramUniform2f(p, at(gl, p, "radius_limits"), r->min_radius_px, r->max_radius_px);
@@ -100,7 +99,7 @@ static void frame_uniforms(const gl_functions *gl, GLuint p, const adi_cards_req
 
 static void vec3_uniform(const gl_functions *gl, GLuint p, const char *name, const double *v)
 {
-    gl->ProgramUniform3f(p, at(gl, p, name), (float)v[0], (float)v[1], (float)v[2]);
+    gl->ProgramUniform3d(p, at(gl, p, name), v[0], v[1], v[2]);
 }
 
 /* One card: its table into the two textures, its plane's uniforms, its polygon drawn. */
@@ -153,6 +152,16 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
                             size_t size)
 {
     const gl_functions *gl = &device->gl;
+    /* The frame is a texture, and each card's table one texel larger than its texture each
+     * way: checked before GL is asked (which would fail with GL_INVALID_VALUE, 0x501). */
+    GLint max_size = 0;
+    gl->GetIntegerv(GL_MAX_TEXTURE_SIZE, &max_size);
+    if ((int64_t)r->width > max_size || (int64_t)r->height > max_size) {
+        snprintf(message, size,
+                 "the %ux%u frame is larger than this renderer's GL_MAX_TEXTURE_SIZE (%d): "
+                 "draw the cards on the CPU backend", r->width, r->height, (int)max_size);
+        return DDOF_ERROR_UNSUPPORTED;
+    }
     GLuint program = cards_program(device, message, size);
     if (!program)
         return DDOF_ERROR_BACKEND_FAILED;
@@ -193,6 +202,15 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
         status = r->card(r->user, i, &card);
         if (status != DDOF_OK)
             break;
+        if ((int64_t)card.tw + 1 > max_size || (int64_t)card.th + 1 > max_size) {
+            snprintf(message, size,
+                     "a card's %ux%u texture needs a %ux%u summed-area table, larger than this "
+                     "renderer's GL_MAX_TEXTURE_SIZE (%d): textures of at most %d px a side, "
+                     "or the CPU backend", card.tw, card.th, card.tw + 1, card.th + 1,
+                     (int)max_size, (int)max_size - 1);
+            status = DDOF_ERROR_UNSUPPORTED;
+            break;
+        }
         /* the frame so far, read by the shader to skip opaque pixels (cards_frag.glsl) */
         gl->ActiveTexture(GL_TEXTURE2);
         gl->BindTexture(GL_TEXTURE_2D, target);

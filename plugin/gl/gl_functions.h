@@ -79,6 +79,8 @@
     X(PFNGLPROGRAMUNIFORM2FPROC, ProgramUniform2f)                                         \
     X(PFNGLPROGRAMUNIFORM3FPROC, ProgramUniform3f)                                         \
     X(PFNGLPROGRAMUNIFORM4FPROC, ProgramUniform4f)                                         \
+    X(PFNGLPROGRAMUNIFORM3DPROC, ProgramUniform3d)                                         \
+    X(PFNGLPROGRAMUNIFORM4DPROC, ProgramUniform4d)                                         \
     X(PFNGLPROGRAMUNIFORM1FVPROC, ProgramUniform1fv)                                       \
     X(PFNGLTEXTUREBARRIERPROC, TextureBarrier)
 

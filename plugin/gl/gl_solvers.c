@@ -13,7 +13,8 @@
  *          image, CR levels until 2 or 3 unknowns remain, Cramer's rule, back-substitution, and
  *          a last pass that finishes four pixels per invocation from level 2. PACKED_HALF keeps
  *          the levels as one RGBA32UI texel per row and channel group (4 channels: 2 groups).
- *  JACOBI  jacobi_init.comp (the CPU's first guess) and jacobi_sweep.comp k times.
+ *  JACOBI  jacobi_init.comp (the CPU's first guess, per segment of a line: no invocation loops
+ *          over a whole line) and jacobi_sweep.comp k times.
  *
  * The pyramid of reduced levels is laid out [row][line]; when a whole pass's pyramid would
  * exceed the renderer's storage-block limit, the lines are solved in batches. */
@@ -22,6 +23,7 @@
 #include <stdio.h>
 
 #define PCR_CAPACITY 1024u /* pcr_shared.comp */
+#define JACOBI_SEGMENT 1024u /* jacobi_init.comp */
 #define MAX_LEVELS 40
 
 int gl_solver_supported(ddof_solver solver, ddof_precision precision)
@@ -111,13 +113,23 @@ static int solve_jacobi(const pass_context *c)
     GLuint init = program(c, GL_PROG_JACOBI_INIT), sweep = program(c, GL_PROG_JACOBI_SWEEP);
     GLuint other = gl_need(c->device, GL_BUF_IMAGE_C, pixels * 16, c->message,
                            c->message_size);
-    if (!init || !sweep || !other)
+    /* jacobi_init.comp's segments: one invocation each, their (first, last) heat marks. */
+    const uint64_t segments = (uint64_t)c->pass->lines *
+                              ((c->pass->n + JACOBI_SEGMENT - 1) / JACOBI_SEGMENT);
+    GLuint marks = c->d->has_gamma ? gl_need(c->device, GL_BUF_WEIGHTS, segments * 8,
+                                             c->message, c->message_size)
+                                   : c->device->buffers.name[GL_BUF_DUMMY];
+    if (!init || !sweep || !other || !marks)
         return 0;
     /* Sweep t reads X_t and writes X_t+1; X_0 is chosen so that X_k is the pass's output. */
     GLuint x[2] = {k % 2 ? other : c->pass->dst, k % 2 ? c->pass->dst : other};
     use_line_program(c, init);
     gl_bind(gl, 6, x[0]);
-    gl_dispatch(gl, c->pass->lines, 64);
+    gl_bind(gl, 7, marks);
+    for (GLuint stage = c->d->has_gamma ? 0 : 1; stage < 2; stage++) {
+        gl_uniform_u(gl, init, "u_stage", stage);
+        gl_dispatch(gl, segments, 64);
+    }
     use_line_program(c, sweep);
     for (uint32_t t = 0; t < k; t++) {
         gl_bind(gl, 6, x[t % 2]);

@@ -6,8 +6,9 @@
  * whose texture is partly transparent) on small random textures; an opaque card in front of a
  * wall (the pixels it makes opaque skipped by the device, as by the CPU); a triangle whose uv lies
  * inside its texture; and a 512x512 texture, whose summed-area table reaches 2^18 where a
- * plain float table would be off by up to 1/64 (the device's table is split to stay exact).
- * Run as `test_gl_cards osmesa|egl`. */
+ * plain float table would be off by up to 1/64 (the device's table is split to stay exact);
+ * textures magnified until a texel covers 55 px, and thousands; and a texture too large for
+ * the renderer's textures (refused). Run as `test_gl_cards osmesa|egl`. */
 #ifndef DDOF_EXPERIMENTAL
 #define DDOF_EXPERIMENTAL
 #endif
@@ -146,6 +147,79 @@ static void large_texture(void)
     free(t);
 }
 
+/* A texel covering many pixels (issue 40): the disc is a small fraction of a texel, whose
+ * extent the shader once took as the difference of two float positions near the texel's
+ * coordinate, and whose 9 boxes it weighted by products that cancel: an opaque white card
+ * 1000 m wide at 2 m gave alpha -11.7..11.7; and its float texel positions put a disc of a
+ * texel of 55 px in a large texture off by 4e-4. */
+static void magnified(void)
+{
+    float white[8 * 8 * 4];
+    for (int i = 0; i < 8 * 8 * 4; i++)
+        white[i] = 1.0f;
+    static const double square[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    static const double huge[4][3] = {{-500, -500, -2}, {500, -500, -2}, {500, 500, -2},
+                                      {-500, 500, -2}};
+    const ddof_card wall = card_of(huge, square, 4, white, 8, 8);
+    static float a[W * H * 4], b[W * H * 4];
+    const ddof_camera cam = camera();
+    CHECK_EQ_INT(ddof_render_cards(cpu, NULL, &cam, &wall, 1, &(ddof_image){a, W, H, 4, 0}),
+                 DDOF_OK);
+    ddof_status s = ddof_render_cards(gl, NULL, &cam, &wall, 1, &(ddof_image){b, W, H, 4, 0});
+    CHECK_MSG(s == DDOF_OK, "white wall on GL: %s", ddof_context_last_error(gl));
+    double lo = 1.0, hi = 1.0;
+    for (int i = 0; i < W * H * 4; i++) {
+        lo = fmin(lo, b[i]);
+        hi = fmax(hi, b[i]);
+    }
+    printf("opaque white wall, 1000 m at 2 m: GL %.7f..%.7f, max |GL - CPU| %.2e\n", lo, hi,
+           max_diff(a, b, W * H * 4));
+    CHECK_MSG(lo >= 1.0 - TOL_CARDS && hi <= 1.0 + TOL_CARDS, "white wall: GL %g..%g", lo, hi);
+    CHECK(max_diff(a, b, W * H * 4) <= TOL_CARDS);
+    /* about 55 px per texel: 2048 texels over 1690 m at 2 m (1.44 m per 96 px), the frame
+     * seeing texels near 1024, where a float's step is 6e-5 texel (a fifth of a 1 px disc) */
+    float *t = random_texture(2048, 2048, 8, 0);
+    static const double wide[4][3] = {{-844.8, -844.8, -2}, {844.8, -844.8, -2},
+                                      {844.8, 844.8, -2}, {-844.8, 844.8, -2}};
+    const ddof_card card = card_of(wide, square, 4, t, 2048, 2048);
+    compare("2048x2048 texture at 55 px per texel", &card, 1);
+    free(t);
+}
+
+/* A texture whose summed-area table exceeds the renderer's GL_MAX_TEXTURE_SIZE (16,384 on
+ * llvmpipe: a 16,384-texel texture's table is 16,385 wide) once failed with "GL error 0x501";
+ * now DDOF_ERROR_UNSUPPORTED naming the limit, the output untouched (or, on a renderer with
+ * larger textures, the CPU's image). */
+static void texture_too_large(void)
+{
+    enum { TW = 16384 };
+    float *t = random_texture(TW, 1, 9, 0);
+    static const double p[4][3] = {{-0.5, -0.1, -2}, {0.5, -0.1, -2}, {0.5, 0.1, -2},
+                                   {-0.5, 0.1, -2}};
+    static const double square[4][2] = {{0, 0}, {1, 0}, {1, 1}, {0, 1}};
+    const ddof_card card = card_of(p, square, 4, t, TW, 1);
+    static float a[W * H * 4], b[W * H * 4];
+    for (int i = 0; i < W * H * 4; i++)
+        b[i] = 7.0f;
+    const ddof_camera cam = camera();
+    CHECK_EQ_INT(ddof_render_cards(cpu, NULL, &cam, &card, 1, &(ddof_image){a, W, H, 4, 0}),
+                 DDOF_OK);
+    const ddof_status s =
+        ddof_render_cards(gl, NULL, &cam, &card, 1, &(ddof_image){b, W, H, 4, 0});
+    printf("a %dx1 texture: %d %s\n", TW, (int)s, ddof_context_last_error(gl));
+    if (s == DDOF_OK) {
+        CHECK(max_diff(a, b, W * H * 4) <= TOL_CARDS);
+    } else {
+        CHECK_EQ_INT(s, DDOF_ERROR_UNSUPPORTED);
+        CHECK(strstr(ddof_context_last_error(gl), "GL_MAX_TEXTURE_SIZE") != NULL);
+        int untouched = 1;
+        for (int i = 0; i < W * H * 4; i++)
+            untouched &= b[i] == 7.0f;
+        CHECK(untouched);
+    }
+    free(t);
+}
+
 int main(int argc, char **argv)
 {
     gl = gl_context_for(backend_from_name(argc > 1 ? argv[1] : NULL));
@@ -156,6 +230,8 @@ int main(int argc, char **argv)
     hidden();
     triangle();
     large_texture();
+    magnified();
+    texture_too_large();
     ddof_context_free(cpu);
     ddof_context_free(gl);
     return test_report("test_gl_cards");
