@@ -355,6 +355,74 @@ static void test_bounds(void)
     CHECK(strstr(ddof_context_last_error(ctx), "aperture_ratio") != NULL);
 }
 
+/* A renderer's CoC pass with the camera's aperture (ddof_frame.camera beside ddof_frame.coc,
+ * version 0.9): the same image, bit for bit, as from depth and that camera, for a hexagon, an
+ * ellipse and an aperture image; without the camera the highlight is round. */
+static void test_coc_image_takes_the_aperture(void)
+{
+    static float color[N * 4], depth[N], coc[N], from_depth[N * 4], from_coc[N * 4];
+    static float round[N * 4];
+    static float aperture[16 * 16];
+    for (int i = 0; i < 256; i++)
+        aperture[i] = (i / 16 + i % 16) % 5 ? 1.0f : 0.0f;
+    memset(color, 0, sizeof color);
+    for (int i = 0; i < N; i++) {
+        color[i * 4 + 3] = 1.0f;
+        depth[i] = i % W < W / 2 ? 1000.0f : 20.0f; /* two depths: an edge, two CoCs */
+    }
+    for (int c = 0; c < 3; c++)
+        color[(CY * W + CX) * 4 + c] = LIGHT;
+    for (int k = 0; k < 3; k++) {
+        ddof_camera cam = camera_for(32.0);
+        if (k == 0) {
+            cam.aperture_blades = 6;
+            cam.aperture_rotation_deg = 15.0;
+        } else if (k == 1) {
+            cam.aperture_ratio = 1.7;
+        } else {
+            cam.aperture_image = aperture;
+            cam.aperture_image_width = cam.aperture_image_height = 16;
+        }
+        ddof_params p;
+        ddof_params_init(&p);
+        ddof_frame f;
+        ddof_frame_init(&f);
+        f.color = (ddof_image_in){color, W, H, 4, 0};
+        f.depth = (ddof_image_in){depth, W, H, 1, 0};
+        f.camera = &cam;
+        f.coc_out = (ddof_image){coc, W, H, 1, 0};
+        CHECK(ddof_render_frame(ctx, &p, &f, &(ddof_image){from_depth, W, H, 4, 0}, NULL) ==
+              DDOF_OK);
+        ddof_frame_init(&f);
+        f.color = (ddof_image_in){color, W, H, 4, 0};
+        f.coc = (ddof_image_in){coc, W, H, 1, 0};
+        f.camera = &cam;
+        p.coc_signed = 1; /* coc_out is signed, as the camera's CoC is */
+        ddof_stats st = {.struct_size = sizeof st};
+        CHECK_MSG(ddof_render_frame(ctx, &p, &f, &(ddof_image){from_coc, W, H, 4, 0}, &st) ==
+                      DDOF_OK, "%s", ddof_context_last_error(ctx));
+        CHECK_MSG(memcmp(from_depth, from_coc, sizeof from_coc) == 0,
+                  "aperture %d: the CoC image with the camera differs from depth", k);
+        f.camera = NULL;
+        CHECK(ddof_render_frame(ctx, &p, &f, &(ddof_image){round, W, H, 4, 0}, NULL) ==
+              DDOF_OK);
+        CHECK_MSG(memcmp(round, from_coc, sizeof round) != 0,
+                  "aperture %d: the camera changed nothing", k);
+    }
+    /* The camera gives no CoC: with depth too it is two sources, as before. */
+    ddof_camera cam = camera_for(32.0);
+    ddof_frame f;
+    ddof_frame_init(&f);
+    f.color = (ddof_image_in){color, W, H, 4, 0};
+    f.coc = (ddof_image_in){coc, W, H, 1, 0};
+    f.depth = (ddof_image_in){depth, W, H, 1, 0};
+    f.camera = &cam;
+    ddof_params p;
+    ddof_params_init(&p);
+    CHECK(ddof_render_frame(ctx, &p, &f, &(ddof_image){round, W, H, 4, 0}, NULL) ==
+          DDOF_ERROR_BAD_PARAMETER);
+}
+
 int main(void)
 {
     ddof_context_options o;
@@ -378,6 +446,7 @@ int main(void)
     test_rotation_symmetry();
     test_default_is_round();
     test_bounds();
+    test_coc_image_takes_the_aperture();
     ddof_context_free(ctx);
     return test_report("test_aperture");
 }

@@ -729,13 +729,16 @@ DDOF_API ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_param
  *  - depth + camera: the lens model (ddof_coc_from_camera), signed; params.pixel_aspect is
  *    taken from camera->pixel_aspect;
  *  - depth + curve: the artist curve (ddof_coc_from_curve), signed;
- *  - coc: CoC diameters in pixels that the caller computed (signed if params.coc_signed).
+ *  - coc: CoC diameters in pixels that the caller computed (signed if params.coc_signed);
+ *    with a camera (and no depth) too, the camera gives the aperture only (its blades,
+ *    rotation, ratio, cat's eye or image, as from depth; params.pixel_aspect is then
+ *    camera->pixel_aspect times the ratio), never the CoC (version 0.9).
  * Images left with pixels NULL (ddof_frame_init's state) are absent. */
 typedef struct ddof_frame {
     uint32_t struct_size;           /* sizeof(ddof_frame)                                    */
     ddof_image_in color;            /* 1..4 channels; required                               */
     ddof_image_in depth;            /* first channel read; with camera or curve              */
-    const ddof_camera *camera;      /* NULL, or the camera the CoC comes from                */
+    const ddof_camera *camera;      /* NULL, or the camera the CoC (or the aperture) comes from */
     const ddof_curve *curve;        /* NULL, or the curve the CoC comes from                 */
     ddof_image_in coc;              /* the caller's CoC (first channel); instead of depth    */
     /* An optional, separately rendered foreground element (ddof_diffuse_layers): RGBA of the */

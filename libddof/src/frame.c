@@ -51,6 +51,7 @@ typedef struct frame_setup {
     coc_source source;
     ddof_camera camera;
     ddof_curve curve;
+    int aperture_camera; /* a CoC image with a camera: the camera gives the aperture only */
     int has_foreground;
     size_t map_stride, fg_map_stride, coc_out_stride; /* in floats */
 } frame_setup;
@@ -62,17 +63,29 @@ static int given(const ddof_image_in *image)
 
 static ddof_status read_source(ddof_context *context, frame_setup *s, ddof_params *p)
 {
-    /* Depth missing beside a camera or curve is the image check's NULL pointer. */
+    /* Depth missing beside a camera or curve is the image check's NULL pointer. A CoC image
+     * (a renderer's CoC pass) with a camera and no depth takes the camera's aperture: its
+     * blades, rotation, ratio, cat's eye or image shape the blur as they do from depth. */
     const ddof_frame *f = &s->frame;
-    const int sources = (f->camera != NULL) + (f->curve != NULL) + given(&f->coc);
+    s->aperture_camera = f->camera && given(&f->coc) && !given(&f->depth) && !f->curve;
+    const int sources =
+        (f->camera != NULL && !s->aperture_camera) + (f->curve != NULL) + given(&f->coc);
     if (sources != 1 || (given(&f->coc) && given(&f->depth)))
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "a frame needs exactly one CoC source: depth with a camera, depth with "
-                         "a curve, or a CoC image (given: %s%s%s%s)",
+                         "a curve, or a CoC image (with a camera for its aperture, optionally) "
+                         "(given: %s%s%s%s)",
                          f->camera ? "camera " : "", f->curve ? "curve " : "",
                          given(&f->depth) ? "depth " : "", given(&f->coc) ? "coc" : "");
     ddof_status status = DDOF_OK;
-    if (f->camera) {
+    if (s->aperture_camera) {
+        s->source = SOURCE_GIVEN;
+        status = ddof_read_camera(context, f->camera, &s->camera);
+        if (status == DDOF_OK)
+            status = ddof_check_camera_aspect(context, &s->camera);
+        /* The ratio's ellipse, as from depth (the CoC image is the blur's width). */
+        p->pixel_aspect = (float)(s->camera.pixel_aspect * s->camera.aperture_ratio);
+    } else if (f->camera) {
         s->source = SOURCE_CAMERA;
         status = ddof_read_camera(context, f->camera, &s->camera);
         if (status == DDOF_OK)
@@ -357,7 +370,7 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
     if (status != DDOF_OK)
         return status;
     ddof_fill_request_params(context, r, &p);
-    if (s.source == SOURCE_CAMERA)
+    if (s.source == SOURCE_CAMERA || s.aperture_camera)
         q.aperture = aperture_of(&s.camera, r->width, r->height);
     return ddof_run_frame(context, &q, s.has_foreground, fg_visible, max_coc, stats, t_start,
                           ddof_seconds() - t_start);

@@ -171,8 +171,20 @@ void library_result(const scene *s, const reference *ref, float *out, ddof_stats
                 params.coc_signed = 1;
                 CHECK(ddof_coc_from_curve(ctx, &curve, &depth_in, &coc_out) == DDOF_OK);
             }
-            CHECK(ddof_diffuse_layers(ctx, &params, &color_in, &coc_in, NULL, &out_img, stats) ==
-                  DDOF_OK);
+            if (ref->aperture_blades) {
+                ddof_camera camera;
+                ddof_camera_init(&camera);
+                camera.aperture_blades = ref->aperture_blades;
+                ddof_frame frame;
+                ddof_frame_init(&frame);
+                frame.color = color_in;
+                frame.coc = coc_in;
+                frame.camera = &camera;
+                CHECK(ddof_render_frame(ctx, &params, &frame, &out_img, stats) == DDOF_OK);
+            } else {
+                CHECK(ddof_diffuse_layers(ctx, &params, &color_in, &coc_in, NULL, &out_img,
+                                          stats) == DDOF_OK);
+            }
         }
     }
     ddof_context_free(ctx);

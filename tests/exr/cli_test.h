@@ -54,6 +54,8 @@ typedef struct reference {
     const char *preset;  /* ddof_params_init_preset by name; NULL: ddof_params_init */
     uint32_t substeps;   /* 0: the preset's */
     int heat_kernel;     /* 1: DDOF_KERNEL_HEAT (--kernel heat); 0: the preset's kernel */
+    uint32_t aperture_blades; /* REF_CHANNEL: > 0 gives the frame a camera with that many
+                               * blades (--aperture-blades), its aperture only */
 } reference;
 
 /* A 50 mm lens on a 36 mm sensor at this f-stop and focus distance. */

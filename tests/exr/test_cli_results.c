@@ -264,6 +264,17 @@ static int case_values(void)
                "--pixel-type", "float", NULL) == 0);
     bad = compare_output(test_path(dir, "chan.exr"), ref2, 1, 0.0, 0);
     CHECK_MSG(bad == 0, "coc channel: %d values differ", bad);
+    /* A renderer's CoC pass has a lens shape too: the aperture's flags apply to it (the
+     * library's ddof_frame.camera beside the CoC image), the CoC's do not. */
+    r.aperture_blades = 5;
+    library_result(&s, &r, ref2, NULL);
+    CHECK(ddof(in, "-o", test_path(dir, "chan5.exr"), "--coc-channel", "C", "--substeps", "3",
+               "--pixel-type", "float", "--aperture-blades", "5", NULL) == 0);
+    bad = compare_output(test_path(dir, "chan5.exr"), ref2, 1, 0.0, 0);
+    CHECK_MSG(bad == 0, "coc channel with 5 blades: %d values differ", bad);
+    r.aperture_blades = 0;
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--coc-channel", "C", "--fstop", "2", NULL) ==
+              2 && err_contains("only --camera and the aperture's flags"));
 
     /* --keep keeps the other channels bit for bit; --write-coc adds the CoC used. */
     CHECK(ddof(in, "-o", test_path(dir, "keep.exr"), "--focal-length", "50", "--fstop", "2",

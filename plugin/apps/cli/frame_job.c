@@ -156,7 +156,7 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
     params.coc_signed = (uint32_t)opt->coc_signed;
     ddof_frame_init(&frame);
     frame.color = (ddof_image_in){d->color, w, h, channels, 0};
-    if (opt->source == COC_FROM_CAMERA) {
+    if (cli_options_camera_wanted(opt)) { /* with --coc-channel: its aperture only */
         if (frame_camera(setup, paths, d, &camera, result) != 0)
             return -1;
         frame.camera = &camera;

@@ -135,7 +135,7 @@ int frame_output_write(const frame_setup *setup, const frame_paths *paths,
         t = cli_now();
         if (focus_map_write(paths->focus_map, d->coc, d->color, channels, d->part->width,
                             d->part->height,
-                            opt->source == COC_FROM_CAMERA ? &setup->camera : NULL, error,
+                            cli_options_camera_wanted(opt) ? &setup->camera : NULL, error,
                             sizeof error) != 0)
             return frame_fail(result, "focus map: %s", error);
         result->seconds_preview += cli_now() - t;

@@ -94,6 +94,16 @@ static int take_option(int argc, char **argv, int *i, cli_options *o)
                          : cli_option_parse_value(option, value, o);
 }
 
+/* The camera flags that describe the aperture alone. */
+#define CAM_APERTURE (CAM_BLADES | CAM_ROTATION | CAM_RATIO | CAM_CATSEYE)
+
+int cli_options_camera_wanted(const cli_options *o)
+{
+    return o->source == COC_FROM_CAMERA ||
+           (o->source == COC_FROM_CHANNEL &&
+            (o->camera_json || (o->camera_set & CAM_APERTURE) || o->aperture_image));
+}
+
 /* Options that do not go together, or need another. */
 static int check_combination(const cli_options *o)
 {
@@ -102,9 +112,13 @@ static int check_combination(const cli_options *o)
         fprintf(stderr, "ddof: --curve and --coc-channel are two CoC sources: give one\n");
         return -1;
     }
-    if (o->source != COC_FROM_CAMERA && (o->camera_json || o->camera_set)) {
-        fprintf(stderr, "ddof: camera options do not apply with %s\n",
-                o->source == COC_FROM_CURVE ? "--curve" : "--coc-channel");
+    if (o->source == COC_FROM_CURVE && (o->camera_json || o->camera_set)) {
+        fprintf(stderr, "ddof: camera options do not apply with --curve\n");
+        return -1;
+    }
+    if (o->source == COC_FROM_CHANNEL && (o->camera_set & ~(unsigned)CAM_APERTURE)) {
+        fprintf(stderr, "ddof: with --coc-channel the CoC is given: of the camera, only "
+                "--camera and the aperture's flags (--aperture-*) apply\n");
         return -1;
     }
     if (o->coc_signed && o->source != COC_FROM_CHANNEL) {

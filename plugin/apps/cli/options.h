@@ -134,6 +134,10 @@ typedef struct cli_options {
  * help or the version (exit 0), or -1 after printing a usage error to stderr (exit 2). */
 int cli_parse_options(int argc, char **argv, cli_options *options);
 
+/* Whether the frame gets a camera: the CoC's (a camera source), or, with --coc-channel, the
+ * aperture's alone (--camera or an aperture flag: a renderer's CoC pass has a lens shape too). */
+int cli_options_camera_wanted(const cli_options *o);
+
 /* The usage text, from the table of options (usage.c). */
 void cli_usage(FILE *to);
 

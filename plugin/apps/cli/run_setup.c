@@ -91,7 +91,7 @@ static int validate_with_library(const frame_setup *setup)
         ddof_context_free(context);
         return status == DDOF_ERROR_BACKEND_UNAVAILABLE ? CLI_EXIT_BACKEND : CLI_EXIT_USAGE;
     }
-    if (o->source == COC_FROM_CAMERA) {
+    if (cli_options_camera_wanted(o)) {
         what = "camera";
         status = ddof_camera_check(context, &setup->camera);
     } else if (o->source == COC_FROM_CURVE) {
@@ -145,7 +145,7 @@ int run_setup_prepare(const cli_options *o, frame_setup *setup, frame_paths **pa
     setup->options = o;
     setup->curve = o->curve;
     resolve_params(o, &setup->params);
-    if (o->source == COC_FROM_CAMERA && resolve_camera(o, setup) != 0) {
+    if (cli_options_camera_wanted(o) && resolve_camera(o, setup) != 0) {
         free(setup->aperture_pixels);
         return CLI_EXIT_USAGE;
     }
