@@ -117,6 +117,11 @@ exrio_status exrio_open(const char *path, exrio_image *image, char *error, size_
 exrio_status exrio_load(exrio_image *image, const unsigned char *wanted, char *error,
                         size_t error_size);
 
+/* The same, with `threads` threads decoding chunks (the caller's included; 0 and 1: the
+ * caller's only). A damaged chunk is reported as the lowest-numbered one, whatever the count. */
+exrio_status exrio_load_threads(exrio_image *image, const unsigned char *wanted, unsigned threads,
+                                char *error, size_t error_size);
+
 /* Index of the channel called `name` (in `part`, or in any part when part < 0); -1 if none. */
 int exrio_find_channel(const exrio_image *image, const char *name, int part);
 
@@ -145,6 +150,12 @@ typedef struct exrio_write_spec {
      * that describe the layout (channels, windows, compression, tiles, ...). */
     const exrio_image *metadata_from;
     int metadata_part;
+    /* Threads that compress chunks (the caller's included); 0 and 1: the caller's only. The
+     * file is the same byte for byte whatever the count. */
+    unsigned threads;
+    /* DWAA/DWAB only: the compression level (OpenEXR's dwaCompressionLevel); 0 means its
+     * default, 45. */
+    float dwa_level;
 } exrio_write_spec;
 
 /* Writes one scanline part to the open, empty, seekable file `fd` (it is not closed). `name`
