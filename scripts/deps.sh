@@ -23,4 +23,4 @@ ensure_packages() {
 }
 
 # The packages every build needs.
-BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config libpng-dev libopenexr-dev libcjson-dev libgl-dev libegl-dev libegl1-mesa-dev libosmesa6-dev)
+BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config libpng-dev libopenexr-dev zlib1g-dev libcjson-dev libgl-dev libegl-dev libegl1-mesa-dev libosmesa6-dev)

@@ -24,6 +24,9 @@ case "$mode" in
     # when Debian's Blender is installed; without it they are reported as skipped.
     ensure_packages blender python3 ||
         echo "warning: could not install blender: the Blender add-on tests will be skipped" >&2
+    # OpenEXR's own exrheader reads the DWAA/DWAB files exrio writes (tests/exr, exr_dwa_exrheader).
+    ensure_packages openexr ||
+        echo "warning: could not install openexr: the exrheader check will be skipped" >&2
     ensure_packages xvfb xauth ||
         echo "warning: could not install xvfb: the add-on's UI test will be skipped" >&2
     ensure_packages python3-numpy python3-matplotlib || echo "warning: could not install numpy/matplotlib: the study smoke test (tests/study) will be skipped" >&2
@@ -91,7 +94,7 @@ case "$mode" in
 --fuzz)
     seconds=${2:-60}
     ensure_packages "${BUILD_PACKAGES[@]}" clang libclang-rt-14-dev
-    CC=clang cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
+    CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
         -DDDOF_FUZZ=ON -DDDOF_BUILD_TESTS=OFF -DDDOF_BUILD_BENCH=OFF -DDDOF_BUILD_GL=OFF
     cmake --build build/fuzz -j "$jobs" --target fuzz_exr_read fuzz_camera_json fuzz_options \
         fuzz_library

@@ -76,6 +76,7 @@ static int write_output(const frame_setup *setup, const frame_paths *paths,
     spec.display_window = part->display_window;
     spec.pixel_aspect = part->pixel_aspect;
     spec.compression = opt->compression;
+    spec.dwa_level = opt->dwa_level;
     spec.threads = threads;
     spec.channel_count = count;
     spec.channels = list;

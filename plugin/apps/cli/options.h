@@ -107,6 +107,7 @@ typedef struct cli_options {
     /* output file */
     int pixel_type;               /* -1: as the input colour; else exrio_pixel_type */
     exrio_compression compression;
+    float dwa_level;              /* --compression dwaa:LEVEL; 0: OpenEXR's default (45) */
     int keep_channels;
     int keep_metadata;
     int write_coc;                /* add the CoC used as a channel */

@@ -34,16 +34,21 @@ int exrio_compression_parse(const char *name, exrio_compression *out)
 }
 
 /* OpenEXR 3.1's C core implements every method but DWAA/DWAB, in both directions (its
- * internal_dwa.c returns "not yet implemented in C"). */
+ * internal_dwa.c returns "not yet implemented in C"); those go through the C++ library
+ * (exr_dwa.cpp). */
 int exrio_compression_can_decode(exrio_compression compression)
 {
-    return (unsigned)compression < EXRIO_COMPRESSION_COUNT_ &&
-           compression != EXRIO_COMPRESSION_DWAA && compression != EXRIO_COMPRESSION_DWAB;
+    return (unsigned)compression < EXRIO_COMPRESSION_COUNT_;
 }
 
 int exrio_compression_can_encode(exrio_compression compression)
 {
     return exrio_compression_can_decode(compression);
+}
+
+int exrio_compression_is_dwa(exrio_compression compression)
+{
+    return compression == EXRIO_COMPRESSION_DWAA || compression == EXRIO_COMPRESSION_DWAB;
 }
 
 const char *exrio_pixel_type_name(exrio_pixel_type type)

@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* exr_read.c - reading OpenEXR files through the C core: the header (exrio_open) and then the
  * pixels of the channels asked for (exrio_load), scanline or tiled, into float/uint32 planes. */
+#include "exr_dwa.h"
 #include "exr_internal.h"
 
 #include <errno.h>
@@ -508,14 +509,6 @@ exrio_status exrio_load_threads(exrio_image *image, const unsigned char *wanted,
                          part_label(image, p, label, sizeof label));
                 return EXRIO_ERROR_UNSUPPORTED;
             }
-            if (!exrio_compression_can_decode(part->compression)) {
-                snprintf(error, error_size,
-                         "%s: %s is compressed with %s, which OpenEXR's C core (OpenEXRCore 3.1) "
-                         "cannot decode; re-save it with ZIP, PIZ or no compression",
-                         image->path, part_label(image, p, label, sizeof label),
-                         part->compression == EXRIO_COMPRESSION_DWAA ? "DWAA" : "DWAB");
-                return EXRIO_ERROR_UNSUPPORTED;
-            }
             if (image->channels[c].x_sampling != 1 || image->channels[c].y_sampling != 1) {
                 snprintf(error, error_size, "%s: channel %s is subsampled (%dx%d): subsampled "
                          "channels are not supported", image->path, image->channels[c].name,
@@ -547,7 +540,19 @@ exrio_status exrio_load_threads(exrio_image *image, const unsigned char *wanted,
                 stream->saved_errno = 0;
                 stream->message[0] = '\0';
             }
-            status = load_part(image, p, first, threads, stream, error, error_size);
+            if (exrio_compression_is_dwa(part->compression)) {
+                /* fresh is indexed from `first`: the C++ path takes one over all channels. */
+                unsigned char *fill = calloc((size_t)image->channel_count, 1);
+                status = EXRIO_ERROR_MEMORY;
+                snprintf(error, error_size, "%s: out of memory", image->path);
+                if (fill) {
+                    memcpy(fill + first, fresh, (size_t)(end - first));
+                    status = exrio_dwa_load_part(image, p, fill, threads, error, error_size);
+                    free(fill);
+                }
+            } else {
+                status = load_part(image, p, first, threads, stream, error, error_size);
+            }
         undo:
             if (status != EXRIO_OK) {
                 /* Take back what this call allocated: a failed load leaves no half-read plane

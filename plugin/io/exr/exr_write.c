@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 /* exr_write.c - writing one scanline part through OpenEXR's C core onto an open descriptor. */
+#include "exr_dwa.h"
 #include "exr_internal.h"
 
 #include <pthread.h>
@@ -284,9 +285,13 @@ static int check_spec(const exrio_write_spec *spec, char *error, size_t error_si
         return -1;
     }
     if (!exrio_compression_can_encode(spec->compression)) {
-        snprintf(error, error_size, "%s: OpenEXR's C core (OpenEXRCore 3.1) cannot write %s "
-                 "compression; use zip, piz, zips, rle, pxr24, b44, b44a or none",
-                 name, exrio_compression_name(spec->compression));
+        snprintf(error, error_size, "%s: unknown compression %d", name, (int)spec->compression);
+        return -1;
+    }
+    if (exrio_compression_is_dwa(spec->compression) &&
+        !(spec->dwa_level >= 0.0f && spec->dwa_level <= 1e6f)) {
+        snprintf(error, error_size, "%s: DWA level %g is not a level", name,
+                 (double)spec->dwa_level);
         return -1;
     }
     w = (uint64_t)((int64_t)spec->data_window.max_x - spec->data_window.min_x + 1);
@@ -325,6 +330,8 @@ exrio_status exrio_write_fd(int fd, const char *name, const exrio_write_spec *sp
     }
     if (check_spec(spec, error, error_size, name) != 0)
         return EXRIO_ERROR_ARGUMENT;
+    if (exrio_compression_is_dwa(spec->compression))
+        return exrio_dwa_write_fd(fd, name, spec, error, error_size);
 
     memset(&stream, 0, sizeof stream);
     stream.fd = fd;
