@@ -413,7 +413,9 @@ static int case_options(void)
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--backend", "gl", NULL) == 2 &&
           err_contains("one of cpu | auto | egl | osmesa"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "zip:45", NULL) == 2 &&
-          err_contains("only dwaa and dwab take a level"));
+          err_contains("whole number from 1 (fastest) to 9"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "piz:2", NULL) == 2 &&
+          err_contains("only zip, zips, dwaa and dwab take a level"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "dwab:fine", NULL) == 2 &&
           err_contains("the level is a number"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--curve", "1,2,3", NULL) == 2 &&
@@ -481,6 +483,24 @@ static int case_options(void)
           err_contains("near_layer and near_spread are both forced on"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--near-layer-threshold", "0", NULL) == 2);
     CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
+    {
+        /* Issue 42: DWAA and DWAB written (with a level), and ZIP at zlib's fastest level. */
+        static const char *const ways[3] = {"dwaa", "dwab:60", "zip:1"};
+        static const exrio_compression stored[3] = {
+            EXRIO_COMPRESSION_DWAA, EXRIO_COMPRESSION_DWAB, EXRIO_COMPRESSION_ZIP};
+        int k;
+        for (k = 0; k < 3; k++) {
+            exrio_image out;
+            char error[1024];
+            CHECK_MSG(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop",
+                           "2", "--focus", "3", "--compression", ways[k], NULL) == 0,
+                      "--compression %s", ways[k]);
+            CHECK(exrio_open(test_path(dir, "o.exr"), &out, error, sizeof error) == EXRIO_OK &&
+                  out.parts[0].compression == stored[k] &&
+                  exrio_load(&out, NULL, error, sizeof error) == EXRIO_OK);
+            exrio_close(&out);
+        }
+    }
     return test_finish("test_cli options");
 }
 

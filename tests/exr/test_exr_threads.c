@@ -26,6 +26,7 @@ static const char *const names[5] = {"B", "G", "R", "Z", "id"};
 static const exrio_pixel_type types[5] = {EXRIO_HALF, EXRIO_HALF, EXRIO_HALF, EXRIO_FLOAT,
                                           EXRIO_UINT};
 static float planes[4][W * H];
+static int zip_level; /* what write_with() asks for */
 static uint32_t ids[W * H];
 
 /* Hashes of the files exrio wrote from fill()'s image on one thread before this test (Debian
@@ -96,6 +97,7 @@ static int write_with(const char *path, exrio_compression compression, unsigned 
     spec.channel_count = 5;
     spec.channels = channels;
     spec.threads = threads;
+    spec.zip_level = zip_level;
     fd = open(path, O_WRONLY | O_CREAT | O_TRUNC, 0666);
     if (fd < 0)
         return -1;
@@ -216,6 +218,36 @@ static void damaged_chunk(void)
     }
 }
 
+/* ZIP at zlib's level 1: other bytes than level 6 (the default), the same on every thread
+ * count, and the same values back. */
+static void zip_fast(void)
+{
+    size_t n1 = 0, n3 = 0, n6 = 0;
+    char *fast1, *fast3, *slow;
+    char error[1024];
+    exrio_image image;
+    zip_level = 1;
+    CHECK(write_with(test_path(dir, "zip1_1.exr"), EXRIO_COMPRESSION_ZIP, 1) == 0);
+    CHECK(write_with(test_path(dir, "zip1_3.exr"), EXRIO_COMPRESSION_ZIP, 3) == 0);
+    zip_level = 0;
+    fast1 = test_read_file(test_path(dir, "zip1_1.exr"), &n1);
+    fast3 = test_read_file(test_path(dir, "zip1_3.exr"), &n3);
+    slow = test_read_file(test_path(dir, "t1_zip.exr"), &n6);
+    CHECK(fast1 && fast3 && slow && n1 == n3 && memcmp(fast1, fast3, n1) == 0);
+    CHECK_MSG(n1 != n6 || (fast1 && slow && memcmp(fast1, slow, n1) != 0),
+              "zip level 1 wrote the bytes of level 6");
+    free(fast1);
+    free(fast3);
+    free(slow);
+    if (load_with(test_path(dir, "zip1_1.exr"), 2, &image, error, sizeof error) == 0) {
+        CHECK(memcmp(image.channels[3].pixels, planes[3], sizeof planes[3]) == 0 &&
+              memcmp(image.channels[4].pixels, ids, sizeof ids) == 0);
+        exrio_close(&image);
+    } else {
+        CHECK_MSG(0, "%s", error);
+    }
+}
+
 int main(int argc, char **argv)
 {
     int c;
@@ -229,5 +261,6 @@ int main(int argc, char **argv)
     for (c = EXRIO_COMPRESSION_NONE; c <= EXRIO_COMPRESSION_B44A; c++)
         same_bytes((exrio_compression)c);
     damaged_chunk();
+    zip_fast();
     return test_finish("test_exr_threads");
 }

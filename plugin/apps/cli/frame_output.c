@@ -77,6 +77,7 @@ static int write_output(const frame_setup *setup, const frame_paths *paths,
     spec.pixel_aspect = part->pixel_aspect;
     spec.compression = opt->compression;
     spec.dwa_level = opt->dwa_level;
+    spec.zip_level = opt->zip_level;
     spec.threads = threads;
     spec.channel_count = count;
     spec.channels = list;

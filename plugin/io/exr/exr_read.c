@@ -543,12 +543,13 @@ exrio_status exrio_load_threads(exrio_image *image, const unsigned char *wanted,
             if (exrio_compression_is_dwa(part->compression)) {
                 /* fresh is indexed from `first`: the C++ path takes one over all channels. */
                 unsigned char *fill = calloc((size_t)image->channel_count, 1);
-                status = EXRIO_ERROR_MEMORY;
-                snprintf(error, error_size, "%s: out of memory", image->path);
                 if (fill) {
                     memcpy(fill + first, fresh, (size_t)(end - first));
                     status = exrio_dwa_load_part(image, p, fill, threads, error, error_size);
                     free(fill);
+                } else {
+                    status = EXRIO_ERROR_MEMORY;
+                    snprintf(error, error_size, "%s: out of memory", image->path);
                 }
             } else {
                 status = load_part(image, p, first, threads, stream, error, error_size);

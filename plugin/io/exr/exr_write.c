@@ -63,6 +63,8 @@ static exr_result_t define_part(exr_context_t ctxt, const exrio_write_spec *spec
                                                     : EXR_PERCEPTUALLY_LOGARITHMIC,
                              1, 1);
     }
+    if (rv == EXR_ERR_SUCCESS && spec->zip_level > 0)
+        rv = exr_set_zip_compression_level(ctxt, part, spec->zip_level);
     if (rv == EXR_ERR_SUCCESS && spec->metadata_from && spec->metadata_from->source_)
         rv = exrio_copy_metadata(ctxt, spec->metadata_from->source_, spec->metadata_part);
     return rv;
@@ -286,6 +288,10 @@ static int check_spec(const exrio_write_spec *spec, char *error, size_t error_si
     }
     if (!exrio_compression_can_encode(spec->compression)) {
         snprintf(error, error_size, "%s: unknown compression %d", name, (int)spec->compression);
+        return -1;
+    }
+    if (spec->zip_level < 0 || spec->zip_level > 9) {
+        snprintf(error, error_size, "%s: zip level %d is not 1 to 9", name, spec->zip_level);
         return -1;
     }
     if (exrio_compression_is_dwa(spec->compression) &&

@@ -162,6 +162,9 @@ typedef struct exrio_write_spec {
     /* DWAA/DWAB only: the compression level (OpenEXR's dwaCompressionLevel); 0 means its
      * default, 45. */
     float dwa_level;
+    /* ZIP/ZIPS only: zlib's level, 1 (fastest) to 9 (smallest); 0 means zlib's default (6),
+     * the bytes exrio has always written. */
+    int zip_level;
 } exrio_write_spec;
 
 /* Writes one scanline part to the open, empty, seekable file `fd` (it is not closed). `name`
