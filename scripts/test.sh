@@ -82,6 +82,8 @@ case "$mode" in
     exr=build/valgrind/tests/exr
     memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip" tests/exr/data
     memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input"
+    memcheck exr_threads "$exr/test_exr_threads" "$scratch/threads"
+    memcheck exr_dwa_roundtrip "$exr/test_exr_dwa" roundtrip "$scratch/dwa_roundtrip"
     memcheck exr_blender_sample "$exr/test_exr_blender" sample samples "$scratch/sample"
     memcheck cli_option_table "$exr/test_option_table" "$scratch/option_table"
     # The fuzz targets' corpora (seeds and former crashes), replayed without libFuzzer.
