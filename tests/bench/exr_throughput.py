@@ -26,10 +26,16 @@ def run_ddof(ddof, inp, out, camera, scratch, extra):
     stats = os.path.join(scratch, "stats.json")
     cmd = [ddof, inp, "-o", out, "--camera", camera, "--stats", stats, "-q"] + extra
     t0 = time.monotonic()
-    subprocess.run(cmd, check=True)
+    proc = subprocess.Popen(cmd)
+    _, status, usage = os.wait4(proc.pid, 0)
     wall = time.monotonic() - t0
+    if status != 0:
+        raise SystemExit("%s failed (%d)" % (" ".join(cmd), status))
     frames = json.load(open(stats))["frames"]
     secs = [f["seconds"] for f in frames]
+    # CPU seconds of the whole process: on a machine shared with other work the wall times
+    # stretch, the CPU time much less.
+    secs[0]["cpu"] = usage.ru_utime + usage.ru_stime
     return wall, secs
 
 
@@ -65,8 +71,10 @@ def main():
                 out = os.path.join(a.scratch, "one_%s_%s.exr" % (name, comp))
                 wall, secs = run_ddof(ddof, a.input, out, a.camera, a.scratch, extra)
                 r = rows.setdefault((name, comp), {"one": [], "read": [], "lib": [], "write": [],
-                                                   "seq": [], "seq_lib": [], "seqj": []})
+                                                   "seq": [], "seq_lib": [], "seqj": [],
+                                                   "cpu": []})
                 r["one"].append(wall)
+                r["cpu"].append(secs[0]["cpu"])
                 r["read"].append(secs[0]["read"])
                 r["lib"].append(secs[0]["library_total"])
                 r["write"].append(secs[0]["write"])
@@ -97,7 +105,7 @@ def main():
                     rows.setdefault(("oiiotool", comp), {"one": []})["one"].append(
                         time.monotonic() - t0)
     med = lambda v: statistics.median(v) if v else float("nan")
-    print("build comp | frame read library write | seq/frame (auto) seq/frame (--jobs 2) "
+    print("build comp | frame read library write cpu | seq/frame (auto) seq/frame (--jobs 2) "
           "seq library/frame | write/library seq/one-library | size")
     one_lib = {}
     for (name, comp), r in sorted(rows.items()):
@@ -112,8 +120,9 @@ def main():
             continue
         size = os.path.getsize(os.path.join(a.scratch, "one_%s_%s.exr" % (name, comp)))
         lib = one_lib[(name, comp)]
-        print("%s %-5s | %.3f %.3f %.3f %.3f | %.3f %.3f %.3f | %.2f %.2f %.2f | %d" %
-              (name, comp, med(r["one"]), med(r["read"]), lib, med(r["write"]), med(r["seq"]),
+        print("%s %-5s | %.3f %.3f %.3f %.3f %.3f | %.3f %.3f %.3f | %.2f %.2f %.2f | %d" %
+              (name, comp, med(r["one"]), med(r["read"]), lib, med(r["write"]), med(r["cpu"]),
+               med(r["seq"]),
                med(r["seqj"]), med(r["seq_lib"]), med(r["write"]) / lib, med(r["seq"]) / lib,
                med(r["seqj"]) / lib, size))
 
