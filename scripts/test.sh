@@ -24,9 +24,8 @@ case "$mode" in
     # when Debian's Blender is installed; without it they are reported as skipped.
     ensure_packages blender python3 ||
         echo "warning: could not install blender: the Blender add-on tests will be skipped" >&2
-    # OpenEXR's own exrheader reads the DWAA/DWAB files exrio writes (tests/exr, exr_dwa_exrheader).
-    ensure_packages openexr ||
-        echo "warning: could not install openexr: the exrheader check will be skipped" >&2
+    ensure_packages "${TEST_TOOL_PACKAGES[@]}" ||
+        echo "warning: could not install ${TEST_TOOL_PACKAGES[*]}: the exrheader check will be skipped" >&2
     ensure_packages xvfb xauth ||
         echo "warning: could not install xvfb: the add-on's UI test will be skipped" >&2
     ensure_packages python3-numpy python3-matplotlib || echo "warning: could not install numpy/matplotlib: the study smoke test (tests/study) will be skipped" >&2
