@@ -32,6 +32,10 @@ exr_context_initializer_t exrio_stream_initializer(exrio_stream *stream, int for
  * a context shared with other threads records into its own stream rather than the shared one. */
 void exrio_set_error_sink(exrio_stream *sink);
 
+/* The most threads one file's chunks are shared among: beyond, a thread's start costs more than
+ * its share of a frame's chunks saves. */
+#define EXRIO_MAX_WORKERS 64u
+
 /* Runs work(arg, i) for i = 0 .. count-1, i > 0 on new threads and 0 on the calling thread,
  * and waits for all. A thread that cannot be started is not run: each worker takes chunks from
  * a shared counter, so fewer workers do the same work. */

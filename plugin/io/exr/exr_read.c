@@ -429,6 +429,8 @@ static exrio_status load_part(exrio_image *image, int p, int first_channel, unsi
     }
     if (rv == EXR_ERR_SUCCESS) {
         unsigned workers = threads > 1 ? threads : 1;
+        if (workers > EXRIO_MAX_WORKERS)
+            workers = EXRIO_MAX_WORKERS;
         if (workers > (unsigned)job.chunks)
             workers = (unsigned)job.chunks;
         exrio_run_workers(workers, read_worker, &job);

@@ -251,7 +251,10 @@ static exr_result_t write_pixels(exr_context_t ctxt, const exrio_write_spec *spe
         return rv;
     job.chunks = (int32_t)(((int64_t)spec->data_window.max_y - spec->data_window.min_y +
                             job.lines) / job.lines);
-    workers = spec->threads > 1 ? spec->threads : 1;
+    /* Uncompressed chunks have nothing to share out: the core packs under its context's lock. */
+    workers = spec->threads > 1 && spec->compression != EXRIO_COMPRESSION_NONE ? spec->threads : 1;
+    if (workers > EXRIO_MAX_WORKERS)
+        workers = EXRIO_MAX_WORKERS;
     if (workers > (unsigned)job.chunks)
         workers = (unsigned)job.chunks;
     if (pthread_mutex_init(&job.lock, NULL) != 0)
