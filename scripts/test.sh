@@ -24,6 +24,8 @@ case "$mode" in
     # when Debian's Blender is installed; without it they are reported as skipped.
     ensure_packages blender python3 ||
         echo "warning: could not install blender: the Blender add-on tests will be skipped" >&2
+    ensure_packages "${TEST_TOOL_PACKAGES[@]}" ||
+        echo "warning: could not install ${TEST_TOOL_PACKAGES[*]}: the exrheader check will be skipped" >&2
     ensure_packages xvfb xauth ||
         echo "warning: could not install xvfb: the add-on's UI test will be skipped" >&2
     ensure_packages python3-numpy python3-matplotlib || echo "warning: could not install numpy/matplotlib: the study smoke test (tests/study) will be skipped" >&2
@@ -79,6 +81,8 @@ case "$mode" in
     exr=build/valgrind/tests/exr
     memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip" tests/exr/data
     memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input"
+    memcheck exr_threads "$exr/test_exr_threads" "$scratch/threads"
+    memcheck exr_dwa_roundtrip "$exr/test_exr_dwa" roundtrip "$scratch/dwa_roundtrip"
     memcheck exr_blender_sample "$exr/test_exr_blender" sample samples "$scratch/sample"
     memcheck cli_option_table "$exr/test_option_table" "$scratch/option_table"
     # The fuzz targets' corpora (seeds and former crashes), replayed without libFuzzer.
@@ -91,7 +95,7 @@ case "$mode" in
 --fuzz)
     seconds=${2:-60}
     ensure_packages "${BUILD_PACKAGES[@]}" clang libclang-rt-14-dev
-    CC=clang cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
+    CC=clang CXX=clang++ cmake -S . -B build/fuzz -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo -DDDOF_WERROR=ON \
         -DDDOF_FUZZ=ON -DDDOF_BUILD_TESTS=OFF -DDDOF_BUILD_BENCH=OFF -DDDOF_BUILD_GL=OFF
     cmake --build build/fuzz -j "$jobs" --target fuzz_exr_read fuzz_camera_json fuzz_options \
         fuzz_library fuzz_cards_scene fuzz_matte

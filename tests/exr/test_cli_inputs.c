@@ -62,14 +62,14 @@ static int case_bad_inputs(void)
                        EXRIO_COMPRESSION_ZIP);
         RUN_BAD(test_path(dir, "nodepth.exr"), "no depth channel");
     }
-    /* DWAA: see test_exr_bad_input.c for why the header is patched. */
+    /* A DWAA header over ZIP data (see test_exr_bad_input.c): read as DWA, found damaged. */
     for (i = 0; bytes && i + sizeof key < size; i++)
         if (memcmp(bytes + i, key, sizeof key - 1) == 0)
             break;
     if (bytes && i + sizeof key < size) {
         bytes[i + sizeof key - 1] = 8;
         test_write_file(test_path(dir, "dwaa.exr"), bytes, size);
-        RUN_BAD(test_path(dir, "dwaa.exr"), "DWAA, which OpenEXR's C core");
+        RUN_BAD(test_path(dir, "dwaa.exr"), "damaged or truncated pixel data (DWA");
     } else {
         CHECK_MSG(0, "no compression attribute found");
     }
@@ -412,8 +412,12 @@ static int case_options(void)
           err_contains("auto | off | on"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--backend", "gl", NULL) == 2 &&
           err_contains("one of cpu | auto | egl | osmesa"));
-    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "dwaa", NULL) == 2 &&
-          err_contains("cannot write DWAA"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "zip:45", NULL) == 2 &&
+          err_contains("whole number from 1 (fastest) to 9"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "piz:2", NULL) == 2 &&
+          err_contains("only zip, zips, dwaa and dwab take a level"));
+    CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--compression", "dwab:fine", NULL) == 2 &&
+          err_contains("the level is a number"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--curve", "1,2,3", NULL) == 2 &&
           err_contains("six numbers"));
     CHECK(ddof(in, "-o", test_path(dir, "o_####.exr"), "--frames", "1-3", "--focus", "3",
@@ -479,6 +483,24 @@ static int case_options(void)
           err_contains("near_layer and near_spread are both forced on"));
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--near-layer-threshold", "0", NULL) == 2);
     CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
+    {
+        /* Issue 42: DWAA and DWAB written (with a level), and ZIP at zlib's fastest level. */
+        static const char *const ways[3] = {"dwaa", "dwab:60", "zip:1"};
+        static const exrio_compression stored[3] = {
+            EXRIO_COMPRESSION_DWAA, EXRIO_COMPRESSION_DWAB, EXRIO_COMPRESSION_ZIP};
+        int k;
+        for (k = 0; k < 3; k++) {
+            exrio_image out;
+            char error[1024];
+            CHECK_MSG(ddof(in, "-o", test_path(dir, "o.exr"), "--focal-length", "50", "--fstop",
+                           "2", "--focus", "3", "--compression", ways[k], NULL) == 0,
+                      "--compression %s", ways[k]);
+            CHECK(exrio_open(test_path(dir, "o.exr"), &out, error, sizeof error) == EXRIO_OK &&
+                  out.parts[0].compression == stored[k] &&
+                  exrio_load(&out, NULL, error, sizeof error) == EXRIO_OK);
+            exrio_close(&out);
+        }
+    }
     return test_finish("test_cli options");
 }
 

@@ -332,6 +332,15 @@ static void tiled(void)
     }
     CHECK_MSG(bad == 0, "%d tiled values differ", bad);
     exrio_close(&image);
+    /* Tiles decoded on threads land where they belong too. */
+    CHECK(exrio_open(test_path(dir, "tiled.exr"), &image, error, sizeof error) == EXRIO_OK);
+    CHECK(exrio_load_threads(&image, NULL, 3, error, sizeof error) == EXRIO_OK);
+    for (bad = 0, i = 0; i < (size_t)W * H; i++) {
+        bad += ((float *)image.channels[exrio_find_channel(&image, "R", 0)].pixels)[i] != r[i];
+        bad += ((float *)image.channels[exrio_find_channel(&image, "Z", 0)].pixels)[i] != z[i];
+    }
+    CHECK_MSG(bad == 0, "%d tiled values differ when decoded on 3 threads", bad);
+    exrio_close(&image);
     free(r);
     free(z);
 }

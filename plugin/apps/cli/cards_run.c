@@ -39,6 +39,8 @@ static int write_cards_output(const cli_options *o, const float *rgba, uint32_t 
     spec.data_window.max_x = spec.display_window.max_x = (int32_t)w - 1;
     spec.data_window.max_y = spec.display_window.max_y = (int32_t)h - 1;
     spec.compression = o->compression;
+    spec.dwa_level = o->dwa_level;
+    spec.zip_level = o->zip_level;
     spec.channel_count = 4;
     spec.channels = channels;
     if (output_file_begin(&file, o->output, error, error_size) != 0)

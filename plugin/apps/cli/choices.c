@@ -26,7 +26,7 @@ static const char *pixel_type_name(int v)
     return v == EXRIO_UINT ? NULL : exrio_pixel_type_name((exrio_pixel_type)v);
 }
 
-/* OpenEXR's C core reads and writes all but DWAA/DWAB; only what it can write is offered. */
+/* Every compression exrio can write (all of the format's: DWAA/DWAB through the C++ library). */
 static const char *compression_name(int v)
 {
     const exrio_compression c = (exrio_compression)v;

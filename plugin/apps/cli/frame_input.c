@@ -271,7 +271,7 @@ int frame_input_load(const frame_setup *setup, const frame_paths *paths, frame_d
         for (i = 0; i < d->image.channel_count; i++)
             if (d->image.channels[i].part == layout->part)
                 wanted[i] = 1;
-    i = exrio_load(&d->image, wanted, error, sizeof error);
+    i = exrio_load_threads(&d->image, wanted, d->io_threads, error, sizeof error);
     free(wanted);
     if (i != EXRIO_OK)
         return frame_fail(result, "%s", error);

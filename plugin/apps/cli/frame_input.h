@@ -34,6 +34,7 @@ typedef struct frame_data {
     int matte_index[2 * DDOF_MATTE_MAX_RANKS]; /* the object matte's channels, by rank      */
     int matte_ranks;              /* 0: none                                                */
     float *matte;                 /* interleaved (id, coverage) ranks, owned                */
+    unsigned io_threads;          /* threads that decode and encode the EXR: the context's   */
 } frame_data;
 
 /* Opens the input and finds its channels (colour, depth or CoC); names them in result.

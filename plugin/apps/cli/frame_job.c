@@ -201,6 +201,7 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
 
     memset(result, 0, sizeof *result);
     memset(&d, 0, sizeof d);
+    d.io_threads = ddof_context_thread_count(context);
     result->stats.struct_size = sizeof result->stats;
     result->backend.struct_size = sizeof result->backend;
     (void)ddof_context_backend_info(context, &result->backend);

@@ -15,7 +15,7 @@
 /* Builds the output channel list and writes the EXR atomically. */
 static int write_output(const frame_setup *setup, const frame_paths *paths,
                         const exrio_image *image, const exrio_layout *layout, const float *out,
-                        int channels, const float *coc, frame_result *result)
+                        int channels, const float *coc, unsigned threads, frame_result *result)
 {
     static const char *const plain[4] = {"R", "G", "B", "A"};
     const cli_options *opt = setup->options;
@@ -84,6 +84,9 @@ static int write_output(const frame_setup *setup, const frame_paths *paths,
     spec.display_window = part->display_window;
     spec.pixel_aspect = part->pixel_aspect;
     spec.compression = opt->compression;
+    spec.dwa_level = opt->dwa_level;
+    spec.zip_level = opt->zip_level;
+    spec.threads = threads;
     spec.channel_count = count;
     spec.channels = list;
     spec.metadata_from = opt->keep_metadata ? image : NULL;
@@ -113,8 +116,8 @@ int frame_output_write(const frame_setup *setup, const frame_paths *paths,
     char error[2048];
     double t = cli_now();
 
-    if (write_output(setup, paths, &d->image, &d->layout, d->out, (int)channels, coc, result) !=
-        0)
+    if (write_output(setup, paths, &d->image, &d->layout, d->out, (int)channels, coc,
+                     d->io_threads, result) != 0)
         return -1;
     result->seconds_write = cli_now() - t;
     if (paths->preview[0]) {

@@ -70,16 +70,40 @@ static int apply_method(const cli_option *option, const char *value, cli_options
     return cli_option_parse_value(option, value, o);
 }
 
-/* DWAA/DWAB are EXR compressions, only not ones OpenEXR's C core can write: said so. */
+/* NAME, or NAME:LEVEL for DWAA/DWAB (OpenEXR's dwaCompressionLevel: higher is smaller and
+ * lossier; 45 when not given) and for ZIP/ZIPS (zlib's level 1 to 9; 6 when not given, the
+ * bytes of every earlier version). */
 static int apply_compression(const cli_option *option, const char *value, cli_options *o)
 {
+    const char *colon = strchr(value, ':');
     exrio_compression known;
-    if (exrio_compression_parse(value, &known) == 0 && !exrio_compression_can_encode(known)) {
-        fprintf(stderr, "ddof: %s %s: OpenEXR's C core cannot write DWAA/DWAB; use zip or "
-                "piz\n", option->name, value);
+    char name[16], *end = NULL;
+    double level;
+    int zip;
+    if (!colon)
+        return cli_option_parse_value(option, value, o);
+    snprintf(name, sizeof name, "%.*s", (int)(colon - value < 15 ? colon - value : 15), value);
+    zip = exrio_compression_parse(name, &known) == 0 &&
+          (known == EXRIO_COMPRESSION_ZIP || known == EXRIO_COMPRESSION_ZIPS);
+    if (!zip && (exrio_compression_parse(name, &known) != 0 || !exrio_compression_is_dwa(known))) {
+        fprintf(stderr, "ddof: %s %s: only zip, zips, dwaa and dwab take a level (zip:1, "
+                "dwaa:45)\n", option->name, value);
         return -1;
     }
-    return cli_option_parse_value(option, value, o);
+    level = strtod(colon + 1, &end);
+    if (end == colon + 1 || *end != '\0' ||
+        (zip ? !(level >= 1.0 && level <= 9.0 && level == floor(level))
+             : !(level > 0.0 && level <= 1e6))) {
+        fprintf(stderr, "ddof: %s %s: %s\n", option->name, value,
+                zip ? "zlib's level is a whole number from 1 (fastest) to 9 (smallest)"
+                    : "the level is a number above 0 (OpenEXR's default: 45)");
+        return -1;
+    }
+    if (zip)
+        o->zip_level = (int)level;
+    else
+        o->dwa_level = (float)level;
+    return cli_option_parse_value(option, name, o);
 }
 
 static int apply_keep(const cli_option *option, const char *value, cli_options *o)
@@ -280,7 +304,8 @@ const cli_option cli_option_table[] = {
     {"--pixel-type", OUTPUT, CHOICE(pixel_type, cli_choices_pixel_type),
      .help = "(default: that of the input colour)"},
     {"--compression", OUTPUT, CHOICE(compression, cli_choices_compression),
-     .apply = apply_compression, .setting = "compression", .help = "(default zip)"},
+     .apply = apply_compression, .setting = "compression",
+     .help = "(default zip; zip:1 is faster, dwaa and dwab take a level: dwaa:45)"},
     {"--keep-channels", OUTPUT, FLAG(keep_channels),
      .help = "also write the input's other channels, with their names"},
     {"--keep-metadata", OUTPUT, FLAG(keep_metadata), .help = "copy the input's header attributes"},

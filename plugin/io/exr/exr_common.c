@@ -34,16 +34,21 @@ int exrio_compression_parse(const char *name, exrio_compression *out)
 }
 
 /* OpenEXR 3.1's C core implements every method but DWAA/DWAB, in both directions (its
- * internal_dwa.c returns "not yet implemented in C"). */
+ * internal_dwa.c returns "not yet implemented in C"); those go through the C++ library
+ * (exr_dwa.cpp). */
 int exrio_compression_can_decode(exrio_compression compression)
 {
-    return (unsigned)compression < EXRIO_COMPRESSION_COUNT_ &&
-           compression != EXRIO_COMPRESSION_DWAA && compression != EXRIO_COMPRESSION_DWAB;
+    return (unsigned)compression < EXRIO_COMPRESSION_COUNT_;
 }
 
 int exrio_compression_can_encode(exrio_compression compression)
 {
     return exrio_compression_can_decode(compression);
+}
+
+int exrio_compression_is_dwa(exrio_compression compression)
+{
+    return compression == EXRIO_COMPRESSION_DWAA || compression == EXRIO_COMPRESSION_DWAB;
 }
 
 const char *exrio_pixel_type_name(exrio_pixel_type type)
@@ -61,41 +66,48 @@ const char *exrio_pixel_type_name(exrio_pixel_type type)
 
 /* ---- the stream ------------------------------------------------------------------------- */
 
-static void stream_error_handler(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+/* While writing, the core calls the error handler with the context's lock held, and
+ * exr_get_user_data takes that lock again: the thread would deadlock. A write context's errors
+ * therefore go to this thread's sink (set by exrio_set_error_sink around the write and in each
+ * of its worker threads). Reading takes no lock there, so a read's errors go to the context's
+ * stream, unless the thread has a sink of its own: the workers of a parallel decode do, so that
+ * two failing chunks never write one message at once. */
+static _Thread_local exrio_stream *error_sink;
+
+static void record_error(exrio_stream *stream, exr_result_t code, const char *msg)
 {
-    void *user = NULL;
-    exrio_stream *stream;
-    if (exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user)
-        return;
-    stream = user;
     stream->last_code = code;
     snprintf(stream->message, sizeof stream->message, "%s", msg ? msg : "");
 }
 
-/* While writing, the core calls the error handler with the context's lock held, and
- * exr_get_user_data takes that lock again: the thread would deadlock. A write runs from start to
- * finish inside exrio_write on one thread, so its stream is found through this thread's pointer
- * instead (set by exrio_begin_write). Reading takes no lock there, so reads keep the handler
- * above and may keep several files open at once. */
-static _Thread_local exrio_stream *writing_stream;
+static void stream_error_handler(exr_const_context_t ctxt, exr_result_t code, const char *msg)
+{
+    void *user = NULL;
+    if (error_sink) {
+        record_error(error_sink, code, msg);
+        return;
+    }
+    if (exr_get_user_data(ctxt, &user) != EXR_ERR_SUCCESS || !user)
+        return;
+    record_error(user, code, msg);
+}
 
 static void write_error_handler(exr_const_context_t ctxt, exr_result_t code, const char *msg)
 {
     (void)ctxt;
-    if (!writing_stream)
-        return;
-    writing_stream->last_code = code;
-    snprintf(writing_stream->message, sizeof writing_stream->message, "%s", msg ? msg : "");
+    if (error_sink)
+        record_error(error_sink, code, msg);
 }
 
-void exrio_begin_write(exrio_stream *stream)
+void exrio_set_error_sink(exrio_stream *sink)
 {
-    writing_stream = stream;
+    error_sink = sink;
 }
 
-void exrio_end_write(void)
+/* Where an I/O error's errno goes: the thread's sink when it has one (a worker's own record). */
+static void save_errno(exrio_stream *stream, int e)
 {
-    writing_stream = NULL;
+    (error_sink ? error_sink : stream)->saved_errno = e;
 }
 
 /* pread until `size` bytes or end of file; the core treats a short count as truncation. */
@@ -112,7 +124,7 @@ static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, u
         if (n < 0) {
             if (errno == EINTR)
                 continue;
-            stream->saved_errno = errno;
+            save_errno(stream, errno);
             return -1;
         }
         if (n == 0)
@@ -141,7 +153,7 @@ static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *bu
         if (n < 0) {
             if (errno == EINTR)
                 continue;
-            stream->saved_errno = errno;
+            save_errno(stream, errno);
             return -1;
         }
         done += (uint64_t)n;

@@ -27,9 +27,19 @@ typedef struct exrio_stream {
 /* An initializer for a context that reads or writes through `stream`, reports errors into it
  * (never to stderr), and allows any image size (ddof checks sizes itself). */
 exr_context_initializer_t exrio_stream_initializer(exrio_stream *stream, int for_write);
-/* Around a write on this thread: where the write context's error handler records errors. */
-void exrio_begin_write(exrio_stream *stream);
-void exrio_end_write(void);
+/* Where the core's errors raised on this thread are recorded, NULL to stop: the write
+ * context's handler needs it (see exr_common.c), and a thread that decodes or encodes chunks of
+ * a context shared with other threads records into its own stream rather than the shared one. */
+void exrio_set_error_sink(exrio_stream *sink);
+
+/* The most threads one file's chunks are shared among: beyond, a thread's start costs more than
+ * its share of a frame's chunks saves. */
+#define EXRIO_MAX_WORKERS 64u
+
+/* Runs work(arg, i) for i = 0 .. count-1, i > 0 on new threads and 0 on the calling thread,
+ * and waits for all. A thread that cannot be started is not run: each worker takes chunks from
+ * a shared counter, so fewer workers do the same work. */
+void exrio_run_workers(unsigned count, void (*work)(void *arg, unsigned index), void *arg);
 
 /* Formats "NAME: WHAT: core message" into error, preferring the core's own message when it
  * has one. Returns `status` so that callers can `return exrio_fail(...)`. */

@@ -2,6 +2,7 @@
 /* exr_metadata.c - carrying an input's header attributes (camera matrices, render time, frame
  * rate, artist notes, ...) over to an output, attribute by attribute through the typed setters
  * of the C core, skipping those that describe a pixel layout the output does not have. */
+#include "exr_dwa.h"
 #include "exr_internal.h"
 
 #include <stdlib.h>
@@ -9,7 +10,7 @@
 
 /* Attributes the writer owns (they describe the new file's layout), and the embedded preview
  * image, which would show the input rather than the result. */
-static int is_layout_attribute(const char *name)
+int exrio_is_layout_attribute(const char *name)
 {
     static const char *const owned[] = {
         "channels",          "compression",        "dataWindow",  "displayWindow",
@@ -136,7 +137,7 @@ exr_result_t exrio_copy_metadata(exr_context_t out, exr_const_context_t source, 
     rv = exr_get_attribute_count(source, part, &count);
     for (i = 0; rv == EXR_ERR_SUCCESS && i < count; i++) {
         rv = exr_get_attribute_by_index(source, part, EXR_ATTR_LIST_FILE_ORDER, i, &a);
-        if (rv == EXR_ERR_SUCCESS && a && !is_layout_attribute(a->name))
+        if (rv == EXR_ERR_SUCCESS && a && !exrio_is_layout_attribute(a->name))
             rv = copy_attribute(out, a);
     }
     return rv;

@@ -1,10 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* exr_read.c - reading OpenEXR files through the C core: the header (exrio_open) and then the
  * pixels of the channels asked for (exrio_load), scanline or tiled, into float/uint32 planes. */
+#include "exr_dwa.h"
 #include "exr_internal.h"
 
 #include <errno.h>
 #include <fcntl.h>
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -262,26 +264,66 @@ static exr_result_t b44_or_raw(exr_decode_pipeline_t *decoder)
     return EXR_ERR_SUCCESS;
 }
 
-/* Decodes one chunk (a block of scanlines or a tile) into the planes of the wanted channels
- * of part `p`. x0, y0: where the chunk starts, relative to the data window. */
-static exr_result_t decode_chunk(exr_context_t ctxt, exrio_image *image, int p, int first_channel,
-                                 const exr_chunk_info_t *cinfo, int32_t x0, int32_t y0,
-                                 uint8_t *scratch, exr_decode_pipeline_t *decoder,
-                                 decompress_fn_t *b44, int *initialized)
+/* What the workers decoding one part share. Chunks are numbered in file order (scanline
+ * blocks top first, or tiles row by row) and claimed one at a time; each lands in its own rows
+ * or tile of the planes, so the workers never write the same bytes. */
+typedef struct read_job {
+    exrio_image *image;
+    int p, first_channel;
+    int32_t chunk_lines;        /* scanlines per chunk, or the tile height                  */
+    int32_t tile_width;         /* tiled parts: the tile size and tiles per row             */
+    int32_t tiles_x;
+    int32_t chunks;
+    pthread_mutex_t lock;
+    int32_t next_claim;
+    int32_t failed_chunk;       /* the lowest chunk that failed; `chunks` while none         */
+    exr_result_t failed;
+    exrio_stream failure;       /* its error record                                          */
+} read_job;
+
+/* Decodes chunk `k` into the planes of the wanted channels of the part. A decoder is set up by
+ * its first chunk (*initialized) and reused for the next ones. */
+static exr_result_t decode_chunk(read_job *job, int32_t k, uint8_t *scratch,
+                                 exr_decode_pipeline_t *decoder, decompress_fn_t *b44,
+                                 int *initialized, exrio_stream *record)
 {
-    const exrio_part *part = &image->parts[p];
+    exr_context_t ctxt = job->image->source_;
+    const exrio_part *part = &job->image->parts[job->p];
     const size_t line = (size_t)part->width * 4;
+    exr_chunk_info_t cinfo;
+    int32_t x0 = 0, y0 = 0;
     exr_result_t rv;
     int c;
 
-    rv = *initialized ? exr_decoding_update(ctxt, p, cinfo, decoder)
-                      : exr_decoding_initialize(ctxt, p, cinfo, decoder);
+    if (!part->tiled) {
+        rv = exr_read_scanline_chunk_info(ctxt, job->p,
+                                          part->data_window.min_y + k * job->chunk_lines, &cinfo);
+        if (rv == EXR_ERR_SUCCESS)
+            y0 = cinfo.start_y - part->data_window.min_y;
+    } else {
+        const int32_t tx = k % job->tiles_x, ty = k / job->tiles_x;
+        rv = exr_read_tile_chunk_info(ctxt, job->p, tx, ty, 0, 0, &cinfo);
+        x0 = tx * job->tile_width;
+        y0 = ty * job->chunk_lines;
+    }
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    /* An uncompressed chunk holds exactly its pixels. OpenEXR 3.1's C core decodes a shorter one
+     * without a word, leaving its rows as they were (black). */
+    if (part->compression == EXRIO_COMPRESSION_NONE && cinfo.packed_size != cinfo.unpacked_size) {
+        snprintf(record->message, sizeof record->message,
+                 "the uncompressed chunk holds %llu bytes where its pixels take %llu",
+                 (unsigned long long)cinfo.packed_size, (unsigned long long)cinfo.unpacked_size);
+        return EXR_ERR_CORRUPT_CHUNK;
+    }
+    rv = *initialized ? exr_decoding_update(ctxt, job->p, &cinfo, decoder)
+                      : exr_decoding_initialize(ctxt, job->p, &cinfo, decoder);
     if (rv != EXR_ERR_SUCCESS)
         return rv;
     /* The pipeline lists the part's channels in header order, which is our order too. */
     for (c = 0; c < decoder->channel_count; c++) {
         exr_coding_channel_info_t *out = &decoder->channels[c];
-        const exrio_channel *ch = &image->channels[first_channel + c];
+        const exrio_channel *ch = &job->image->channels[job->first_channel + c];
         /* Channels not asked for go to a chunk-sized scratch buffer with the same strides.
          * The header says a NULL pointer skips a channel, but OpenEXRCore 3.1.5's specialised
          * unpackers (e.g. four half channels to float) write through it regardless. */
@@ -295,7 +337,7 @@ static exr_result_t decode_chunk(exr_context_t ctxt, exrio_image *image, int p, 
     }
     if (!*initialized) {
         /* Chosen once: the routine depends on the layout (strides, types), not the pointers. */
-        rv = exr_decoding_choose_default_routines(ctxt, p, decoder);
+        rv = exr_decoding_choose_default_routines(ctxt, job->p, decoder);
         if (rv != EXR_ERR_SUCCESS)
             return rv;
         *initialized = 1;
@@ -306,67 +348,109 @@ static exr_result_t decode_chunk(exr_context_t ctxt, exrio_image *image, int p, 
             decoder->decompress_fn = b44_or_raw;
         }
     }
-    return exr_decoding_run(ctxt, p, decoder);
+    return exr_decoding_run(ctxt, job->p, decoder);
 }
 
-static exrio_status load_part(exrio_image *image, int p, int first_channel, exrio_stream *stream,
-                              char *error, size_t error_size)
+static void read_worker(void *arg, unsigned index)
+{
+    read_job *job = arg;
+    const exrio_part *part = &job->image->parts[job->p];
+    exr_decode_pipeline_t decoder = EXR_DECODE_PIPELINE_INITIALIZER;
+    decompress_fn_t b44 = NULL;
+    exrio_stream record;
+    exr_result_t rv = EXR_ERR_SUCCESS;
+    int initialized = 0;
+    int32_t k = -1;
+    uint8_t *scratch = malloc((size_t)part->width * 4 * (size_t)job->chunk_lines);
+
+    (void)index;
+    memset(&record, 0, sizeof record);
+    record.fd = -1;
+    exrio_set_error_sink(&record);
+    if (!scratch)
+        rv = EXR_ERR_OUT_OF_MEMORY;
+    while (rv == EXR_ERR_SUCCESS) {
+        pthread_mutex_lock(&job->lock);
+        k = job->failed == EXR_ERR_SUCCESS && job->next_claim < job->chunks ? job->next_claim++
+                                                                           : -1;
+        pthread_mutex_unlock(&job->lock);
+        if (k < 0)
+            break;
+        rv = decode_chunk(job, k, scratch, &decoder, &b44, &initialized, &record);
+    }
+    if (initialized || decoder.channels)
+        exr_decoding_destroy(job->image->source_, &decoder);
+    free(scratch);
+    exrio_set_error_sink(NULL);
+    if (rv != EXR_ERR_SUCCESS) {
+        /* Every chunk below a claimed one was claimed before it and is decoded before its
+         * worker looks again: the lowest failure, the one reported, is the same every run. */
+        if (k < 0)
+            k = 0;
+        pthread_mutex_lock(&job->lock);
+        if (k < job->failed_chunk) {
+            job->failed_chunk = k;
+            job->failed = rv;
+            job->failure = record;
+        }
+        pthread_mutex_unlock(&job->lock);
+    }
+}
+
+static exrio_status load_part(exrio_image *image, int p, int first_channel, unsigned threads,
+                              exrio_stream *stream, char *error, size_t error_size)
 {
     exr_context_t ctxt = image->source_;
     const exrio_part *part = &image->parts[p];
-    exr_decode_pipeline_t decoder = EXR_DECODE_PIPELINE_INITIALIZER;
-    decompress_fn_t b44 = NULL;
-    exr_chunk_info_t cinfo;
+    read_job job;
     exr_result_t rv = EXR_ERR_SUCCESS;
-    int initialized = 0;
-    uint8_t *scratch = NULL;
-    int32_t chunk_lines = 0;
     char where[96];
 
+    memset(&job, 0, sizeof job);
+    job.image = image;
+    job.p = p;
+    job.first_channel = first_channel;
     where[0] = '\0';
     if (!part->tiled)
-        rv = exr_get_scanlines_per_chunk(ctxt, p, &chunk_lines);
+        rv = exr_get_scanlines_per_chunk(ctxt, p, &job.chunk_lines);
     else
-        rv = exr_get_tile_sizes(ctxt, p, 0, 0, NULL, &chunk_lines);
-    if (rv == EXR_ERR_SUCCESS && chunk_lines <= 0)
+        rv = exr_get_tile_sizes(ctxt, p, 0, 0, &job.tile_width, &job.chunk_lines);
+    if (rv == EXR_ERR_SUCCESS && (job.chunk_lines <= 0 || (part->tiled && job.tile_width <= 0)))
         rv = EXR_ERR_INVALID_ATTR;
     if (rv == EXR_ERR_SUCCESS) {
-        scratch = malloc((size_t)part->width * 4 * (size_t)chunk_lines);
-        if (!scratch)
+        const int64_t rows = ((int64_t)part->height + job.chunk_lines - 1) / job.chunk_lines;
+        job.tiles_x = part->tiled ? (int32_t)(((int64_t)part->width + job.tile_width - 1) /
+                                              job.tile_width)
+                                  : 1;
+        job.chunks = (int32_t)(rows * job.tiles_x);
+        job.failed_chunk = job.chunks;
+        if (pthread_mutex_init(&job.lock, NULL) != 0)
             rv = EXR_ERR_OUT_OF_MEMORY;
     }
-    if (rv == EXR_ERR_SUCCESS && !part->tiled) {
-        int32_t lines = chunk_lines, y;
-        for (y = part->data_window.min_y; rv == EXR_ERR_SUCCESS && y <= part->data_window.max_y;
-             y += lines) {
-            snprintf(where, sizeof where, "pixel data of scanline %d", (int)y);
-            rv = exr_read_scanline_chunk_info(ctxt, p, y, &cinfo);
-            if (rv == EXR_ERR_SUCCESS)
-                rv = decode_chunk(ctxt, image, p, first_channel, &cinfo, 0,
-                                  cinfo.start_y - part->data_window.min_y, scratch, &decoder,
-                                  &b44, &initialized);
-        }
-    } else if (rv == EXR_ERR_SUCCESS) {
-        int32_t tw = 0, th = 0, tx, ty, nx, ny;
-        rv = exr_get_tile_sizes(ctxt, p, 0, 0, &tw, &th);
-        if (rv == EXR_ERR_SUCCESS && (tw <= 0 || th <= 0))
-            rv = EXR_ERR_INVALID_ATTR;
-        nx = rv == EXR_ERR_SUCCESS ? (int32_t)((part->width + (uint32_t)tw - 1) / (uint32_t)tw) : 0;
-        ny = rv == EXR_ERR_SUCCESS ? (int32_t)((part->height + (uint32_t)th - 1) / (uint32_t)th)
-                                   : 0;
-        for (ty = 0; rv == EXR_ERR_SUCCESS && ty < ny; ty++) {
-            for (tx = 0; rv == EXR_ERR_SUCCESS && tx < nx; tx++) {
-                snprintf(where, sizeof where, "pixel data of tile (%d, %d)", (int)tx, (int)ty);
-                rv = exr_read_tile_chunk_info(ctxt, p, tx, ty, 0, 0, &cinfo);
-                if (rv == EXR_ERR_SUCCESS)
-                    rv = decode_chunk(ctxt, image, p, first_channel, &cinfo, tx * tw, ty * th,
-                                      scratch, &decoder, &b44, &initialized);
+    if (rv == EXR_ERR_SUCCESS) {
+        unsigned workers = threads > 1 ? threads : 1;
+        if (workers > EXRIO_MAX_WORKERS)
+            workers = EXRIO_MAX_WORKERS;
+        if (workers > (unsigned)job.chunks)
+            workers = (unsigned)job.chunks;
+        exrio_run_workers(workers, read_worker, &job);
+        pthread_mutex_destroy(&job.lock);
+        rv = job.failed;
+        if (rv != EXR_ERR_SUCCESS) {
+            const int32_t k = job.failed_chunk;
+            if (!part->tiled)
+                snprintf(where, sizeof where, "pixel data of scanline %d",
+                         (int)(part->data_window.min_y + k * job.chunk_lines));
+            else
+                snprintf(where, sizeof where, "pixel data of tile (%d, %d)",
+                         (int)(k % job.tiles_x), (int)(k / job.tiles_x));
+            if (stream) {
+                stream->last_code = job.failure.last_code;
+                memcpy(stream->message, job.failure.message, sizeof stream->message);
+                stream->saved_errno = job.failure.saved_errno;
             }
         }
     }
-    if (initialized || decoder.channels)
-        exr_decoding_destroy(ctxt, &decoder);
-    free(scratch);
     if (rv != EXR_ERR_SUCCESS) {
         exrio_status status = rv == EXR_ERR_OUT_OF_MEMORY               ? EXRIO_ERROR_MEMORY
                               : rv == EXR_ERR_FEATURE_NOT_IMPLEMENTED ? EXRIO_ERROR_UNSUPPORTED
@@ -391,6 +475,12 @@ static const char *part_label(const exrio_image *image, int p, char *buf, size_t
 
 exrio_status exrio_load(exrio_image *image, const unsigned char *wanted, char *error,
                         size_t error_size)
+{
+    return exrio_load_threads(image, wanted, 1, error, error_size);
+}
+
+exrio_status exrio_load_threads(exrio_image *image, const unsigned char *wanted, unsigned threads,
+                                char *error, size_t error_size)
 {
     exrio_stream *stream = NULL;
     void *user = NULL;
@@ -419,14 +509,6 @@ exrio_status exrio_load(exrio_image *image, const unsigned char *wanted, char *e
                 snprintf(error, error_size, "%s: channel %s is in %s, which holds deep data: "
                          "deep images are not supported", image->path, image->channels[c].name,
                          part_label(image, p, label, sizeof label));
-                return EXRIO_ERROR_UNSUPPORTED;
-            }
-            if (!exrio_compression_can_decode(part->compression)) {
-                snprintf(error, error_size,
-                         "%s: %s is compressed with %s, which OpenEXR's C core (OpenEXRCore 3.1) "
-                         "cannot decode; re-save it with ZIP, PIZ or no compression",
-                         image->path, part_label(image, p, label, sizeof label),
-                         part->compression == EXRIO_COMPRESSION_DWAA ? "DWAA" : "DWAB");
                 return EXRIO_ERROR_UNSUPPORTED;
             }
             if (image->channels[c].x_sampling != 1 || image->channels[c].y_sampling != 1) {
@@ -460,7 +542,20 @@ exrio_status exrio_load(exrio_image *image, const unsigned char *wanted, char *e
                 stream->saved_errno = 0;
                 stream->message[0] = '\0';
             }
-            status = load_part(image, p, first, stream, error, error_size);
+            if (exrio_compression_is_dwa(part->compression)) {
+                /* fresh is indexed from `first`: the C++ path takes one over all channels. */
+                unsigned char *fill = calloc((size_t)image->channel_count, 1);
+                if (fill) {
+                    memcpy(fill + first, fresh, (size_t)(end - first));
+                    status = exrio_dwa_load_part(image, p, fill, threads, error, error_size);
+                    free(fill);
+                } else {
+                    status = EXRIO_ERROR_MEMORY;
+                    snprintf(error, error_size, "%s: out of memory", image->path);
+                }
+            } else {
+                status = load_part(image, p, first, threads, stream, error, error_size);
+            }
         undo:
             if (status != EXRIO_OK) {
                 /* Take back what this call allocated: a failed load leaves no half-read plane

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* exr_write.c - writing one scanline part through OpenEXR's C core onto an open descriptor. */
+#include "exr_dwa.h"
 #include "exr_internal.h"
 
+#include <pthread.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -61,6 +63,8 @@ static exr_result_t define_part(exr_context_t ctxt, const exrio_write_spec *spec
                                                     : EXR_PERCEPTUALLY_LOGARITHMIC,
                              1, 1);
     }
+    if (rv == EXR_ERR_SUCCESS && spec->zip_level > 0)
+        rv = exr_set_zip_compression_level(ctxt, part, spec->zip_level);
     if (rv == EXR_ERR_SUCCESS && spec->metadata_from && spec->metadata_from->source_)
         rv = exrio_copy_metadata(ctxt, spec->metadata_from->source_, spec->metadata_part);
     return rv;
@@ -78,6 +82,29 @@ static const exrio_write_channel *spec_channel(const exrio_write_spec *spec, con
 
 typedef exr_result_t (*compress_fn_t)(exr_encode_pipeline_t *);
 
+/* What the workers of one write share. Each chunk is claimed by one worker, encoded there (the
+ * costly part: compression), and written once every chunk before it is: the file is the same,
+ * byte for byte, whatever the number of threads. */
+typedef struct write_job {
+    exr_context_t ctxt;
+    const exrio_write_spec *spec;
+    int32_t lines;              /* scanlines per chunk                                      */
+    int32_t chunks;
+    pthread_mutex_t lock;
+    pthread_cond_t written;     /* next_write moved on, or a worker failed                  */
+    int32_t next_claim;
+    int32_t next_write;
+    exr_result_t failed;        /* the first failure; EXR_ERR_SUCCESS while none            */
+    exrio_stream failure;       /* its error record                                          */
+} write_job;
+
+/* A worker's pipeline user data. */
+typedef struct encode_user {
+    write_job *job;
+    compress_fn_t deflate;      /* the core's zip routine, under deflate_or_store; or NULL   */
+    int32_t chunk;              /* the chunk being encoded                                  */
+} encode_user;
+
 /* A zip chunk whose deflated size is not below its raw size must be stored raw: readers take a
  * zip chunk of exactly the raw size as uncompressed. OpenEXR 3.1's zip encoder stores raw only
  * when deflate makes the chunk larger, so a chunk that deflates to exactly its raw size read back
@@ -85,8 +112,8 @@ typedef exr_result_t (*compress_fn_t)(exr_encode_pipeline_t *);
  * raw size that its reader decodes.) */
 static exr_result_t deflate_or_store(exr_encode_pipeline_t *encoder)
 {
-    const compress_fn_t deflate = *(const compress_fn_t *)encoder->encoding_user_data;
-    exr_result_t rv = deflate(encoder);
+    const encode_user *user = encoder->encoding_user_data;
+    exr_result_t rv = user->deflate(encoder);
     if (rv == EXR_ERR_SUCCESS && encoder->compressed_buffer != encoder->packed_buffer &&
         encoder->compressed_bytes >= encoder->packed_bytes) {
         memcpy(encoder->compressed_buffer, encoder->packed_buffer, encoder->packed_bytes);
@@ -95,60 +122,158 @@ static exr_result_t deflate_or_store(exr_encode_pipeline_t *encoder)
     return rv;
 }
 
-static exr_result_t write_pixels(exr_context_t ctxt, const exrio_write_spec *spec)
+/* The pipeline's last step: waits for the chunk's turn, writes it, and passes the turn on. The
+ * core's own step would write at once and refuse a chunk out of order. */
+static exr_result_t write_in_order(exr_encode_pipeline_t *encoder)
 {
-    exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
-    compress_fn_t deflate = NULL;
-    exr_chunk_info_t cinfo;
+    const encode_user *user = encoder->encoding_user_data;
+    write_job *job = user->job;
     exr_result_t rv;
-    int32_t lines = 0, y;
-    int initialized = 0, c;
 
-    rv = exr_get_scanlines_per_chunk(ctxt, 0, &lines);
-    if (rv == EXR_ERR_SUCCESS && lines <= 0)
-        rv = EXR_ERR_INVALID_ATTR;
-    for (y = spec->data_window.min_y; rv == EXR_ERR_SUCCESS && y <= spec->data_window.max_y;
-         y += lines) {
-        const size_t row = (size_t)(y - spec->data_window.min_y);
-        rv = exr_write_scanline_chunk_info(ctxt, 0, y, &cinfo);
-        if (rv != EXR_ERR_SUCCESS)
+    pthread_mutex_lock(&job->lock);
+    while (job->next_write != user->chunk && job->failed == EXR_ERR_SUCCESS)
+        pthread_cond_wait(&job->written, &job->lock);
+    rv = job->failed;
+    pthread_mutex_unlock(&job->lock);
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    /* Only this worker holds the turn: the write itself needs no lock of ours. */
+    rv = exr_write_scanline_chunk(job->ctxt, 0, encoder->chunk.start_y, encoder->compressed_buffer,
+                                  encoder->compressed_bytes);
+    pthread_mutex_lock(&job->lock);
+    if (rv == EXR_ERR_SUCCESS)
+        job->next_write++;
+    pthread_cond_broadcast(&job->written);
+    pthread_mutex_unlock(&job->lock);
+    return rv;
+}
+
+/* Points the encoder's channels at the caller's rows of the chunk starting at `row`. */
+static exr_result_t bind_channels(exr_encode_pipeline_t *encoder, const exrio_write_spec *spec,
+                                  size_t row)
+{
+    int c;
+    for (c = 0; c < encoder->channel_count; c++) {
+        exr_coding_channel_info_t *out = &encoder->channels[c];
+        const exrio_write_channel *ch = spec_channel(spec, out->channel_name);
+        if (!ch)
+            return EXR_ERR_INVALID_ARGUMENT;
+        out->encode_from_ptr = (const uint8_t *)ch->pixels + row * ch->line_stride;
+        out->user_pixel_stride = (int32_t)ch->pixel_stride;
+        out->user_line_stride = (int32_t)ch->line_stride;
+        out->user_bytes_per_element = 4;
+        out->user_data_type = ch->type == EXRIO_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
+    }
+    return EXR_ERR_SUCCESS;
+}
+
+static void write_worker(void *arg, unsigned index)
+{
+    write_job *job = arg;
+    const exrio_write_spec *spec = job->spec;
+    exr_encode_pipeline_t encoder = EXR_ENCODE_PIPELINE_INITIALIZER;
+    encode_user user;
+    exrio_stream record;
+    exr_chunk_info_t cinfo;
+    exr_result_t rv = EXR_ERR_SUCCESS;
+    int initialized = 0;
+
+    (void)index;
+    memset(&record, 0, sizeof record);
+    record.fd = -1;
+    record.size = -1;
+    user.job = job;
+    user.deflate = NULL;
+    user.chunk = -1;
+    exrio_set_error_sink(&record);
+    for (;;) {
+        int32_t k = -1, y;
+        pthread_mutex_lock(&job->lock);
+        if (job->failed == EXR_ERR_SUCCESS && job->next_claim < job->chunks)
+            k = job->next_claim++;
+        pthread_mutex_unlock(&job->lock);
+        if (k < 0)
             break;
-        rv = initialized ? exr_encoding_update(ctxt, 0, &cinfo, &encoder)
-                         : exr_encoding_initialize(ctxt, 0, &cinfo, &encoder);
-        if (rv != EXR_ERR_SUCCESS)
-            break;
-        for (c = 0; c < encoder.channel_count; c++) {
-            exr_coding_channel_info_t *out = &encoder.channels[c];
-            const exrio_write_channel *ch = spec_channel(spec, out->channel_name);
-            if (!ch) {
-                rv = EXR_ERR_INVALID_ARGUMENT;
-                break;
-            }
-            out->encode_from_ptr = (const uint8_t *)ch->pixels + row * ch->line_stride;
-            out->user_pixel_stride = (int32_t)ch->pixel_stride;
-            out->user_line_stride = (int32_t)ch->line_stride;
-            out->user_bytes_per_element = 4;
-            out->user_data_type = ch->type == EXRIO_UINT ? EXR_PIXEL_UINT : EXR_PIXEL_FLOAT;
-        }
-        if (rv != EXR_ERR_SUCCESS)
-            break;
-        if (!initialized) {
-            rv = exr_encoding_choose_default_routines(ctxt, 0, &encoder);
+        y = spec->data_window.min_y + k * job->lines;
+        rv = exr_write_scanline_chunk_info(job->ctxt, 0, y, &cinfo);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = initialized ? exr_encoding_update(job->ctxt, 0, &cinfo, &encoder)
+                             : exr_encoding_initialize(job->ctxt, 0, &cinfo, &encoder);
+        if (rv == EXR_ERR_SUCCESS)
+            rv = bind_channels(&encoder, spec, (size_t)(y - spec->data_window.min_y));
+        if (rv == EXR_ERR_SUCCESS && !initialized) {
+            rv = exr_encoding_choose_default_routines(job->ctxt, 0, &encoder);
             if (rv != EXR_ERR_SUCCESS)
                 break;
             initialized = 1;
+            encoder.encoding_user_data = &user;
+            encoder.yield_until_ready_fn = NULL;
+            encoder.write_fn = write_in_order;
             if (encoder.compress_fn && (spec->compression == EXRIO_COMPRESSION_ZIP ||
                                         spec->compression == EXRIO_COMPRESSION_ZIPS)) {
-                deflate = encoder.compress_fn;
-                encoder.encoding_user_data = &deflate;
+                user.deflate = encoder.compress_fn;
                 encoder.compress_fn = deflate_or_store;
             }
         }
-        rv = exr_encoding_run(ctxt, 0, &encoder);
+        if (rv != EXR_ERR_SUCCESS)
+            break;
+        user.chunk = k;
+        rv = exr_encoding_run(job->ctxt, 0, &encoder);
+        if (rv != EXR_ERR_SUCCESS)
+            break;
     }
     if (initialized || encoder.channels)
-        exr_encoding_destroy(ctxt, &encoder);
-    return rv;
+        exr_encoding_destroy(job->ctxt, &encoder);
+    exrio_set_error_sink(NULL);
+    pthread_mutex_lock(&job->lock);
+    if (rv != EXR_ERR_SUCCESS && job->failed == EXR_ERR_SUCCESS) {
+        job->failed = rv;
+        job->failure = record;
+    }
+    pthread_cond_broadcast(&job->written);
+    pthread_mutex_unlock(&job->lock);
+}
+
+static exr_result_t write_pixels(exr_context_t ctxt, const exrio_write_spec *spec,
+                                 exrio_stream *stream)
+{
+    write_job job;
+    exr_result_t rv;
+    unsigned workers;
+
+    memset(&job, 0, sizeof job);
+    job.ctxt = ctxt;
+    job.spec = spec;
+    rv = exr_get_scanlines_per_chunk(ctxt, 0, &job.lines);
+    if (rv == EXR_ERR_SUCCESS && job.lines <= 0)
+        rv = EXR_ERR_INVALID_ATTR;
+    if (rv != EXR_ERR_SUCCESS)
+        return rv;
+    job.chunks = (int32_t)(((int64_t)spec->data_window.max_y - spec->data_window.min_y +
+                            job.lines) / job.lines);
+    /* Uncompressed chunks have nothing to share out: the core packs under its context's lock. */
+    workers = spec->threads > 1 && spec->compression != EXRIO_COMPRESSION_NONE ? spec->threads : 1;
+    if (workers > EXRIO_MAX_WORKERS)
+        workers = EXRIO_MAX_WORKERS;
+    if (workers > (unsigned)job.chunks)
+        workers = (unsigned)job.chunks;
+    if (pthread_mutex_init(&job.lock, NULL) != 0)
+        return EXR_ERR_OUT_OF_MEMORY;
+    if (pthread_cond_init(&job.written, NULL) != 0) {
+        pthread_mutex_destroy(&job.lock);
+        return EXR_ERR_OUT_OF_MEMORY;
+    }
+    exrio_run_workers(workers, write_worker, &job);
+    pthread_cond_destroy(&job.written);
+    pthread_mutex_destroy(&job.lock);
+    exrio_set_error_sink(stream);
+    if (job.failed != EXR_ERR_SUCCESS) {
+        stream->last_code = job.failure.last_code;
+        memcpy(stream->message, job.failure.message, sizeof stream->message);
+        if (job.failure.saved_errno)
+            stream->saved_errno = job.failure.saved_errno;
+    }
+    return job.failed;
 }
 
 static int check_spec(const exrio_write_spec *spec, char *error, size_t error_size,
@@ -165,9 +290,17 @@ static int check_spec(const exrio_write_spec *spec, char *error, size_t error_si
         return -1;
     }
     if (!exrio_compression_can_encode(spec->compression)) {
-        snprintf(error, error_size, "%s: OpenEXR's C core (OpenEXRCore 3.1) cannot write %s "
-                 "compression; use zip, piz, zips, rle, pxr24, b44, b44a or none",
-                 name, exrio_compression_name(spec->compression));
+        snprintf(error, error_size, "%s: unknown compression %d", name, (int)spec->compression);
+        return -1;
+    }
+    if (spec->zip_level < 0 || spec->zip_level > 9) {
+        snprintf(error, error_size, "%s: zip level %d is not 1 to 9", name, spec->zip_level);
+        return -1;
+    }
+    if (exrio_compression_is_dwa(spec->compression) &&
+        !(spec->dwa_level >= 0.0f && spec->dwa_level <= 1e6f)) {
+        snprintf(error, error_size, "%s: DWA level %g is not a level", name,
+                 (double)spec->dwa_level);
         return -1;
     }
     w = (uint64_t)((int64_t)spec->data_window.max_x - spec->data_window.min_x + 1);
@@ -206,12 +339,14 @@ exrio_status exrio_write_fd(int fd, const char *name, const exrio_write_spec *sp
     }
     if (check_spec(spec, error, error_size, name) != 0)
         return EXRIO_ERROR_ARGUMENT;
+    if (exrio_compression_is_dwa(spec->compression))
+        return exrio_dwa_write_fd(fd, name, spec, error, error_size);
 
     memset(&stream, 0, sizeof stream);
     stream.fd = fd;
     stream.size = -1;
     init = exrio_stream_initializer(&stream, 1);
-    exrio_begin_write(&stream);
+    exrio_set_error_sink(&stream);
     rv = exr_start_write(&ctxt, name, EXR_WRITE_FILE_DIRECTLY, &init);
     /* Blender's own attributes (cycles.ViewLayer.synchronization_time) and layered channel
      * names pass 31 characters: allow the long names of the format (EXR version flag 0x400). */
@@ -227,7 +362,7 @@ exrio_status exrio_write_fd(int fd, const char *name, const exrio_write_spec *sp
     }
     if (rv == EXR_ERR_SUCCESS) {
         stage = "cannot write pixels";
-        rv = write_pixels(ctxt, spec);
+        rv = write_pixels(ctxt, spec, &stream);
     }
     if (ctxt) {
         /* exr_finish writes the chunk offset table: its failure is a failed write too. */
@@ -237,7 +372,7 @@ exrio_status exrio_write_fd(int fd, const char *name, const exrio_write_spec *sp
             rv = finish;
         }
     }
-    exrio_end_write();
+    exrio_set_error_sink(NULL);
     if (rv != EXR_ERR_SUCCESS)
         return exrio_fail(rv == EXR_ERR_OUT_OF_MEMORY ? EXRIO_ERROR_MEMORY : EXRIO_ERROR_WRITE,
                           &stream, error, error_size, name, stage, rv);

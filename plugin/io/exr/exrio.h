@@ -9,13 +9,16 @@
  *  - Every decoded channel is one plane of 32-bit values covering its part's data window,
  *    rows top first: float for HALF and FLOAT channels (half converts to float exactly), uint32
  *    for UINT channels (kept bit-exact so that pass-through channels such as object ids survive).
- *  - Scanline and tiled parts are read (tiled: level 0 only); deep parts, subsampled channels
- *    and DWAA/DWAB compression are reported, not guessed at: OpenEXR 3.1's C core cannot decode
- *    DWAA/DWAB.
+ *  - Scanline and tiled parts are read (tiled: level 0 only); deep parts and subsampled
+ *    channels are reported, not guessed at.
  *  - Writing makes one scanline part from caller-owned channel planes (any pixel and line
  *    stride, so an interleaved RGBA buffer is written without copying), as HALF, FLOAT or UINT,
- *    with any compression the C core can encode. It writes to an already open file descriptor:
- *    the caller owns the temporary file and its rename (see plugin/apps/cli/output_file.h).
+ *    with any compression. It writes to an already open file descriptor: the caller owns the
+ *    temporary file and its rename (see plugin/apps/cli/output_file.h).
+ *  - Chunks are compressed and decompressed on as many threads as the caller gives, through the
+ *    C core's chunk API (written in file order: the bytes do not depend on the thread count).
+ *    DWAA/DWAB, which OpenEXR 3.1's C core cannot code, go through OpenEXR's C++ library
+ *    (exr_dwa.cpp) and its thread pool.
  *  - Functions return an exrio_status and fill a one-line message; the library never prints.
  */
 #ifndef DDOF_EXRIO_H
@@ -33,7 +36,7 @@ typedef enum exrio_status {
     EXRIO_ERROR_MISSING,     /* the file does not exist (or a path component is missing)      */
     EXRIO_ERROR_ACCESS,      /* the file exists but cannot be opened or read (permissions, dir) */
     EXRIO_ERROR_NOT_EXR,     /* no OpenEXR magic number: some other kind of file                */
-    EXRIO_ERROR_UNSUPPORTED, /* valid EXR that this reader cannot decode (DWAA/DWAB, deep, ...) */
+    EXRIO_ERROR_UNSUPPORTED, /* valid EXR that this reader cannot decode (deep, subsampled)     */
     EXRIO_ERROR_CORRUPT,     /* header or pixel data damaged or truncated                       */
     EXRIO_ERROR_WRITE,       /* writing failed (disk full, I/O error)                           */
     EXRIO_ERROR_ARGUMENT,    /* the caller asked for something impossible                       */
@@ -101,9 +104,12 @@ typedef struct exrio_image {
 const char *exrio_compression_name(exrio_compression compression);
 /* Parses one of those names (case-insensitive); returns 0 or -1. */
 int exrio_compression_parse(const char *name, exrio_compression *out);
-/* 1 when the C core can decode (and, separately, encode) this compression. */
+/* 1 when exrio can decode (and, separately, encode) this compression: every one the format
+ * defines, DWAA/DWAB through OpenEXR's C++ library. */
 int exrio_compression_can_decode(exrio_compression compression);
 int exrio_compression_can_encode(exrio_compression compression);
+/* 1 for DWAA and DWAB. */
+int exrio_compression_is_dwa(exrio_compression compression);
 /* "uint", "half", "float". */
 const char *exrio_pixel_type_name(exrio_pixel_type type);
 
@@ -112,10 +118,15 @@ const char *exrio_pixel_type_name(exrio_pixel_type type);
 exrio_status exrio_open(const char *path, exrio_image *image, char *error, size_t error_size);
 
 /* Decodes the channels whose `wanted[i]` is non-zero (all when wanted is NULL). Channels that
- * are subsampled, in deep parts or compressed with DWAA/DWAB fail with EXRIO_ERROR_UNSUPPORTED;
+ * are subsampled or in deep parts fail with EXRIO_ERROR_UNSUPPORTED;
  * truncated or damaged data with EXRIO_ERROR_CORRUPT. Already loaded channels are kept. */
 exrio_status exrio_load(exrio_image *image, const unsigned char *wanted, char *error,
                         size_t error_size);
+
+/* The same, with `threads` threads decoding chunks (the caller's included; 0 and 1: the
+ * caller's only). A damaged chunk is reported as the lowest-numbered one, whatever the count. */
+exrio_status exrio_load_threads(exrio_image *image, const unsigned char *wanted, unsigned threads,
+                                char *error, size_t error_size);
 
 /* Index of the channel called `name` (in `part`, or in any part when part < 0); -1 if none. */
 int exrio_find_channel(const exrio_image *image, const char *name, int part);
@@ -145,6 +156,15 @@ typedef struct exrio_write_spec {
      * that describe the layout (channels, windows, compression, tiles, ...). */
     const exrio_image *metadata_from;
     int metadata_part;
+    /* Threads that compress chunks (the caller's included); 0 and 1: the caller's only. The
+     * file is the same byte for byte whatever the count. */
+    unsigned threads;
+    /* DWAA/DWAB only: the compression level (OpenEXR's dwaCompressionLevel); 0 means its
+     * default, 45. */
+    float dwa_level;
+    /* ZIP/ZIPS only: zlib's level, 1 (fastest) to 9 (smallest); 0 means zlib's default (6),
+     * the bytes exrio has always written. */
+    int zip_level;
 } exrio_write_spec;
 
 /* Writes one scanline part to the open, empty, seekable file `fd` (it is not closed). `name`

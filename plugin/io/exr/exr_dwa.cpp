@@ -1,0 +1,208 @@
+// SPDX-License-Identifier: MIT
+// exr_dwa.cpp - DWAA/DWAB through OpenEXR's C++ library (exr_dwa.h). Its public file API is
+// used, not its compressor classes (not installed headers): a DWA part is read with
+// MultiPartInputFile into the same float/uint32 planes as the C core path, and written with
+// OutputFile onto the caller's descriptor. Every exception stops at this file's C interface.
+#include "exr_dwa.h"
+
+// OpenEXR 3.1's headers leave parameters unused (ImfAttribute.h), which clang reports under
+// -Wextra; they are the library's, not ours.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wunused-parameter"
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfIO.h>
+#include <ImfInputPart.h>
+#include <ImfMultiPartInputFile.h>
+#include <ImfOutputFile.h>
+#include <ImfThreading.h>
+#include <ImfTiledInputPart.h>
+#include <half.h>
+#pragma GCC diagnostic pop
+
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <exception>
+#include <new>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <unistd.h>
+
+namespace {
+
+// OpenEXR's C++ files run their chunks on its global thread pool; it starts with none. It is
+// grown (never shrunk) to what a call asks for: the pool is the library's, shared by the
+// process, and a larger pool only serves calls that ask for fewer threads too.
+void want_threads(unsigned threads)
+{
+    const int n = threads > 64 ? 64 : static_cast<int>(threads);
+    if (n > 1 && Imf::globalThreadCount() < n)
+        Imf::setGlobalThreadCount(n);
+}
+
+int file_threads(unsigned threads)
+{
+    return threads > 1 ? static_cast<int>(threads > 64 ? 64 : threads) : 0;
+}
+
+// An output stream on a file descriptor, at an explicit position (pwrite): the caller owns the
+// temporary file. The errno of a failed write is kept for the message.
+class FdStream : public Imf::OStream {
+public:
+    FdStream(int fd, const char *name) : Imf::OStream(name), fd_(fd) {}
+
+    void write(const char c[], int n) override
+    {
+        int done = 0;
+        while (done < n) {
+            const ssize_t w = pwrite(fd_, c + done, static_cast<size_t>(n - done),
+                                     static_cast<off_t>(pos_ + static_cast<uint64_t>(done)));
+            if (w < 0 && errno == EINTR)
+                continue;
+            if (w <= 0) {
+                saved_errno = w < 0 ? errno : EIO;
+                throw std::runtime_error(std::strerror(saved_errno));
+            }
+            done += static_cast<int>(w);
+        }
+        pos_ += static_cast<uint64_t>(n);
+    }
+    uint64_t tellp() override { return pos_; }
+    void seekp(uint64_t pos) override { pos_ = pos; }
+
+    int saved_errno = 0;
+
+private:
+    int fd_;
+    uint64_t pos_ = 0;
+};
+
+Imath::Box2i box_of(const exrio_box &b)
+{
+    return Imath::Box2i(Imath::V2i(b.min_x, b.min_y), Imath::V2i(b.max_x, b.max_y));
+}
+
+Imf::PixelType memory_type(exrio_pixel_type type)
+{
+    return type == EXRIO_UINT ? Imf::UINT : Imf::FLOAT;
+}
+
+} // namespace
+
+extern "C" exrio_status exrio_dwa_load_part(const exrio_image *image, int part,
+                                            const unsigned char *fill, unsigned threads,
+                                            char *error, size_t error_size)
+{
+    const exrio_part &p = image->parts[part];
+    try {
+        want_threads(threads);
+        Imf::MultiPartInputFile file(image->path, file_threads(threads));
+        Imf::FrameBuffer frame;
+        const Imath::Box2i window = box_of(p.data_window);
+        const size_t line = static_cast<size_t>(p.width) * 4;
+        for (int c = 0; c < image->channel_count; c++) {
+            const exrio_channel &ch = image->channels[c];
+            if (ch.part != part || !fill[c] || !ch.pixels)
+                continue;
+            frame.insert(ch.name, Imf::Slice::Make(memory_type(ch.type), ch.pixels, window, 4,
+                                                   line));
+        }
+        if (p.tiled) {
+            Imf::TiledInputPart in(file, part);
+            in.setFrameBuffer(frame);
+            in.readTiles(0, in.numXTiles(0) - 1, 0, in.numYTiles(0) - 1, 0, 0);
+        } else {
+            Imf::InputPart in(file, part);
+            in.setFrameBuffer(frame);
+            in.readPixels(p.data_window.min_y, p.data_window.max_y);
+        }
+    } catch (const std::bad_alloc &) {
+        std::snprintf(error, error_size, "%s: out of memory decoding DWA pixel data", image->path);
+        return EXRIO_ERROR_MEMORY;
+    } catch (const std::exception &e) {
+        std::snprintf(error, error_size, "%s: damaged or truncated pixel data (DWA, read by "
+                      "OpenEXR's C++ library): %s", image->path, e.what());
+        return EXRIO_ERROR_CORRUPT;
+    }
+    return EXRIO_OK;
+}
+
+extern "C" exrio_status exrio_dwa_write_fd(int fd, const char *name, const exrio_write_spec *spec,
+                                           char *error, size_t error_size)
+{
+    FdStream out(fd, name);
+    const char *stage = "cannot define the header";
+    try {
+        Imf::Header header(box_of(spec->display_window), box_of(spec->data_window),
+                           spec->pixel_aspect > 0.0f ? spec->pixel_aspect : 1.0f,
+                           Imath::V2f(0.0f, 0.0f), 1.0f, Imf::INCREASING_Y,
+                           spec->compression == EXRIO_COMPRESSION_DWAB ? Imf::DWAB_COMPRESSION
+                                                                       : Imf::DWAA_COMPRESSION);
+        header.dwaCompressionLevel() = spec->dwa_level > 0.0f ? spec->dwa_level : 45.0f;
+        if (spec->metadata_from && spec->metadata_from->path) {
+            stage = "cannot copy the input's header attributes";
+            Imf::MultiPartInputFile source(spec->metadata_from->path);
+            const Imf::Header &from = source.header(spec->metadata_part);
+            for (Imf::Header::ConstIterator i = from.begin(); i != from.end(); ++i)
+                if (!exrio_is_layout_attribute(i.name()))
+                    header.insert(i.name(), i.attribute());
+        }
+        // As the C core path declares them: uint channels perceptually linear (ids), others
+        // not, which tells DWA to quantise colour in a perceptual space, as Blender's files do.
+        // OutputFile converts no pixel types: half channels are converted here, into planes
+        // of the data window.
+        Imf::FrameBuffer frame;
+        const Imath::Box2i window = box_of(spec->data_window);
+        const size_t width = static_cast<size_t>(window.max.x - window.min.x + 1);
+        const size_t height = static_cast<size_t>(window.max.y - window.min.y + 1);
+        std::vector<std::vector<half>> halves;
+        for (int c = 0; c < spec->channel_count; c++) {
+            const exrio_write_channel &ch = spec->channels[c];
+            const Imf::PixelType stored = ch.type == EXRIO_UINT   ? Imf::UINT
+                                          : ch.type == EXRIO_HALF ? Imf::HALF
+                                                                  : Imf::FLOAT;
+            header.channels().insert(ch.name, Imf::Channel(stored, 1, 1, ch.type == EXRIO_UINT));
+            if (stored != Imf::HALF) {
+                frame.insert(ch.name, Imf::Slice::Make(stored, ch.pixels, window,
+                                                       ch.pixel_stride, ch.line_stride));
+                continue;
+            }
+            halves.emplace_back(width * height);
+            std::vector<half> &plane = halves.back();
+            for (size_t y = 0; y < height; y++) {
+                const char *row = static_cast<const char *>(ch.pixels) + y * ch.line_stride;
+                for (size_t x = 0; x < width; x++) {
+                    float v;
+                    std::memcpy(&v, row + x * ch.pixel_stride, sizeof v);
+                    plane[y * width + x] = half(v);
+                }
+            }
+            frame.insert(ch.name, Imf::Slice::Make(Imf::HALF, plane.data(), window, sizeof(half),
+                                                   width * sizeof(half)));
+        }
+        stage = "cannot write pixels";
+        want_threads(spec->threads);
+        {
+            Imf::OutputFile file(out, header, file_threads(spec->threads));
+            file.setFrameBuffer(frame);
+            file.writePixels(spec->data_window.max_y - spec->data_window.min_y + 1);
+        }
+        // The chunk offset table is written by the file's destructor, which keeps its errors
+        // to itself: the stream's record tells.
+        stage = "cannot finish the file";
+        if (out.saved_errno)
+            throw std::runtime_error(std::strerror(out.saved_errno));
+    } catch (const std::bad_alloc &) {
+        std::snprintf(error, error_size, "%s: %s: out of memory", name, stage);
+        return EXRIO_ERROR_MEMORY;
+    } catch (const std::exception &e) {
+        std::snprintf(error, error_size, "%s: %s: %s", name, stage,
+                      out.saved_errno ? std::strerror(out.saved_errno) : e.what());
+        return EXRIO_ERROR_WRITE;
+    }
+    return EXRIO_OK;
+}
