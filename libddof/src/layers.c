@@ -399,6 +399,26 @@ static ddof_status background_level(ddof_context *context, const layers_request 
 }
 
 
+/* Away from the element's own depth edges (its CoC filled outwards is smooth) its blur is the
+ * lens's shape too (far_field.h): each point's premultiplied colour and coverage over its own
+ * disc, blended over the diffusion's result (blur->out) toward such edges, from the element
+ * before its blur (blur->color). So a blurred near object's interior and its see-through rim
+ * are the lens's, not the diffusion's blob. */
+static ddof_status gather_element(ddof_context *context, const adi_request *blur,
+                                  layers_report *report)
+{
+    const double t0 = ddof_seconds();
+    far_field_report far;
+    const ddof_status status =
+        ddof_far_field(context, blur, blur->color, blur->color_stride, 0, &far);
+    if (status != DDOF_OK)
+        return status;
+    if (far.pixels)
+        report->effects |= DDOF_EFFECT_FAR_FIELD;
+    report->seconds_far_field += ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
 static ddof_status foreground(ddof_context *context, const layers_request *q, layer_stages *st,
                               layers_report *report)
 {
@@ -479,20 +499,8 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
     blur.coc_channels = 1;
     if ((status = diffuse(context, &blur, st, report)) != DDOF_OK)
         return status;
-    /* Away from the element's own depth edges (its CoC filled outwards is smooth) its blur is
-     * the lens's shape too (far_field.h): each point's premultiplied colour and coverage over
-     * its own disc, blended over the diffusion's result toward such edges. So a blurred near
-     * object's interior and its see-through rim are the lens's, not the diffusion's blob. */
-    if (gather) {
-        const double t0 = ddof_seconds();
-        far_field_report far;
-        if ((status = ddof_far_field(context, &blur, element, (size_t)r->width * 4, 0, &far)) !=
-            DDOF_OK)
-            return status;
-        if (far.pixels)
-            report->effects |= DDOF_EFFECT_FAR_FIELD;
-        report->seconds_far_field += ddof_seconds() - t0;
-    }
+    if (gather && (status = gather_element(context, &blur, report)) != DDOF_OK)
+        return status;
     if (lights.count) {
         /* Light added to the element's colour, over whatever lies behind it; it lands where
          * the element's spread CoC reaches (|CoC| at least half the disc's: the element's
