@@ -167,6 +167,29 @@ static inline void block_texture(float *color, uint32_t w, uint32_t h, uint32_t 
     free(blocks);
 }
 
+/* The layers' call on an RGBA frame (w x h, its RGBA result in out, colour overwritten) gives
+ * the same RGB bit for bit as on its RGB channels alone, and in place the same as out of
+ * place. */
+static inline void check_rgb_and_in_place(ddof_context *ctx, const ddof_params *params,
+                                          float *color, const float *coc, const float *out,
+                                          uint32_t w, uint32_t h)
+{
+    const size_t pixels = (size_t)w * h;
+    float *rgb = alloc_f(pixels * 3), *out3 = alloc_f(pixels * 3);
+    for (size_t i = 0; i < pixels; i++)
+        memcpy(rgb + i * 3, color + i * 4, 3 * sizeof(float));
+    CHECK_EQ_INT(diffuse_layers(ctx, params, rgb, coc, NULL, out3, w, h, 3, NULL), DDOF_OK);
+    double worst = 0.0;
+    for (size_t i = 0; i < pixels; i++)
+        for (int c = 0; c < 3; c++)
+            worst = fmax(worst, fabs((double)out3[i * 3 + c] - out[i * 4 + (size_t)c]));
+    CHECK_MSG(worst == 0.0, "3 and 4 channels differ by %.3g", worst);
+    CHECK_EQ_INT(diffuse_layers(ctx, params, color, coc, NULL, color, w, h, 4, NULL), DDOF_OK);
+    CHECK(memcmp(color, out, pixels * 4 * sizeof(float)) == 0);
+    free(rgb);
+    free(out3);
+}
+
 /* ddof_diffuse of im->color with im->coc into im->out. */
 static inline ddof_status image_diffuse(ddof_context *ctx, const ddof_params *params,
                                         test_image *im, ddof_stats *stats)

@@ -420,8 +420,8 @@ def build_street(scene):
 
 def build_night_lights(scene):
     """Night: thin twigs and a wire in focus at 3 m (85 mm f/1.4) before 55 small lights at
-    12-30 m (CoC 18-20 px), many of them within a disc of the frame's edges and a few just
-    past them, over a dark wall."""
+    12-30 m (CoC 18-20 px), 30 of them within about a disc of the frame's edges (their centres
+    inside it: what lies past the frame no pinhole render shows), over a dark wall."""
     import random
     cam = dict(focal_mm=85.0, fstop=1.4, focus_m=3.0, height=1.2, pitch=0.0)
     set_world(scene, (0.004, 0.005, 0.01))
@@ -432,9 +432,9 @@ def build_night_lights(scene):
     rng = random.Random(5)
     warm = [(1.0, 0.7, 0.35), (1.0, 0.85, 0.55), (0.6, 0.8, 1.0), (1.0, 0.55, 0.3)]
     for i in range(55):
-        if i < 30:  # along the edges: within about a disc of them, a few just past
+        if i < 30:  # along the edges: within about a disc of them, inside the frame
             side = i % 4
-            t, e = rng.uniform(-1.0, 1.0), rng.uniform(0.86, 1.04)
+            t, e = rng.uniform(-0.98, 0.98), rng.uniform(0.86, 0.99)
             u, v = [(-e, t), (e, t), (t, -e), (t, e)][side]
         else:
             u, v = rng.uniform(-0.85, 0.85), rng.uniform(-0.85, 0.85)
