@@ -15,7 +15,8 @@
 #include <string.h>
 
 /* After the layers' name: the far field's gather on (ddof_params.far_field AUTO), its depth
- * slices where blurred surfaces meet (ddof_params.blurred_edges AUTO), then the silhouettes' split (ddof_params.silhouettes AUTO), then the scene's object matte for it. */
+ * slices where blurred surfaces meet (ddof_params.blurred_edges AUTO), then the silhouettes'
+ * split (ddof_params.silhouettes AUTO), then the scene's object matte for it. */
 #define FAR_FIELD_SUFFIX "+ff"
 #define BLURRED_EDGES_SUFFIX "+be"
 #define SILHOUETTES_SUFFIX "+sil"

@@ -73,9 +73,10 @@ static void pinhole(float c_disc, float c_back, float *color, float *coc)
 }
 
 /* The lens: from each pixel (2 x 2 points of it) through each point u of the aperture (a
- * 24 x 24 grid over the unit disc, 12 x 12 in the quick run), a ray meets a surface of signed CoC c at the image point
- * p + c / 2 u; it sees the disc where that point of the disc's plane is on the disc, else the
- * background. Outside the frame the surfaces go on (the lens sees past it). */
+ * 24 x 24 grid over the unit disc, 12 x 12 in the quick run), a ray meets a surface of signed
+ * CoC c at the image point p + c / 2 u; it sees the disc where that point of the disc's plane
+ * is on the disc, else the background. Outside the frame the surfaces go on (the lens sees
+ * past it). */
 static void lens_reference(double c_disc, double c_back, double *out)
 {
     enum { S = 2 };

@@ -9,9 +9,9 @@
  * behind what, and what a sharp object hides, decide the picture: the layers' diffusion stays
  * the method there.
  *
- * A depth edge is a pair of 4-neighbours whose signed CoC differs by FAR_EDGE_STEP_PX or more (as the
- * accuracy study's band counts them; 1 px lost 0.9 dB on its daylight scene, where tree crowns
- * before the sky differ by about 1-3 px across a blur of 20). A pixel takes the gather fully
+ * A depth edge is a pair of 4-neighbours whose signed CoC differs by FAR_EDGE_STEP_PX or more
+ * (as the accuracy study's band counts them; 1 px lost 0.9 dB on its daylight scene, where tree
+ * crowns before the sky differ by about 1-3 px across a blur of 20). A pixel takes the gather fully
  * when the nearest edge is beyond its own radius + 1 and no edge's reach (half the pair's larger
  * |CoC|, + 1) covers it; over RAMP_PX toward either it is mixed with the layers' result;
  * in-focus pixels keep theirs. Both distances are cone dilations (cone_dilate.h: the chamfer
@@ -159,13 +159,13 @@ ddof_status ddof_far_field(ddof_context *context, const adi_request *r, const fl
         return DDOF_OK;
     ddof_status status = DDOF_OK;
     if (layered) {
-        far_layers_report slices;
+        far_layers_report sliced;
         status = ddof_far_layers(context, r, color, color_stride, m.radius, m.layered, largest,
-                                 &slices);
+                                 &sliced);
         if (status != DDOF_OK)
             return status;
-        report->layered_pixels = slices.pixels;
-        report->slices = slices.slices;
+        report->layered_pixels = sliced.pixels;
+        report->slices = sliced.slices;
     }
     far_gather g = {.r = r, .color = color, .color_stride = color_stride, .radius = m.radius,
                     .weight = m.weight};
