@@ -18,7 +18,7 @@ static const char *file_kind(mode_t mode)
         return "a socket";
     if (S_ISCHR(mode) || S_ISBLK(mode))
         return "a device";
-    return "not a regular file";
+    return "something else";
 }
 
 /* A descriptor of the regular file at path (blocking reads restored), or -1 with error. */
@@ -31,7 +31,13 @@ static int open_regular(const char *path, const char *what, char *error, size_t 
         snprintf(error, error_size, "%s: cannot open %s: %s", path, what, strerror(errno));
         return -1;
     }
-    if (fstat(fd, &st) != 0 || !S_ISREG(st.st_mode)) {
+    if (fstat(fd, &st) != 0) {
+        snprintf(error, error_size, "%s: cannot read %s's status: %s", path, what,
+                 strerror(errno));
+        close(fd);
+        return -1;
+    }
+    if (!S_ISREG(st.st_mode)) {
         snprintf(error, error_size, "%s: the %s is %s, not a regular file", path, what,
                  file_kind(st.st_mode));
         close(fd);
