@@ -118,7 +118,11 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
         f.coc_out = (ddof_image){coc, w, h, 1, 0};
         coc_own = 1;
     } else if (where == 3 && with_matte && mfloats >= pixels) {
-        f.coc_out = (ddof_image){matte + (mfloats - pixels) * (fuzz_byte(&r) % 2u), w, h, 1, 0};
+        /* At its first or its last row's first float: inside the matte's pixels, never in the
+         * padding after its last row (which is no part of it). */
+        const size_t last = (size_t)(mh - 1) * mstride;
+        const size_t at = fuzz_byte(&r) % 2u && last + pixels <= mfloats ? last : 0;
+        f.coc_out = (ddof_image){matte + at, w, h, 1, 0};
     } else if (where == 4) {
         f.coc_out = (ddof_image){out + (pixels * ch - pixels) * (fuzz_byte(&r) % 2u), w, h, 1, 0};
     }
