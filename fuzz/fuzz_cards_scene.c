@@ -2,13 +2,16 @@
 /* fuzz_cards_scene.c - `ddof --cards`'s scene parser (plugin/apps/cli/cards_scene.c) on fuzzed
  * JSON, and ddof_render_cards on every scene it accepts: the camera's keys, the cards' corners
  * and uv, and their images among four small files written at start-up into a scratch folder
- * (an RGBA EXR, an RGB EXR, a grey PNG, and a text file that is no image).
+ * (a premultiplied RGBA EXR, an RGB EXR, a grey PNG, and a text file that is no image).
  *
  * An input holding '/' or '\' is skipped, so that an image name (escapes included) can only
  * name a file of the scratch folder. A scene is rendered when its frame has at most
  * MAX_PIXELS pixels and it has at most MAX_CARDS cards (the parser itself sees every size).
  * Checked: a known status; on an error the output is untouched and there is a message; on
- * DDOF_OK every value is finite and within the textures' range (0..1: an average of them). */
+ * DDOF_OK every value is finite and within 0..1 and no colour exceeds its alpha: cards of
+ * premultiplied texels in 0..1, averaged and composited with `over`, stay so (a texture whose
+ * colour exceeds its alpha, which premultiplied RGBA allows for light, can rightly give more
+ * than 1 where it lies under another card, so the RGBA texture here keeps colour <= alpha). */
 #include "fuzz_reader.h"
 
 #include "cards_scene.h"
@@ -40,6 +43,10 @@ static void write_exr(const char *name, uint32_t w, uint32_t h, int channels)
         abort();
     for (size_t i = 0; i < (size_t)w * h * 4; i++)
         pixels[i] = (float)((i * 7u) % 11u) / 10.0f;
+    if (channels == 4) /* premultiplied: colour = a straight colour in 0..1 times alpha */
+        for (size_t i = 0; i < (size_t)w * h; i++)
+            for (int c = 0; c < 3; c++)
+                pixels[i * 4 + c] *= pixels[i * 4 + 3];
     for (int c = 0; c < channels; c++)
         ch[c] = (exrio_write_channel){names[c], EXRIO_HALF, pixels + c, 16, (size_t)w * 16};
     memset(&spec, 0, sizeof spec);
@@ -113,8 +120,8 @@ static void check_render(const cards_scene *scene)
         abort();
     }
     for (size_t i = 0; i < floats; i++) {
-        const float v = out[i];
-        if (s != DDOF_OK ? v != -7.0f : !(v >= -0.01f && v <= 1.01f)) {
+        const float v = out[i], alpha = out[i | 3];
+        if (s != DDOF_OK ? v != -7.0f : !(v >= -0.01f && v <= 1.01f && v <= alpha + 1e-4f)) {
             fprintf(stderr, "fuzz_cards_scene: status %d (%s): value %zu is %g\n", (int)s,
                     ddof_context_last_error(ctx), i, (double)v);
             abort();
