@@ -228,7 +228,8 @@ static void call_outcome(cJSON *r, const study_options *o, const study_scene *sc
 }
 
 /* The errors of the image against the truth (the whole image, the band, the smooth far field,
- * the silhouettes, where blurred surfaces meet) and, for the diffusion, against the double-precision solve of its settings. */
+ * the silhouettes, where blurred surfaces meet, the mean brightness inside the frame and at
+ * its border) and, for the diffusion, against the double-precision solve of its settings. */
 static void add_errors(cJSON *r, ddof_context *shared, const study_scene *scene,
                        const study_config *cfg, const float *image, double *psnr, double *band,
                        double *smooth)
@@ -247,6 +248,11 @@ static void add_errors(cJSON *r, ddof_context *shared, const study_scene *scene,
     add_number_or_null(r, "psnr_blurred_edges",
                        study_psnr(image, scene->truth, pixels, scene->blurred_edges));
     add_number_or_null(r, "rmse_linear", rms);
+    double inside, border;
+    study_brightness(image, scene->truth, scene->small.width, scene->small.height, &inside,
+                     &border);
+    add_number_or_null(r, "brightness_inside", inside);
+    add_number_or_null(r, "brightness_border", border);
     if (cfg->kind != STUDY_DIFFUSION)
         return;
     char error[1100] = "";

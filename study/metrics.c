@@ -190,6 +190,24 @@ double study_psnr(const float *a, const float *b, size_t pixels, const unsigned 
     return rmse > 0.0 ? -20.0 * log10(rmse) : INFINITY;
 }
 
+void study_brightness(const float *a, const float *b, uint32_t width, uint32_t height,
+                      double *inside, double *border)
+{
+    double sum[2][2] = {{0, 0}, {0, 0}}; /* [border?][a or b] */
+    for (uint32_t y = 0; y < height; y++)
+        for (uint32_t x = 0; x < width; x++) {
+            const int edge = x < STUDY_BORDER_PX || y < STUDY_BORDER_PX ||
+                             x + STUDY_BORDER_PX >= width || y + STUDY_BORDER_PX >= height;
+            const size_t i = ((size_t)y * width + x) * 4;
+            for (int c = 0; c < 3; c++) {
+                sum[edge][0] += a[i + (size_t)c];
+                sum[edge][1] += b[i + (size_t)c];
+            }
+        }
+    *inside = sum[0][1] > 0.0 ? sum[0][0] / sum[0][1] : NAN;
+    *border = sum[1][1] > 0.0 ? sum[1][0] / sum[1][1] : NAN;
+}
+
 void study_linear_diff(const float *a, const float *b, size_t pixels, double *max_abs,
                        double *rms)
 {

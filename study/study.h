@@ -197,6 +197,13 @@ size_t study_blurred_edges(const float *coc, uint32_t width, uint32_t height,
  * definition (`ddof --compare`). mask NULL: every pixel. +inf when identical; NAN when the mask
  * is empty. Both images RGBA. */
 double study_psnr(const float *a, const float *b, size_t pixels, const unsigned char *mask);
+/* The mean brightness of `a` over the truth's `b` (linear RGB, every pixel equal), inside the
+ * frame (pixels STUDY_BORDER_PX or more from every side) and in the border band within
+ * STUDY_BORDER_PX of a side: light whose disc reaches past the frame's edge leaves the frame,
+ * so a border folded back reads too bright there. NAN where a region is empty or black. */
+#define STUDY_BORDER_PX 14u
+void study_brightness(const float *a, const float *b, uint32_t width, uint32_t height,
+                      double *inside, double *border);
 /* Linear differences over RGBA: the largest absolute and the root mean square. */
 void study_linear_diff(const float *a, const float *b, size_t pixels, double *max_abs,
                        double *rms);

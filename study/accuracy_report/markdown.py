@@ -13,9 +13,9 @@ from .results import mean, num
 from .rule import (ACCURACY_TEXT, FINAL_MARGIN_DB, FINAL_TIME_FRACTION, FRONT_MIN_GAIN_DB,
                    PRESET_LAYERS, PRESET_ORDER, PRESET_SOLVERS, PRESET_TOLERANCE_DB)
 from .presets import held_out_presets
-from .tables import (bar_table, blurred_edge_table, describe_machine, held_out_table,
-                     per_scene_rows, silhouette_table, spread, sweep_table, table_rows,
-                     time_against_node)
+from .tables import (bar_table, blurred_edge_table, brightness_table, describe_machine,
+                     held_out_table, per_scene_rows, silhouette_table, spread, sweep_table,
+                     table_rows, time_against_node)
 
 
 def write_markdown(study, chosen, front, cands, args, plots, crops):
@@ -316,6 +316,7 @@ def against_baselines_lines(study, chosen, args, rel):
     L.append("")
     L += silhouette_table(study, chosen)
     L += blurred_edge_table(study, chosen)
+    L += brightness_table(study, chosen)
     L += held_out_table(study, held_out_presets(study), chosen)
     L += time_against_node(study, chosen["default"])
     picture = os.path.join(args.images, "near_layer.png")

@@ -131,6 +131,11 @@ class Config:
                            for s in study.scene_order}
         self.blurred_edges = {s: num(per_scene.get(s, {}).get("psnr_blurred_edges"))
                               for s in study.scene_order}
+        # The mean brightness over the truth's, inside the frame and in its border band
+        # (study_brightness); results before it lack them.
+        self.brightness = {s: (num(per_scene.get(s, {}).get("brightness_inside")),
+                               num(per_scene.get(s, {}).get("brightness_border")))
+                           for s in study.scene_order}
         self.image_mean = mean([self.psnr[s] for s in blurred])
         self.band_mean = mean([self.band[s] for s in study.with_band])
         if any(math.isnan(self.psnr[s]) for s in blurred):

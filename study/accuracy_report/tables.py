@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 """The report's tables: configurations, scenes, the bar, the silhouette band, the blurred-edge
-band, the presets held out, the machine."""
+band, the mean brightness, the presets held out, the machine."""
 
 import math
 
@@ -68,6 +68,46 @@ def blurred_edge_table(study, chosen):
         L.append("| %s | %.1f%% | %s |" % (sc, share, " | ".join(
             fmt(study.by_id[cid].blurred_edges[sc]) if study.by_id[cid].per.get(sc, {}).get(
                 "available") else "–" for cid, _ in cols)))
+    L.append("")
+    return L
+
+
+BRIGHTNESS_TOLERANCE = 0.01  # issue 39: the frame's mean brightness within 1% of the truth's
+
+
+def brightness_table(study, chosen):
+    """The mean brightness over the truth's per scene, inside the frame and in its border band:
+    the presets, the pinhole and the nodes; the presets' ratios outside 1 +- 1% in bold."""
+    cols = [("pinhole", "pinhole")] + [(chosen[n].id, n) for n in PRESET_ORDER]
+    cols += [(cid, NODE_NAMES[cid].replace("Defocus node", "node")) for cid in NODE_IDS]
+    cols = [(cid, name) for cid, name in cols if cid in study.by_id]
+    scenes = [sc for sc in study.scene_order
+              if not math.isnan(study.by_id[cols[0][0]].brightness[sc][0])]
+    if not scenes:
+        return []
+    presets = {chosen[n].id for n in PRESET_ORDER}
+
+    def ratio(cid, v):
+        if math.isnan(v):
+            return "–"
+        text = "%.3f" % v
+        return "**%s**" % text if cid in presets and abs(v - 1.0) > BRIGHTNESS_TOLERANCE else text
+
+    L = ["The mean brightness (linear RGB) over the truth's, inside the frame / in the border "
+         "band within 14 px of its sides (`study_brightness` in `study/metrics.c`: light whose "
+         "disc reaches past the frame's edge leaves it, so a border folded back reads too "
+         "bright); bold: a preset more than %g%% off:" % (100 * BRIGHTNESS_TOLERANCE), "",
+         "| scene | " + " | ".join(name for _, name in cols) + " |",
+         "|---|" + "---:|" * len(cols)]
+    for sc in scenes:
+        cells = []
+        for cid, _ in cols:
+            c = study.by_id[cid]
+            if not c.per.get(sc, {}).get("available"):
+                cells.append("–")
+            else:
+                cells.append(" / ".join(ratio(cid, v) for v in c.brightness[sc]))
+        L.append("| %s | %s |" % (sc, " | ".join(cells)))
     L.append("")
     return L
 

@@ -42,6 +42,12 @@ if base and pinhole:
           (base["ref_psnr"] == "inf" or base["ref_psnr"] > 80),
           "Thomas agrees with the double-precision solve (%s dB)" % base.get("ref_psnr"))
     check(base.get("host_bytes", 0) > 0, "memory is reported")
+    # The lens moves light, it does not make it: the diffusion's mean brightness is the
+    # truth's within a few percent, inside the frame and in its border band.
+    check(all(isinstance(base.get(k), (int, float)) and abs(base[k] - 1.0) < 0.05
+              for k in ("brightness_inside", "brightness_border")),
+          "the diffusion's mean brightness is the truth's (inside %s, border %s)"
+          % (base.get("brightness_inside"), base.get("brightness_border")))
 
 # The split by the scene's object matte (matte.exr, rendered for the smoke scene too): measured,
 # an input rather than a setting (never a preset), and its id parses back.
