@@ -172,6 +172,10 @@ def measures_lines(study):
     L.append("- **Memory** (MiB): `ddof_stats.host_bytes + device_bytes` of the 1080p call "
              "(the working memory the context holds, besides the caller's images), largest over "
              "the scenes.")
+    L.append("- **Mean brightness**: the mean of linear R, G, B over the truth's, inside the "
+             "frame (pixels 14 px or more from every side) and in the border band within 14 px "
+             "of a side, where light whose disc reaches past the frame's edge must leave the "
+             "frame rather than fold back (`study_brightness`).")
     L.append("")
     return L
 
