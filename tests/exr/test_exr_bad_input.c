@@ -2,7 +2,8 @@
 /* test_exr_bad_input.c - every bad input of issue 3 at the exrio level, each with a real file:
  * missing, not an EXR (text, PNG, empty), truncated (in the header and in the pixel data), an
  * uncompressed chunk shorter than its rows,
- * a DWA header over other data, missing colour or depth channels (the message lists what is there),
+ * a DWA header over other data (and one whose attribute claims more than the file holds),
+ * missing colour or depth channels (the message lists what is there),
  * mismatched layer sizes in a multi-part file, ambiguous view layers, and a data window that
  * differs from the display window (read correctly, windows reported).
  *
@@ -196,6 +197,31 @@ static void dwa(void)
         CHECK_MSG(contains(error, name) && contains(error, "damaged or truncated pixel data (DWA"),
                   "%s", error);
         CHECK(image.channels[0].pixels == NULL);
+        exrio_close(&image);
+    }
+    /* The same DWAA header with a first attribute "type" that claims 1.76 GB: OpenEXR 3.1's
+     * C++ reader allocated that much before finding the file short (fuzz_exr_read); the claim
+     * is refused before it reads, naming the attribute. */
+    {
+        static const char claim[] = "type\0string\0\x0d\x00\x00\x69";
+        const char *name = "dwa_huge_attribute.exr";
+        char *grown = malloc(size + sizeof claim - 1), error[2048];
+        exrio_image image;
+        bytes[i + sizeof key - 1] = (char)EXRIO_COMPRESSION_DWAA;
+        if (!grown) {
+            CHECK(grown != NULL);
+            free(bytes);
+            return;
+        }
+        memcpy(grown, bytes, 8); /* magic and version, then the attribute, then the rest */
+        memcpy(grown + 8, claim, sizeof claim - 1);
+        memcpy(grown + 8 + sizeof claim - 1, bytes + 8, size - 8);
+        test_write_file(test_path(dir, name), grown, size + sizeof claim - 1);
+        free(grown);
+        CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
+        CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
+        CHECK_MSG(contains(error, name) && contains(error, "\"type\" claims 1761607693 bytes"),
+                  "%s", error);
         exrio_close(&image);
     }
     free(bytes);
