@@ -23,7 +23,7 @@ ensure_packages() {
 }
 
 # The packages every build needs.
-BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config libpng-dev libopenexr-dev zlib1g-dev libcjson-dev libgl-dev libegl-dev libegl1-mesa-dev libosmesa6-dev)
+BUILD_PACKAGES=(build-essential cmake ninja-build pkg-config libpng-dev libopenexr-dev libdeflate-dev zlib1g-dev libcjson-dev libgl-dev libegl-dev libegl1-mesa-dev libosmesa6-dev)
 
 # Tools some tests use when present (they are skipped without): OpenEXR's exrheader reads the
 # DWAA/DWAB files exrio writes (tests/exr, exr_dwa_exrheader).

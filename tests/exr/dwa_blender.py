@@ -1,14 +1,16 @@
 # SPDX-License-Identifier: MIT
 # dwa_blender.py - run by test_exr_dwa inside `blender -b`: Blender writes one image as ZIP,
-# DWAA and DWAB (its own OpenEXR code, as a render would be saved), and reads a DWAA file that
-# ddof wrote and saves what it read again as 32-bit ZIP, so that the test can compare.
+# DWAA and DWAB (its own OpenEXR code, as a render would be saved), and reads files that exrio
+# wrote (DWAA; ZIP, deflated by libdeflate) and saves what it read again as 32-bit ZIP, as
+# OURS_read_by_blender.exr beside OUT_DIR's others, so that the test can compare.
 #
-#   blender -b --factory-startup --python-exit-code 1 --python dwa_blender.py -- OUT_DIR OURS.exr
+#   blender -b --factory-startup --python-exit-code 1 --python dwa_blender.py -- OUT_DIR OURS.exr...
+import os
 import sys
 
 import bpy
 
-out_dir, ours = sys.argv[sys.argv.index("--") + 1:]
+out_dir, *ours = sys.argv[sys.argv.index("--") + 1:]
 W, H = 96, 64
 
 scene = bpy.context.scene
@@ -39,7 +41,9 @@ for codec in ("ZIP", "DWAA", "DWAB"):
     settings.exr_codec = codec
     image.save_render(f"{out_dir}/blender_{codec.lower()}.exr", scene=scene)
 
-read = bpy.data.images.load(ours)
 settings.exr_codec = "ZIP"
 settings.color_depth = "32"
-read.save_render(f"{out_dir}/ours_read_by_blender.exr", scene=scene)
+for path in ours:
+    read = bpy.data.images.load(path)
+    stem = os.path.splitext(os.path.basename(path))[0]
+    read.save_render(f"{out_dir}/{stem}_read_by_blender.exr", scene=scene)

@@ -484,7 +484,7 @@ static int case_options(void)
     CHECK(ddof(in, "-o", test_path(dir, "o.exr"), "--near-layer-threshold", "0", NULL) == 2);
     CHECK(!test_file_exists(test_path(dir, "o_0001.exr")));
     {
-        /* Issue 42: DWAA and DWAB written (with a level), and ZIP at zlib's fastest level. */
+        /* Issue 42: DWAA and DWAB written (with a level), and ZIP at the fastest level. */
         static const char *const ways[3] = {"dwaa", "dwab:60", "zip:1"};
         static const exrio_compression stored[3] = {
             EXRIO_COMPRESSION_DWAA, EXRIO_COMPRESSION_DWAB, EXRIO_COMPRESSION_ZIP};

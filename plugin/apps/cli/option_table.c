@@ -71,8 +71,8 @@ static int apply_method(const cli_option *option, const char *value, cli_options
 }
 
 /* NAME, or NAME:LEVEL for DWAA/DWAB (OpenEXR's dwaCompressionLevel: higher is smaller and
- * lossier; 45 when not given) and for ZIP/ZIPS (zlib's level 1 to 9; 6 when not given, the
- * bytes of every earlier version). */
+ * lossier; 45 when not given) and for ZIP/ZIPS (the deflate level, 1 to 9 as zlib counts; 6
+ * when not given). */
 static int apply_compression(const cli_option *option, const char *value, cli_options *o)
 {
     const char *colon = strchr(value, ':');
@@ -95,7 +95,7 @@ static int apply_compression(const cli_option *option, const char *value, cli_op
         (zip ? !(level >= 1.0 && level <= 9.0 && level == floor(level))
              : !(level > 0.0 && level <= 1e6))) {
         fprintf(stderr, "ddof: %s %s: %s\n", option->name, value,
-                zip ? "zlib's level is a whole number from 1 (fastest) to 9 (smallest)"
+                zip ? "the zip level is a whole number from 1 (fastest) to 9 (smallest)"
                     : "the level is a number above 0 (OpenEXR's default: 45)");
         return -1;
     }

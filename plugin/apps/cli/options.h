@@ -109,7 +109,7 @@ typedef struct cli_options {
     int pixel_type;               /* -1: as the input colour; else exrio_pixel_type */
     exrio_compression compression;
     float dwa_level;              /* --compression dwaa:LEVEL; 0: OpenEXR's default (45) */
-    int zip_level;                /* --compression zip:LEVEL; 0: zlib's default (6) */
+    int zip_level;                /* --compression zip:LEVEL; 0: the default (6) */
     int keep_channels;
     int keep_metadata;
     int write_coc;                /* add the CoC used as a channel */

@@ -2,6 +2,7 @@
 /* exr_write.c - writing one scanline part through OpenEXR's C core onto an open descriptor. */
 #include "exr_dwa.h"
 #include "exr_internal.h"
+#include "exr_zip.h"
 
 #include <pthread.h>
 #include <stdio.h>
@@ -80,8 +81,6 @@ static const exrio_write_channel *spec_channel(const exrio_write_spec *spec, con
     return NULL;
 }
 
-typedef exr_result_t (*compress_fn_t)(exr_encode_pipeline_t *);
-
 /* What the workers of one write share. Each chunk is claimed by one worker, encoded there (the
  * costly part: compression), and written once every chunk before it is: the file is the same,
  * byte for byte, whatever the number of threads. */
@@ -101,25 +100,28 @@ typedef struct write_job {
 /* A worker's pipeline user data. */
 typedef struct encode_user {
     write_job *job;
-    compress_fn_t deflate;      /* the core's zip routine, under deflate_or_store; or NULL   */
+    struct libdeflate_compressor *zip;  /* ZIP and ZIPS parts: this worker's compressor     */
     int32_t chunk;              /* the chunk being encoded                                  */
 } encode_user;
 
-/* A zip chunk whose deflated size is not below its raw size must be stored raw: readers take a
- * zip chunk of exactly the raw size as uncompressed. OpenEXR 3.1's zip encoder stores raw only
- * when deflate makes the chunk larger, so a chunk that deflates to exactly its raw size read back
- * as the zlib stream. (Its other encoders already store raw, or, like B44, write a layout of the
- * raw size that its reader decodes.) */
-static exr_result_t deflate_or_store(exr_encode_pipeline_t *encoder)
+static exr_result_t zip_compress(exr_encode_pipeline_t *encoder)
 {
     const encode_user *user = encoder->encoding_user_data;
-    exr_result_t rv = user->deflate(encoder);
-    if (rv == EXR_ERR_SUCCESS && encoder->compressed_buffer != encoder->packed_buffer &&
-        encoder->compressed_bytes >= encoder->packed_bytes) {
-        memcpy(encoder->compressed_buffer, encoder->packed_buffer, encoder->packed_bytes);
-        encoder->compressed_bytes = encoder->packed_bytes;
-    }
-    return rv;
+    return exrio_zip_compress(encoder, user->zip);
+}
+
+/* The encoder's buffers come from the C library's heap, through these (exrio_zip_compress
+ * grows them as the core would). */
+static void *buffer_alloc(exr_transcoding_pipeline_buffer_id_t id, size_t size)
+{
+    (void)id;
+    return malloc(size);
+}
+
+static void buffer_free(exr_transcoding_pipeline_buffer_id_t id, void *buffer)
+{
+    (void)id;
+    free(buffer);
 }
 
 /* The pipeline's last step: waits for the chunk's turn, writes it, and passes the turn on. The
@@ -183,7 +185,7 @@ static void write_worker(void *arg, unsigned index)
     record.fd = -1;
     record.size = -1;
     user.job = job;
-    user.deflate = NULL;
+    user.zip = NULL;
     user.chunk = -1;
     exrio_set_error_sink(&record);
     for (;;) {
@@ -209,10 +211,16 @@ static void write_worker(void *arg, unsigned index)
             encoder.encoding_user_data = &user;
             encoder.yield_until_ready_fn = NULL;
             encoder.write_fn = write_in_order;
+            encoder.alloc_fn = buffer_alloc;
+            encoder.free_fn = buffer_free;
             if (encoder.compress_fn && (spec->compression == EXRIO_COMPRESSION_ZIP ||
                                         spec->compression == EXRIO_COMPRESSION_ZIPS)) {
-                user.deflate = encoder.compress_fn;
-                encoder.compress_fn = deflate_or_store;
+                user.zip = exrio_zip_compressor(spec->zip_level);
+                if (!user.zip) {
+                    rv = EXR_ERR_OUT_OF_MEMORY;
+                    break;
+                }
+                encoder.compress_fn = zip_compress;
             }
         }
         if (rv != EXR_ERR_SUCCESS)
@@ -224,6 +232,8 @@ static void write_worker(void *arg, unsigned index)
     }
     if (initialized || encoder.channels)
         exr_encoding_destroy(job->ctxt, &encoder);
+    if (user.zip)
+        exrio_zip_compressor_free(user.zip);
     exrio_set_error_sink(NULL);
     pthread_mutex_lock(&job->lock);
     if (rv != EXR_ERR_SUCCESS && job->failed == EXR_ERR_SUCCESS) {

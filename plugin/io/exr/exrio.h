@@ -162,8 +162,8 @@ typedef struct exrio_write_spec {
     /* DWAA/DWAB only: the compression level (OpenEXR's dwaCompressionLevel); 0 means its
      * default, 45. */
     float dwa_level;
-    /* ZIP/ZIPS only: zlib's level, 1 (fastest) to 9 (smallest); 0 means zlib's default (6),
-     * the bytes exrio has always written. */
+    /* ZIP/ZIPS only: the deflate level, 1 (fastest) to 9 (smallest) as zlib counts them; 0
+     * means 6. libdeflate deflates (exr_zip.c). */
     int zip_level;
 } exrio_write_spec;
 
