@@ -80,6 +80,13 @@ typedef struct adi_request {
     float in_focus_px;
 } adi_request;
 
+/* The signed CoC of pixel (x, y) of a request: the one rule for reading `coc` (its first
+ * channel, its stride) and its uniform fill. */
+static inline float adi_request_coc(const adi_request *r, size_t x, size_t y)
+{
+    return r->coc ? r->coc[y * r->coc_stride + x * r->coc_channels] : r->uniform_coc;
+}
+
 typedef struct adi_report {
     uint64_t lines_solved;
     uint64_t lines_skipped;

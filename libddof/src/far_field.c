@@ -48,11 +48,6 @@ typedef struct far_maps {
     int slices; /* the layered maps are wanted */
 } far_maps;
 
-static float signed_coc(const adi_request *r, uint32_t x, uint32_t y)
-{
-    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
-}
-
 /* The radius map and the seeds of the two distance maps. */
 static void seed_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
@@ -64,14 +59,14 @@ static void seed_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < w; x++) {
             const size_t i = (size_t)y * w + x;
-            const float c = signed_coc(r, x, y), a = fabsf(c);
+            const float c = adi_request_coc(r, x, y), a = fabsf(c);
             m->radius[i] = a > 0.0f && a >= r->in_focus_px ? 0.5f * a : 0.0f;
             float reach = NO_EDGE, sharp = NO_EDGE;
             for (int k = 0; k < 4; k++) {
                 const int64_t qx = (int64_t)x + nx[k], qy = (int64_t)y + ny[k];
                 if (qx < 0 || qy < 0 || qx >= (int64_t)w || qy >= (int64_t)h)
                     continue;
-                const float q = signed_coc(r, (uint32_t)qx, (uint32_t)qy);
+                const float q = adi_request_coc(r, (uint32_t)qx, (uint32_t)qy);
                 if (fabsf(q - c) < FAR_EDGE_STEP_PX)
                     continue;
                 const float edge_reach = 0.5f * ddof_maxf(a, fabsf(q)) + 1.0f;

@@ -60,11 +60,6 @@ typedef struct slicing {
     struct far_layer_sink sink;
 } slicing;
 
-static float signed_coc(const adi_request *r, size_t x, size_t y)
-{
-    return r->coc[y * r->coc_stride + x * r->coc_channels];
-}
-
 /* Whether the pair (a, b) is an edge between two blurred surfaces (far_field.c's edges whose
  * two sides blur). */
 static int blurred_edge(float a, float b)
@@ -78,9 +73,9 @@ static size_t collect_pairs(const adi_request *r, edge_pair *pairs)
     size_t n = 0;
     for (size_t y = 0; y < r->height; y++)
         for (size_t x = 0; x < r->width; x++) {
-            const float c = signed_coc(r, x, y);
-            const float right = x + 1 < r->width ? signed_coc(r, x + 1, y) : c;
-            const float down = y + 1 < r->height ? signed_coc(r, x, y + 1) : c;
+            const float c = adi_request_coc(r, x, y);
+            const float right = x + 1 < r->width ? adi_request_coc(r, x + 1, y) : c;
+            const float down = y + 1 < r->height ? adi_request_coc(r, x, y + 1) : c;
             const float next[2] = {right, down};
             for (int k = 0; k < 2; k++)
                 if (blurred_edge(c, next[k])) {
@@ -331,7 +326,7 @@ ddof_status ddof_far_layers(ddof_context *context, const adi_request *r, const f
             const size_t i = (size_t)y * w + x;
             uint8_t k = NO_SLICE;
             if (radius[i] > 0.0f) {
-                const float c = signed_coc(r, x, y);
+                const float c = adi_request_coc(r, x, y);
                 k = 0;
                 while (k < cut_count && cuts[k] <= c)
                     k++;

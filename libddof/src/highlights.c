@@ -60,7 +60,7 @@ static float highlight_coc(const adi_request *r, uint32_t x, uint32_t y)
                 by = v;
             }
         }
-    return coc_at(r, bx, by);
+    return adi_request_coc(r, bx, by);
 }
 
 /* What drawing a disc of this CoC costs, in pixel operations: its rows, and its rim pixels
@@ -81,7 +81,7 @@ static int highlight_class(const find_job *job, const float *px, uint32_t x, uin
 {
     const float l = brightness(px);
     /* Its own CoC too: a pixel the diffusion leaves in focus is never taken from. */
-    if (!ddof_is_highlight(l, coc_at(job->r, x, y), job->threshold))
+    if (!ddof_is_highlight(l, adi_request_coc(job->r, x, y), job->threshold))
         return -1;
     *coc = highlight_coc(job->r, x, y);
     if (!(fabsf(*coc) >= DDOF_HIGHLIGHT_MIN_COC_PX))
@@ -197,7 +197,7 @@ typedef struct hidden_entry {
 
 static int is_sharp(const adi_request *r, int x, int y)
 {
-    return fabsf(coc_at(r, (uint32_t)x, (uint32_t)y)) < DDOF_HIGHLIGHT_SHARP_PX;
+    return fabsf(adi_request_coc(r, (uint32_t)x, (uint32_t)y)) < DDOF_HIGHLIGHT_SHARP_PX;
 }
 
 /* The excess and CoC of pixel (x, y) when it is a kept far highlight; 0 when it is none. */

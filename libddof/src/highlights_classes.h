@@ -9,11 +9,6 @@
 
 #include <math.h>
 
-static inline float coc_at(const adi_request *r, uint32_t x, uint32_t y)
-{
-    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
-}
-
 #define SIZE_CLASSES 20 /* octaves of |CoC| from the minimum; the last one is open */
 #define NEAR_CLASS SIZE_CLASSES
 
@@ -34,7 +29,7 @@ static inline float landing_threshold(int size)
 
 static inline int lands(const adi_request *r, int coc_signed, float threshold, uint32_t x, uint32_t y)
 {
-    const float c = coc_at(r, x, y);
+    const float c = adi_request_coc(r, x, y);
     return (coc_signed ? c : fabsf(c)) >= threshold;
 }
 

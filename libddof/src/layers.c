@@ -107,11 +107,6 @@ typedef struct pixel_job {
     float *proximity;    /* background: INSULATOR - distance to the nearest in-focus pixel */
 } pixel_job;
 
-static float coc_of(const adi_request *r, uint32_t x, uint32_t y)
-{
-    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
-}
-
 /* a = the near-field CoC D0 (|CoC| where CoC < 0, else 0). */
 static void near_map_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
@@ -120,7 +115,7 @@ static void near_map_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     const adi_request *r = &j->q->base;
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
-            const float c = coc_of(r, x, y);
+            const float c = adi_request_coc(r, x, y);
             j->a[(size_t)y * r->width + x] = c < 0.0f ? -c : 0.0f;
         }
 }
@@ -134,7 +129,7 @@ static void spread_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
             const size_t i = (size_t)y * r->width + x;
-            j->a[i] = ddof_maxf(fabsf(coc_of(r, x, y)), j->a[i]);
+            j->a[i] = ddof_maxf(fabsf(adi_request_coc(r, x, y)), j->a[i]);
         }
 }
 
@@ -151,7 +146,7 @@ static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
             const size_t i = (size_t)y * r->width + x;
-            const float c = coc_of(r, x, y);
+            const float c = adi_request_coc(r, x, y);
             j->a[i] = ddof_minf(1.0f, ddof_maxf(0.0f, (c - j->t0) * inv));
             j->capacity[i] = j->a[i] > 0.0f ? 1.0f : 0.0f;
             j->b[i] = fabsf(c);
@@ -172,7 +167,7 @@ static void insulator_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++)
             j->proximity[(size_t)y * r->width + x] =
-                fabsf(coc_of(r, x, y)) < j->t0 ? INSULATOR : 0.0f;
+                fabsf(adi_request_coc(r, x, y)) < j->t0 ? INSULATOR : 0.0f;
 }
 
 /* How much the background may replace the midground at a pixel of CoC c whose nearest

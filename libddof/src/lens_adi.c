@@ -63,12 +63,6 @@ static inline float in_focus_of(const adi_request *r)
     return r->coc ? r->in_focus_px : 0.0f;
 }
 
-static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
-{
-    return r->coc ? r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels]
-                  : r->uniform_coc;
-}
-
 /* Runs the job's component's chain of steps on the batch: y = steps(x) in acc; runs that hold
  * no heat keep x. x_im NULL: a real input. */
 static void solve_chain(const lens_job *job, lens_thread *ts, uint32_t n, const float *x_re,
@@ -126,9 +120,9 @@ DDOF_MULTIVERSION static void lens_row_batch(void *user, uint32_t batch_index,
         for (uint32_t l = 0; l < L; l++) {
             const uint32_t y = y0 + (l < lanes ? l : 0);
             for (uint32_t i = 0; i < n; i++) {
-                const float here = coc_at(r, i, y);
+                const float here = adi_request_coc(r, i, y);
                 const float b = l < lanes && i + 1 < n
-                                    ? lens_link(here, coc_at(r, i + 1, y), 1.0f, in_focus)
+                                    ? lens_link(here, adi_request_coc(r, i + 1, y), 1.0f, in_focus)
                                     : 0.0f;
                 ts->b[(size_t)i * L + l] = b;
                 active[l] |= b > 0.0f;
@@ -277,7 +271,7 @@ DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index
         for (uint32_t i = 0; i < n; i++)
             for (uint32_t l = 0; l < L; l++) {
                 const float b = l < lanes && i + 1 < n
-                                    ? lens_link(coc_at(r, x0 + l, i), coc_at(r, x0 + l, i + 1),
+                                    ? lens_link(adi_request_coc(r, x0 + l, i), adi_request_coc(r, x0 + l, i + 1),
                                                 job->aspect2, in_focus)
                                     : 0.0f;
                 ts->b[(size_t)i * L + l] = b;

@@ -63,11 +63,6 @@ typedef struct split_job {
     near_split *chunks; /* finish: one per row chunk */
 } split_job;
 
-static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
-{
-    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
-}
-
 /* The element's fringe. A pinhole render's depth is not anti-aliased: the pixels around a near
  * object hold some of its colour with the depth behind it. Where the object is much brighter
  * than what lies behind (a light: its rim holds much of its light), such a pixel C (matte 0,
@@ -92,7 +87,7 @@ static int split_fringe(const split_job *j, uint32_t x, uint32_t y)
     uint32_t fx = 0, fy = 0;
     for (uint32_t ny = y ? y - 1 : 0; ny <= y + 1 && ny < r->height; ny++)
         for (uint32_t nx = x ? x - 1 : 0; nx <= x + 1 && nx < r->width; nx++) {
-            const float nc = coc_at(r, nx, ny);
+            const float nc = adi_request_coc(r, nx, ny);
             if (ddof_near_matte(nc, j->threshold) >= 1.0f && -nc > near) {
                 near = -nc;
                 fx = nx;
@@ -129,7 +124,7 @@ static int split_fringe(const split_job *j, uint32_t x, uint32_t y)
             element[k] = e;
     }
     element[3] = a;
-    j->rest_coc[i] = coc_at(r, x, y);
+    j->rest_coc[i] = adi_request_coc(r, x, y);
     j->matte[i] = a;
     j->element_coc[i] = near;
     j->fringe[i] = 1.0f;
@@ -148,7 +143,7 @@ static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
             const size_t i = (size_t)y * r->width + x;
-            const float c = coc_at(r, x, y);
+            const float c = adi_request_coc(r, x, y);
             const float m = ddof_near_matte(c, j->threshold);
             j->fringe[i] = 0.0f;
             if (m <= 0.0f && split_fringe(j, x, y)) {
@@ -176,7 +171,7 @@ static float fetch(const split_job *j, uint32_t l, uint32_t x, uint32_t y, float
                               : r->color + (size_t)y * r->color_stride + (size_t)x * r->channels;
         for (uint32_t k = 0; k < r->channels; k++)
             v[k] = px[k];
-        v[r->channels] = coc_at(r, x, y);
+        v[r->channels] = adi_request_coc(r, x, y);
         return j->source[i];
     }
     const level *lv = &p->levels[l];
@@ -447,7 +442,7 @@ static void finish_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         float *element = j->element + (size_t)y * r->width * 4;
         for (uint32_t x = 0; x < r->width; x++) {
             const size_t i = (size_t)y * r->width + x;
-            const float c = coc_at(r, x, y);
+            const float c = adi_request_coc(r, x, y);
             const float m = j->matte[i];
             const float *px = in + (size_t)x * C;
             if (C == 4) {

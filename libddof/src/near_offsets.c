@@ -242,7 +242,7 @@ static void copy_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
                 const float *c = offsets_color_at(r, sx, sy);
                 for (uint32_t i = 0; i < C; i++)
                     sum[i] += w * c[i];
-                sum[C] += w * r->coc[(size_t)sy * r->coc_stride + (size_t)sx * r->coc_channels];
+                sum[C] += w * adi_request_coc(r, (size_t)sx, (size_t)sy);
                 total += w;
             }
             if (!(total > 0.0f))

@@ -55,9 +55,7 @@ static void solve_line_f64(uint32_t n, line_buffers *buf)
 
 static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
 {
-    if (!r->coc)
-        return r->uniform_coc;
-    float d = r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
+    const float d = adi_request_coc(r, x, y);
     return d < 0.0f ? -d : d;
 }
 

@@ -43,11 +43,6 @@ typedef struct split_job {
 
 static const int step_x[4] = {-1, 1, 0, 0}, step_y[4] = {0, 0, -1, 1};
 
-static float coc_at(const adi_request *r, int64_t x, int64_t y)
-{
-    return r->coc[(size_t)y * r->coc_stride + (size_t)x * r->coc_channels];
-}
-
 static int inside(const adi_request *r, int64_t x, int64_t y)
 {
     return x >= 0 && y >= 0 && x < (int64_t)r->width && y < (int64_t)r->height;
@@ -129,12 +124,12 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
     const int64_t dx = step_x[dir], dy = step_y[dir];
     int64_t ox = px - dx, oy = py - dy;
     const int64_t bx = px + 2 * dx, by = py + 2 * dy;
-    if (!(inside(r, ox, oy) && is_sharp(r, coc_at(r, ox, oy)))) {
+    if (!(inside(r, ox, oy) && is_sharp(r, adi_request_coc(r, ox, oy)))) {
         ox = px;
         oy = py;
     }
     int64_t bgx = px + dx, bgy = py + dy;
-    if (inside(r, bx, by) && is_blurred_behind(coc_at(r, bx, by))) {
+    if (inside(r, bx, by) && is_blurred_behind(adi_request_coc(r, bx, by))) {
         bgx = bx;
         bgy = by;
     }
@@ -186,7 +181,7 @@ static int blurred_shares(const split_job *job, int64_t x, int64_t y, shares *s)
     for (int dir = 0; dir < 4; dir++) {
         const int64_t px = x - step_x[dir], py = y - step_y[dir];
         float object[3], background[3], a;
-        if (!inside(r, px, py) || !is_sharp(r, coc_at(r, px, py)) ||
+        if (!inside(r, px, py) || !is_sharp(r, adi_request_coc(r, px, py)) ||
             !pair_colors(job, px, py, dir, x, y, object, background, &a))
             continue;
         s->a += a;
@@ -226,7 +221,7 @@ static int sharp_side(const split_job *job, int64_t x, int64_t y, float delta[3]
     for (int dir = 0; dir < 4; dir++) {
         const int64_t qx = x + step_x[dir], qy = y + step_y[dir];
         float object[3], background[3], a;
-        if (!inside(r, qx, qy) || !is_blurred_behind(coc_at(r, qx, qy)) ||
+        if (!inside(r, qx, qy) || !is_blurred_behind(adi_request_coc(r, qx, qy)) ||
             !pair_colors(job, x, y, dir, x, y, object, background, &a))
             continue;
         const float *blurred = out_at(r, qx, qy);
@@ -247,7 +242,7 @@ static void delta_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
             float *delta = job->delta + ((size_t)y * r->width + x) * 3;
-            const float c = coc_at(r, x, y);
+            const float c = adi_request_coc(r, x, y);
             int pairs = 0;
             if (is_blurred_behind(c))
                 pairs = blurred_side(job, x, y, delta);
@@ -289,7 +284,7 @@ static void clean_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         memcpy(out, in, (size_t)r->width * r->channels * sizeof(float));
         for (uint32_t x = 0; x < r->width; x++) {
             shares s;
-            if (!is_blurred_behind(coc_at(r, x, y)) || !blurred_shares(job, x, y, &s))
+            if (!is_blurred_behind(adi_request_coc(r, x, y)) || !blurred_shares(job, x, y, &s))
                 continue;
             for (int c = 0; c < 3; c++)
                 out[(size_t)x * r->channels + (size_t)c] +=
@@ -308,11 +303,11 @@ static void pair_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     uint64_t pairs = 0;
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
-            if (!is_blurred_behind(coc_at(r, x, y)))
+            if (!is_blurred_behind(adi_request_coc(r, x, y)))
                 continue;
             for (int dir = 0; dir < 4; dir++) {
                 const int64_t px = (int64_t)x - step_x[dir], py = (int64_t)y - step_y[dir];
-                if (inside(r, px, py) && is_sharp(r, coc_at(r, px, py))) {
+                if (inside(r, px, py) && is_sharp(r, adi_request_coc(r, px, py))) {
                     pairs++;
                     break;
                 }
