@@ -100,6 +100,7 @@ case "$mode" in
     cmake --build build/fuzz -j "$jobs" --target fuzz_exr_read fuzz_camera_json fuzz_options \
         fuzz_library fuzz_cards_scene fuzz_matte
     found=0
+    failed=()
     for name in exr_read camera_json options library cards_scene matte; do
         # New inputs go to a scratch corpus in the build tree; the committed one is read only.
         work=build/fuzz/work/$name
@@ -112,8 +113,18 @@ case "$mode" in
             echo "fuzz_$name: finding in build/fuzz/findings (copy it into fuzz/corpus/$name" \
                 "once fixed: it then replays as a test)" >&2
             found=1
+            failed+=("$name")
         fi
     done
+    # Last, where a log's tail shows it: which targets found something, and the inputs.
+    if [ "$found" -ne 0 ]; then
+        echo "fuzz: findings by ${failed[*]}" >&2
+        for f in build/fuzz/findings/*; do
+            [ -f "$f" ] || continue
+            echo "== $f ($(wc -c <"$f") bytes), first 512 as hex:" >&2
+            head -c 512 "$f" | od -A d -t x1 >&2
+        done
+    fi
     [ "$found" -eq 0 ]
     ;;
 *)
