@@ -12,7 +12,7 @@ from objects import box, monkey, plane, rod, set_world, sphere, strand, wall
 
 SCENE_NAMES = ["thin_bars", "thin_strands", "near_occluder", "receding_plane", "highlights",
                "all_sharp", "near_railing", "near_border", "daylight", "park",
-               "street", "night_lights"]
+               "street", "night_lights", "orchard", "fence"]
 
 # Truth samples per scene at the default size: chosen so that two truth renders with
 # different seeds are >= 40 dB apart (README.md, "Noise floor").
@@ -29,6 +29,8 @@ TRUTH_SAMPLES = {
     "park": 2048,
     "street": 2048,
     "night_lights": 4096,  # its noise floor not measured yet (the highlights': 45.5 dB at 4096)
+    "orchard": 2048,
+    "fence": 1024,
 }
 
 
@@ -452,6 +454,89 @@ def build_night_lights(scene):
     return cam, []
 
 
+def build_orchard(scene):
+    """Foliage of a second kind, so that a preset chosen without park is judged on the same
+    class: a lamp post in focus at 2.2 m (70 mm f/1.8, level), a near row of crowns at 7-10 m
+    (CoC 11-13 px) overlapping a far row at 22-30 m (15 px) of another green, and the sky
+    (16.5 px) between: crown against crown as well as crown against sky."""
+    import random
+    cam = dict(focal_mm=70.0, fstop=1.8, focus_m=2.2, height=1.2, pitch=0.0)
+    bark, leaves = _park(scene)
+    far_leaves = unlit("FarLeaves", multiply(
+        ramp("ShaderNodeTexNoise", [(0.15, 0.2, 0.05), (0.4, 0.45, 0.1), (0.6, 0.55, 0.2)],
+             2.5, detail=3.0),
+        ramp("ShaderNodeTexVoronoi", [(0.6, 0.6, 0.5), (1.0, 1.0, 1.0)], 4.0)),
+        ambient=0.6, key=0.6)
+    rng = random.Random(23)
+    rows = [(leaves, [(-0.8, 7.0), (-0.2, 9.0), (0.35, 8.0), (0.95, 10.0)]),
+            (far_leaves, [(-0.95, 24.0), (-0.55, 28.0), (-0.05, 22.0), (0.2, 30.0),
+                          (0.6, 26.0), (0.85, 23.0)])]
+    for k, (mat, trees) in enumerate(rows):
+        for i, (u, y) in enumerate(trees):
+            half_w = y * SENSOR_MM / 2.0 / cam["focal_mm"]
+            half_h = half_w * 9.0 / 16.0
+            x = u * half_w
+            lobes = []
+            for j in range(rng.choice((2, 3))):
+                r = y * rng.uniform(0.035, 0.06)
+                c = (x + rng.uniform(-1.2, 1.2) * r, y + rng.uniform(-0.3, 0.3) * r,
+                     cam["height"] + half_h * rng.uniform(0.25, 0.75))
+                sphere("Crown%d_%d_%d" % (k, i, j), mat, c, r, segments=32, rings=16)
+                lobes.append(c)
+            low = min(c[2] for c in lobes)
+            rod("Trunk%d_%d" % (k, i), bark, (x, y, 0.0), (x, y, low), y * 0.01, vertices=16)
+    lamp = unlit("Lamp", (0.12, 0.13, 0.14))
+    y = cam["focus_m"]
+    rod("LampPost", lamp, (0.12, y + 0.025, 0.0), (0.12, y + 0.025, 1.25), 0.025)
+    glass = unlit("LampGlass", checker((0.95, 0.9, 0.7, 1), (0.2, 0.2, 0.2, 1), 60.0))
+    box("LampHead", glass, (0.12, y + 0.05, 1.31), (0.1, 0.1, 0.12), 20.0)
+    return cam, []
+
+
+def build_fence(scene):
+    """Thin sharp insulators of a second kind, so that a preset chosen without thin_bars is
+    judged on the same class: a picket fence in focus at 1.8 m (50 mm f/1.2, level, 1 m up):
+    pickets 2-7 px wide, two rails, a slanted brace and a patch of wire mesh (0.6 px wires),
+    before a receding paved ground (from 5 m: CoC 10 px), a brick facade at 15 m (14 px)
+    with windows and the sky above its roofline (15.4 px)."""
+    cam = dict(focal_mm=50.0, fstop=1.2, focus_m=1.8, height=1.0, pitch=0.0)
+    set_world(scene, (0.55, 0.68, 0.9))
+    paving = unlit("Paving", multiply(
+        texture("ShaderNodeTexBrick", [(0.6, 0.55, 0.45, 1), (0.4, 0.36, 0.3, 1)], 1.0,
+                bricks(0.4, 0.2, 0.02, (0.15, 0.14, 0.12, 1.0))),
+        ramp("ShaderNodeTexNoise", [(0.7, 0.7, 0.7), (1.0, 1.0, 1.0)], 3.0)))
+    plane("Ground", paving, (60.0, 200.0), (0.0, 100.0, 0.0))
+    facade = unlit("Facade", multiply(
+        texture("ShaderNodeTexBrick", [(0.8, 0.4, 0.25, 1), (0.65, 0.3, 0.2, 1)], 1.0,
+                bricks(0.5, 0.18, 0.03, (0.85, 0.8, 0.7, 1.0))),
+        checker((1.0, 1.0, 1.0, 1), (0.15, 0.2, 0.3, 1), 0.35), 0.7), ambient=0.7, key=0.4)
+    wall("Facade", facade, (40.0, 3.6), 15.0, 1.8)
+    y = cam["focus_m"]
+    white = unlit("PaintWhite", (0.92, 0.92, 0.9))
+    green = unlit("PaintGreen", (0.08, 0.25, 0.12))
+    wood = unlit("Wood", ramp("ShaderNodeTexWave", [(0.3, 0.22, 0.14), (0.55, 0.42, 0.28)],
+                              30.0))
+    steel = unlit("Steel", (0.65, 0.67, 0.7))
+    # Pickets (x, radius: 2.7 mm is 2 px at 1.8 m, 9.5 mm 7 px), left of the mesh.
+    for i, (x, r, mat) in enumerate([(-0.62, 0.004, white), (-0.54, 0.0027, green),
+                                     (-0.45, 0.0095, wood), (-0.37, 0.005, white),
+                                     (-0.28, 0.003, green), (-0.2, 0.007, wood),
+                                     (-0.12, 0.0035, white), (-0.05, 0.0027, green)]):
+        rod("Picket%d" % i, mat, (x, y + r, 0.3), (x, y + r, 1.7), r, vertices=16)
+    rod("RailTop", wood, (-0.7, y + 0.012, 1.22), (0.02, y + 0.012, 1.22), 0.006)
+    rod("RailLow", wood, (-0.7, y + 0.012, 0.8), (0.02, y + 0.012, 0.8), 0.006)
+    rod("Brace", green, (-0.62, y + 0.02, 0.8), (-0.05, y + 0.02, 1.22), 0.003)
+    # Wire mesh on the right (pitch 2.5 cm, 0.8 mm wires: 0.6 px), its frame 4 px.
+    for i in range(17):
+        x = 0.1 + 0.025 * i
+        rod("MeshV%d" % i, steel, (x, y, 0.7), (x, y, 1.3), 0.0008, vertices=8)
+    for i in range(25):
+        z = 0.7 + 0.025 * i
+        rod("MeshH%d" % i, steel, (0.1, y, z), (0.5, y, z), 0.0008, vertices=8)
+    rod("MeshPost", green, (0.52, y + 0.006, 0.3), (0.52, y + 0.006, 1.7), 0.006)
+    return cam, []
+
+
 BUILDERS = {
     "thin_bars": build_thin_bars,
     "thin_strands": build_thin_strands,
@@ -465,4 +550,6 @@ BUILDERS = {
     "park": build_park,
     "street": build_street,
     "night_lights": build_night_lights,
+    "orchard": build_orchard,
+    "fence": build_fence,
 }
