@@ -271,8 +271,9 @@ DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index
         for (uint32_t i = 0; i < n; i++)
             for (uint32_t l = 0; l < L; l++) {
                 const float b = l < lanes && i + 1 < n
-                                    ? lens_link(adi_request_coc(r, x0 + l, i), adi_request_coc(r, x0 + l, i + 1),
-                                                job->aspect2, in_focus)
+                                    ? lens_link(adi_request_coc(r, x0 + l, i),
+                                                adi_request_coc(r, x0 + l, i + 1), job->aspect2,
+                                                in_focus)
                                     : 0.0f;
                 ts->b[(size_t)i * L + l] = b;
                 active[l] |= b > 0.0f;
