@@ -9,6 +9,7 @@
  *   test_option_table SCRATCH_DIR */
 #include "exr_test_util.h"
 #include "option_table.h"
+#include "options.h"
 
 #include <fcntl.h>
 #include <stdio.h>

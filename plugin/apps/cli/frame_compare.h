@@ -4,7 +4,7 @@
 #ifndef DDOF_CLI_FRAME_COMPARE_H
 #define DDOF_CLI_FRAME_COMPARE_H
 
-#include "frame_job.h"
+#include "frame.h"
 #include "exrio.h"
 
 /* Reads paths->compare (same data window as `part`) and fills result's errors and compared.

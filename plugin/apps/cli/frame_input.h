@@ -7,7 +7,7 @@
 
 #include "exrio.h"
 #include "exrio_layout.h"
-#include "frame_job.h"
+#include "frame.h"
 
 #include <stddef.h>
 

@@ -8,19 +8,8 @@
 #include "frame_output.h"
 #include "path_safety.h"
 
-#include <stdarg.h>
 #include <stdio.h>
 #include <string.h>
-
-int frame_fail(frame_result *result, const char *format, ...)
-{
-    va_list args;
-    va_start(args, format);
-    vsnprintf(result->error, sizeof result->error, format, args);
-    va_end(args);
-    result->ok = 0;
-    return -1;
-}
 
 typedef struct progress_link {
     progress *bar;

@@ -4,7 +4,7 @@
 #ifndef DDOF_CLI_FRAME_PATHS_H
 #define DDOF_CLI_FRAME_PATHS_H
 
-#include "frame_job.h"
+#include "frame.h"
 #include "options.h"
 
 /* `pattern` for `frame` (-1: the path as given) into out (PATH_MAX); NULL gives "". Says on

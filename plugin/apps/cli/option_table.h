@@ -7,7 +7,7 @@
 #define DDOF_CLI_OPTION_TABLE_H
 
 #include "choices.h"
-#include "options.h"
+#include "cli_options.h"
 
 #include <stddef.h>
 #include <stdint.h>

@@ -8,7 +8,7 @@
 #ifndef DDOF_CLI_PATH_SAFETY_H
 #define DDOF_CLI_PATH_SAFETY_H
 
-#include "frame_job.h"
+#include "frame.h"
 #include "options.h"
 
 #include <stddef.h>

@@ -4,7 +4,7 @@
 #ifndef DDOF_CLI_REPORT_H
 #define DDOF_CLI_REPORT_H
 
-#include "frame_job.h"
+#include "frame.h"
 #include "options.h"
 #include "sequence.h"
 

@@ -5,7 +5,7 @@
 #ifndef DDOF_CLI_STATS_JSON_H
 #define DDOF_CLI_STATS_JSON_H
 
-#include "frame_job.h"
+#include "frame.h"
 
 #include <stddef.h>
 

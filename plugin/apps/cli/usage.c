@@ -2,6 +2,7 @@
 /* usage.c - `ddof --help`: the prose around the options, and the options themselves as the
  * table (option_table.c) describes them. */
 #include "option_table.h"
+#include "options.h"
 
 #include <stdio.h>
 #include <string.h>
