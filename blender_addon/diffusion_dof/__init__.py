@@ -16,7 +16,8 @@ bl_info = {
 if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency order
     import importlib
     for _name in ("errors", "ddof_abi", "binding", "compat", "frame_region", "focus_map",
-                  "overscan", "settings", "camera", "passes", "composite", "report", "images",
+                  "overscan", "scene_settings", "managed", "camera", "object_matte",
+                  "composite", "passes", "settings", "report", "images",
                   "frame_file", "overscan_render", "library_call", "escape_watch",
                   "frame_inputs", "frame_output", "frame_steps", "jobs", "render", "ops",
                   "cards", "ui"):
@@ -26,7 +27,8 @@ if "bpy" in locals():  # "Reload Scripts": pick up edited modules in dependency 
 import bpy  # noqa: E402
 
 from . import errors, ddof_abi, binding, compat, frame_region, focus_map  # noqa: E402,F401
-from . import overscan, settings, camera, passes, composite, report, images  # noqa: E402,F401
+from . import overscan, scene_settings, managed, camera, object_matte  # noqa: E402,F401
+from . import composite, passes, settings, report, images  # noqa: E402,F401
 from . import frame_file, overscan_render, library_call, escape_watch  # noqa: E402,F401
 from . import frame_inputs, frame_output, frame_steps, jobs  # noqa: E402,F401
 from . import render, ops, cards, ui  # noqa: E402,F401

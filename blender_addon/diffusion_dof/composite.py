@@ -23,7 +23,7 @@ import zlib
 
 import bpy
 
-from . import compat, passes
+from . import compat, managed
 from .errors import SetupError
 
 COPY_KEY = "diffusion_dof_compositing_copy"  # on the copy (and its 5.x node group): the scene
@@ -42,7 +42,7 @@ def is_copy(scene):
 
 
 def _user_render_layers(tree):
-    return [n for n in tree.nodes if n.bl_idname == RLAYERS and n.name not in passes.MANAGED_NODES]
+    return [n for n in tree.nodes if n.bl_idname == RLAYERS and n.name not in managed.MANAGED_NODES]
 
 
 def _is_dof_layer(node, scene, layer_name, copy=None):
@@ -64,7 +64,7 @@ def _hands_on_render(tree, scene, layer_name):
         return False
     if compat.is_render_input(source):
         return link.from_socket == source.outputs[0]
-    return (source.bl_idname == RLAYERS and source.name not in passes.MANAGED_NODES
+    return (source.bl_idname == RLAYERS and source.name not in managed.MANAGED_NODES
             and link.from_socket.name == "Image" and _is_dof_layer(source, scene, layer_name))
 
 
@@ -73,7 +73,7 @@ def has_compositing(scene, settings):
     view layer's Image (anything between it and the output, another view layer, ...)."""
     if not scene.render.use_compositing:
         return False
-    layer = passes.render_view_layer(scene, settings).name
+    layer = managed.render_view_layer(scene, settings).name
     return not all(_hands_on_render(tree, scene, layer)
                    for tree in compat.compositing_trees(scene))
 
@@ -95,7 +95,7 @@ def pass_slots(scene, settings):
     managed File Output node writes for it. Empty without compositing."""
     if not has_compositing(scene, settings):
         return []
-    layer = passes.render_view_layer(scene, settings).name
+    layer = managed.render_view_layer(scene, settings).name
     slots = {}
     for node in [n for tree in compat.compositing_trees(scene) for n in _user_render_layers(tree)]:
         if node.mute:
@@ -210,7 +210,7 @@ def _effect_chain(trees, scene):
 def _prepare(tree, scene, layer, copy, images):
     """The user's tree (a copy) made to read the images: without the managed nodes, every
     Render Layers node replaced."""
-    for name in passes.MANAGED_NODES:
+    for name in managed.MANAGED_NODES:
         node = tree.nodes.get(name)
         if node is not None:
             tree.nodes.remove(node)
@@ -225,7 +225,7 @@ def _make_copy(scene, settings, images):
         if key != COPY_KEY:
             del copy[key]  # e.g. the overscan's restore record: the user's scene's alone
     copy.name = "DDOF Compositing: " + scene.name
-    layer = passes.render_view_layer(scene, settings).name
+    layer = managed.render_view_layer(scene, settings).name
     try:
         if compat.NODE_GROUP_COMPOSITOR:
             trees = compat.compositing_trees(scene)
@@ -291,7 +291,7 @@ def run(scene, settings, frame, images, width, height):
     if "FINISHED" not in result or rendered is None:
         raise SetupError("your compositing did not run on the depth-of-field image (%s)"
                          % ", ".join(sorted(result)))
-    path = os.path.join(passes.temp_dir(scene), "composited_%d.exr" % frame)
+    path = os.path.join(managed.temp_dir(scene), "composited_%d.exr" % frame)
     try:
         rendered.save_render(path, scene=copy)
     except RuntimeError as err:

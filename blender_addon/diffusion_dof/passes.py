@@ -12,26 +12,18 @@ that renders just that collection with a transparent film.
 """
 
 import os
-import re
 import traceback
-import zlib
 
 import bpy
 
-from . import compat, object_matte
-from . import settings as settings_mod
+from . import compat, composite, object_matte, scene_settings
+from . import camera as camera_mod
 from .errors import SetupError
-
-FRAME_NODE = "DDOF Frame"
-RLAYERS_NODE = "DDOF Render Layers"
-FG_RLAYERS_NODE = "DDOF Foreground Render Layers"
-OUTPUT_NODE = "DDOF Passes"
-FG_OUTPUT_NODE = "DDOF Foreground Passes"
-# The object matte's own File Output node: its slots are not the main node's, so they are never
-# taken for passes the user's compositing reads (extra_slots).
-MATTE_OUTPUT_NODE = "DDOF Matte Passes"
-MANAGED_NODES = (OUTPUT_NODE, FG_OUTPUT_NODE, MATTE_OUTPUT_NODE, RLAYERS_NODE, FG_RLAYERS_NODE,
-                 FRAME_NODE)
+# The managed nodes' names and folders live in managed.py (composite.py reads them too); they are
+# this module's vocabulary, so they are named here as well.
+from .managed import (FG_OUTPUT_NODE, FG_RLAYERS_NODE, FRAME_NODE,  # noqa: F401
+                      MANAGED_NODES, MATTE_OUTPUT_NODE, OUTPUT_NODE, RLAYERS_NODE,
+                      render_view_layer, temp_dir)
 
 SLOT_COLOR = "color_"
 SLOT_DEPTH = "depth_"
@@ -46,15 +38,6 @@ OWNER_KEY = "diffusion_dof_owner"
 
 # ---------------------------------------------------------------------------------------------
 # Paths
-
-
-def temp_dir(scene):
-    """The folder the managed File Output node writes into: inside this Blender session's own
-    temporary folder (removed when Blender quits), one sub-folder per scene."""
-    base = bpy.app.tempdir or os.path.join(os.path.abspath(os.sep), "tmp")
-    safe = re.sub(r"[^A-Za-z0-9_.-]", "_", scene.name)
-    tag = zlib.crc32(scene.name.encode("utf-8")) & 0xffffff
-    return os.path.join(base, "diffusion_dof", "%s_%06x" % (safe, tag))
 
 
 def frame_files(scene, frame, foreground=False, extra=(), matte=()):
@@ -111,21 +94,6 @@ def node_tree(scene):
     return compat.compositor_tree(scene)
 
 
-def render_view_layer(scene, settings):
-    """The view layer whose passes get depth of field."""
-    if settings.view_layer:
-        layer = scene.view_layers.get(settings.view_layer)
-        if layer is None:
-            raise SetupError("View layer '%s' (Diffusion DOF > Expert > View Layer) does not "
-                             "exist in scene '%s'." % (settings.view_layer, scene.name))
-        return layer
-    for layer in scene.view_layers:
-        if layer.use:
-            return layer
-    raise SetupError("Scene '%s' has no view layer that renders (View Layer properties > "
-                     "Use for Rendering)." % scene.name)
-
-
 def _find_layer_collection(layer_collection, collection):
     if layer_collection.collection == collection:
         return layer_collection
@@ -151,8 +119,7 @@ def companion_scene(scene):
 def diagnose(scene):
     """[(level, text)] of what stops or degrades depth of field now: level 'ERROR' or 'WARNING'.
     Never raises."""
-    from . import camera as camera_mod
-    settings = settings_mod.get(scene)
+    settings = scene_settings.get(scene)
     problems = []
     if settings is None:
         return problems
@@ -263,7 +230,7 @@ def ensure_setup(scene):
 
 
 def _ensure_setup(scene):
-    settings = settings_mod.get(scene)
+    settings = scene_settings.get(scene)
     changes = []
     tree = node_tree(scene)
     layer = render_view_layer(scene, settings)
@@ -403,7 +370,6 @@ def _slot_paths(slots):
 def _main_slots(scene, settings):
     """(slots, socket kinds, [(node, socket)] of the extra passes) of the main File Output node:
     Combined and Depth, then the passes the user's compositing reads (composite.pass_slots)."""
-    from . import composite  # composite imports this module
     extra = composite.pass_slots(scene, settings)
     return ((SLOT_COLOR, SLOT_DEPTH) + tuple(e[0] for e in extra),
             ("RGBA", "FLOAT") + tuple(e[3] for e in extra), [(e[1], e[2]) for e in extra])

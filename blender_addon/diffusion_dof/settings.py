@@ -5,7 +5,8 @@ import bpy
 from bpy.props import (BoolProperty, EnumProperty, FloatProperty, IntProperty, PointerProperty,
                        StringProperty)
 
-from . import binding
+from . import binding, passes
+from .scene_settings import PROPERTY, get  # noqa: F401 (get: the settings' reader for callers)
 
 # Quality presets are the library's (ddof_params_init_preset): their values are chosen by the
 # accuracy study from measured data, so the add-on holds none of its own. Quality -> the name of
@@ -19,8 +20,6 @@ PRESET = "PRESET"
 
 
 def _on_setup_change(self, context):
-    # Imported here: settings is registered first and passes imports settings.
-    from . import passes
     scene = self.id_data
     if not isinstance(scene, bpy.types.Scene):
         return
@@ -219,16 +218,11 @@ class DiffusionDOFSettings(bpy.types.PropertyGroup):
         return "auto" if self.backend == "AUTO" else "cpu"
 
 
-def get(scene):
-    """The settings of a scene, or None when the add-on is not registered."""
-    return getattr(scene, "diffusion_dof", None)
-
-
 def register():
     bpy.utils.register_class(DiffusionDOFSettings)
-    bpy.types.Scene.diffusion_dof = PointerProperty(type=DiffusionDOFSettings)
+    setattr(bpy.types.Scene, PROPERTY, PointerProperty(type=DiffusionDOFSettings))
 
 
 def unregister():
-    del bpy.types.Scene.diffusion_dof
+    delattr(bpy.types.Scene, PROPERTY)
     bpy.utils.unregister_class(DiffusionDOFSettings)
