@@ -56,7 +56,7 @@ static void solve_line(const disc_kernel *k, uint32_t c, uint32_t n, lens_lines 
 
 static double coc_abs(const adi_request *r, uint32_t x, uint32_t y)
 {
-    return r->coc ? fabs((double)adi_request_coc(r, x, y)) : (double)r->uniform_coc;
+    return fabs((double)adi_request_coc(r, x, y));
 }
 
 static double gamma_at(const adi_request *r, uint32_t x, uint32_t y)
