@@ -2,7 +2,8 @@
 /* test_exr_bad_input.c - every bad input of issue 3 at the exrio level, each with a real file:
  * missing, not an EXR (text, PNG, empty), truncated (in the header and in the pixel data), an
  * uncompressed chunk shorter than its rows,
- * a DWA header over other data (and one whose attribute claims more than the file holds),
+ * a DWA header over other data (and one whose attribute claims more than the file holds, one
+ * hiding such a claim behind a channel list, one declaring tiles far larger than its window),
  * missing colour or depth channels (the message lists what is there),
  * mismatched layer sizes in a multi-part file, ambiguous view layers, and a data window that
  * differs from the display window (read correctly, windows reported).
@@ -220,11 +221,103 @@ static void dwa(void)
         free(grown);
         CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
         CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
-        CHECK_MSG(contains(error, name) && contains(error, "\"type\" claims 1761607693 bytes"),
+        CHECK_MSG(contains(error, name) && contains(error, "\"type\" (string, 1761607693 bytes)"),
+                  "%s", error);
+        exrio_close(&image);
+    }
+    /* A channel list whose records end before its declared size, hiding an attribute that
+     * claims 1.76 GB: OpenEXR's C core and a walk by declared sizes step over the claim, the
+     * C++ reader reads the list's records, then the claim, and allocated it (fuzz_exr_read). */
+    {
+        static const char hidden[] = "extra\0chlist\0\x11\0\0\0"
+                                     "\0huge\0opaque\0\x00\x00\x00\x69";
+        const char *name = "dwa_hidden_attribute.exr";
+        char *grown = malloc(size + sizeof hidden - 1), error[2048];
+        exrio_image image;
+        if (!grown) {
+            CHECK(grown != NULL);
+            free(bytes);
+            return;
+        }
+        memcpy(grown, bytes, 8);
+        memcpy(grown + 8, hidden, sizeof hidden - 1);
+        memcpy(grown + 8 + sizeof hidden - 1, bytes + 8, size - 8);
+        test_write_file(test_path(dir, name), grown, size + sizeof hidden - 1);
+        free(grown);
+        CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
+        CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
+        CHECK_MSG(contains(error, name) && contains(error, "\"huge\" (opaque, 1761607680 bytes)"),
                   "%s", error);
         exrio_close(&image);
     }
     free(bytes);
+}
+
+/* A tiled DWAA file of 64x64 pixels declaring tiles of 8715279x8: OpenEXR's C++ reader
+ * allocates its tile buffers at the declared size (558 MB; fuzz_exr_read), so the reader
+ * refuses the tiles before it reads. Written uncompressed with the C core (which writes no
+ * DWA), then the "compression" value byte set to DWAA, as dwa() does. */
+static void dwa_huge_tiles(void)
+{
+    static const char key[] = "compression\0compression\0\1\0\0\0";
+    const char *path = test_path(dir, "dwa_huge_tiles.exr");
+    static float plane[64 * 64];
+    exr_context_t ctxt = NULL;
+    exr_context_initializer_t init = EXR_DEFAULT_CONTEXT_INITIALIZER;
+    exr_encode_pipeline_t enc = EXR_ENCODE_PIPELINE_INITIALIZER;
+    exr_chunk_info_t cinfo;
+    exrio_image image;
+    char error[2048], *bytes;
+    size_t size = 0, i;
+    int part = 0, ty;
+    exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
+    if (!rv) {
+        rv |= exr_add_part(ctxt, NULL, EXR_STORAGE_TILED, &part);
+        rv |= exr_initialize_required_attr_simple(ctxt, part, 64, 64, EXR_COMPRESSION_NONE);
+        rv |= exr_set_tile_descriptor(ctxt, part, 8715279, 8, EXR_TILE_ONE_LEVEL,
+                                      EXR_TILE_ROUND_DOWN);
+        rv |= exr_add_channel(ctxt, part, "R", EXR_PIXEL_FLOAT, EXR_PERCEPTUALLY_LINEAR, 1, 1);
+        rv |= exr_write_header(ctxt);
+        for (ty = 0; !rv && ty < 8; ty++) {
+            rv = exr_write_tile_chunk_info(ctxt, part, 0, ty, 0, 0, &cinfo);
+            if (!rv)
+                rv = ty ? exr_encoding_update(ctxt, part, &cinfo, &enc)
+                        : exr_encoding_initialize(ctxt, part, &cinfo, &enc);
+            if (!rv) {
+                enc.channels[0].encode_from_ptr = (const uint8_t *)(plane + (size_t)ty * 8 * 64);
+                enc.channels[0].user_pixel_stride = 4;
+                enc.channels[0].user_line_stride = 64 * 4;
+                enc.channels[0].user_bytes_per_element = 4;
+                enc.channels[0].user_data_type = EXR_PIXEL_FLOAT;
+            }
+            if (!rv && !ty)
+                rv = exr_encoding_choose_default_routines(ctxt, part, &enc);
+            if (!rv)
+                rv = exr_encoding_run(ctxt, part, &enc);
+        }
+        exr_encoding_destroy(ctxt, &enc);
+        rv |= exr_finish(&ctxt);
+    }
+    CHECK_MSG(rv == EXR_ERR_SUCCESS, "writing the file: %d", (int)rv);
+    bytes = test_read_file(path, &size);
+    if (!bytes) {
+        CHECK(bytes != NULL);
+        return;
+    }
+    for (i = 0; i + sizeof key < size; i++)
+        if (memcmp(bytes + i, key, sizeof key - 1) == 0)
+            break;
+    CHECK(i + sizeof key < size && bytes[i + sizeof key - 1] == EXRIO_COMPRESSION_NONE);
+    bytes[i + sizeof key - 1] = (char)EXRIO_COMPRESSION_DWAA;
+    test_write_file(path, bytes, size);
+    free(bytes);
+    CHECK(exrio_open(path, &image, error, sizeof error) == EXRIO_OK);
+    CHECK(image.parts && image.parts[0].tiled);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
+    CHECK_MSG(contains(error, "dwa_huge_tiles.exr") &&
+                  contains(error, "tiles of 8715279x8 pixels for a 64x64 image"),
+              "%s", error);
+    exrio_close(&image);
 }
 
 static void missing_channels(void)
@@ -409,6 +502,7 @@ int main(int argc, char **argv)
     truncated();
     short_chunk();
     dwa();
+    dwa_huge_tiles();
     missing_channels();
     layers();
     mismatched_parts();

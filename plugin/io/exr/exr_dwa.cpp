@@ -82,12 +82,108 @@ private:
     uint64_t pos_ = 0;
 };
 
-// OpenEXR 3.1's C++ reader allocates what each header attribute claims before reading it: a
+// OpenEXR 3.1's C++ reader allocates what a header attribute claims before reading it: a
 // 600-byte file whose "type" attribute claims 1.7 GB took 1.7 GB (found by fuzz_exr_read; the
 // C core, which read the header first, does not read that value). So before the C++ library
-// sees a file, its headers are walked here (each attribute: name, type name, int32 size, value)
-// and one whose size is negative or beyond the file's end is refused, naming it. Returns 0 when
-// every size fits, else writes the reason into `why`.
+// sees a file, its headers are walked here as Header::readFrom walks them, and a file where
+// that walk would allocate more than the file holds is refused, naming the attribute.
+//
+// The walk must stay where the library is: its known types read their own content, not the
+// declared size (a channel list reads records until an empty name, a box2i 16 bytes), so a
+// skip by the declared size alone loses step on a damaged file and passes a later attribute
+// that claims 1.7 GB (found by fuzz_exr_read too). The rules below are OpenEXR 3.1.5's
+// readValueFrom for each registered type.
+class HeaderWalk {
+public:
+    explicit HeaderWalk(std::FILE *f, long file_size) : f_(f), size_(file_size) {}
+
+    // A name or type name: at most 255 characters and its NUL; "" ends a header.
+    bool name(std::string &out)
+    {
+        out.clear();
+        for (int i = 0; i < 256; i++) {
+            const int c = std::fgetc(f_);
+            if (c == EOF)
+                return false;
+            if (c == 0)
+                return true;
+            out.push_back(static_cast<char>(c));
+        }
+        return false;
+    }
+
+    bool int32(int32_t &v)
+    {
+        unsigned char b[4];
+        if (std::fread(b, 1, 4, f_) != 4)
+            return false;
+        v = static_cast<int32_t>(static_cast<uint32_t>(b[0]) | static_cast<uint32_t>(b[1]) << 8 |
+                                 static_cast<uint32_t>(b[2]) << 16 |
+                                 static_cast<uint32_t>(b[3]) << 24);
+        return true;
+    }
+
+    long left() const { return size_ - std::ftell(f_); }
+
+    // Consumes `bytes` when the file holds them.
+    bool skip(uint64_t bytes)
+    {
+        return bytes <= static_cast<uint64_t>(left()) &&
+               std::fseek(f_, static_cast<long>(bytes), SEEK_CUR) == 0;
+    }
+
+    // One attribute's value of type `type` and declared size `size` (>= 0), as 3.1.5 reads it.
+    bool value(const std::string &type, int32_t size)
+    {
+        static const struct {
+            const char *type;
+            int bytes;
+        } fixed[] = {{"box2i", 16},   {"box2f", 16},   {"chromaticities", 32},
+                     {"compression", 1}, {"deepImageState", 1}, {"double", 8},
+                     {"envmap", 1},   {"float", 4},    {"int", 4},
+                     {"keycode", 28}, {"lineOrder", 1}, {"m33f", 36},
+                     {"m33d", 72},    {"m44f", 64},    {"m44d", 128},
+                     {"rational", 8}, {"tiledesc", 9}, {"timecode", 8},
+                     {"v2i", 8},      {"v2f", 8},      {"v2d", 16},
+                     {"v3i", 12},     {"v3f", 12},     {"v3d", 24}};
+        for (const auto &t : fixed)
+            if (type == t.type)
+                return skip(static_cast<uint64_t>(t.bytes));
+        if (type == "chlist") { // records (name, 16 bytes) until an empty name
+            std::string channel;
+            for (;;) {
+                if (!name(channel))
+                    return false;
+                if (channel.empty())
+                    return true;
+                if (!skip(16))
+                    return false;
+            }
+        }
+        if (type == "stringvector") { // (int32 length, characters) while inside `size`
+            for (int64_t read = 0; read < size;) {
+                int32_t length;
+                if (!int32(length) || length < 0 || length > size - read - 4 || !skip(
+                        static_cast<uint64_t>(length)))
+                    return false;
+                read += 4 + static_cast<int64_t>(length);
+            }
+            return true;
+        }
+        if (type == "floatvector")
+            return skip(static_cast<uint64_t>(size / 4) * 4);
+        if (type == "idmanifest") // an 8-byte uncompressed size, then size - 4 bytes (sic)
+            return size >= 4 && skip(8) && skip(static_cast<uint64_t>(size) - 4);
+        // "string", "preview" (its dimensions must match `size`) and every unknown type: the
+        // declared size, allocated before it is read.
+        return skip(static_cast<uint64_t>(size));
+    }
+
+private:
+    std::FILE *f_;
+    long size_;
+};
+
 int header_sizes_fit(const char *path, std::string &why)
 {
     std::FILE *f = std::fopen(path, "rb");
@@ -110,47 +206,28 @@ int header_sizes_fit(const char *path, std::string &why)
         return -1;
     }
     const bool multipart = (magic[5] & 0x10) != 0; // the version field's bit 12
-    // A name or type name: at most 255 characters and its NUL (long names); "" ends a header.
-    auto read_name = [f](std::string &out) {
-        out.clear();
-        for (int i = 0; i < 256; i++) {
-            const int c = std::fgetc(f);
-            if (c == EOF)
-                return false;
-            if (c == 0)
-                return true;
-            out.push_back(static_cast<char>(c));
-        }
-        return false;
-    };
+    HeaderWalk walk(f, file_size);
     std::string name, type;
     for (bool more = true; more;) {
         int attributes = 0;
         for (;;) {
-            if (!read_name(name)) {
+            if (!walk.name(name)) {
                 why = "a header attribute's name is cut or too long";
                 return -1;
             }
             if (name.empty())
                 break;
             attributes++;
-            unsigned char size_bytes[4];
-            if (!read_name(type) || std::fread(size_bytes, 1, 4, f) != 4) {
+            int32_t size;
+            if (!walk.name(type) || !walk.int32(size)) {
                 why = "header attribute \"" + name + "\" is cut";
                 return -1;
             }
-            const int32_t size = static_cast<int32_t>(
-                static_cast<uint32_t>(size_bytes[0]) | static_cast<uint32_t>(size_bytes[1]) << 8 |
-                static_cast<uint32_t>(size_bytes[2]) << 16 |
-                static_cast<uint32_t>(size_bytes[3]) << 24);
-            const long left = file_size - std::ftell(f);
-            if (size < 0 || size > left) {
-                why = "header attribute \"" + name + "\" claims " + std::to_string(size) +
-                      " bytes, the file has " + std::to_string(left) + " left";
-                return -1;
-            }
-            if (std::fseek(f, size, SEEK_CUR) != 0) {
-                why = "cannot seek";
+            const long left = walk.left();
+            if (size < 0 || !walk.value(type, size)) {
+                why = "header attribute \"" + name + "\" (" + type + ", " +
+                      std::to_string(size) + " bytes) reads past the file's end (" +
+                      std::to_string(left) + " bytes left)";
                 return -1;
             }
         }
@@ -159,6 +236,10 @@ int header_sizes_fit(const char *path, std::string &why)
     }
     return 0;
 }
+
+// Tiles may be larger than the window they cover (a small image in 64x64 tiles), but not
+// beyond four times its area and this many pixels.
+constexpr uint64_t MAX_SPARE_TILE = uint64_t(1) << 20;
 
 Imath::Box2i box_of(const exrio_box &b)
 {
@@ -197,6 +278,17 @@ extern "C" exrio_status exrio_dwa_load_part(const exrio_image *image, int part,
                                                    line));
         }
         if (p.tiled) {
+            // Its tile buffers are allocated at the declared tile size, however small the
+            // window: a 64x64 file declaring tiles of 8715279x8 took 558 MB (fuzz_exr_read).
+            const Imf::TileDescription &tiles = file.header(part).tileDescription();
+            const uint64_t tile = static_cast<uint64_t>(tiles.xSize) * tiles.ySize;
+            const uint64_t window = static_cast<uint64_t>(p.width) * p.height;
+            if (tile > (window * 4 > MAX_SPARE_TILE ? window * 4 : MAX_SPARE_TILE)) {
+                std::snprintf(error, error_size, "%s: damaged header (DWA): tiles of %ux%u "
+                              "pixels for a %ux%u image", image->path, tiles.xSize,
+                              tiles.ySize, p.width, p.height);
+                return EXRIO_ERROR_CORRUPT;
+            }
             Imf::TiledInputPart in(file, part);
             in.setFrameBuffer(frame);
             in.readTiles(0, in.numXTiles(0) - 1, 0, in.numYTiles(0) - 1, 0, 0);
