@@ -6,7 +6,7 @@
  * time at 2 px, one thread's time over two threads'. Each time is the median of --reps runs
  * after one warm-up. Absolute milliseconds are printed too (as *_ms) for the notes.
  *
- *   ddof-bench [--size WxH] [--reps N] [--solver NAME|speed|layers|disc|all]
+ *   ddof-bench [--size WxH] [--reps N] [--solver NAME|speed|layers|disc|frame|all]
  *              [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]
  *
  * With a GL backend (docs/gl-backend.md) it prints the renderer, and per solver the time at the
@@ -20,6 +20,8 @@
  * kernel vs memcpy and each other, CoC 200 / 2 and 2 threads / 1 for both, and a sub-pixel
  * frame (largest CoC 0.18 px: a copy) vs memcpy, and on the CPU backend the whole default frame
  * on each GL backend that loads (EGL, OSMesa) vs the CPU; `all` prints them first.
+ * --solver frame: only default_frame_ms, the default preset's whole frame on the scene (what a
+ * profiler should look at).
  * --packed-half runs the Gruen solver with DDOF_PRECISION_PACKED_HALF. The plugin is
  * this build's (the benchmark links the static library) unless --plugin names another.
  */
@@ -452,7 +454,7 @@ int main(int argc, char **argv)
             }
         } else {
             fprintf(stderr,
-                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|speed|layers|disc|all]\n"
+                    "usage: ddof-bench [--size WxH] [--reps 1..63] [--solver NAME|speed|layers|disc|frame|all]\n"
                     "                  [--backend cpu|auto|egl|osmesa] [--plugin PATH] [--packed-half]\n"
                     "Prints `name value` lines: times as ratios measured in this run.\n");
             return 2;
@@ -517,6 +519,10 @@ int main(int argc, char **argv)
             printf("%s%sthreads2_vs_threads1 %.3f\n", prefix, sep, t1 / t2);
         }
         fflush(stdout);
+    }
+    if (!strcmp(only, "frame")) {
+        const double frame = time_config(&b, all, DDOF_SOLVER_THOMAS, b.coc_scene, default_frame);
+        printf("default_frame_ms %.3f\n", 1e3 * frame);
     }
     if (!strcmp(only, "all") || !strcmp(only, "layers")) {
         bench_passes(&b, all);
