@@ -30,6 +30,7 @@
 #define RAMP_TOLERANCE 0.25f /* the two halves' slopes may differ by this share */
 #define GAUSS_POINT 0.28867513f /* 1 / (2 sqrt 3) */
 #define TWO_TAPS_BELOW 4.0f      /* level pixels of radius */
+#define GATHER_BLOCK 16u         /* row taps whose spans are computed together */
 
 static uint32_t level_of(const far_gather *g, float rho)
 {
@@ -290,19 +291,43 @@ static inline void conic_gather(const far_gather *g, uint32_t channels, uint32_t
     /* A small disc's rows are sampled at two Gauss points, a large one's at its centre. */
     const int taps = radius < TWO_TAPS_BELOW ? 2 : 1;
     const float offset = taps == 2 ? GAUSS_POINT : 0.0f, share = 1.0f / (float)taps;
-    for (int64_t j = j0; j <= j1; j++)
-        for (int tap = 0; tap < taps; tap++) {
-            const float v = ((float)j + (tap ? offset : -offset) - v0) * inv_aspect;
+    /* Each block of row taps in two passes: their spans and weights, a loop without branches
+     * that runs in SIMD (the square roots and divisions, most of the work); then their sums,
+     * in the order of the rows and taps. Row numbers are whole floats (exact: a level is under
+     * 2^24 rows), so v is what (float)j gives. */
+    const uint32_t shift = (uint32_t)taps - 1u; /* a tap's row: e >> shift, which: e & shift */
+    const int64_t count = (j1 - j0 + 1) * taps;
+    const float first_row = (float)j0;
+    for (int64_t done = 0; done < count; done += GATHER_BLOCK) {
+        const uint32_t n =
+            count - done < GATHER_BLOCK ? (uint32_t)(count - done) : GATHER_BLOCK;
+        float lo[GATHER_BLOCK], hi[GATHER_BLOCK], weight[GATHER_BLOCK], bs[GATHER_BLOCK],
+            ds[GATHER_BLOCK];
+        for (uint32_t e = 0; e < n; e++) {
+            const int32_t t = (int32_t)done + (int32_t)e;
+            const float row = first_row + (float)(t >> shift);
+            /* +offset for the second tap, -offset for the first (-0 with one tap: exact) */
+            const float side = offset * (float)(2 * (t & (int32_t)shift) - 1);
+            const float v = (row + side - v0) * inv_aspect;
             const float b = radius + bv * v, d = b * b - a * v * v;
-            if (b <= 0.0f || d <= 0.0f)
-                continue;
-            const float root = sqrtf(d), lo = (bx * b - root) * inv_a, hi = (bx * b + root) * inv_a;
+            /* A tap outside the conic (b <= 0 or d <= 0) computes NaN or inf here, unread. */
+            const float root = sqrtf(d);
+            bs[e] = b;
+            ds[e] = d;
+            lo[e] = (bx * b - root) * inv_a;
+            hi[e] = (bx * b + root) * inv_a;
             /* 1 / rho(q)^2, rho(q) = b / a mid-span */
-            const float weight = share * (a * a) / (b * b);
-            add_integral(l, channels, j, u0 + hi, weight, sum);
-            add_integral(l, channels, j, u0 + lo, -weight, sum);
-            weights += weight * (hi - lo);
+            weight[e] = share * (a * a) / (b * b);
         }
+        for (uint32_t e = 0; e < n; e++) {
+            if (bs[e] <= 0.0f || ds[e] <= 0.0f)
+                continue;
+            const int64_t j = j0 + (int64_t)(((uint32_t)done + e) >> shift);
+            add_integral(l, channels, j, u0 + hi[e], weight[e], sum);
+            add_integral(l, channels, j, u0 + lo[e], -weight[e], sum);
+            weights += weight[e] * (hi[e] - lo[e]);
+        }
+    }
     if (weights <= 0.0f) {
         /* A disc thinner than a row (rows squeezed by the aspect): its centre's row. */
         const float lo = (bx * radius - radius) * inv_a, hi = (bx * radius + radius) * inv_a;
