@@ -438,6 +438,31 @@ static void test_params_sized(ddof_context *ctx)
     CHECK_EQ_INT(render(ctx, &p, &cam, &card, 1, out), DDOF_ERROR_BAD_PARAMETER);
 }
 
+/* A pixel aspect of 4.9e82 (a camera as a scene file may give it) and a card 10 um from the
+ * lens: the discs' boxes on the texture reach 9e62 texels, which became an index outside
+ * size_t's range (undefined behaviour; fuzz_cards_scene under UBSan). Every end is clamped to
+ * the texture now: the call succeeds and writes finite premultiplied values. */
+static void test_extreme_aspect(ddof_context *ctx)
+{
+    static float out[W * H * 4];
+    ddof_camera cam = test_camera(); /* the scene's: 85 mm, 24 mm fit vertically, f/1.4 at 5 m */
+    cam.focal_length_mm = 85.0;
+    cam.sensor_width_mm = 24.0;
+    cam.sensor_fit = DDOF_SENSOR_FIT_VERTICAL;
+    cam.fstop = 1.4;
+    cam.focus_distance_m = 5.0;
+    cam.pixel_aspect = 4.888888888888889e82;
+    double far[4][3] = {{-500, -500, -2}, {500, -500, -2}, {500, 500, -2}, {-500, 500, -2}};
+    double near[4][3] = {{-0.1, -0.1, -1e-5}, {0.1, -0.1, -1e-5}, {0.1, 0.1, -1e-5},
+                         {-0.1, 0.1, -1e-5}};
+    const ddof_card cards[2] = {rect_card(far, texture_a), rect_card(near, texture_b)};
+    CHECK_EQ_INT(render(ctx, NULL, &cam, cards, 2, out), DDOF_OK);
+    int ok = 1;
+    for (int i = 0; i < W * H * 4; i++)
+        ok &= isfinite(out[i]) && out[i] >= -1e-6f && out[i] <= 1.0f + 1e-5f;
+    CHECK(ok);
+}
+
 /* Seen exactly edge-on, a card draws nothing (and is no error). */
 static void test_edge_on(ddof_context *ctx)
 {
@@ -466,6 +491,7 @@ int main(void)
     test_huge_coc(ctx);
     test_bad_input(ctx);
     test_edge_on(ctx);
+    test_extreme_aspect(ctx);
     test_near_camera(ctx);
     test_texture_in_output(ctx);
     test_params_sized(ctx);

@@ -142,8 +142,10 @@ static DDOF_ALWAYS_INLINE int texture_empty(const card_table *t, double x0, doub
                                             double y0, double y1)
 {
     const double tw = t->tw, th = t->th;
-    const size_t i0 = (size_t)fmax(0.0, floor(x0 - 1e-6));
-    const size_t j0 = (size_t)fmax(0.0, floor(y0 - 1e-6));
+    /* Every end clamped to the texture before it becomes an index: a box far outside it (a
+     * pixel aspect of 1e82 made one at 9e62 texels; fuzz_cards_scene) touches none. */
+    const size_t i0 = (size_t)fmin(tw, fmax(0.0, floor(x0 - 1e-6)));
+    const size_t j0 = (size_t)fmin(th, fmax(0.0, floor(y0 - 1e-6)));
     const size_t i1 = (size_t)fmin(tw, fmax(0.0, ceil(x1 + 1e-6)));
     const size_t j1 = (size_t)fmin(th, fmax(0.0, ceil(y1 + 1e-6)));
     if (i0 >= i1 || j0 >= j1)
@@ -345,10 +347,12 @@ ddof_status cards_draw(ddof_context *context, const cards_view *view,
 {
     draw_job job = {.view = view, .card = s, .table = table, .coverage = coverage,
                     .strips = params->strips, .out = out, .out_stride = out_stride};
-    job.x0 = (uint32_t)fmax(0.0, floor(s->box[0]));
-    job.y0 = (uint32_t)fmax(0.0, floor(s->box[1]));
-    job.x1 = (uint32_t)fmin((double)view->width, ceil(s->box[2]));
-    const uint32_t y1 = (uint32_t)fmin((double)view->height, ceil(s->box[3]));
+    /* The card's box on the frame, each end clamped to it before it becomes an index. */
+    const double w = (double)view->width, h = (double)view->height;
+    job.x0 = (uint32_t)fmin(w, fmax(0.0, floor(s->box[0])));
+    job.y0 = (uint32_t)fmin(h, fmax(0.0, floor(s->box[1])));
+    job.x1 = (uint32_t)fmin(w, fmax(0.0, ceil(s->box[2])));
+    const uint32_t y1 = (uint32_t)fmin(h, fmax(0.0, ceil(s->box[3])));
     if (job.x0 >= job.x1 || job.y0 >= y1 || spans_opaque(&job, coverage, y1))
         return DDOF_OK;
     for (uint32_t k = 0; k <= job.strips; k++)
