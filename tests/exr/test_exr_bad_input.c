@@ -164,15 +164,48 @@ static void short_chunk(void)
     }
 }
 
+/* The value byte of a file's "compression" header attribute (name, type, size 1, value);
+ * NULL when there is none. */
+static char *compression_value(char *bytes, size_t size)
+{
+    static const char key[] = "compression\0compression\0\1\0\0\0";
+    for (size_t i = 0; i + sizeof key < size; i++)
+        if (memcmp(bytes + i, key, sizeof key - 1) == 0)
+            return bytes + i + sizeof key - 1;
+    return NULL;
+}
+
+/* The DWA file `bytes` with `attribute` (its name, type name, size and no value) inserted
+ * before its first attribute, written as `name`: it opens, and loading it is refused with
+ * `expected` in the message before OpenEXR's C++ reader allocates what it claims. */
+static void refused_claim(const char *bytes, size_t size, const char *attribute, size_t length,
+                          const char *name, const char *expected)
+{
+    char *grown = malloc(size + length), error[2048];
+    exrio_image image;
+    if (!grown) {
+        CHECK(grown != NULL);
+        return;
+    }
+    memcpy(grown, bytes, 8); /* magic and version, then the attribute, then the rest */
+    memcpy(grown + 8, attribute, length);
+    memcpy(grown + 8 + length, bytes + 8, size - 8);
+    test_write_file(test_path(dir, name), grown, size + length);
+    free(grown);
+    CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
+    CHECK_MSG(contains(error, name) && contains(error, expected), "%s", error);
+    exrio_close(&image);
+}
+
 /* A DWAA or DWAB header over ZIP data: a ZIP file with the value byte of its "compression"
  * header attribute (name, type, size 1, value) changed to DWAA (8) or DWAB (9). The header is
  * then exactly that of a DWA file; the reader takes it for one (OpenEXR's C++ library decodes
  * DWA), finds the data damaged and says so, naming the file. */
 static void dwa(void)
 {
-    static const char key[] = "compression\0compression\0\1\0\0\0";
     const char *zip = test_path(dir, "for_dwa.exr");
-    size_t size = 0, i;
+    size_t size = 0;
     char *bytes;
     int variant;
     write_rgbaz(zip, EXRIO_COMPRESSION_ZIP, 1);
@@ -181,15 +214,17 @@ static void dwa(void)
         CHECK(bytes != NULL);
         return;
     }
-    for (i = 0; i + sizeof key < size; i++)
-        if (memcmp(bytes + i, key, sizeof key - 1) == 0)
-            break;
-    CHECK(i + sizeof key < size && bytes[i + sizeof key - 1] == EXRIO_COMPRESSION_ZIP);
+    char *value = compression_value(bytes, size);
+    CHECK(value && *value == EXRIO_COMPRESSION_ZIP);
+    if (!value) {
+        free(bytes);
+        return;
+    }
     for (variant = 0; variant < 2; variant++) {
         const char *name = variant ? "dwab.exr" : "dwaa.exr";
         char error[2048];
         exrio_image image;
-        bytes[i + sizeof key - 1] = (char)(variant ? EXRIO_COMPRESSION_DWAB : EXRIO_COMPRESSION_DWAA);
+        *value = (char)(variant ? EXRIO_COMPRESSION_DWAB : EXRIO_COMPRESSION_DWAA);
         test_write_file(test_path(dir, name), bytes, size);
         CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
         CHECK(image.parts && image.parts[0].compression ==
@@ -203,27 +238,11 @@ static void dwa(void)
     /* The same DWAA header with a first attribute "type" that claims 1.76 GB: OpenEXR 3.1's
      * C++ reader allocated that much before finding the file short (fuzz_exr_read); the claim
      * is refused before it reads, naming the attribute. */
+    *value = (char)EXRIO_COMPRESSION_DWAA;
     {
         static const char claim[] = "type\0string\0\x0d\x00\x00\x69";
-        const char *name = "dwa_huge_attribute.exr";
-        char *grown = malloc(size + sizeof claim - 1), error[2048];
-        exrio_image image;
-        bytes[i + sizeof key - 1] = (char)EXRIO_COMPRESSION_DWAA;
-        if (!grown) {
-            CHECK(grown != NULL);
-            free(bytes);
-            return;
-        }
-        memcpy(grown, bytes, 8); /* magic and version, then the attribute, then the rest */
-        memcpy(grown + 8, claim, sizeof claim - 1);
-        memcpy(grown + 8 + sizeof claim - 1, bytes + 8, size - 8);
-        test_write_file(test_path(dir, name), grown, size + sizeof claim - 1);
-        free(grown);
-        CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
-        CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
-        CHECK_MSG(contains(error, name) && contains(error, "\"type\" (string, 1761607693 bytes)"),
-                  "%s", error);
-        exrio_close(&image);
+        refused_claim(bytes, size, claim, sizeof claim - 1, "dwa_huge_attribute.exr",
+                      "\"type\" (string, 1761607693 bytes)");
     }
     /* A channel list whose records end before its declared size, hiding an attribute that
      * claims 1.76 GB: OpenEXR's C core and a walk by declared sizes step over the claim, the
@@ -231,24 +250,8 @@ static void dwa(void)
     {
         static const char hidden[] = "extra\0chlist\0\x11\0\0\0"
                                      "\0huge\0opaque\0\x00\x00\x00\x69";
-        const char *name = "dwa_hidden_attribute.exr";
-        char *grown = malloc(size + sizeof hidden - 1), error[2048];
-        exrio_image image;
-        if (!grown) {
-            CHECK(grown != NULL);
-            free(bytes);
-            return;
-        }
-        memcpy(grown, bytes, 8);
-        memcpy(grown + 8, hidden, sizeof hidden - 1);
-        memcpy(grown + 8 + sizeof hidden - 1, bytes + 8, size - 8);
-        test_write_file(test_path(dir, name), grown, size + sizeof hidden - 1);
-        free(grown);
-        CHECK(exrio_open(test_path(dir, name), &image, error, sizeof error) == EXRIO_OK);
-        CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
-        CHECK_MSG(contains(error, name) && contains(error, "\"huge\" (opaque, 1761607680 bytes)"),
-                  "%s", error);
-        exrio_close(&image);
+        refused_claim(bytes, size, hidden, sizeof hidden - 1, "dwa_hidden_attribute.exr",
+                      "\"huge\" (opaque, 1761607680 bytes)");
     }
     free(bytes);
 }
@@ -259,7 +262,6 @@ static void dwa(void)
  * DWA), then the "compression" value byte set to DWAA, as dwa() does. */
 static void dwa_huge_tiles(void)
 {
-    static const char key[] = "compression\0compression\0\1\0\0\0";
     const char *path = test_path(dir, "dwa_huge_tiles.exr");
     static float plane[64 * 64];
     exr_context_t ctxt = NULL;
@@ -268,7 +270,7 @@ static void dwa_huge_tiles(void)
     exr_chunk_info_t cinfo;
     exrio_image image;
     char error[2048], *bytes;
-    size_t size = 0, i;
+    size_t size = 0;
     int part = 0, ty;
     exr_result_t rv = exr_start_write(&ctxt, path, EXR_WRITE_FILE_DIRECTLY, &init);
     if (!rv) {
@@ -304,11 +306,10 @@ static void dwa_huge_tiles(void)
         CHECK(bytes != NULL);
         return;
     }
-    for (i = 0; i + sizeof key < size; i++)
-        if (memcmp(bytes + i, key, sizeof key - 1) == 0)
-            break;
-    CHECK(i + sizeof key < size && bytes[i + sizeof key - 1] == EXRIO_COMPRESSION_NONE);
-    bytes[i + sizeof key - 1] = (char)EXRIO_COMPRESSION_DWAA;
+    char *value = compression_value(bytes, size);
+    CHECK(value && *value == EXRIO_COMPRESSION_NONE);
+    if (value)
+        *value = (char)EXRIO_COMPRESSION_DWAA;
     test_write_file(path, bytes, size);
     free(bytes);
     CHECK(exrio_open(path, &image, error, sizeof error) == EXRIO_OK);
