@@ -10,7 +10,9 @@
 #   bash scripts/test.sh --sanitize   the same under AddressSanitizer + UndefinedBehaviorSanitizer
 #   bash scripts/test.sh --valgrind   the unit and EXR tests under valgrind memcheck (reduced sizes)
 #   bash scripts/test.sh --fuzz [S]   the libFuzzer targets (clang, fuzz/): each runs S seconds
-#                                     (default 60) from its corpus; any finding fails
+#                                     (default 60) from its corpus; any finding (a crash, a
+#                                     sanitizer report, an allocation over 1 GB) fails, and what
+#                                     each target reported ends the output
 set -euo pipefail
 cd "$(dirname "$0")/.."
 source scripts/deps.sh
@@ -104,21 +106,30 @@ case "$mode" in
     for name in exr_read camera_json options library cards_scene matte; do
         # New inputs go to a scratch corpus in the build tree; the committed one is read only.
         work=build/fuzz/work/$name
-        mkdir -p "$work" build/fuzz/findings
-        echo "fuzz_$name: $seconds s"
+        mkdir -p "$work" build/fuzz/findings build/fuzz/logs
+        echo "fuzz_$name: $seconds s (log: build/fuzz/logs/$name.log)"
+        # One allocation over 1 GB is a finding of its own, named with its stack: under the
+        # RSS limit alone, inputs that each allocate 1.7 GB add up and the one running when the
+        # process crosses 2 GB is written out instead of the one that allocated.
         if ! ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1 \
             "build/fuzz/fuzz/fuzz_$name" -max_total_time="$seconds" -close_fd_mask=3 \
-            -rss_limit_mb=2048 -timeout=25 -print_final_stats=1 \
-            -artifact_prefix="build/fuzz/findings/$name-" "$work" "fuzz/corpus/$name"; then
+            -rss_limit_mb=2048 -malloc_limit_mb=1024 -timeout=25 -print_final_stats=1 \
+            -artifact_prefix="build/fuzz/findings/$name-" "$work" "fuzz/corpus/$name" \
+            >"build/fuzz/logs/$name.log" 2>&1; then
             echo "fuzz_$name: finding in build/fuzz/findings (copy it into fuzz/corpus/$name" \
                 "once fixed: it then replays as a test)" >&2
             found=1
             failed+=("$name")
         fi
+        grep -E '^(stat::|Done )' "build/fuzz/logs/$name.log" || true
     done
     # Last, where a log's tail shows it: which targets found something, and the inputs.
     if [ "$found" -ne 0 ]; then
         echo "fuzz: findings by ${failed[*]}" >&2
+        for name in "${failed[@]}"; do
+            echo "== fuzz_$name: what it reported" >&2
+            grep -E -A 14 'ERROR|runtime error|SUMMARY' "build/fuzz/logs/$name.log" | head -n 60 >&2
+        done
         for f in build/fuzz/findings/*; do
             [ -f "$f" ] || continue
             echo "== $f ($(wc -c <"$f") bytes), first 512 as hex:" >&2
