@@ -3,14 +3,14 @@
 // pixel's ray meets the card's plane (depth and texel position perspective-correct, with their
 // derivatives), the Cycles CoC of that depth gives the disc, mapped into texels as an ellipse
 // and cut into `strips` rectangles of the slices' exact areas, each integrated from the
-// summed-area table. The table comes in two parts (libddof/src/cards_device.c): `table_hi`
+// summed-area table. The table comes in two parts (libddof/src/cards/cards_device.c): `table_hi`
 // holds multiples of a power of two that stay exact in float through a box's four corners,
 // `table_lo` the small rest, so an integer box's sum is exact; a rectangle's partly covered
 // first and last columns and rows are single-column and single-row boxes weighted by the
 // share covered. Blending composites the result under the nearer cards already drawn; a pixel
 // they made opaque is skipped first.
 uniform vec2 frame;          // width, height
-uniform dvec4 ray;           // ray_a, ray_bx, ray_c, ray_by (libddof/src/cards.h)
+uniform dvec4 ray;           // ray_a, ray_bx, ray_c, ray_by (libddof/src/cards/cards.h)
 uniform vec4 lens;           // k_px, focus (m), pixel aspect, unused
 uniform vec2 radius_limits;  // smallest and largest radius, px
 uniform dvec3 normal, origin, axis1, axis2;

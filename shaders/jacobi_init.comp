@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 // jacobi_init.comp - the Jacobi sweeps' first guess: y = x, except in holes (gamma = 0), which
 // take the nearest value along the line that holds heat (the last one before, or the first one
-// for leading holes), as libddof/src/solver_jacobi.c does: starting from 0 an unconverged
+// for leading holes), as libddof/src/solvers/solver_jacobi.c does: starting from 0 an unconverged
 // Jacobi would pull its neighbours out of the input's range.
 //
 // One invocation per segment of SEGMENT pixels of a line, never per whole line: a software

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-// layers.comp - the per-pixel steps of the layered frame (libddof/src/layers.c), one program
+// layers.comp - the per-pixel steps of the layered frame (libddof/src/layers/layers.c), one program
 // per step (the define names it), one invocation per pixel of the area a step works on. Each
 // is the CPU step's arithmetic in the CPU's order; `precise` keeps a GPU from fusing a
 // multiply and add the CPU rounds twice, so the device's frame differs from the CPU's only by

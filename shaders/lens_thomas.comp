@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 // lens_thomas.comp - one component of the disc kernel along one direction, one invocation per
-// line: the component's chain of u_steps complex implicit steps (libddof/src/lens_adi.c), each
-// the weighted-mean Thomas elimination of libddof/src/lens_solver.c with beta = kappa_m * b:
+// line: the component's chain of u_steps complex implicit steps (libddof/src/adi/lens_adi.c), each
+// the weighted-mean Thomas elimination of libddof/src/solvers/lens_solver.c with
+// beta = kappa_m * b:
 //
 //     e_i = gamma_i + q_{i-1}, s_i = q_{i-1} / e_i, w_i = beta_i / (beta_i + e_i), q_i = e_i w_i
 //     D_i = x_i + s_i (D_{i-1} - x_i),  y_i = D_i + w_i (y_{i+1} - D_i)

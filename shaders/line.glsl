@@ -3,7 +3,7 @@
 //
 // A pass solves `u_lines` independent lines of `u_n` unknowns each; unknown i of line l is the
 // pixel l * u_across + i * u_along of the row-major working image (rows: along 1, across the
-// width; columns: along the width, across 1). Per line, as in libddof/src/solver.h:
+// width; columns: along the width, across 1). Per line, as in libddof/src/solvers/solver.h:
 //
 //     (E + A + C) y_i - A y_{i-1} - C y_{i+1} = E u_i,   A = beta_{i-1}, C = beta_i, E = gamma_i
 //
@@ -118,7 +118,7 @@ vec4 substitute(Row r, vec4 ylo, vec4 yhi)
 }
 
 // Writes a solution into the image. A run of pixels whose gamma are all 0 is singular (nothing
-// holds heat): it keeps the value it had before the pass, as libddof/src/adi.c does.
+// holds heat): it keeps the value it had before the pass, as libddof/src/adi/heat_adi.c does.
 void store_result(uint p, vec4 y)
 {
     if (u_flag_bit != 0u && (flags[p] & u_flag_bit) != 0u)

@@ -2,7 +2,7 @@
 // pack.comp - the caller's images (uploaded as they lie: strided rows, 1..4 channels, the CoC
 // and gamma as the first of several channels) into the solver's working layout: one vec4 per
 // pixel, |CoC| and gamma as one float each. Where gamma is 0 the colour is not read (it may be
-// NaN): it becomes 0, as in libddof/src/adi.c.
+// NaN): it becomes 0, as in libddof/src/adi/heat_adi.c.
 layout(local_size_x = 256) in;
 
 layout(std430, binding = 0) writeonly buffer CocOut { float coc_out[]; };

@@ -11,7 +11,7 @@
     (gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * gl_WorkGroupSize.x) + gl_GlobalInvocationID.x)
 
 // num / den for a share of a sum of non-negatives (num <= den), and 0 for 0 / 0: the diagonal
-// of a row with no excess and no links (libddof/src/solver.h, solver_share). A comparison
+// of a row with no excess and no links (libddof/src/solvers/solver.h, solver_share). A comparison
 // rather than clamping den to the smallest subnormal, because GPUs flush subnormals to zero.
 float share(float num, float den)
 {

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
 // range.comp - the per-channel range of a packed (masked) colour, which the disc kernel clamps
-// its result to (libddof/src/lens_adi.c; gl_lens_input_range on the host for run()). Floats
+// its result to (libddof/src/adi/lens_adi.c; gl_lens_input_range on the host for run()). Floats
 // are turned into uints whose order is the floats' order, so atomicMin/Max reduce them.
 layout(local_size_x = 256) in;
 

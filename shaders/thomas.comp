@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 // thomas.comp - Thomas elimination, one invocation per line (DDOF_SOLVER_THOMAS).
 //
-// The weighted-mean form of libddof/src/solver_thomas.c: the eliminated row's excess q only
+// The weighted-mean form of libddof/src/solvers/solver_thomas.c: the eliminated row's excess q only
 // ever grows by non-negative terms, each step is a lerp with one weight in [0, 1], so outputs
 // are convex combinations of inputs even at beta ~ 1e8. The running value is carried in double
 // (GL 4.0+ core has fp64): as on the CPU, rounding a moving average with a memory longer than

@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
 """The accuracy-vs-cost report of the study (issue 7): results.jsonl -> docs/accuracy.md, its
-plots (docs/images/accuracy_*.png) and libddof/src/presets_measured.inc.
+plots (docs/images/accuracy_*.png) and libddof/src/api/presets_measured.inc.
 
     python3 study/report.py RESULTS.jsonl [--md docs/accuracy.md] [--images docs/images]
-        [--presets libddof/src/presets_measured.inc] [--study-exe build/study/study/ddof-study]
+        [--presets libddof/src/api/presets_measured.inc] [--study-exe build/study/study/ddof-study]
         [--work DIR] [--smoke] [--command "bash study/run.sh"]
 
 RESULTS.jsonl is what `ddof-study run` writes (study/cmd_run.c): a machine line, a line per scene,
@@ -43,7 +43,7 @@ def main():
     ap.add_argument("results", nargs="+")
     ap.add_argument("--md", default="docs/accuracy.md")
     ap.add_argument("--images", default="docs/images")
-    ap.add_argument("--presets", default="libddof/src/presets_measured.inc")
+    ap.add_argument("--presets", default="libddof/src/api/presets_measured.inc")
     ap.add_argument("--study-exe", default=None)
     ap.add_argument("--work", default=None)
     ap.add_argument("--smoke", action="store_true")

@@ -6,7 +6,7 @@
 # writes the report. Installs what is missing first (Debian packages, as scripts/test.sh).
 #
 #   bash study/run.sh                  the full study: docs/accuracy.md, docs/images/accuracy_*.png
-#                                      and libddof/src/presets_measured.inc (about 10-15 minutes
+#                                      and libddof/src/api/presets_measured.inc (about 10-15 minutes
 #                                      on 2 cores after the scenes are rendered; see study/README.md)
 #   bash study/run.sh --smoke OUTDIR   one tiny scene (96x54), two configurations, the report
 #                                      written into OUTDIR only (docs/ and the presets untouched);
@@ -107,7 +107,7 @@ else
     results=$root/build/study-results
     md=$root/docs/accuracy.md
     images=$root/docs/images
-    presets=$root/libddof/src/presets_measured.inc
+    presets=$root/libddof/src/api/presets_measured.inc
     scene_flags=()
     [ -n "$configs" ] || configs=full
     report_flags=(--command "bash study/run.sh")
@@ -238,6 +238,6 @@ step "report -> $md"
     --presets "$presets" --study-exe "$exe" --work "$results/images" "${report_flags[@]}"
 step "done"
 if [ "$mode" != smoke ]; then
-    echo "The presets in libddof/src/presets_measured.inc are compiled into libddof: rebuild" \
+    echo "The presets in libddof/src/api/presets_measured.inc are compiled into libddof: rebuild" \
         "(cmake --build ...) for ddof_params_init, the ddof command and the add-on to use them."
 fi

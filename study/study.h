@@ -4,7 +4,7 @@
  * ddof-study loads a scene folder (pinhole.exr, truth.exr, camera.json, and when present fg.exr,
  * pinhole_1080.exr, defocus.exr/.json), runs a list of configurations on it and writes one JSON
  * object per (scene, configuration) to a results file. study/report.py turns the results into
- * docs/accuracy.md, its plots and libddof/src/presets_measured.inc. */
+ * docs/accuracy.md, its plots and libddof/src/api/presets_measured.inc. */
 #ifndef DDOF_STUDY_H
 #define DDOF_STUDY_H
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* test_cards_table.c - the cards' summed-area tables (libddof/src/cards_table.c: built on the
+/* test_cards_table.c - the cards' summed-area tables (libddof/src/cards/cards_table.c: built on the
  * context's threads, each texel row's in-card span found from the polygon's edges) against a
  * plain serial build written here from the definition: a texel counts when its centre lies in
  * the card's uv polygon (either winding, edges inclusive to 1e-12), the sum table holds the
@@ -12,7 +12,7 @@
 #endif
 #include "test_util.h"
 
-#include "cards.h"
+#include "cards/cards.h"
 
 #include <stdlib.h>
 #include <string.h>

@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* test_cone_dilate.c - the near spread's cone dilation (libddof/src/cone_dilate.c) against a
+/* test_cone_dilate.c - the near spread's cone dilation (libddof/src/passes/cone_dilate.c) against a
  * brute-force double-precision evaluation of its definition, max over q of v(q) - slope d(p, q)
  * with d the 8-connected chamfer distance, on sparse random maps of odd sizes, 1xN and Nx1 and
  * a padded stride; plus the octagon of a single peak and the padding left untouched. */
-#include "cone_dilate.h"
+#include "passes/cone_dilate.h"
 #include "test_util.h"
 
 #include <math.h>

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* test_highlights.c - the highlight pass (libddof/src/highlights.h): an HDR highlight comes out
- * as a flat disc of its CoC with its energy kept and no dark rim (the disc kernel alone leaves
+/* test_highlights.c - the highlight pass (libddof/src/passes/highlights.h): an HDR highlight
+ * comes out as a flat disc of its CoC with its energy kept and no dark rim (the disc kernel alone leaves
  * one, its ring clamped to the input's range), nothing lands on in-focus or nearer pixels, a near highlight spreads over what is
  * behind it, a light's anti-aliased rim goes with the light's CoC, alpha is the diffusion's, the
  * budget holds, a highlight split by a thin in-focus bar keeps its light, and the parameters

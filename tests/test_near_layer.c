@@ -15,8 +15,8 @@
  *    whose row or column has no source (the result independent of the scratch's contents);
  *  - the planner and the parameter checks. */
 #include "ddof.h"
-#include "disc_kernel.h"
-#include "near_layer.h"
+#include "disc/disc_kernel.h"
+#include "passes/near_layer.h"
 #include "test_images.h"
 #include "test_util.h"
 

@@ -8,7 +8,7 @@
  * lose digits. For small n it is itself checked against a dense n x n elimination.
  *
  * Set DDOF_TEST_VERBOSE=1 to print the measured errors. */
-#include "solver.h"
+#include "solvers/solver.h"
 #include "test_util.h"
 
 #include <float.h>

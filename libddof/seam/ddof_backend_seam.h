@@ -6,7 +6,8 @@
  * *how* to run one request; a backend with run_layers (ABI 3) takes the whole planned layered
  * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
  * upload and one read-back). The CPU is a table of the same shape inside the core
- * (libddof/src/backend_cpu.c; its layers are run by the core's frame runner, frame_run.c); the
+ * (libddof/src/backends/backend_cpu.c; its layers are run by the core's frame runner,
+ * frame_run.c); the
  * GL backends live in the plugin library libddof_gl, which the core loads with
  * dlopen(RTLD_LOCAL) and asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be mixed up on
  * disk, so the table carries an ABI number and its size, both checked before use.
@@ -110,8 +111,8 @@ typedef struct adi_box {
     uint32_t x0, y0, x1, y1;
 } adi_box;
 
-/* A validated, planned layered frame (libddof/src/layers.c's pipeline, docs/design.md section
- * 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then what the
+/* A validated, planned layered frame (libddof/src/layers/layers.c's pipeline, docs/design.md
+ * section 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then what the
  * plan switched on. The core has decided what runs and where the near spread and foreground
  * work; the background's area depends on the midground's largest CoC, so the backend grows
  * background_edges by the kernel's reach itself, by the rules layers.c uses
@@ -162,7 +163,7 @@ typedef struct adi_cards_request {
     uint32_t width, height;
     float *out;          /* premultiplied RGBA, row 0 at the top */
     size_t out_stride;   /* floats */
-    /* the view (libddof/src/cards.h's cards_view) */
+    /* the view (libddof/src/cards/cards.h's cards_view) */
     double ray_a, ray_bx, ray_c, ray_by, k_px, focus_m, aspect;
     float max_radius_px, min_radius_px;
     uint32_t strips;

@@ -70,7 +70,7 @@ def header_lines(study, args):
              "physically based ground truth (Cycles renders with lens depth of field) on "
              "procedural scenes, with the baselines users already have. This page is generated: "
              "`%s` renders the scenes (cached), runs the sweep and rewrites this file, its "
-             "plots and `libddof/src/presets_measured.inc`; nothing here is edited by hand. "
+             "plots and `libddof/src/api/presets_measured.inc`; nothing here is edited by hand. "
              "`study/README.md` says how it works." % args.command)
     L.append("")
     L.append("Measured %s." % m.get("date_utc", "?").replace("T", " ").replace("Z", " UTC"))
@@ -253,8 +253,8 @@ def presets_lines(study, chosen, front, cands):
         elif d.kind == "diffusion":
             L.append("Default k: **%s** (%.6g), the default preset's." % (k_text(d.k), d.k))
         L.append("")
-        L.append("Written to `libddof/src/presets_measured.inc`, which `ddof_params_init_preset` "
-                 "(and through it the `ddof` command's `--preset` and the Blender add-on) uses.")
+        L.append("Written to `libddof/src/api/presets_measured.inc`, which "
+                 "`ddof_params_init_preset` (and through it the `ddof` command's `--preset` and the Blender add-on) uses.")
     else:
         L.append("No configuration qualified as a preset candidate in this run.")
     L.append("")

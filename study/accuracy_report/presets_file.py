@@ -1,5 +1,5 @@
 # SPDX-License-Identifier: MIT
-"""The chosen presets as libddof/src/presets_measured.inc."""
+"""The chosen presets as libddof/src/api/presets_measured.inc."""
 
 import os
 

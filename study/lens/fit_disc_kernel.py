@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 # SPDX-License-Identifier: MIT
-"""Fits the disc kernels' tables (libddof/src/disc_kernels.inc).
+"""Fits the disc kernels' tables (libddof/src/disc/disc_kernels.inc).
 
 A disc kernel is, per component c and axis, a chain of M implicit steps with complex
 conductances beta = kappa_cm d^2; the 2-D kernel is Re sum_c mix_c g_c(x) g_c(y), g_c the chain's
-1-D kernel (libddof/src/disc_kernel.h). This script computes the *discrete* 1-D kernels exactly
+1-D kernel (libddof/src/disc/disc_kernel.h). This script computes the *discrete* 1-D kernels exactly
 (the infinite-line resolvent of (1 + 2 beta) y_i - beta (y_{i-1} + y_{i+1}) = delta is
 A r^|i|), so the fit sees what the solver does at small CoC too, and fits kappa and mix by least
 squares against an anti-aliased uniform disc at d = 12, 32 and 80 px together, with two
@@ -145,7 +145,7 @@ def main():
     ap.add_argument("--seconds", type=float, default=300, help="time budget per kernel")
     ap.add_argument("--seed", type=int, default=1)
     ap.add_argument("--only", help="fit only this kernel (e.g. DDOF_KERNEL_DISC_2X2)")
-    ap.add_argument("--out", default="libddof/src/disc_kernels.inc")
+    ap.add_argument("--out", default="libddof/src/disc/disc_kernels.inc")
     args = ap.parse_args()
     rng = np.random.default_rng(args.seed)
     lines = ["/* disc_kernels.inc - written by study/lens/fit_disc_kernel.py; do not edit.",

@@ -1,6 +1,6 @@
 # SPDX-License-Identifier: MIT
 """check_smoke.py OUTDIR - checks what `bash study/run.sh --smoke OUTDIR` wrote, and that the
-library's committed presets (libddof/src/presets_measured.inc) are those docs/accuracy.md
+library's committed presets (libddof/src/api/presets_measured.inc) are those docs/accuracy.md
 reports."""
 import json
 import os
@@ -85,7 +85,7 @@ if os.path.isfile(inc):
                        r"/\* (preview|default|final) \*/$")
     lines = [line for line in open(inc).read().splitlines() if line.startswith("{")]
     check(len(lines) == 3 and all(entry.match(line) for line in lines),
-          "three preset entries in the format of libddof/src/presets_measured.inc")
+          "three preset entries in the format of libddof/src/api/presets_measured.inc")
 
 # The library's committed presets are the full study's choice, as docs/accuracy.md states it
 # (not edited by hand, not a smoke run's).
@@ -93,7 +93,7 @@ root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)
 committed = open(os.path.join(root, "libddof", "src", "presets_measured.inc")).read()
 report = open(os.path.join(root, "docs", "accuracy.md")).read()
 check("Written by study/report.py" in committed and "SMOKE" not in committed,
-      "libddof/src/presets_measured.inc was written by a full study run")
+      "libddof/src/api/presets_measured.inc was written by a full study run")
 for line in committed.splitlines():
     m = re.match(r"^\{(DDOF_METHOD_\w+), (DDOF_SOLVER_\w+), (\d+), ([0-9.e+-]+)f, .*"
                  r"(DDOF_KERNEL_\w+)\}, /\* (\w+) \*/$", line)

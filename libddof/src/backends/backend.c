@@ -1,0 +1,315 @@
+/* SPDX-License-Identifier: MIT */
+/* backend.c - choosing where the diffusion runs: the CPU solvers here, or a GL device from the
+ * plugin library, loaded at run time so that libddof itself never links GL. */
+#define _GNU_SOURCE /* dladdr */
+#include "backend.h"
+#include "ddof_output_struct.h"
+
+#include "disc/disc_kernel.h"
+#include "runtime/parallel_rows.h"
+
+#include <dlfcn.h>
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define PLUGIN_FILE "libddof_gl.so"
+
+const char *ddof_backend_name(ddof_backend_kind kind)
+{
+    switch (kind) {
+    case DDOF_BACKEND_CPU: return "cpu";
+    case DDOF_BACKEND_AUTO: return "auto";
+    case DDOF_BACKEND_EGL: return "egl";
+    case DDOF_BACKEND_OSMESA: return "osmesa";
+    case DDOF_BACKEND_HOST_GL: return "host";
+    case DDOF_BACKEND_COUNT_:
+    case DDOF_BACKEND_FORCE_32BIT_: break;
+    }
+    return NULL;
+}
+
+/* The directory libddof was loaded from (so the plugin installed beside it is found first),
+ * written into dir with a trailing '/'; "" when unknown. */
+static void own_directory(char *dir, size_t size)
+{
+    dir[0] = '\0';
+    static const char anchor = 0; /* any object of libddof's tells dladdr which file it is */
+    Dl_info info;
+    if (!dladdr(&anchor, &info) || !info.dli_fname)
+        return;
+    const char *slash = strrchr(info.dli_fname, '/');
+    if (!slash || (size_t)(slash - info.dli_fname) + 2 > size)
+        return;
+    size_t n = (size_t)(slash - info.dli_fname) + 1;
+    memcpy(dir, info.dli_fname, n);
+    dir[n] = '\0';
+}
+
+/* dlopen()s the plugin and returns its table, or NULL with a sentence in message. */
+static void *load_plugin(const char *plugin_path, const ddof_backend_table **table,
+                         char *message, size_t size)
+{
+    char beside[4096], tried[1024] = "";
+    /* A path the caller names (argument, else the environment) is the only one tried: asking
+     * for a file and silently getting another would hide the mistake. */
+    const char *env = getenv("DDOF_GL_PLUGIN");
+    const char *named = plugin_path ? plugin_path : env && env[0] ? env : NULL;
+    own_directory(beside, sizeof beside - sizeof PLUGIN_FILE);
+    if (beside[0])
+        strcat(beside, PLUGIN_FILE);
+    const char *candidates[] = {named, named ? NULL : beside, named ? NULL : PLUGIN_FILE};
+    void *handle = NULL;
+    for (size_t i = 0; i < sizeof candidates / sizeof *candidates && !handle; i++) {
+        if (!candidates[i] || !candidates[i][0])
+            continue;
+        handle = dlopen(candidates[i], RTLD_NOW | RTLD_LOCAL);
+        if (!handle && !tried[0]) {
+            const char *why = dlerror();
+            snprintf(tried, sizeof tried, "%s", why ? why : candidates[i]);
+        }
+    }
+    if (!handle) {
+        snprintf(message, size, "the GL plugin %s could not be loaded (%s)", PLUGIN_FILE,
+                 tried[0] ? tried : "not found");
+        return NULL;
+    }
+    ddof_backend_entry_fn entry;
+    void *symbol = dlsym(handle, DDOF_BACKEND_ENTRY_SYMBOL);
+    memcpy(&entry, &symbol, sizeof entry); /* ISO C has no object-to-function cast */
+    const ddof_backend_table *t = symbol ? entry() : NULL;
+    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size < DDOF_BACKEND_TABLE_MIN_SIZE) {
+        snprintf(message, size,
+                 "the GL plugin found is not built for this libddof (backend ABI %u, wanted %u)",
+                 t ? t->abi : 0u, DDOF_BACKEND_ABI);
+        dlclose(handle);
+        return NULL;
+    }
+    *table = t;
+    return handle;
+}
+
+static void drop_device(ddof_backend_state *b)
+{
+    if (b->device)
+        b->table->close(b->device);
+    if (b->plugin)
+        dlclose(b->plugin);
+    b->device = NULL;
+    b->plugin = NULL;
+    b->table = NULL;
+}
+
+void ddof_backend_release(ddof_context *context)
+{
+    drop_device(&context->backend);
+}
+
+static ddof_status set_backend(ddof_context *context, ddof_backend_kind kind,
+                               const char *plugin_path)
+{
+    ddof_clear_error(context);
+    if ((unsigned)kind >= DDOF_BACKEND_COUNT_)
+        return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "unknown backend %d", (int)kind);
+
+    ddof_backend_state next = {.kind = DDOF_BACKEND_CPU};
+    if (kind != DDOF_BACKEND_CPU) {
+        char why[512] = "";
+        next.plugin = load_plugin(plugin_path, &next.table, why, sizeof why);
+        if (next.plugin) {
+            const ddof_backend_kind open_kind = kind == DDOF_BACKEND_AUTO ? DDOF_BACKEND_EGL : kind;
+            next.device = next.table->open(open_kind, kind == DDOF_BACKEND_AUTO, why, sizeof why);
+            if (next.device)
+                next.kind = open_kind;
+            else
+                drop_device(&next);
+        }
+        if (!next.device) {
+            if (kind != DDOF_BACKEND_AUTO)
+                return ddof_fail(context, DDOF_ERROR_BACKEND_UNAVAILABLE, "backend %s: %s",
+                                 ddof_backend_name(kind), why);
+            snprintf(next.note, sizeof next.note, "auto: the CPU, because %.200s", why);
+        } else if (kind == DDOF_BACKEND_AUTO) {
+            snprintf(next.note, sizeof next.note, "auto: a GPU was found through EGL");
+        }
+    }
+    drop_device(&context->backend);
+    context->backend = next;
+    return DDOF_OK;
+}
+
+ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind kind,
+                                     const char *plugin_path)
+{
+    DDOF_EXCLUSIVE_CALL(context, set_backend(context, kind, plugin_path));
+}
+
+/* The table's supports_disc, or 0 where it ends before it. */
+static int table_runs_disc(const ddof_backend_table *t, const ddof_device *device)
+{
+    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
+           t->supports_disc && t->supports_disc(device);
+}
+
+/* The backend a request runs on, and its device: the context's loaded device where it takes
+ * the request, else the CPU (whose device is the context), which also runs the double
+ * reference on every backend and a disc kernel a device does not run. */
+static const ddof_backend_table *runner(const ddof_context *context, ddof_solver solver,
+                                        int disc, ddof_device **device)
+{
+    const ddof_backend_state *b = &context->backend;
+    if (b->device && solver != DDOF_SOLVER_REFERENCE_F64 &&
+        (!disc || table_runs_disc(b->table, b->device))) {
+        *device = b->device;
+        return b->table;
+    }
+    *device = ddof_cpu_device((ddof_context *)context);
+    return &ddof_cpu_backend;
+}
+
+/* The disc kernel runs on the CPU with Thomas (lens_adi.c), on a device whose table says so
+ * with Thomas, and with REFERENCE_F64 everywhere (the CPU runs the reference). */
+static int runs_disc(const ddof_context *context, ddof_solver solver)
+{
+    if (solver == DDOF_SOLVER_REFERENCE_F64)
+        return 1;
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, solver, 0, &device);
+    return solver == DDOF_SOLVER_THOMAS && table_runs_disc(t, device);
+}
+
+const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
+                                            ddof_kernel kernel)
+{
+    return runs_disc(context, solver) ? ddof_disc_kernel(kernel) : NULL;
+}
+
+ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
+                                        ddof_precision precision)
+{
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, solver, 0, &device);
+    if (t->supports(device, solver, precision))
+        return DDOF_OK;
+    return ddof_fail(context, DDOF_ERROR_UNSUPPORTED,
+                     "the %s backend cannot run solver %s with %s precision",
+                     ddof_backend_name(context->backend.kind), ddof_solver_name(solver),
+                     precision == DDOF_PRECISION_PACKED_HALF ? "packed half" : "float");
+}
+
+ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_info *info)
+{
+    if (!context || !info)
+        return DDOF_ERROR_NULL_POINTER;
+    if (info->struct_size < DDOF_BACKEND_INFO_SIZE_0_3)
+        return DDOF_ERROR_BAD_PARAMETER;
+    const ddof_backend_state *b = &context->backend;
+    ddof_backend_info full = {.struct_size = sizeof full, .kind = b->kind};
+    snprintf(full.note, sizeof full.note, "%s", b->note);
+    ddof_device *device;
+    const ddof_backend_table *t =
+        runner(context, DDOF_SOLVER_THOMAS, 0, &device); /* the context's own backend */
+    ddof_device_info d = {0};
+    t->describe(device, &d);
+    full.hardware = d.hardware;
+    snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
+    ddof_write_output_struct(info, &full, sizeof full);
+    return DDOF_OK;
+}
+
+typedef struct largest_job {
+    const adi_request *r;
+    float *chunk_max; /* the largest |CoC| per row chunk */
+} largest_job;
+
+static void largest_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    const largest_job *job = user;
+    const adi_request *r = job->r;
+    float m = 0.0f;
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *src = r->coc + (size_t)y * r->coc_stride;
+        for (uint32_t x = 0; x < r->width; x++)
+            m = ddof_maxf(m, fabsf(src[(size_t)x * r->coc_channels]));
+    }
+    job->chunk_max[chunk] = m;
+}
+
+/* The request's largest |CoC|. A device applies the in-focus threshold itself (pack.comp: a
+ * |CoC| below it conducts as 0, as on the CPU) but measures the CoC after it; the stats and the
+ * background layer's reach take the largest from before it, as the CPU's solvers report it. */
+static float largest_coc(ddof_context *context, const adi_request *r)
+{
+    enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
+    float chunk_max[max_chunks];
+    largest_job job = {r, chunk_max};
+    ddof_parallel_rows(context, r->height, largest_rows, &job);
+    float m = 0.0f;
+    for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++)
+        m = ddof_maxf(m, chunk_max[c]);
+    return m;
+}
+
+ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
+{
+    ddof_device *device;
+    const ddof_backend_table *t = runner(context, request->solver, request->disc != NULL, &device);
+    const float max_coc = t != &ddof_cpu_backend && request->coc && request->in_focus_px > 0.0f
+                              ? largest_coc(context, request)
+                              : -1.0f;
+    char why[512] = "";
+    *report = (adi_report){0};
+    ddof_status status = t->run(device, request, report, why, sizeof why);
+    if (status != DDOF_OK && t != &ddof_cpu_backend) /* the CPU's solvers said why */
+        return ddof_fail(context, status, "%s backend: %s",
+                         ddof_backend_name(context->backend.kind),
+                         why[0] ? why : ddof_status_string(status));
+    if (status == DDOF_OK && max_coc >= 0.0f)
+        report->max_coc = max_coc;
+    return status;
+}
+
+int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
+{
+    const ddof_backend_state *b = &context->backend;
+    const ddof_backend_table *t = b->table;
+    return b->device && r->solver != DDOF_SOLVER_REFERENCE_F64 && r->coc &&
+           t->table_size >= offsetof(ddof_backend_table, run_layers) + sizeof t->run_layers &&
+           t->run_layers && (!r->disc || table_runs_disc(t, b->device));
+}
+
+ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+                                    adi_layers_report *report)
+{
+    ddof_backend_state *b = &context->backend;
+    char why[512] = "";
+    memset(report, 0, sizeof *report);
+    ddof_status status = b->table->run_layers(b->device, request, report, why, sizeof why);
+    if (status != DDOF_OK)
+        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+                         why[0] ? why : ddof_status_string(status));
+    return DDOF_OK;
+}
+
+/* Not on the host's own context (HOST_GL): drawing sets a framebuffer, blending, the viewport
+ * and texture units that the host's renderer owns; the CPU draws there. */
+int ddof_backend_runs_cards(const ddof_context *context)
+{
+    const ddof_backend_state *b = &context->backend;
+    const ddof_backend_table *t = b->table;
+    return b->device && b->kind != DDOF_BACKEND_HOST_GL &&
+           t->table_size >= offsetof(ddof_backend_table, render_cards) + sizeof t->render_cards &&
+           t->render_cards;
+}
+
+ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_request *request)
+{
+    ddof_backend_state *b = &context->backend;
+    char why[512] = "";
+    ddof_status status = b->table->render_cards(b->device, request, why, sizeof why);
+    if (status != DDOF_OK && !context->last_error[0]) /* else the core said why (a card) */
+        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
+                         why[0] ? why : ddof_status_string(status));
+    return status;
+}

@@ -1,0 +1,52 @@
+/* SPDX-License-Identifier: MIT */
+/* backend.h - the core's side of the backend seam (backend.c): running a request on the
+ * context's backend, and what the planner asks of it. What crosses the seam (the request, the
+ * report, the backend's table) is in ddof_backend_seam.h, which the GL plugin includes alone.
+ * Every backend is a table of that shape: the GL plugin's, loaded at run time, and the CPU's
+ * (backend_cpu.c: heat_adi.c, lens_adi.c and the double references), so one dispatch serves both.
+ */
+#ifndef DDOF_BACKEND_H
+#define DDOF_BACKEND_H
+
+#include "adi/adi.h"
+
+/* ---- the CPU's table (backend_cpu.c) ------------------------------------------------------ */
+
+extern const ddof_backend_table ddof_cpu_backend;
+
+/* The CPU's device: the context itself (its threads and scratch). */
+ddof_device *ddof_cpu_device(ddof_context *context);
+
+/* ---- the core's side (backend.c) ---------------------------------------------------------- */
+
+/* Runs one diffusion on the backend that takes it: the context's loaded device, else the CPU
+ * (the double reference always, and a disc kernel the device does not run). */
+ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
+
+/* The disc kernel's table when the context's backend runs `kernel` with this solver, else NULL:
+ * the heat kernel runs (ddof_stats.kernel says which ran). A disc kernel has a complex form of
+ * the Thomas solver only (on the CPU and on a device that runs it) and the double reference. */
+const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
+                                            ddof_kernel kernel);
+
+/* DDOF_OK when the context's backend can run this solver/precision, else a failure recorded
+ * in the context (before any output is written). */
+ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
+                                        ddof_precision precision);
+
+/* Whether the context's device runs whole layered frames (run_layers) for this request: a
+ * device whose table has the entry, a solver it runs, the disc kernel only where it runs it. */
+int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
+
+/* The whole layered frame on the device; a failure is recorded in the context. */
+ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+                                    adi_layers_report *report);
+
+/* Whether the context's device draws cards (ddof_render_cards), and the call. */
+int ddof_backend_runs_cards(const ddof_context *context);
+ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_request *request);
+
+/* Releases the loaded plugin and device (context teardown). */
+void ddof_backend_release(ddof_context *context);
+
+#endif

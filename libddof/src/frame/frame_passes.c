@@ -1,0 +1,140 @@
+/* SPDX-License-Identifier: MIT */
+/* frame_passes.c - the passes that run on the CPU around a frame's layers, wherever the layers
+ * run (frame_run.c orders them): the highlights found before the layers and drawn after them,
+ * the far field and the silhouettes over the layers' result. Each writes its plan line. */
+#include "frame_passes.h"
+
+#include "passes/far_field.h"
+#include "passes/silhouettes.h"
+
+#include <stdio.h>
+
+/* Finds the frame's highlights (colour with 3 or 4 channels) into `set` and the base colour,
+ * and says in the plan what it found. */
+ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_request *q,
+                                      highlight_set *set, frame_plan *plan)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    if (r->channels < 3) {
+        ddof_plan_say(plan, "highlights: off: %u colour channel%s (the pass needs RGB)",
+                      r->channels, r->channels == 1 ? "" : "s");
+        return DDOF_OK;
+    }
+    float *base = ddof_highlight_base_image(context, r);
+    if (!base)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                         "could not allocate the highlight pass's %ux%u image", r->width,
+                         r->height);
+    ddof_status status =
+        ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
+                             &q->aperture, 1, base, set);
+    if (status != DDOF_OK)
+        return status;
+    char shape[48] = "discs";
+    if (q->aperture.image)
+        snprintf(shape, sizeof shape, "the %ux%u aperture image", q->aperture.image_width,
+                 q->aperture.image_height);
+    else if (q->aperture.blades >= 3)
+        snprintf(shape, sizeof shape, "%u-bladed polygons", q->aperture.blades);
+    char hidden[48] = "";
+    if (set->hidden)
+        snprintf(hidden, sizeof hidden, " (+%u hidden by sharp occluders)", set->hidden);
+    if (set->count)
+        ddof_plan_say(plan,
+                      "highlights: on: %u pixels brighter than %.3g with CoC >= %.3g px%s "
+                      "drawn as %s (%.2f operations per pixel)",
+                      set->count - set->hidden, (double)set->threshold,
+                      (double)DDOF_HIGHLIGHT_MIN_COC_PX, hidden, shape,
+                      (double)set->cost / ((double)r->width * r->height));
+    else if (set->over_budget)
+        ddof_plan_say(plan,
+                      "highlights: off: the brightest pixels (above %.3g, CoC >= %.3g px) "
+                      "alone would cost over %.3g operations per frame pixel",
+                      (double)set->threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX,
+                      (double)DDOF_HIGHLIGHT_BUDGET);
+    else
+        ddof_plan_say(plan, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
+                      (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
+    return DDOF_OK;
+}
+
+/* Draws the highlights the pass took out into the result (before the foreground element,
+ * which covers them), through `scratch` or the colour's buffer. */
+void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
+                               const highlight_set *set, float *scratch,
+                               layers_report *report)
+{
+    if (!set->count)
+        return;
+    const double t0 = ddof_seconds();
+    ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, &q->aperture, set,
+                            scratch ? scratch : ddof_highlight_base_image(context, &q->base));
+    report->effects |= DDOF_EFFECT_HIGHLIGHTS;
+    report->seconds_highlights += ddof_seconds() - t0;
+}
+
+/* The far field over the layers' result (far_field.h): before the highlights are drawn, from
+ * the colour the layers diffused (without them). */
+ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
+                                const float *color, size_t color_stride, frame_plan *plan,
+                                layers_report *report)
+{
+    const double t0 = ddof_seconds();
+    far_field_report far;
+    const ddof_status status =
+        ddof_far_field(context, &q->base, color, color_stride, plan->blurred_edges, &far);
+    if (status != DDOF_OK)
+        return status;
+    const double pixels = (double)q->base.width * q->base.height;
+    /* Where two blurred surfaces meet (ddof_params.blurred_edges), in the same line: the plan
+     * a caller gets is short. */
+    char edges[80];
+    if (far.slices)
+        snprintf(edges, sizeof edges, "; blurred edges: %.1f%%, %u depth slices",
+                 100.0 * (double)far.layered_pixels / pixels, far.slices);
+    else
+        snprintf(edges, sizeof edges, "; blurred edges: %s",
+                 plan->blurred_edges                            ? "none"
+                 : q->params->blurred_edges == DDOF_LAYER_OFF ? "forced off"
+                                                                : "off (unsigned CoC)");
+    if (far.pixels) {
+        report->effects |= DDOF_EFFECT_FAR_FIELD;
+        ddof_plan_say(plan, "far field: on: %.1f%% of pixels, %u level%s%s",
+                      100.0 * (double)far.pixels / pixels, far.levels,
+                      far.levels == 1 ? "" : "s", edges);
+    } else {
+        ddof_plan_say(plan, "far field: off: every blurred pixel is near a depth edge");
+    }
+    report->seconds_far_field = ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
+/* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
+ * highlights are drawn (their discs land behind the object, whole; with a matte after them,
+ * frame_run.c) and the foreground element covers it, estimated from the colour before its
+ * objects were taken out of what the layers diffused (ddof_clean_silhouettes). */
+ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
+                                  const float *color, size_t color_stride, frame_plan *plan,
+                                  layers_report *report)
+{
+    const double t0 = ddof_seconds();
+    silhouette_report split = {0};
+    const ddof_status status =
+        pairs ? ddof_split_silhouettes(context, &q->base, &q->matte, color, color_stride, &split)
+              : DDOF_OK;
+    if (status != DDOF_OK)
+        return status;
+    if (split.pixels) {
+        report->effects |= DDOF_EFFECT_SILHOUETTES;
+        ddof_plan_say(plan, "silhouettes: on: %llu mixed pixels split%s",
+                      (unsigned long long)split.pixels,
+                      q->matte.ranks ? " by the object matte" : "");
+    } else {
+        ddof_plan_say(plan,
+                      "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
+                      (double)DDOF_SILHOUETTE_MIN_COC_PX);
+    }
+    report->seconds_silhouettes = ddof_seconds() - t0;
+    return DDOF_OK;
+}

@@ -1,0 +1,373 @@
+/* SPDX-License-Identifier: MIT */
+/* frame_run.c - one frame's run, for every call that renders one (ddof_render_frame,
+ * ddof_depth_of_field, ddof_diffuse_layers, ddof_diffuse): from a validated request with its
+ * CoC, the plan (planner.c), the near layer's split, where the layers run (the CPU's layers.c
+ * or the device's run_layers, decided once per frame), the passes around them
+ * (frame_passes.c), the element's composite, and the stats. */
+#include "frame_run.h"
+#include "ddof_output_struct.h"
+
+#include "backends/backend.h"
+#include "frame_passes.h"
+#include "passes/near_layer.h"
+#include "runtime/parallel_rows.h"
+#include "passes/preview_cod4.h"
+#include "passes/silhouettes.h"
+
+#include <stddef.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Whether a frame whose largest |CoC| is max_coc has nothing out of focus. */
+static int all_in_focus(float max_coc, const ddof_params *p)
+{
+    return max_coc <= 0.0f || max_coc < p->in_focus_threshold_px;
+}
+
+/* The fields the caller's struct has room for (ddof.h: output structs); its size was checked
+ * before the call ran (ddof_check_stats). */
+static void write_stats(ddof_stats *stats, const ddof_stats *full)
+{
+    if (stats)
+        ddof_write_output_struct(stats, full, sizeof *full);
+}
+
+/* Working memory the context holds for its calls (grown, reused). */
+static uint64_t host_bytes(const ddof_context *context)
+{
+    uint64_t sum = 0;
+    for (int i = 0; i < DDOF_SCRATCH_COUNT; i++)
+        sum += context->scratch[i].size;
+    return sum;
+}
+
+static ddof_stats stats_from(const ddof_context *context, const adi_report *report,
+                             const adi_request *r, double t_start, double seconds_coc)
+{
+    const ddof_solver solver = r->solver;
+    const ddof_kernel kernel = r->disc ? r->disc->id : DDOF_KERNEL_HEAT;
+    return (ddof_stats){
+        .struct_size = sizeof(ddof_stats),
+        .solver = (uint32_t)solver,
+        .threads = report->threads,
+        .substeps = report->substeps_run,
+        .lines_solved = report->lines_solved,
+        .lines_skipped = report->lines_skipped,
+        .max_coc_px = report->max_coc,
+        .copied_only = report->substeps_run == 0,
+        .seconds_total = ddof_seconds() - t_start,
+        .seconds_coc = seconds_coc,
+        .seconds_rows = report->seconds_rows,
+        .seconds_columns = report->seconds_columns,
+        .effects = report->substeps_run ? DDOF_EFFECT_MIDGROUND : 0u,
+        .backend = (uint32_t)context->backend.kind,
+        .method = (uint32_t)DDOF_METHOD_DIFFUSION,
+        .kernel = (uint32_t)kernel,
+        .device_bytes = report->device_bytes,
+        .host_bytes = host_bytes(context),
+        .device_uploads = report->uploads,
+        .device_readbacks = report->readbacks,
+    };
+}
+
+/* ---- running ------------------------------------------------------------------------------ */
+
+/* The CoD4 preview instead of the diffusion. */
+static ddof_status run_preview(ddof_context *context, const adi_request *r, int coc_signed,
+                               ddof_stats *stats, double t_start, double seconds_coc)
+{
+    adi_report report = {.threads = context->thread_count};
+    ddof_status status = ddof_cod4_preview(context, r, coc_signed, &report);
+    if (status != DDOF_OK)
+        return status;
+    ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
+    full.backend = (uint32_t)DDOF_BACKEND_CPU;
+    full.method = (uint32_t)DDOF_METHOD_COD4_PREVIEW;
+    full.substeps = 0;
+    full.copied_only = 0;
+    full.effects = 0;
+    frame_plan plan = {0};
+    ddof_plan_say(&plan, "preview: the CoD4 post-process (GPU Gems 3 ch. 28)");
+    ddof_plan_copy_text(&plan, full.plan, sizeof full.plan);
+    /* The preview's plan is its one line, unterminated. */
+    full.plan[strcspn(full.plan, "\n")] = '\0';
+    write_stats(stats, &full);
+    return DDOF_OK;
+}
+
+/* Nothing out of focus: the output is the input, on every backend (no device is involved). */
+static void copy_frame(ddof_context *context, const adi_request *r, adi_report *report,
+                       float max_coc)
+{
+    ddof_parallel_copy(context, r->color, r->color_stride, r->out, r->out_stride,
+                       (size_t)r->width * r->channels, r->height);
+    /* Every line skipped, counted as the run would have: a disc kernel per component. */
+    const uint64_t passes = r->disc ? r->disc->components : 1u;
+    *report = (adi_report){.threads = context->thread_count,
+                           .lines_skipped = ((uint64_t)r->width + r->height) * passes,
+                           .max_coc = max_coc};
+    if (r->progress)
+        r->progress(r->progress_user, 1.0f);
+}
+
+ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
+                                   const ddof_params *p, float max_coc, ddof_stats *stats,
+                                   double t_start, double seconds_coc)
+{
+    if (p->method == DDOF_METHOD_COD4_PREVIEW)
+        return run_preview(context, r, (int)p->coc_signed, stats, t_start, seconds_coc);
+    adi_report report;
+    /* On a device the call stays there (it is the backend's frame to run, and it reports
+     * what it ran); its CoC is cut to the threshold by ddof_run_adi. */
+    if (all_in_focus(max_coc, p) && !context->backend.device) {
+        copy_frame(context, r, &report, max_coc);
+    } else {
+        ddof_status status = ddof_run_adi(context, r, &report);
+        if (status != DDOF_OK)
+            return status;
+    }
+    ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
+    write_stats(stats, &full);
+    return DDOF_OK;
+}
+
+/* ---- where the layers run ---------------------------------------------------------------- */
+
+/* Whether the foreground element holds a pixel the highlight pass would take (bright enough,
+ * covered, blurred enough): only then does it need the CPU's pass. */
+static int element_is_bright(const layers_request *q)
+{
+    const float threshold = q->params->highlight_threshold;
+    for (uint32_t y = q->fg_box.y0; y < q->fg_box.y1; y++) {
+        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
+        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
+        for (uint32_t x = q->fg_box.x0; x < q->fg_box.x1; x++) {
+            const float *px = fg + (size_t)x * 4;
+            /* foreground_rows' premultiplication */
+            const float scale = q->fg_premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
+            if (px[3] > 0.0f && ddof_is_highlight(ddof_highlight_brightness(px) * scale,
+                                                  coc[(size_t)x * q->fg_coc_channels],
+                                                  threshold))
+                return 1;
+        }
+    }
+    return 0;
+}
+
+/* Whether the device runs the whole plan. It does, the element's composite included, but the
+ * highlights (the frame's, which go under the element, and the element's own, in it), the far
+ * field and the silhouettes are the CPU's: a frame with an element and any of them runs on the
+ * CPU's layers, one diffusion at a time. */
+static int device_runs_frame(ddof_context *context, const layers_request *q,
+                             const frame_plan *plan, uint32_t frame_highlights)
+{
+    if (!ddof_backend_runs_layers(context, &q->base) || q->fg_carried_alpha)
+        return 0;
+    /* The far field and the silhouettes go under the element, which the device composites
+     * itself. */
+    if ((plan->far_field || plan->silhouettes) && plan->foreground)
+        return 0;
+    const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
+    return !(element_lights && (frame_highlights || element_is_bright(q)));
+}
+
+/* The silhouettes' split and the highlights' discs over the layers' result. The discs are
+ * drawn through the colour's buffer, the last of its readers, so they come after the split:
+ * a disc then lands whole behind a mixed pixel's object share. With an object matte the shares
+ * are the render's own, and the split comes after the discs (drawn through the split's scratch,
+ * still free): a mixed pixel's background share then shows the disc behind it and its object
+ * share hides it, as a strand across a light does through a lens. The colours' guess of the
+ * share errs too often for that: it would cut dark notches into the discs. */
+static ddof_status split_and_draw(ddof_context *context, const layers_request *q,
+                                  frame_plan *plan, int pairs, const float *color,
+                                  size_t color_stride, const highlight_set *highlights,
+                                  layers_report *report)
+{
+    const int split = plan->silhouettes;
+    if (split && pairs && highlights->count && q->matte.ranks) {
+        float *scratch = ddof_silhouettes_scratch(context, &q->base);
+        if (!scratch)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the silhouettes' %ux%u image", q->base.width,
+                             q->base.height);
+        ddof_pass_draw_highlights(context, q, highlights, scratch, report);
+        return ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan, report);
+    }
+    ddof_status status = DDOF_OK;
+    if (split && (status = ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan,
+                                                 report)) != DDOF_OK)
+        return status;
+    ddof_pass_draw_highlights(context, q, highlights, NULL, report);
+    return DDOF_OK;
+}
+
+/* The planned frame's layers and the passes around them. Where the layers run is decided
+ * here, once, after the highlights are found (the device's run takes them only where the
+ * element does not need the CPU's pass). */
+static ddof_status run_planned(ddof_context *context, const layers_request *q,
+                               frame_plan *plan, float max_near_coc, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    memset(report, 0, sizeof *report);
+    ddof_status status = DDOF_OK;
+
+    /* The highlight pass takes the highlights out of the colour every layer diffuses (on the
+     * CPU or on a device) and draws them into the result afterwards. */
+    highlight_set highlights = {0};
+    const float *color = r->color;
+    size_t color_stride = r->color_stride;
+    if (plan->highlights) {
+        const double t0 = ddof_seconds();
+        if ((status = ddof_pass_find_highlights(context, q, &highlights, plan)) != DDOF_OK)
+            return status;
+        if (highlights.count) {
+            color = ddof_highlight_base_image(context, r);
+            color_stride = (size_t)r->width * r->channels;
+        }
+        report->seconds_highlights += ddof_seconds() - t0;
+    }
+
+    /* Diffusing in place overwrites the colour the background layer (on the CPU) and the far
+     * field still need (the highlight pass's base is a copy already). */
+    const int on_device = device_runs_frame(context, q, plan, highlights.count);
+    if (((plan->background && !on_device) || plan->far_field || plan->silhouettes) &&
+        r->out == r->color && color == r->color) {
+        const size_t row = (size_t)r->width * r->channels;
+        float *copy = ddof_scratch_get(context, DDOF_SCRATCH_LAYER_COLOR_COPY,
+                                       row * r->height * sizeof(float));
+        if (!copy)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate %zu bytes for a layer",
+                             row * r->height * sizeof(float));
+        for (uint32_t y = 0; y < r->height; y++)
+            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
+        color = copy;
+        color_stride = row;
+    }
+
+    /* What the layers blur: the silhouettes' objects taken out (silhouettes.h); `color` stays
+     * what the split reads afterwards. */
+    const float *diffused = color;
+    size_t diffused_stride = color_stride;
+    int pairs = 0;
+    if (plan->silhouettes &&
+        (status = ddof_clean_silhouettes(context, r, &q->matte, &diffused, &diffused_stride,
+                                         &pairs)) != DDOF_OK)
+        return status;
+
+    layer_stages st = ddof_layer_stages(q, plan);
+    if (on_device) {
+        layers_request device_q = *q;
+        device_q.base.color = diffused;
+        device_q.base.color_stride = diffused_stride;
+        status = ddof_run_layers_on_device(context, &device_q, plan, max_near_coc, report);
+    } else {
+        status = ddof_run_layers_on_cpu(context, q, plan, max_near_coc, diffused,
+                                        diffused_stride, &st, report);
+    }
+    if (status != DDOF_OK)
+        return status;
+    if (plan->far_field && (status = ddof_pass_far_field(context, q, diffused, diffused_stride,
+                                                         plan, report)) != DDOF_OK)
+        return status;
+    if ((status = split_and_draw(context, q, plan, pairs, color, color_stride, &highlights,
+                                 report)) != DDOF_OK)
+        return status;
+    /* On the CPU the element goes over all of it (the device composited it already). */
+    if (plan->foreground && !on_device)
+        return ddof_run_foreground_on_cpu(context, q, &st, report);
+    return DDOF_OK;
+}
+
+/* ---- the frame ---------------------------------------------------------------------------- */
+
+/* The near layer: the frame's near field becomes the foreground element and the rest, with
+ * what it hid filled in, the image the other layers blur (near_layer.h); the background
+ * layer's area grows by the edges the fill made. */
+static ddof_status split_near_layer(ddof_context *context, layers_request *q,
+                                    coc_analysis *analysis, frame_plan *plan)
+{
+    adi_request *r = &q->base;
+    near_split split;
+    ddof_status status =
+        ddof_split_near(context, r, q->params->near_layer_threshold_px, &split);
+    if (status != DDOF_OK)
+        return status;
+    q->fg_color = split.element;
+    q->fg_color_stride = (size_t)r->width * 4;
+    q->fg_coc = split.element_coc;
+    q->fg_coc_stride = r->width;
+    q->fg_coc_channels = 1;
+    q->fg_premultiplied = 1;
+    q->fg_carried_alpha = split.carried_alpha;
+    q->fg_carried_stride = r->width;
+    q->fg_box = split.box;
+    q->fg_max_coc = split.max_coc;
+    plan->foreground = split.element_pixels > 0;
+    r->color = split.rest;
+    r->color_stride = (size_t)r->width * r->channels;
+    r->coc = split.rest_coc;
+    r->coc_stride = r->width;
+    r->coc_channels = 1;
+    coc_analysis rest;
+    ddof_analyse_coc(context, r->coc, r->coc_stride, 1, r->width, r->height, q->params, &rest);
+    analysis->background_box = box_union(analysis->background_box, rest.background_box);
+    analysis->near_box = rest.near_box;
+    return DDOF_OK;
+}
+
+ddof_status ddof_run_frame(ddof_context *context, layers_request *q, int fg_given,
+                           int fg_visible, float known_max_coc, ddof_stats *stats,
+                           double t_start, double seconds_coc)
+{
+    const adi_request *r = &q->base;
+    if (q->params->method == DDOF_METHOD_COD4_PREVIEW)
+        return run_preview(context, r, (int)q->params->coc_signed, stats, t_start, seconds_coc);
+    const double t_plan = ddof_seconds();
+    coc_analysis analysis = {.max_coc = known_max_coc};
+    if (known_max_coc < 0.0f || !all_in_focus(known_max_coc, q->params) ||
+        (fg_given && fg_visible))
+        ddof_analyse_coc(context, r->coc, r->coc_stride, r->coc_channels, r->width, r->height,
+                         q->params, &analysis);
+    frame_plan plan;
+    ddof_plan_frame(&analysis, q->params, r->channels, fg_given, fg_visible, &plan);
+    const double seconds_plan = ddof_seconds() - t_plan;
+    double seconds_near_layer = 0.0;
+    if (plan.near_layer && !plan.copy_only) {
+        const double t0 = ddof_seconds();
+        ddof_status status = split_near_layer(context, q, &analysis, &plan);
+        if (status != DDOF_OK)
+            return status;
+        fg_visible = plan.foreground;
+        seconds_near_layer = ddof_seconds() - t0;
+    }
+
+    layers_report report = {.adi = {.threads = context->thread_count,
+                                    .lines_skipped = (uint64_t)r->width + r->height}};
+    if (plan.copy_only) {
+        copy_frame(context, r, &report.adi, analysis.max_coc);
+    } else {
+        q->fg_color = fg_visible ? q->fg_color : NULL;
+        q->background_box = analysis.background_box;
+        q->near_box = analysis.near_box;
+        ddof_status status = run_planned(context, q, &plan, analysis.max_near_coc, &report);
+        if (status != DDOF_OK)
+            return status;
+    }
+    ddof_stats full = stats_from(context, &report.adi, r, t_start, seconds_coc);
+    full.max_coc_px = analysis.max_coc;
+    full.copied_only = plan.copy_only;
+    full.effects = report.effects;
+    full.seconds_plan = seconds_plan;
+    full.seconds_background = report.seconds_background;
+    full.seconds_foreground = report.seconds_foreground;
+    full.seconds_highlights = report.seconds_highlights;
+    full.seconds_near_layer = seconds_near_layer;
+    full.seconds_far_field = report.seconds_far_field;
+    full.seconds_silhouettes = report.seconds_silhouettes;
+    if (plan.near_layer)
+        full.effects |= DDOF_EFFECT_NEAR_LAYER;
+    ddof_plan_copy_text(&plan, full.plan, sizeof full.plan);
+    write_stats(stats, &full);
+    return DDOF_OK;
+}

@@ -1,0 +1,622 @@
+/* SPDX-License-Identifier: MIT */
+/* layers.c - the layered diffusion of docs/design.md section 1, each effect one or two ADI runs.
+ *
+ *  midground    the single-layer diffusion (with the near-spread CoC when that runs)
+ *  near spread  one image: every near-field pixel q (CoC < 0, D0 = |CoC|) claims the pixels p
+ *               around it with D(p) = max_q D0(q) - 4 |p - q| (a cone dilation, cone_dilate.c),
+ *               and the midground conducts with max(|CoC|, D), so a blurred near object
+ *               spreads over its edges. GPU Gems 3 ch. 28's D = max(D0, 2 D_blurred - D0)
+ *               gives a similar ramp at the edge of a large object, but blurring the CoC map
+ *               dilutes a small one (a 5 px light of CoC 20 over an in-focus background kept
+ *               0.66 of its peak, a sharp dot in a faint halo; the cone 0.30: test_layers); the
+ *               slope 4 (D falls to 0 a quarter of the CoC away) measured best of 1.5 ... 8
+ *               on the accuracy study's two scenes with near objects.
+ *  background   matte a from the CoC; holes where a = 0; the CoC filled into the holes (heat
+ *               capacity 1 outside them, 0 in them; uniform beta of the threshold); the colour
+ *               diffused with that capacity and the filled CoC; blended under the midground:
+ *               out += a w (B - out), w = 1 within |CoC|/2 of an in-focus pixel, fading to 0
+ *               at |CoC| (farther out no insulator was in the midground's way, and B, whose
+ *               holes include the near field, would cut off the halo of a near object).
+ *               Levels at t, 2t, 4t ... in turn.
+ *  foreground   its CoC filled outwards (gamma = its alpha, uniform beta of its largest CoC, in
+ *               two steps so that the fill reaches pixels sharing no row or column with it);
+ *               its premultiplied colour and alpha diffused with gamma = 1 and the filled CoC
+ *               (gamma = alpha there would give transparent pixels no capacity, and they would
+ *               copy their neighbours' alpha instead of turning transparent); composited over.
+ * The background layer and the foreground element work only on the part of the frame they can
+ * change (their sources plus the reach of their largest CoC). Per-pixel steps run on the
+ * context's threads in row chunks; the diffusions are heat_adi.c's. */
+#include "layers.h"
+
+#include "backends/backend.h"
+#include "passes/cone_dilate.h"
+#include "disc/disc_kernel.h"
+#include "passes/far_field.h"
+#include "passes/highlights.h"
+
+#include "runtime/parallel_rows.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* ---- stages and progress ----------------------------------------------------------------- */
+
+/* Maps one diffusion's progress into the whole call's, so the caller sees one rising fraction. */
+static int stage_progress(void *user, float fraction)
+{
+    const layer_stages *s = user;
+    return s->progress(s->user, ((float)s->current + fraction) / (float)s->count);
+}
+
+/* One diffusion with the request's solver; its figures are added to the report. */
+static ddof_status diffuse(ddof_context *context, adi_request *r, layer_stages *st,
+                           layers_report *report)
+{
+    if (st->progress) {
+        r->progress = stage_progress;
+        r->progress_user = st;
+    }
+    adi_report a;
+    ddof_status status = ddof_run_adi(context, r, &a);
+    st->current++;
+    if (status != DDOF_OK)
+        return status;
+    report->adi.lines_solved += a.lines_solved;
+    report->adi.lines_skipped += a.lines_skipped;
+    report->adi.seconds_rows += a.seconds_rows;
+    report->adi.seconds_columns += a.seconds_columns;
+    report->adi.uploads += a.uploads;
+    report->adi.readbacks += a.readbacks;
+    report->adi.threads = a.threads;
+    report->adi.max_coc = ddof_maxf(report->adi.max_coc, a.max_coc);
+    if (a.device_bytes > report->adi.device_bytes)
+        report->adi.device_bytes = a.device_bytes;
+    if (a.substeps_run > report->adi.substeps_run)
+        report->adi.substeps_run = a.substeps_run;
+    return DDOF_OK;
+}
+
+/* A request for a w x h image of `channels`, with the base request's solver settings. */
+static adi_request derived(const adi_request *base, const float *color, size_t color_stride,
+                           uint32_t channels, float *out)
+{
+    adi_request r = *base;
+    r.color = color;
+    r.color_stride = color_stride;
+    r.channels = channels;
+    r.out = out;
+    r.out_stride = (size_t)base->width * channels;
+    r.coc = NULL;
+    r.gamma = NULL;
+    return r;
+}
+
+/* ---- per-pixel steps ---------------------------------------------------------------------- */
+
+typedef struct pixel_job {
+    const layers_request *q;
+    float *a, *b;      /* maps (w floats a row) or colour (w * channels) */
+    const float *rgba; /* the premultiplied foreground element           */
+    float t0, t1;      /* matte ramp                                      */
+    float blend_from;  /* background levels: blend only CoC >= this       */
+    const float *spread; /* the near-spread CoC, or NULL                  */
+    size_t spread_stride;
+    float *capacity;     /* background heat capacity                      */
+    pixel_box blend;     /* the background is blended in here only        */
+    float *proximity;    /* background: INSULATOR - distance to the nearest in-focus pixel */
+} pixel_job;
+
+/* a = the near-field CoC D0 (|CoC| where CoC < 0, else 0). */
+static void near_map_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float c = adi_request_coc(r, x, y);
+            j->a[(size_t)y * r->width + x] = c < 0.0f ? -c : 0.0f;
+        }
+}
+
+/* a = max(|CoC|, the dilated near CoC in a). */
+static void spread_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const size_t i = (size_t)y * r->width + x;
+            j->a[i] = ddof_maxf(fabsf(adi_request_coc(r, x, y)), j->a[i]);
+        }
+}
+
+/* a = matte, the blend weight (0 below t0, 1 from t1, linear between; 0 for the near field,
+ * which is never background); capacity = 1 where the matte is above 0, else 0 (a hole);
+ * b = |CoC|. The capacity is not the matte: heat capacity a < 1 at the same beta blurs like
+ * beta / a, which would over-blur the pixels on the ramp. */
+static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    const float inv = 1.0f / (j->t1 - j->t0);
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++) {
+            const size_t i = (size_t)y * r->width + x;
+            const float c = adi_request_coc(r, x, y);
+            j->a[i] = ddof_minf(1.0f, ddof_maxf(0.0f, (c - j->t0) * inv));
+            j->capacity[i] = j->a[i] > 0.0f ? 1.0f : 0.0f;
+            j->b[i] = fabsf(c);
+        }
+}
+
+/* The cone height of an in-focus pixel in the proximity map: proximity = INSULATOR - the
+ * distance to the nearest one (px), exact in float to 1/8 px, beyond any image's diagonal. */
+#define INSULATOR 1048576.0f
+
+/* proximity = INSULATOR on in-focus pixels (|CoC| below the matte's ramp start), else 0; the
+ * cone dilation of slope 1 then makes it INSULATOR - distance. */
+static void insulator_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < r->width; x++)
+            j->proximity[(size_t)y * r->width + x] =
+                fabsf(adi_request_coc(r, x, y)) < j->t0 ? INSULATOR : 0.0f;
+}
+
+/* How much the background may replace the midground at a pixel of CoC c whose nearest
+ * in-focus pixel is `distance` away: fully within its blur radius |c|/2, not at all beyond
+ * its diameter (the midground's blur met no insulator there), linear in between. */
+static float within_reach(float distance, float c)
+{
+    const float d = fabsf(c);
+    return d > 0.0f ? ddof_minf(1.0f, ddof_maxf(0.0f, (d - distance) / (0.5f * d))) : 0.0f;
+}
+
+/* out += a w (B - out): the midground over the background by its matte a and the reach w of
+ * the in-focus pixels (within_reach); exact where a w = 0. An
+ * extra level (threshold 2^k t) only replaces pixels at least as blurred as its threshold: it
+ * treats less blurred ones as (partial) holes, and its blur would be too wide for them. Pixels
+ * whose CoC the near spread raised show a blurred near object over them: they keep the
+ * midground, or the background (which has the near object as a hole) would cut its soft edge
+ * off again. */
+static void blend_background_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    const uint32_t C = r->channels;
+    for (uint32_t y = y0; y < y1; y++) {
+        float *out = r->out + (size_t)y * r->out_stride;
+        const float *b = j->b + (size_t)y * r->width * C;
+        const float *a = j->a + (size_t)y * r->width;
+        const float *coc = r->coc + (size_t)y * r->coc_stride;
+        const float *spread = j->spread ? j->spread + (size_t)y * j->spread_stride : NULL;
+        const float *proximity = j->proximity + (size_t)y * r->width;
+        if (y < j->blend.y0 || y >= j->blend.y1)
+            continue;
+        for (uint32_t x = j->blend.x0; x < j->blend.x1; x++) {
+            const float c = coc[(size_t)x * r->coc_channels];
+            const int claimed = spread && spread[x] > fabsf(c);
+            const float weight =
+                c >= j->blend_from && !claimed
+                    ? a[x] * within_reach(INSULATOR - proximity[x], c)
+                    : 0.0f;
+            if (weight > 0.0f)
+                for (uint32_t c = 0; c < C; c++)
+                    out[x * C + c] += weight * (b[x * C + c] - out[x * C + c]);
+        }
+    }
+}
+
+/* The foreground element as premultiplied RGBA in a (alpha clamped to [0, 1]; colour only read
+ * where alpha > 0) and its |CoC| in b (0 where transparent). */
+static void foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const layers_request *q = j->q;
+    const uint32_t w = q->base.width;
+    for (uint32_t y = y0; y < y1; y++) {
+        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
+        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
+        for (uint32_t x = 0; x < w; x++) {
+            float *p = j->a + ((size_t)y * w + x) * 4;
+            const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, fg[x * 4 + 3]));
+            const float scale = q->fg_premultiplied ? 1.0f : alpha;
+            for (int c = 0; c < 3; c++)
+                p[c] = alpha > 0.0f ? fg[x * 4 + c] * scale : 0.0f;
+            p[3] = alpha;
+            j->b[(size_t)y * w + x] = alpha > 0.0f ? fabsf(coc[(size_t)x * q->fg_coc_channels]) : 0.0f;
+        }
+    }
+}
+
+/* a = 1 where the first CoC fill left a value (an element pixel, or one it reached), else 0:
+ * the sources of the second fill. */
+static void holds_value_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const size_t w = j->q->base.width;
+    for (size_t i = (size_t)y0 * w; i < (size_t)y1 * w; i++)
+        j->a[i] = j->rgba[i * 4 + 3] > 0.0f || j->b[i] > 0.0f ? 1.0f : 0.0f;
+}
+
+/* out = F + (1 - F.a) out on the colour channels; with 4 channels the alpha channel likewise,
+ * the element's part of it being its coverage F.a, or the blurred carried alpha in b. */
+static void composite_foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const pixel_job *j = user;
+    const adi_request *r = &j->q->base;
+    const uint32_t C = r->channels;
+    for (uint32_t y = y0; y < y1; y++) {
+        float *out = r->out + (size_t)y * r->out_stride;
+        const float *f = j->a + (size_t)y * r->width * 4;
+        const float *carried = j->b ? j->b + (size_t)y * r->width : NULL;
+        for (uint32_t x = 0; x < r->width; x++) {
+            const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, f[x * 4 + 3]));
+            if (alpha <= 0.0f)
+                continue;
+            for (uint32_t c = 0; c < 3; c++)
+                out[x * C + c] = f[x * 4 + c] + (1.0f - alpha) * out[x * C + c];
+            if (C == 4)
+                out[x * 4 + 3] = (carried ? carried[x] : alpha) + (1.0f - alpha) * out[x * 4 + 3];
+        }
+    }
+}
+
+/* Largest value of a w x h map. */
+static float map_max(const float *map, size_t count)
+{
+    float m = 0.0f;
+    for (size_t i = 0; i < count; i++)
+        m = ddof_maxf(m, map[i]);
+    return m;
+}
+
+/* ---- where an effect can matter ------------------------------------------------------------ */
+
+/* The part of a request inside box, as a request of its own: pointers moved, sizes cut,
+ * strides unchanged. */
+static layers_request crop(const layers_request *q, pixel_box b)
+{
+    layers_request c = *q;
+    adi_request *r = &c.base;
+    r->color += (size_t)b.y0 * r->color_stride + (size_t)b.x0 * r->channels;
+    r->out += (size_t)b.y0 * r->out_stride + (size_t)b.x0 * r->channels;
+    if (r->coc)
+        r->coc += (size_t)b.y0 * r->coc_stride + (size_t)b.x0 * r->coc_channels;
+    if (c.fg_color) {
+        c.fg_color += (size_t)b.y0 * c.fg_color_stride + (size_t)b.x0 * 4;
+        c.fg_coc += (size_t)b.y0 * c.fg_coc_stride + (size_t)b.x0 * c.fg_coc_channels;
+    }
+    if (c.fg_carried_alpha)
+        c.fg_carried_alpha += (size_t)b.y0 * c.fg_carried_stride + b.x0;
+    r->width = b.x1 - b.x0;
+    r->height = b.y1 - b.y0;
+    return c;
+}
+
+/* ---- the effects -------------------------------------------------------------------------- */
+
+static float *scratch(ddof_context *context, int slot, size_t floats, ddof_status *status)
+{
+    float *p = ddof_scratch_get(context, slot, floats * sizeof(float));
+    if (!p && *status == DDOF_OK)
+        *status = ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                            "could not allocate %zu bytes for a layer", floats * sizeof(float));
+    return p;
+}
+
+/* Near spread: writes the spread CoC (w x h, 1 channel) into *spread_coc. The dilation runs on
+ * the near pixels' box grown by the farthest any of them reaches (max_near / slope). */
+static ddof_status near_spread(ddof_context *context, const layers_request *q, float max_near,
+                               const float **spread_coc)
+{
+    const adi_request *r = &q->base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    /* d becomes the spread CoC */
+    float *d = scratch(context, DDOF_SCRATCH_NEAR_SPREAD, pixels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = q, .a = d};
+    ddof_parallel_rows(context, r->height, near_map_rows, &job);
+    const uint32_t reach = ddof_near_spread_reach_px(max_near);
+    const pixel_box b = box_grow(q->near_box, reach, r->width, r->height);
+    if (!box_is_empty(b))
+        ddof_cone_dilate(d + (size_t)b.y0 * r->width + b.x0, b.x1 - b.x0, b.y1 - b.y0, r->width,
+                         DDOF_NEAR_SPREAD_SLOPE);
+    ddof_parallel_rows(context, r->height, spread_rows, &job);
+    *spread_coc = d;
+    return DDOF_OK;
+}
+
+/* One background level with matte ramp [ramp_start, threshold], blended into r->out. */
+static ddof_status background_level(ddof_context *context, const layers_request *q,
+                                    const float *color, size_t color_stride, float ramp_start,
+                                    float threshold, float blend_from, const float *spread,
+                                    size_t spread_stride, pixel_box blend, layer_stages *st,
+                                    layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    float *matte = scratch(context, DDOF_SCRATCH_LAYER_MATTE, pixels, &status);
+    float *coc_abs = scratch(context, DDOF_SCRATCH_LAYER_COC_ABS, pixels, &status);
+    float *filled = scratch(context, DDOF_SCRATCH_LAYER_FILLED, pixels, &status);
+    float *layer = scratch(context, DDOF_SCRATCH_LAYER_COLOR, pixels * r->channels, &status);
+    float *capacity = scratch(context, DDOF_SCRATCH_LAYER_CAPACITY, pixels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = q, .a = matte, .b = coc_abs, .t0 = ramp_start, .t1 = threshold,
+                     .blend_from = blend_from, .spread = spread, .spread_stride = spread_stride,
+                     .capacity = capacity, .blend = blend};
+    ddof_parallel_rows(context, r->height, matte_rows, &job);
+
+    /* The CoC flows into the holes, every link at the threshold. */
+    adi_request fill = derived(r, coc_abs, r->width, 1, filled);
+    fill.uniform_coc = threshold;
+    fill.substeps = 1;
+    fill.disc = NULL; /* the CoC itself spreads by plain heat */
+    fill.gamma = capacity;
+    fill.gamma_stride = r->width;
+    fill.gamma_channels = 1;
+    if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
+        return status;
+
+    /* The colour, with the holes holding no heat of their own. */
+    adi_request bg = derived(r, color, color_stride, r->channels, layer);
+    bg.coc = filled;
+    bg.coc_stride = r->width;
+    bg.coc_channels = 1;
+    bg.gamma = capacity;
+    bg.gamma_stride = r->width;
+    bg.gamma_channels = 1;
+    if ((status = diffuse(context, &bg, st, report)) != DDOF_OK)
+        return status;
+
+    /* The filled CoC is spent: its buffer becomes the proximity map. */
+    job.b = layer;
+    job.proximity = filled;
+    ddof_parallel_rows(context, r->height, insulator_rows, &job);
+    ddof_cone_dilate(filled, r->width, r->height, r->width, 1.0f);
+    ddof_parallel_rows(context, r->height, blend_background_rows, &job);
+    return DDOF_OK;
+}
+
+
+/* Away from the element's own depth edges (its CoC filled outwards is smooth) its blur is the
+ * lens's shape too (far_field.h): each point's premultiplied colour and coverage over its own
+ * disc, blended over the diffusion's result (blur->out) toward such edges, from the element
+ * before its blur (blur->color). So a blurred near object's interior and its see-through rim
+ * are the lens's, not the diffusion's blob. */
+static ddof_status gather_element(ddof_context *context, const adi_request *blur,
+                                  layers_report *report)
+{
+    const double t0 = ddof_seconds();
+    far_field_report far;
+    const ddof_status status =
+        ddof_far_field(context, blur, blur->color, blur->color_stride, 0, &far);
+    if (status != DDOF_OK)
+        return status;
+    if (far.pixels)
+        report->effects |= DDOF_EFFECT_FAR_FIELD;
+    report->seconds_far_field += ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
+static ddof_status foreground(ddof_context *context, const layers_request *q, layer_stages *st,
+                              layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    float *premultiplied = scratch(context, DDOF_SCRATCH_LAYER_COLOR, pixels * 4, &status);
+    float *coc_abs = scratch(context, DDOF_SCRATCH_LAYER_COC_ABS, pixels, &status);
+    float *filled = scratch(context, DDOF_SCRATCH_LAYER_FILLED, pixels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = q, .a = premultiplied, .b = coc_abs};
+    ddof_parallel_rows(context, r->height, foreground_rows, &job);
+
+    /* The element's own highlights (a near light is usually in it): taken out of its
+     * premultiplied colour here, drawn into it after its blur. */
+    highlight_set lights = {0};
+    const float *element = premultiplied;
+    if (q->params->highlights != DDOF_LAYER_OFF) {
+        const double t0 = ddof_seconds();
+        adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
+        er.coc = q->fg_coc;
+        er.coc_stride = q->fg_coc_stride;
+        er.coc_channels = q->fg_coc_channels;
+        float *base = ddof_highlight_base_image(context, &er);
+        if (!base)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the highlight pass's %ux%u image", r->width,
+                             r->height);
+        if ((status = ddof_find_highlights(context, &er, q->params->highlight_threshold, 0,
+                                           &q->aperture, 0, base, &lights)) != DDOF_OK)
+            return status;
+        if (lights.count)
+            element = base;
+        report->seconds_highlights += ddof_seconds() - t0;
+    }
+
+    /* Its CoC flows outwards into the transparent pixels, at its own largest size. One ADI
+     * step reaches only the pixels that share a row or a column with the element (each pass
+     * sees its own line's sources only); a second, whose sources are every pixel holding a
+     * value by then (a cross through the element, which every row crosses), reaches the rest.
+     * Without it the halo would be cut along the element's bounding box. */
+    adi_request fill = derived(r, coc_abs, r->width, 1, filled);
+    fill.uniform_coc = map_max(coc_abs, pixels);
+    fill.substeps = 1;
+    fill.disc = NULL; /* the CoC itself spreads by plain heat */
+    fill.gamma = premultiplied + 3;
+    fill.gamma_stride = (size_t)r->width * 4;
+    fill.gamma_channels = 4;
+    if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
+        return status;
+    float *sources = coc_abs; /* free now */
+    pixel_job reach = {.q = q, .a = sources, .b = filled, .rgba = premultiplied};
+    ddof_parallel_rows(context, r->height, holds_value_rows, &reach);
+    adi_request spread = fill;
+    spread.color = filled;
+    spread.color_stride = r->width;
+    spread.out = filled; /* in place */
+    spread.gamma = sources;
+    spread.gamma_stride = r->width;
+    spread.gamma_channels = 1;
+    if ((status = diffuse(context, &spread, st, report)) != DDOF_OK)
+        return status;
+
+    /* Premultiplied colour and alpha spread together: coverage falls below 1. In place, unless
+     * the far field gathers from the element afterwards. */
+    const int gather = q->params->far_field != DDOF_LAYER_OFF;
+    if (gather && element == premultiplied) {
+        float *copy = scratch(context, DDOF_SCRATCH_ELEMENT_SHARP, pixels * 4, &status);
+        if (status != DDOF_OK)
+            return status;
+        memcpy(copy, premultiplied, pixels * 4 * sizeof(float));
+        element = copy;
+    }
+    adi_request blur = derived(r, element, (size_t)r->width * 4, 4, premultiplied);
+    blur.coc = filled;
+    blur.coc_stride = r->width;
+    blur.coc_channels = 1;
+    if ((status = diffuse(context, &blur, st, report)) != DDOF_OK)
+        return status;
+    if (gather && (status = gather_element(context, &blur, report)) != DDOF_OK)
+        return status;
+    if (lights.count) {
+        /* Light added to the element's colour, over whatever lies behind it; it lands where
+         * the element's spread CoC reaches (|CoC| at least half the disc's: the element's
+         * blur, never the sharp pixels beside it). */
+        const double t0 = ddof_seconds();
+        ddof_scatter_highlights(context, &blur, 0, &q->aperture, &lights,
+                                ddof_highlight_base_image(context, &blur));
+        report->effects |= DDOF_EFFECT_HIGHLIGHTS;
+        report->seconds_highlights += ddof_seconds() - t0;
+    }
+
+    job.b = NULL;
+    if (q->fg_carried_alpha && r->channels == 4) {
+        /* The element's part of the frame's alpha channel, blurred as its colour is. */
+        float *carried = scratch(context, DDOF_SCRATCH_LAYER_MATTE, pixels, &status);
+        if (status != DDOF_OK)
+            return status;
+        adi_request alpha = derived(r, q->fg_carried_alpha, q->fg_carried_stride, 1, carried);
+        alpha.coc = filled;
+        alpha.coc_stride = r->width;
+        alpha.coc_channels = 1;
+        if ((status = diffuse(context, &alpha, st, report)) != DDOF_OK)
+            return status;
+        job.b = carried;
+    }
+    ddof_parallel_rows(context, r->height, composite_foreground_rows, &job);
+    return DDOF_OK;
+}
+
+/* The background layer's levels, blended into r->out near the edges where it changes
+ * anything. `color` is what the midground diffused, `spread` the near-spread CoC or NULL. */
+static ddof_status run_background(ddof_context *context, const layers_request *q,
+                                  const float *color, size_t color_stride, const float *spread,
+                                  layer_stages *st, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    ddof_status status = DDOF_OK;
+    const double t0 = ddof_seconds();
+    /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
+     * pixel): it is computed on those plus twice its reach, and blended within its reach,
+     * so the crop's insulated border never shows. Forced on without edges, it covers all. */
+    const uint32_t reach =
+        ddof_background_reach_px(r->disc, r->beta_scale, report->adi.max_coc,
+                                 p->background_threshold_px, p->background_levels);
+    pixel_box edges = q->background_box;
+    if (box_is_empty(edges))
+        edges = (pixel_box){0, 0, r->width, r->height};
+    const pixel_box area = box_grow(edges, 2 * reach, r->width, r->height);
+    const pixel_box near = box_grow(edges, reach, r->width, r->height);
+    const pixel_box blend = {near.x0 - area.x0, near.y0 - area.y0, near.x1 - area.x0,
+                             near.y1 - area.y0};
+    const layers_request sub = crop(q, area);
+    color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
+    if (spread)
+        spread += (size_t)area.y0 * r->width + area.x0;
+    for (uint32_t level = 0; level < p->background_levels; level++) {
+        const float threshold = ddof_background_threshold(p->background_threshold_px, level);
+        const float ramp_start =
+            ddof_background_ramp_start(threshold, level, p->background_ramp_start_px);
+        status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
+                                  ddof_background_blend_from(threshold, level), spread,
+                                  r->width, blend, st, report);
+        if (status != DDOF_OK)
+            return status;
+    }
+    report->effects |= DDOF_EFFECT_BACKGROUND;
+    report->seconds_background = ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
+layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
+{
+    const adi_request *r = &q->base;
+    return (layer_stages){r->progress, r->progress_user, 0,
+                          1 + 2 * (plan->background ? q->params->background_levels : 0) +
+                              (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
+}
+
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
+                                   const frame_plan *plan, float max_near_coc,
+                                   const float *diffused, size_t diffused_stride,
+                                   layer_stages *st, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    ddof_status status;
+    adi_request mid = *r;
+    mid.color = diffused;
+    mid.color_stride = diffused_stride;
+    const float *spread = NULL;
+    if (plan->near_spread) {
+        const double t0 = ddof_seconds();
+        if ((status = near_spread(context, q, max_near_coc, &spread)) != DDOF_OK)
+            return status;
+        mid.coc = spread;
+        mid.coc_stride = r->width;
+        mid.coc_channels = 1;
+        report->effects |= DDOF_EFFECT_NEAR_SPREAD;
+        report->seconds_foreground += ddof_seconds() - t0;
+    }
+    if ((status = diffuse(context, &mid, st, report)) != DDOF_OK)
+        return status;
+    report->effects |= DDOF_EFFECT_MIDGROUND;
+    if (plan->background)
+        return run_background(context, q, diffused, diffused_stride, spread, st, report);
+    return DDOF_OK;
+}
+
+ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
+                                       layer_stages *st, layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const double t0 = ddof_seconds();
+    /* The element's blur reaches no further than its largest CoC carries. */
+    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
+    const pixel_box area = box_grow(q->fg_box, reach, r->width, r->height);
+    const layers_request sub = crop(q, area);
+    const ddof_status status = foreground(context, &sub, st, report);
+    if (status != DDOF_OK)
+        return status;
+    report->effects |= DDOF_EFFECT_FOREGROUND;
+    report->seconds_foreground += ddof_seconds() - t0;
+    return DDOF_OK;
+}

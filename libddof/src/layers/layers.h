@@ -1,0 +1,75 @@
+/* SPDX-License-Identifier: MIT */
+/* layers.h - the layered diffusion: midground, background layer(s), near spread, foreground. */
+#ifndef DDOF_LAYERS_H
+#define DDOF_LAYERS_H
+
+#include "adi/adi.h"
+#include "passes/highlights.h"
+#include "planner/planner.h"
+#include "passes/silhouettes.h"
+
+/* A validated layered request. */
+typedef struct layers_request {
+    adi_request base;          /* colour, CoC (possibly signed), out and the solver settings */
+    const ddof_params *params; /* the layer settings                                         */
+    const float *fg_color;     /* NULL: no foreground element; else 4 channels                */
+    size_t fg_color_stride;
+    const float *fg_coc;
+    size_t fg_coc_stride;
+    uint32_t fg_coc_channels;
+    int fg_premultiplied;
+    const float *fg_carried_alpha; /* NULL: the output's alpha channel is composited by the
+                                      element's coverage (alpha); else the element's part of
+                                      the frame's alpha channel (w x h, stride fg_carried_stride),
+                                      blurred like its colour and composited as colour is: the
+                                      near layer of a frame whose alpha is not 1 where it splits */
+    size_t fg_carried_stride;
+    pixel_box fg_box;          /* where the element's alpha > 0                              */
+    float fg_max_coc;          /* its largest |CoC| there                                    */
+    pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */
+    pixel_box near_box;        /* where the near-field pixels are (CoC < 0)                  */
+    highlight_aperture aperture; /* the highlights' shape (zero: a disc); the aperture ratio  */
+                               /* is base.pixel_aspect's part                                  */
+    object_matte matte;        /* ranks 0: none (ddof_render_frame_with_matte)               */
+} layers_request;
+
+/* Everything a layered call reports (folded into ddof_stats by the caller). */
+typedef struct layers_report {
+    adi_report adi;            /* summed over every diffusion that ran */
+    uint32_t effects;          /* DDOF_EFFECT_* bits                   */
+    double seconds_background;
+    double seconds_foreground;
+    double seconds_highlights;
+    double seconds_far_field;
+    double seconds_silhouettes;
+} layers_report;
+
+/* The frame's diffusions counted, so that the caller's progress sees one rising fraction. */
+typedef struct layer_stages {
+    ddof_progress_fn progress; /* the caller's */
+    void *user;
+    uint32_t current, count;
+} layer_stages;
+
+layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan);
+
+/* The layers behind the foreground element on the CPU (each diffusion on the context's
+ * backend, one at a time): the near spread, the midground of `diffused` and the background
+ * levels, into q->base.out. out is written only after every check has passed (the caller's
+ * job), and on error its contents are finite but unspecified. */
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
+                                   const frame_plan *plan, float max_near_coc,
+                                   const float *diffused, size_t diffused_stride,
+                                   layer_stages *st, layers_report *report);
+
+/* The foreground element blurred and composited over q->base.out, on the CPU. */
+ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
+                                       layer_stages *st, layers_report *report);
+
+/* Every layer of the plan, the element's composite included, on the context's device in one
+ * run (layers_device.c, the seam's run_layers), of q->base.color. */
+ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
+                                      const frame_plan *plan, float max_near_coc,
+                                      layers_report *report);
+
+#endif

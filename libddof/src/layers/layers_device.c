@@ -1,0 +1,62 @@
+/* SPDX-License-Identifier: MIT */
+/* layers_device.c - a planned frame's layers handed whole to the device (the seam's
+ * run_layers): the plan's switches and the areas the CPU's layers would use. */
+#include "layers.h"
+
+#include "backends/backend.h"
+#include "disc/disc_kernel.h"
+
+#include <math.h>
+
+static adi_box seam_box(pixel_box b)
+{
+    return (adi_box){b.x0, b.y0, b.x1, b.y1};
+}
+
+/* The plan and the areas layers.c would use, handed to the device's run_layers, which runs
+ * the same steps there (plugin/gl/gl_layers.c): one upload, one read-back. The background's
+ * area depends on the midground's largest CoC, so the device grows its edges itself. */
+ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
+                                      const frame_plan *plan, float max_near_coc,
+                                      layers_report *report)
+{
+    const adi_request *r = &q->base;
+    const ddof_params *p = q->params;
+    adi_layers_request d = {.base = *r, .near_spread = (uint32_t)plan->near_spread,
+                            .near_slope = DDOF_NEAR_SPREAD_SLOPE};
+    if (plan->near_spread) {
+        const uint32_t reach = ddof_near_spread_reach_px(max_near_coc);
+        d.near_dilate = seam_box(box_grow(q->near_box, reach, r->width, r->height));
+    }
+    if (plan->background) {
+        d.background_levels = p->background_levels;
+        d.background_threshold_px = p->background_threshold_px;
+        d.background_ramp_start_px = p->background_ramp_start_px;
+        const pixel_box edges = q->background_box;
+        d.background_edges = seam_box(box_is_empty(edges) ? (pixel_box){0, 0, r->width, r->height}
+                                                          : edges);
+    }
+    if (plan->foreground) {
+        d.fg_color = q->fg_color;
+        d.fg_color_stride = q->fg_color_stride;
+        d.fg_coc = q->fg_coc;
+        d.fg_coc_stride = q->fg_coc_stride;
+        d.fg_coc_channels = q->fg_coc_channels;
+        d.fg_premultiplied = (uint32_t)q->fg_premultiplied;
+        d.fg_max_coc = q->fg_max_coc;
+        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
+        d.fg_area = seam_box(box_grow(q->fg_box, reach, r->width, r->height));
+    }
+    adi_layers_report a;
+    const ddof_status status = ddof_backend_run_layers(context, &d, &a);
+    if (status != DDOF_OK)
+        return status;
+    report->adi = a.adi;
+    report->seconds_background = a.seconds_background;
+    report->seconds_foreground = a.seconds_foreground;
+    report->effects = DDOF_EFFECT_MIDGROUND |
+                      (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
+                      (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
+                      (plan->foreground ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
+    return DDOF_OK;
+}
