@@ -9,41 +9,15 @@
  * the frame; each card's table is uploaded once; one read-back at the end. */
 #include "gl_cards.h"
 
-#include "gl_shader_sources.h"
-
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
-static const char *shader_text(const char *name)
-{
-    for (size_t i = 0; i < sizeof gl_shader_sources / sizeof *gl_shader_sources; i++)
-        if (strcmp(gl_shader_sources[i].name, name) == 0)
-            return gl_shader_sources[i].text;
-    return NULL;
-}
-
 static GLuint compile(const gl_functions *gl, GLenum kind, const char *name, char *message,
                       size_t size)
 {
-    const char *parts[2] = {"#version 450\n", shader_text(name)};
-    if (!parts[1]) {
-        snprintf(message, size, "shader source missing for %s", name);
-        return 0;
-    }
-    GLuint shader = gl->CreateShader(kind);
-    gl->ShaderSource(shader, 2, parts, NULL);
-    gl->CompileShader(shader);
-    GLint ok = 0;
-    gl->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        gl->GetShaderInfoLog(shader, sizeof log, NULL, log);
-        snprintf(message, size, "compiling %s failed: %s", name, log);
-        gl->DeleteShader(shader);
-        return 0;
-    }
-    return shader;
+    const char *parts[2] = {"#version 450\n", gl_shader_text(name)};
+    return gl_compile_shader(gl, kind, name, 2, parts, message, size);
 }
 
 /* The cards' program, built on first use and kept with the device. */
@@ -59,23 +33,9 @@ static GLuint cards_program(ddof_device *device, char *message, size_t size)
             gl->DeleteShader(vert);
         return 0;
     }
-    GLuint program = gl->CreateProgram();
-    gl->AttachShader(program, vert);
-    gl->AttachShader(program, frag);
-    gl->LinkProgram(program);
-    gl->DeleteShader(vert);
-    gl->DeleteShader(frag);
-    GLint ok = 0;
-    gl->GetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        gl->GetProgramInfoLog(program, sizeof log, NULL, log);
-        snprintf(message, size, "linking the cards' program failed: %s", log);
-        gl->DeleteProgram(program);
-        return 0;
-    }
-    device->cards_program = program;
-    return program;
+    const GLuint shaders[2] = {vert, frag};
+    device->cards_program = gl_link_program(gl, shaders, 2, "the cards' program", message, size);
+    return device->cards_program;
 }
 
 static GLint at(const gl_functions *gl, GLuint program, const char *name)

@@ -11,7 +11,6 @@
  * report's and its singular runs are the ones the chain keeps. */
 #include "gl_solve.h"
 
-
 #include <float.h>
 #include <stdio.h>
 
@@ -34,23 +33,12 @@ void gl_lens_input_range(const adi_request *r, float lo[4], float hi[4])
         }
 }
 
-static void set_pass(const gl_functions *gl, GLuint prog, const gl_pass *p, int has_gamma)
-{
-    gl_uniform_u(gl, prog, "u_n", p->n);
-    gl_uniform_u(gl, prog, "u_lines", p->lines);
-    gl_uniform_u(gl, prog, "u_along", p->along);
-    gl_uniform_u(gl, prog, "u_across", p->across);
-    gl_uniform_f(gl, prog, "u_scale", p->scale);
-    gl_uniform_u(gl, prog, "u_has_gamma", (GLuint)has_gamma);
-    gl_uniform_u(gl, prog, "u_flag_bit", p->flag_bit);
-}
-
 /* The component's chain along one direction; fold: 0 rows, else lens_thomas.comp's u_fold. */
 static void chain_pass(const gl_functions *gl, GLuint prog, const gl_diffusion *d, uint32_t c,
                        const gl_pass *p, int has_gamma, uint32_t fold)
 {
     const disc_kernel *k = d->disc;
-    set_pass(gl, prog, p, has_gamma);
+    gl_pass_uniforms(gl, prog, p, has_gamma);
     for (uint32_t ch = 0; ch < 4; ch++) {
         char name[32];
         snprintf(name, sizeof name, "u_lo[%u]", ch);
@@ -91,18 +79,11 @@ ddof_status gl_lens_diffuse(ddof_device *device, const gl_diffusion *d, adi_repo
     if (!t_re || !t_im || !weights || !running)
         return DDOF_ERROR_BACKEND_FAILED;
 
-    const float aspect2 = d->pixel_aspect * d->pixel_aspect;
-    const uint32_t flag_rows = d->has_gamma ? 1u : 0u, flag_columns = d->has_gamma ? 2u : 0u;
-    /* Both directions bind the same buffers (below), so the passes' src and dst go unused. */
-    const gl_pass rows = {w, h, 1, w, 1.0f, flag_rows, image_a, t_re};
-    const gl_pass columns = {h, w, w, 1, aspect2, flag_columns, image_a, t_re};
-    gl_analysis found;
-    if (!gl_analyse(device, GL_PROG_LENS_ANALYSE, d, &rows, &columns, &found, message,
-                    message_size))
+    /* The directions' buffers go unused: both bind the same ones (below). */
+    gl_directions found;
+    if (!gl_analyse(device, GL_PROG_LENS_ANALYSE, d, 1.0f, &found, report, message, message_size))
         return DDOF_ERROR_BACKEND_FAILED;
-    const uint64_t active = (uint64_t)found.rows + found.columns;
-    *report = (adi_report){.threads = 1, .max_coc = found.max_coc};
-    if (active == 0) { /* nothing conducts: the (masked) input is the answer */
+    if (found.active == 0) { /* nothing conducts: the (masked) input is the answer */
         report->lines_skipped = ((uint64_t)w + h) * C;
         return DDOF_OK;
     }
@@ -124,24 +105,16 @@ ddof_status gl_lens_diffuse(ddof_device *device, const gl_diffusion *d, adi_repo
     for (uint32_t c = 0; c < C; c++) {
         const uint32_t fold = C == 1 ? 4u : c == 0 ? 1u : c + 1 == C ? 3u : 2u;
         for (uint32_t axis = 0; axis < 2; axis++) {
-            const float fraction = (float)(2 * c + axis) / (float)passes;
-            if (d->progress && d->progress(d->progress_user, fraction)) {
-                snprintf(message, message_size, "cancelled by the progress callback");
+            if (gl_pass_cancelled(d, 2 * c + axis, passes, message, message_size))
                 return DDOF_ERROR_CANCELLED; /* IMAGE_A is written by the last pass only */
-            }
             const double t0 = gl_seconds();
-            chain_pass(gl, prog, d, c, axis == 0 ? &rows : &columns, d->has_gamma,
+            chain_pass(gl, prog, d, c, &found.along[axis], d->has_gamma,
                        axis == 0 ? 0u : fold);
-            gl->Finish(); /* so that the pass's time is its own */
-            const double t = gl_seconds() - t0;
-            if (axis == 0)
-                report->seconds_rows += t;
-            else
-                report->seconds_columns += t;
+            gl_pass_timed(gl, report, (int)axis, t0);
         }
     }
-    report->lines_solved = active * C * k->steps;
-    report->lines_skipped = ((uint64_t)w + h - active) * C;
+    report->lines_solved = found.active * C * k->steps;
+    report->lines_skipped = ((uint64_t)w + h - found.active) * C;
     report->substeps_run = 1;
     return DDOF_OK;
 }

@@ -69,12 +69,68 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_LAYER_COMPOSITE] = {"layers.comp", 0, "#define STEP_COMPOSITE 1\n"},
 };
 
-static const char *source_of(const char *name)
+const char *gl_shader_text(const char *name)
 {
     for (size_t i = 0; i < sizeof gl_shader_sources / sizeof *gl_shader_sources; i++)
         if (strcmp(gl_shader_sources[i].name, name) == 0)
             return gl_shader_sources[i].text;
     return NULL;
+}
+
+/* How a compile or a link is judged: the shader's or the program's calls (the two sets share
+ * their signatures), the status asked for, and the verb its message starts with. */
+typedef struct build_step {
+    PFNGLGETSHADERIVPROC get_status;
+    PFNGLGETSHADERINFOLOGPROC get_log;
+    PFNGLDELETESHADERPROC delete_object;
+    GLenum status;
+    const char *doing;
+} build_step;
+
+/* 1 when `object` passed the step; else 0 with "DOING NAME failed: LOG" in message, the object
+ * deleted. */
+static int step_passed(const build_step *step, GLuint object, const char *name, char *message,
+                       size_t size)
+{
+    GLint ok = 0;
+    step->get_status(object, step->status, &ok);
+    if (ok)
+        return 1;
+    char log[400] = "";
+    step->get_log(object, sizeof log, NULL, log);
+    snprintf(message, size, "%s %s failed: %s", step->doing, name, log);
+    step->delete_object(object);
+    return 0;
+}
+
+GLuint gl_compile_shader(const gl_functions *gl, GLenum kind, const char *name, int count,
+                         const char *const *parts, char *message, size_t size)
+{
+    for (int i = 0; i < count; i++)
+        if (!parts[i]) {
+            snprintf(message, size, "shader source missing for %s", name);
+            return 0;
+        }
+    const build_step compiling = {gl->GetShaderiv, gl->GetShaderInfoLog, gl->DeleteShader,
+                                  GL_COMPILE_STATUS, "compiling"};
+    GLuint shader = gl->CreateShader(kind);
+    gl->ShaderSource(shader, count, parts, NULL);
+    gl->CompileShader(shader);
+    return step_passed(&compiling, shader, name, message, size) ? shader : 0;
+}
+
+GLuint gl_link_program(const gl_functions *gl, const GLuint *shaders, int count,
+                       const char *name, char *message, size_t size)
+{
+    const build_step linking = {gl->GetProgramiv, gl->GetProgramInfoLog, gl->DeleteProgram,
+                                GL_LINK_STATUS, "linking"};
+    GLuint program = gl->CreateProgram();
+    for (int i = 0; i < count; i++)
+        gl->AttachShader(program, shaders[i]);
+    gl->LinkProgram(program);
+    for (int i = 0; i < count; i++)
+        gl->DeleteShader(shaders[i]); /* stays alive while attached */
+    return step_passed(&linking, program, name, message, size) ? program : 0;
 }
 
 static GLuint build(const gl_functions *gl, const program_recipe *recipe, char *message,
@@ -84,43 +140,15 @@ static GLuint build(const gl_functions *gl, const program_recipe *recipe, char *
     int count = 0;
     parts[count++] = "#version 450\n";
     parts[count++] = recipe->defines;
-    parts[count++] = source_of("prelude.glsl");
+    parts[count++] = gl_shader_text("prelude.glsl");
     if (recipe->parts & PART_LINE)
-        parts[count++] = source_of("line.glsl");
+        parts[count++] = gl_shader_text("line.glsl");
     if (recipe->parts & PART_PYRAMID)
-        parts[count++] = source_of("pyramid.glsl");
-    parts[count++] = source_of(recipe->kernel);
-    for (int i = 0; i < count; i++)
-        if (!parts[i]) {
-            snprintf(message, size, "shader source missing for %s", recipe->kernel);
-            return 0;
-        }
-
-    GLuint shader = gl->CreateShader(GL_COMPUTE_SHADER);
-    gl->ShaderSource(shader, count, parts, NULL);
-    gl->CompileShader(shader);
-    GLint ok = 0;
-    gl->GetShaderiv(shader, GL_COMPILE_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        gl->GetShaderInfoLog(shader, sizeof log, NULL, log);
-        snprintf(message, size, "compiling %s failed: %s", recipe->kernel, log);
-        gl->DeleteShader(shader);
-        return 0;
-    }
-    GLuint program = gl->CreateProgram();
-    gl->AttachShader(program, shader);
-    gl->LinkProgram(program);
-    gl->DeleteShader(shader); /* stays alive while attached */
-    gl->GetProgramiv(program, GL_LINK_STATUS, &ok);
-    if (!ok) {
-        char log[400] = "";
-        gl->GetProgramInfoLog(program, sizeof log, NULL, log);
-        snprintf(message, size, "linking %s failed: %s", recipe->kernel, log);
-        gl->DeleteProgram(program);
-        return 0;
-    }
-    return program;
+        parts[count++] = gl_shader_text("pyramid.glsl");
+    parts[count++] = gl_shader_text(recipe->kernel);
+    GLuint shader =
+        gl_compile_shader(gl, GL_COMPUTE_SHADER, recipe->kernel, count, parts, message, size);
+    return shader ? gl_link_program(gl, &shader, 1, recipe->kernel, message, size) : 0;
 }
 
 GLuint gl_programs_get(const gl_functions *gl, gl_programs *programs, gl_program_id id,

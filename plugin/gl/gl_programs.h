@@ -53,6 +53,19 @@ GLuint gl_programs_get(const gl_functions *gl, gl_programs *programs, gl_program
                        char *message, size_t message_size);
 void gl_programs_free(const gl_functions *gl, gl_programs *programs);
 
+/* The text of an embedded shaders/ file, or NULL when there is none of that name. */
+const char *gl_shader_text(const char *name);
+
+/* A shader of `kind` from `count` parts of source, or 0 with a sentence in message: a part is
+ * missing (NULL) or the compiler's log. `name` names the shader in the message. */
+GLuint gl_compile_shader(const gl_functions *gl, GLenum kind, const char *name, int count,
+                         const char *const *parts, char *message, size_t size);
+
+/* A program linked from the shaders, which it takes over (deleted, they live on while
+ * attached), or 0 with the linker's log in message, `name` naming the program. */
+GLuint gl_link_program(const gl_functions *gl, const GLuint *shaders, int count,
+                       const char *name, char *message, size_t size);
+
 /* Sets a uniform of a program by name (ignored when the program does not use it). */
 void gl_uniform_u(const gl_functions *gl, GLuint program, const char *name, GLuint value);
 void gl_uniform_f(const gl_functions *gl, GLuint program, const char *name, GLfloat value);

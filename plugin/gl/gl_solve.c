@@ -1,10 +1,8 @@
 /* SPDX-License-Identifier: MIT */
-/* gl_solve.c - the ADI driver on the GPU: rows then columns, `substeps` times, with the CPU
- * path's semantics (libddof/src/adi.c): beta from the smaller |CoC| of a link, scaled by
- * k / substeps (columns also by pixel_aspect^2), insulated borders, singular runs kept,
- * progress between passes. The CoC and gamma do not change between substeps, so one analysis
- * per direction up front finds the conductive lines (the report), the largest CoC and the
- * singular runs, and a call with nothing conductive solves nothing. */
+/* gl_solve.c - what the GPU's ADI drivers (gl_heat.c, gl_lens.c) and the line solvers
+ * (gl_solvers.c) share: binding and dispatch, buffers, a pass's uniforms, the analysis of both
+ * directions up front (the conductive lines, the largest CoC, the singular runs: the CoC and
+ * gamma do not change between substeps), cancelling and timing a pass. */
 #include "gl_solve.h"
 
 #include <stdio.h>
@@ -50,25 +48,44 @@ GLuint gl_need(ddof_device *device, gl_buffer_slot slot, uint64_t bytes, char *m
     return name;
 }
 
-/* Runs analyse.comp over one direction. */
-static void analyse(ddof_device *device, GLuint program, const gl_diffusion *d,
-                    const gl_pass *pass, GLuint counter)
+/* d's two directions (gl_directions), their lines not analysed yet. */
+static void lay_out(const ddof_device *device, const gl_diffusion *d, float row_scale,
+                    gl_directions *directions)
 {
-    const gl_functions *gl = &device->gl;
+    const uint32_t w = d->width, h = d->height;
+    const GLuint a = device->buffers.name[GL_BUF_IMAGE_A];
+    const GLuint b = device->buffers.name[GL_BUF_IMAGE_B];
+    const float column_scale = row_scale * d->pixel_aspect * d->pixel_aspect;
+    directions->along[0] = (gl_pass){w, h, 1, w, row_scale, d->has_gamma ? 1u : 0u, a, b};
+    directions->along[1] = (gl_pass){h, w, w, 1, column_scale, d->has_gamma ? 2u : 0u, b, a};
+    directions->active = 0;
+}
+
+void gl_pass_uniforms(const gl_functions *gl, GLuint program, const gl_pass *pass,
+                      int has_gamma)
+{
     gl_uniform_u(gl, program, "u_n", pass->n);
     gl_uniform_u(gl, program, "u_lines", pass->lines);
     gl_uniform_u(gl, program, "u_along", pass->along);
     gl_uniform_u(gl, program, "u_across", pass->across);
     gl_uniform_f(gl, program, "u_scale", pass->scale);
-    gl_uniform_u(gl, program, "u_has_gamma", (GLuint)d->has_gamma);
+    gl_uniform_u(gl, program, "u_has_gamma", (GLuint)has_gamma);
     gl_uniform_u(gl, program, "u_flag_bit", pass->flag_bit);
+}
+
+/* Runs analyse.comp over one direction. */
+static void analyse(ddof_device *device, GLuint program, const gl_diffusion *d,
+                    const gl_pass *pass, GLuint counter)
+{
+    const gl_functions *gl = &device->gl;
+    gl_pass_uniforms(gl, program, pass, d->has_gamma);
     gl_uniform_u(gl, program, "u_counter", counter);
     gl->UseProgram(program);
     gl_dispatch(gl, pass->lines, 64);
 }
 
-int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
-               const gl_pass *rows, const gl_pass *columns, gl_analysis *result, char *message,
+int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d, float row_scale,
+               gl_directions *directions, adi_report *report, char *message,
                size_t message_size)
 {
     const gl_functions *gl = &device->gl;
@@ -81,6 +98,7 @@ int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
     GLuint program = gl_programs_get(gl, &device->programs, id, message, message_size);
     if (!dummy || !counters || !flags || !program)
         return 0;
+    lay_out(device, d, row_scale, directions);
     const GLuint zero[4] = {0, 0, 0, 0};
     gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
     gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zero, zero);
@@ -88,68 +106,35 @@ int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
     gl_bind(gl, 1, d->has_gamma ? device->buffers.name[GL_BUF_GAMMA] : dummy);
     gl_bind(gl, 2, flags);
     gl_bind(gl, 6, counters);
-    analyse(device, program, d, rows, 0);
-    analyse(device, program, d, columns, 1);
+    analyse(device, program, d, &directions->along[0], 0);
+    analyse(device, program, d, &directions->along[1], 1);
     gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    GLuint counted[4];
+    GLuint counted[4]; /* conductive rows, conductive columns, the largest CoC's bits */
     gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
     gl->GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counted, counted);
-    result->rows = counted[0];
-    result->columns = counted[1];
-    memcpy(&result->max_coc, &counted[2], sizeof result->max_coc);
+    float max_coc;
+    memcpy(&max_coc, &counted[2], sizeof max_coc);
+    *report = (adi_report){.threads = 1, .max_coc = max_coc};
+    directions->active = (uint64_t)counted[0] + counted[1];
     return 1;
 }
 
-ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
-                       char *message, size_t message_size)
+int gl_pass_cancelled(const gl_diffusion *d, uint32_t done, uint32_t passes, char *message,
+                      size_t message_size)
 {
-    const gl_functions *gl = &device->gl;
-    const uint32_t w = d->width, h = d->height;
-    const uint64_t pixels = (uint64_t)w * h;
-    GLuint image_a = device->buffers.name[GL_BUF_IMAGE_A];
-    GLuint image_b = gl_need(device, GL_BUF_IMAGE_B, pixels * 16, message, message_size);
-    if (!image_b)
-        return DDOF_ERROR_BACKEND_FAILED;
-
-    const float row_scale = d->beta_scale / (float)d->substeps;
-    const float column_scale = row_scale * d->pixel_aspect * d->pixel_aspect;
-    const uint32_t flag_rows = d->has_gamma ? 1u : 0u, flag_columns = d->has_gamma ? 2u : 0u;
-    const gl_pass rows = {w, h, 1, w, row_scale, flag_rows, image_a, image_b};
-    const gl_pass columns = {h, w, w, 1, column_scale, flag_columns, image_b, image_a};
-
-    gl_analysis found;
-    if (!gl_analyse(device, GL_PROG_ANALYSE, d, &rows, &columns, &found, message,
-                    message_size))
-        return DDOF_ERROR_BACKEND_FAILED;
-    const uint64_t active = (uint64_t)found.rows + found.columns;
-    *report = (adi_report){.threads = 1, .max_coc = found.max_coc};
-    if (active == 0) { /* nothing conducts: the (masked) input is the answer */
-        report->lines_skipped = (uint64_t)w + h;
-        return DDOF_OK;
+    if (d->progress && d->progress(d->progress_user, (float)done / (float)passes)) {
+        snprintf(message, message_size, "cancelled by the progress callback");
+        return 1;
     }
+    return 0;
+}
 
-    const uint32_t passes = 2 * d->substeps;
-    for (uint32_t step = 0; step < d->substeps; step++) {
-        for (int axis = 0; axis < 2; axis++) {
-            const float fraction = (float)(2 * step + (uint32_t)axis) / (float)passes;
-            if (d->progress && d->progress(d->progress_user, fraction)) {
-                snprintf(message, message_size, "cancelled by the progress callback");
-                return DDOF_ERROR_CANCELLED;
-            }
-            const double t0 = gl_seconds();
-            if (!gl_solve_pass(device, d, axis == 0 ? &rows : &columns, message,
-                               message_size))
-                return DDOF_ERROR_BACKEND_FAILED;
-            gl->Finish(); /* so that the pass's time is its own */
-            const double t = gl_seconds() - t0;
-            if (axis == 0)
-                report->seconds_rows += t;
-            else
-                report->seconds_columns += t;
-        }
-        report->lines_solved += active;
-        report->lines_skipped += (uint64_t)w + h - active;
-        report->substeps_run++;
-    }
-    return DDOF_OK;
+void gl_pass_timed(const gl_functions *gl, adi_report *report, int axis, double t0)
+{
+    gl->Finish(); /* so that the pass's time is its own */
+    const double t = gl_seconds() - t0;
+    if (axis == 0)
+        report->seconds_rows += t;
+    else
+        report->seconds_columns += t;
 }

@@ -32,6 +32,7 @@ typedef struct gl_pass {
     GLuint src, dst;   /* vec4 images                                  */
 } gl_pass;
 
+/* The heat kernel on the packed images, the result in IMAGE_A (gl_heat.c). */
 ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
                        char *message, size_t message_size);
 
@@ -44,18 +45,34 @@ void gl_lens_input_range(const adi_request *r, float lo[4], float hi[4]);
 ddof_status gl_lens_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
                             char *message, size_t message_size);
 
-/* What analyse.comp finds over both directions: the conductive lines and the largest CoC; with
- * heat capacities it also marks the singular runs in FLAGS. */
-typedef struct gl_analysis {
-    uint32_t rows, columns;
-    float max_coc;
-} gl_analysis;
+/* The two directions of a diffusion over d's images: the rows (IMAGE_A to IMAGE_B), then the
+ * columns (back), beta scaled by the row scale along the rows and by pixel_aspect^2 more along
+ * the columns; and how many lines of both conduct. */
+typedef struct gl_directions {
+    gl_pass along[2];
+    uint64_t active;
+} gl_directions;
 
-/* Runs program `id` (analyse.comp, heat or disc links) on rows and columns; 0 with a sentence
- * in message on failure. */
-int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d,
-               const gl_pass *rows, const gl_pass *columns, gl_analysis *result, char *message,
+/* Lays out d's directions with row_scale and runs program `id` (analyse.comp, heat or disc
+ * links) on them, which with heat capacities also marks the singular runs in FLAGS; starts the
+ * report with what it finds (one thread, the largest CoC). IMAGE_B must be allocated. 0 with a
+ * sentence in message on failure. */
+int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d, float row_scale,
+               gl_directions *directions, adi_report *report, char *message,
                size_t message_size);
+
+/* Sets line.glsl's uniforms that describe the pass (its size, direction, scale and flags). */
+void gl_pass_uniforms(const gl_functions *gl, GLuint program, const gl_pass *pass,
+                      int has_gamma);
+
+/* Asks d's progress callback, before pass `done` of `passes`, whether to go on: 1 when it
+ * cancels, with a sentence in message. */
+int gl_pass_cancelled(const gl_diffusion *d, uint32_t done, uint32_t passes, char *message,
+                      size_t message_size);
+
+/* Waits for the pass begun at t0, so that its time is its own, and adds that time to the
+ * report's rows (axis 0) or columns. */
+void gl_pass_timed(const gl_functions *gl, adi_report *report, int axis, double t0);
 
 /* A monotonic clock in seconds (the report's pass times). */
 double gl_seconds(void);

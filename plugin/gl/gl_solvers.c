@@ -66,15 +66,9 @@ static void use_line_program(const pass_context *c, GLuint prog)
     gl_bind(gl, 2, c->d->has_gamma ? b->name[GL_BUF_FLAGS] : b->name[GL_BUF_DUMMY]);
     gl_bind(gl, 3, p->src);
     gl_bind(gl, 4, p->dst);
-    gl_uniform_u(gl, prog, "u_n", p->n);
-    gl_uniform_u(gl, prog, "u_lines", p->lines);
+    gl_pass_uniforms(gl, prog, p, c->d->has_gamma);
     gl_uniform_u(gl, prog, "u_line0", 0);
     gl_uniform_u(gl, prog, "u_batch_lines", p->lines);
-    gl_uniform_u(gl, prog, "u_along", p->along);
-    gl_uniform_u(gl, prog, "u_across", p->across);
-    gl_uniform_f(gl, prog, "u_scale", p->scale);
-    gl_uniform_u(gl, prog, "u_has_gamma", (GLuint)c->d->has_gamma);
-    gl_uniform_u(gl, prog, "u_flag_bit", p->flag_bit);
     gl_uniform_u(gl, prog, "u_write_mask", 15);
     gl_uniform_u(gl, prog, "u_group", 0);
     gl_uniform_u(gl, prog, "u_level0", 0);
@@ -228,13 +222,20 @@ static GLuint pyramid_buffer(const pass_context *c, uint64_t bytes)
     return gl_need(c->device, GL_BUF_PYRAMID, bytes, c->message, c->message_size);
 }
 
-static int solve_cr(const pass_context *c)
+/* The lines of the next batch from line0 on: `batch`, or what is left of the pass. */
+static uint32_t lines_from(const pass_context *c, uint32_t line0, uint32_t batch)
+{
+    return c->pass->lines - line0 < batch ? c->pass->lines - line0 : batch;
+}
+
+/* Cyclic reduction in global memory, batch by batch, up to a level of at most `top_rows`
+ * unknowns, then back-substitution down to the image. top_solver, when not 0, solves that top
+ * level in between (PCR in shared memory); CR alone reduces to a single unknown instead. */
+static int solve_by_reduction(const pass_context *c, uint32_t top_rows, GLuint top_solver)
 {
     const uint32_t n = c->pass->n;
-    if (n == 1)
-        return solve_copy(c);
     pyramid p;
-    plan_levels(&p, n, 1, n / 2, 1);
+    plan_levels(&p, n, 1, n / 2, top_rows);
     GLuint reduce = program(c, GL_PROG_CR_REDUCE), back = program(c, GL_PROG_CR_BACK);
     const uint32_t batch = batch_lines(c, p.rows * 32);
     GLuint pyr = pyramid_buffer(c, p.rows * 32 * batch);
@@ -242,43 +243,36 @@ static int solve_cr(const pass_context *c)
         return 0;
     gl_bind(c->gl, 5, pyr);
     for (uint32_t line0 = 0; line0 < c->pass->lines; line0 += batch) {
-        const uint32_t lines = c->pass->lines - line0 < batch ? c->pass->lines - line0 : batch;
+        const uint32_t lines = lines_from(c, line0, batch);
         reduce_levels(c, reduce, &p, 0, line0, lines, 0, 15);
+        if (top_solver) {
+            use_line_program(c, top_solver);
+            set_batch(c, top_solver, line0, lines, 0, 15);
+            set_level(c->gl, top_solver, &p, p.top, -1, 0);
+            gl_dispatch(c->gl, lines, 1);
+        }
         back_levels(c, back, &p, 0, line0, lines, 0, 15);
     }
     return 1;
 }
 
+static int solve_cr(const pass_context *c)
+{
+    return c->pass->n == 1 ? solve_copy(c) : solve_by_reduction(c, 1, 0);
+}
+
 static int solve_pcr(const pass_context *c)
 {
-    const uint32_t n = c->pass->n;
     GLuint shared = program(c, GL_PROG_PCR_SHARED);
     if (!shared)
         return 0;
-    if (n <= PCR_CAPACITY) { /* the whole line in shared memory */
-        use_line_program(c, shared);
-        gl_bind(c->gl, 5, c->device->buffers.name[GL_BUF_DUMMY]);
-        gl_uniform_u(c->gl, shared, "u_level0", 1);
-        gl_dispatch(c->gl, c->pass->lines, 1);
-        return 1;
-    }
-    pyramid p;
-    plan_levels(&p, n, 1, n / 2, PCR_CAPACITY);
-    GLuint reduce = program(c, GL_PROG_CR_REDUCE), back = program(c, GL_PROG_CR_BACK);
-    const uint32_t batch = batch_lines(c, p.rows * 32);
-    GLuint pyr = pyramid_buffer(c, p.rows * 32 * batch);
-    if (!reduce || !back || !pyr)
-        return 0;
-    gl_bind(c->gl, 5, pyr);
-    for (uint32_t line0 = 0; line0 < c->pass->lines; line0 += batch) {
-        const uint32_t lines = c->pass->lines - line0 < batch ? c->pass->lines - line0 : batch;
-        reduce_levels(c, reduce, &p, 0, line0, lines, 0, 15);
-        use_line_program(c, shared);
-        set_batch(c, shared, line0, lines, 0, 15);
-        set_level(c->gl, shared, &p, p.top, -1, 0);
-        gl_dispatch(c->gl, lines, 1);
-        back_levels(c, back, &p, 0, line0, lines, 0, 15);
-    }
+    if (c->pass->n > PCR_CAPACITY)
+        return solve_by_reduction(c, PCR_CAPACITY, shared);
+    /* the whole line in shared memory */
+    use_line_program(c, shared);
+    gl_bind(c->gl, 5, c->device->buffers.name[GL_BUF_DUMMY]);
+    gl_uniform_u(c->gl, shared, "u_level0", 1);
+    gl_dispatch(c->gl, c->pass->lines, 1);
     return 1;
 }
 
@@ -315,8 +309,7 @@ static int solve_gruen(const pass_context *c)
     for (uint32_t group = 0; group < groups; group++) {
         const uint32_t mask = groups == 1 ? 15u : group == 0 ? 7u : 8u;
         for (uint32_t line0 = 0; line0 < c->pass->lines; line0 += batch) {
-            const uint32_t lines =
-                c->pass->lines - line0 < batch ? c->pass->lines - line0 : batch;
+            const uint32_t lines = lines_from(c, line0, batch);
             use_line_program(c, reduce4);
             set_batch(c, reduce4, line0, lines, group, mask);
             set_level(c->gl, reduce4, &p, 1, 1, 1);

@@ -12,6 +12,15 @@
 #include <string.h>
 #include <strings.h>
 
+const cli_curve_number cli_curve_numbers[6] = {
+    {"near_blur_px", offsetof(ddof_curve, near_blur_px)},
+    {"near_start", offsetof(ddof_curve, near_start)},
+    {"near_end", offsetof(ddof_curve, near_end)},
+    {"far_start", offsetof(ddof_curve, far_start)},
+    {"far_end", offsetof(ddof_curve, far_end)},
+    {"far_blur_px", offsetof(ddof_curve, far_blur_px)},
+};
+
 /* --curve "NB,NS,NE,FS,FE,FB": six numbers in the order of ddof_curve; the CoC's source. */
 static int apply_curve(const cli_option *option, const char *value, cli_options *o)
 {
@@ -30,12 +39,8 @@ static int apply_curve(const cli_option *option, const char *value, cli_options 
         p = end + 1;
     }
     ddof_curve_init(&o->curve);
-    o->curve.near_blur_px = v[0];
-    o->curve.near_start = v[1];
-    o->curve.near_end = v[2];
-    o->curve.far_start = v[3];
-    o->curve.far_end = v[4];
-    o->curve.far_blur_px = v[5];
+    for (i = 0; i < 6; i++)
+        memcpy((char *)&o->curve + cli_curve_numbers[i].field, &v[i], sizeof v[i]);
     o->source = COC_FROM_CURVE;
     o->coc_sources_given++;
     return 0;

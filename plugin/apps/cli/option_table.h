@@ -71,6 +71,15 @@ struct cli_option {
 extern const cli_option cli_option_table[];
 extern const size_t cli_option_count;
 
+/* ddof_curve's six numbers by name, in the order --curve takes them and the --stats settings
+ * write them. */
+typedef struct cli_curve_number {
+    const char *name;
+    size_t field; /* offsetof(ddof_curve, ...): a double */
+} cli_curve_number;
+
+extern const cli_curve_number cli_curve_numbers[6];
+
 /* The option spelled name (its name, short name or alias), or NULL. */
 const cli_option *cli_option_find(const char *name);
 
@@ -83,10 +92,19 @@ int cli_option_bad_value(const cli_option *option, const char *value, const char
 /* The placeholder the usage shows: the option's arg, or its choices "a|b|c"; "" for a flag. */
 void cli_option_placeholder(const cli_option *option, char *out, size_t out_size);
 
-/* The library's preset < flags: every option given that overrides a ddof_params field. */
-void cli_options_override_params(const cli_options *o, ddof_params *params);
+/* One option's kind applied to the whole (option_values.c): an option that overrides a
+ * ddof_params field set to "not given", outside its range, so that the preset's value stands
+ * until a flag gives one; its value over the params' when the user gave it; a camera value
+ * given as a flag (o->camera_set) over the sidecar's. Others are left alone. */
+void cli_option_unset(const cli_option *option, cli_options *o);
+void cli_option_override_params(const cli_option *option, const cli_options *o,
+                                 ddof_params *params);
+void cli_option_override_camera(const cli_option *option, const cli_options *o,
+                                ddof_camera *camera);
 
-/* The sidecar < flags: every camera value given as a flag (o->camera_set). */
+/* The same over every option of the table (option_overrides.c). */
+void cli_options_unset_overrides(cli_options *o);
+void cli_options_override_params(const cli_options *o, ddof_params *params);
 void cli_options_override_camera(const cli_options *o, ddof_camera *camera);
 
 /* An option's value as the --stats settings write it: from the resolved params for those

@@ -163,7 +163,7 @@ void cli_option_placeholder(const cli_option *option, char *out, size_t out_size
         snprintf(out, out_size, "%s", option->arg ? option->arg : "");
 }
 
-/* Whether the user gave the option. The defaults (options.c) lie outside every overriding
+/* Whether the user gave the option. The defaults (cli_option_unset) lie outside every overriding
  * option's range (-1 for a choice, 0 for a count or a scale that must be > 0, -1 for one
  * that may be 0), so "within range" is "given". */
 static int given(const cli_option *option, const cli_options *o)
@@ -187,26 +187,62 @@ static int given(const cli_option *option, const cli_options *o)
     }
 }
 
-void cli_options_override_params(const cli_options *o, ddof_params *params)
+void cli_option_unset(const cli_option *option, cli_options *o)
 {
-    size_t i;
-    for (i = 0; i < cli_option_count; i++) {
-        const cli_option *option = &cli_option_table[i];
-        if (option->to_params && given(option, o))
-            memcpy((char *)params + option->params_field, const_field(o, option),
-                   value_size(option->kind));
+    const int no_choice = -1;
+    const float no_number = option->range == CLI_NON_NEGATIVE ? -1.0f : 0.0f;
+    const uint32_t no_count = 0;
+    void *to = field(o, option);
+    if (!option->to_params)
+        return;
+    switch (option->kind) {
+    case CLI_OPT_CHOICE:
+        memcpy(to, &no_choice, sizeof no_choice);
+        break;
+    case CLI_OPT_FLOAT:
+        memcpy(to, &no_number, sizeof no_number);
+        break;
+    case CLI_OPT_UINT:
+        memcpy(to, &no_count, sizeof no_count);
+        break;
+    default:
+        break;
     }
 }
 
-void cli_options_override_camera(const cli_options *o, ddof_camera *camera)
+void cli_option_override_params(const cli_option *option, const cli_options *o,
+                                 ddof_params *params)
+{
+    if (option->to_params && given(option, o))
+        memcpy((char *)params + option->params_field, const_field(o, option),
+               value_size(option->kind));
+}
+
+void cli_option_override_camera(const cli_option *option, const cli_options *o,
+                                ddof_camera *camera)
 {
     const size_t camera_at = offsetof(cli_options, camera);
-    size_t i;
-    for (i = 0; i < cli_option_count; i++) {
-        const cli_option *option = &cli_option_table[i];
-        if (option->camera_bit && (o->camera_set & option->camera_bit))
-            memcpy((char *)camera + (option->target - camera_at), const_field(o, option),
-                   value_size(option->kind));
+    if (option->camera_bit && (o->camera_set & option->camera_bit))
+        memcpy((char *)camera + (option->target - camera_at), const_field(o, option),
+               value_size(option->kind));
+}
+
+/* The number stored at `from` by an option of a numeric kind (UINT, FLOAT, DOUBLE). */
+static double stored_number(cli_option_kind kind, const void *from)
+{
+    uint32_t count;
+    float single;
+    double number;
+    switch (kind) {
+    case CLI_OPT_UINT:
+        memcpy(&count, from, sizeof count);
+        return count;
+    case CLI_OPT_FLOAT:
+        memcpy(&single, from, sizeof single);
+        return single;
+    default:
+        memcpy(&number, from, sizeof number);
+        return number;
     }
 }
 
@@ -217,9 +253,6 @@ cli_setting cli_option_setting(const cli_option *option, const cli_options *o,
     const void *from = option->to_params ? (const char *)params + option->params_field
                                          : const_field(o, option);
     int choice, flag;
-    uint32_t count;
-    float single;
-    double number;
     if (!option->setting)
         return s;
     switch (option->kind) {
@@ -238,19 +271,10 @@ cli_setting cli_option_setting(const cli_option *option, const cli_options *o,
         s.text = cli_choice_name(option->choices, choice);
         break;
     case CLI_OPT_UINT:
-        memcpy(&count, from, sizeof count);
-        s.type = CLI_SETTING_NUMBER;
-        s.number = count;
-        break;
     case CLI_OPT_FLOAT:
-        memcpy(&single, from, sizeof single);
-        s.type = CLI_SETTING_NUMBER;
-        s.number = single;
-        break;
     case CLI_OPT_DOUBLE:
-        memcpy(&number, from, sizeof number);
         s.type = CLI_SETTING_NUMBER;
-        s.number = number;
+        s.number = stored_number(option->kind, from);
         break;
     default:
         break;

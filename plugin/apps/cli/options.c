@@ -14,19 +14,7 @@ static void defaults(cli_options *o)
     ddof_camera_init(&o->camera);
     ddof_curve_init(&o->curve);
     o->preset = DDOF_PRESET_DEFAULT;
-    /* -1 / 0: "not given, the preset's" (option_values.c's given() relies on these) */
-    o->method = -1;
-    o->precision = -1;
-    o->kernel = -1;
-    o->solver = -1;
-    o->background = -1;
-    o->near_spread = -1;
-    o->near_layer = -1;
-    o->far_field = -1;
-    o->silhouettes = -1;
-    o->blurred_edges = -1;
-    o->highlights = -1;
-    o->background_ramp_start = -1.0f;
+    cli_options_unset_overrides(o);
     o->backend = DDOF_BACKEND_AUTO;
     o->pixel_type = -1;
     o->compression = EXRIO_COMPRESSION_ZIP;

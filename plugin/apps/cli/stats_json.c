@@ -14,26 +14,29 @@
 #include <errno.h>
 #include <string.h>
 
+/* The planner's effects, in the order both the summary line and the report list them. */
+static const struct {
+    uint32_t bit;
+    const char *text; /* the summary line's word */
+    const char *key;  /* the report's "effects" key */
+} effects[] = {{DDOF_EFFECT_MIDGROUND, "midground", "midground"},
+               {DDOF_EFFECT_BACKGROUND, "background", "background"},
+               {DDOF_EFFECT_NEAR_SPREAD, "near spread", "near_spread"},
+               {DDOF_EFFECT_NEAR_LAYER, "near layer", "near_layer"},
+               {DDOF_EFFECT_FOREGROUND, "foreground", "foreground"},
+               {DDOF_EFFECT_HIGHLIGHTS, "highlights", "highlights"},
+               {DDOF_EFFECT_FAR_FIELD, "far field", "far_field"},
+               {DDOF_EFFECT_SILHOUETTES, "silhouettes", "silhouettes"}};
+
 void stats_effects(const ddof_stats *s, char *out, size_t out_size)
 {
-    static const struct {
-        uint32_t bit;
-        const char *name;
-    } effects[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
-                   {DDOF_EFFECT_BACKGROUND, "background"},
-                   {DDOF_EFFECT_NEAR_SPREAD, "near spread"},
-                   {DDOF_EFFECT_NEAR_LAYER, "near layer"},
-                   {DDOF_EFFECT_FOREGROUND, "foreground"},
-                   {DDOF_EFFECT_HIGHLIGHTS, "highlights"},
-                   {DDOF_EFFECT_FAR_FIELD, "far field"},
-                   {DDOF_EFFECT_SILHOUETTES, "silhouettes"}};
     size_t used = 0, i;
     out[0] = '\0';
     for (i = 0; i < sizeof effects / sizeof effects[0]; i++) {
         int n;
         if (!(s->effects & effects[i].bit))
             continue;
-        n = snprintf(out + used, out_size - used, "%s%s", used ? " + " : "", effects[i].name);
+        n = snprintf(out + used, out_size - used, "%s%s", used ? " + " : "", effects[i].text);
         if (n < 0 || (size_t)n >= out_size - used)
             return;
         used += (size_t)n;
@@ -144,12 +147,12 @@ static void add_option_settings(cJSON *o, const frame_setup *setup)
 static cJSON *curve_json(const ddof_curve *curve)
 {
     cJSON *c = cJSON_CreateObject();
-    cJSON_AddNumberToObject(c, "near_blur_px", curve->near_blur_px);
-    cJSON_AddNumberToObject(c, "near_start", curve->near_start);
-    cJSON_AddNumberToObject(c, "near_end", curve->near_end);
-    cJSON_AddNumberToObject(c, "far_start", curve->far_start);
-    cJSON_AddNumberToObject(c, "far_end", curve->far_end);
-    cJSON_AddNumberToObject(c, "far_blur_px", curve->far_blur_px);
+    size_t i;
+    for (i = 0; i < 6; i++) {
+        double number;
+        memcpy(&number, (const char *)curve + cli_curve_numbers[i].field, sizeof number);
+        cJSON_AddNumberToObject(c, cli_curve_numbers[i].name, number);
+    }
     return c;
 }
 
@@ -259,25 +262,15 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
         cJSON_AddStringToObject(s, "why", why);
         {
             /* The planner's decisions, one per effect: "background: on: ...". */
-            static const struct {
-                uint32_t bit;
-                const char *name;
-            } names[] = {{DDOF_EFFECT_MIDGROUND, "midground"},
-                         {DDOF_EFFECT_BACKGROUND, "background"},
-                         {DDOF_EFFECT_NEAR_SPREAD, "near_spread"},
-                         {DDOF_EFFECT_NEAR_LAYER, "near_layer"},
-                         {DDOF_EFFECT_FOREGROUND, "foreground"},
-                         {DDOF_EFFECT_HIGHLIGHTS, "highlights"},
-                         {DDOF_EFFECT_FAR_FIELD, "far_field"},
-                         {DDOF_EFFECT_SILHOUETTES, "silhouettes"}};
-            cJSON *effects = cJSON_CreateObject();
+            cJSON *effect_flags = cJSON_CreateObject();
             cJSON *plan = cJSON_CreateArray();
             char copy[sizeof r->stats.plan + 1];
             char *line, *save = NULL;
             size_t k;
-            for (k = 0; k < sizeof names / sizeof names[0]; k++)
-                cJSON_AddBoolToObject(effects, names[k].name, (r->stats.effects & names[k].bit) != 0);
-            cJSON_AddItemToObject(s, "effects", effects);
+            for (k = 0; k < sizeof effects / sizeof effects[0]; k++)
+                cJSON_AddBoolToObject(effect_flags, effects[k].key,
+                                      (r->stats.effects & effects[k].bit) != 0);
+            cJSON_AddItemToObject(s, "effects", effect_flags);
             memcpy(copy, r->stats.plan, sizeof r->stats.plan);
             copy[sizeof r->stats.plan] = '\0';
             for (line = strtok_r(copy, "\n", &save); line; line = strtok_r(NULL, "\n", &save))

@@ -110,28 +110,37 @@ static void save_errno(exrio_stream *stream, int e)
     (error_sink ? error_sink : stream)->saved_errno = e;
 }
 
-/* pread until `size` bytes or end of file; the core treats a short count as truncation. */
-static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t size,
-                           uint64_t offset, exr_stream_error_func_ptr_t error_cb)
+/* pread into `into` (reading) or pwrite from `from` until `size` bytes are done, again after
+ * EINTR; a read also stops at the end of the file (the core treats a short count as
+ * truncation). The bytes done, or -1 with errno saved. */
+static int64_t transfer(exrio_stream *stream, int reading, uint8_t *into, const uint8_t *from,
+                        uint64_t size, uint64_t offset)
 {
-    exrio_stream *stream = user;
-    uint8_t *out = buffer;
     uint64_t done = 0;
-    (void)ctxt;
-    (void)error_cb;
     while (done < size) {
-        ssize_t n = pread(stream->fd, out + done, (size_t)(size - done), (off_t)(offset + done));
+        const size_t count = (size_t)(size - done);
+        const off_t at = (off_t)(offset + done);
+        const ssize_t n = reading ? pread(stream->fd, into + done, count, at)
+                                  : pwrite(stream->fd, from + done, count, at);
         if (n < 0) {
             if (errno == EINTR)
                 continue;
             save_errno(stream, errno);
             return -1;
         }
-        if (n == 0)
+        if (n == 0 && reading)
             break;
         done += (uint64_t)n;
     }
     return (int64_t)done;
+}
+
+static int64_t stream_read(exr_const_context_t ctxt, void *user, void *buffer, uint64_t size,
+                           uint64_t offset, exr_stream_error_func_ptr_t error_cb)
+{
+    (void)ctxt;
+    (void)error_cb;
+    return transfer(user, 1, buffer, NULL, size, offset);
 }
 
 static int64_t stream_size(exr_const_context_t ctxt, void *user)
@@ -143,22 +152,9 @@ static int64_t stream_size(exr_const_context_t ctxt, void *user)
 static int64_t stream_write(exr_const_context_t ctxt, void *user, const void *buffer,
                             uint64_t size, uint64_t offset, exr_stream_error_func_ptr_t error_cb)
 {
-    exrio_stream *stream = user;
-    const uint8_t *in = buffer;
-    uint64_t done = 0;
     (void)ctxt;
     (void)error_cb;
-    while (done < size) {
-        ssize_t n = pwrite(stream->fd, in + done, (size_t)(size - done), (off_t)(offset + done));
-        if (n < 0) {
-            if (errno == EINTR)
-                continue;
-            save_errno(stream, errno);
-            return -1;
-        }
-        done += (uint64_t)n;
-    }
-    return (int64_t)done;
+    return transfer(user, 0, NULL, buffer, size, offset);
 }
 
 exr_context_initializer_t exrio_stream_initializer(exrio_stream *stream, int for_write)
