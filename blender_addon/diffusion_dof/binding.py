@@ -97,6 +97,11 @@ def _buffer_pointer(buf, start=0):
     return (ctypes.c_float * (len(buf) - start)).from_buffer(buf, 4 * start)
 
 
+def _byte_pointer(buf):
+    """A uint8 pointer to a bytearray (or any writable buffer of bytes)."""
+    return (ctypes.c_uint8 * len(buf)).from_buffer(buf)
+
+
 def _window_image(cls, buf, width, height, channels, window):
     """A ddof_image (cls Image) or ddof_image_in (ImageIn) of a tightly packed buffer, or with a
     window (x, y, frame width, frame height), of the buffer's width x height pixels at (x, y)
@@ -161,6 +166,8 @@ class Library:
                 fn = getattr(dll, name)
                 fn.restype, fn.argtypes = restype, argtypes
         self.has_matte = same_minor and hasattr(dll, "ddof_render_frame_with_matte")
+        self.has_focus_map = same_minor and hasattr(dll, "ddof_focus_map") and \
+            hasattr(dll, "ddof_focus_map_legend")
 
     # -- small wrappers ----------------------------------------------------------------------
 
@@ -288,6 +295,47 @@ class Library:
         finally:
             self._dll.ddof_context_free(ctx)
         return out
+
+    def _need_focus_map(self):
+        if not self.has_focus_map:
+            raise LibraryError("The ddof library '%s' (version %s) has no focal-plane view of "
+                               "this add-on's version (ddof_focus_map): install the add-on and "
+                               "library from the same build." % (self.path, self.version))
+
+    def focus_map(self, width, height, color, color_channels, coc, camera=None, threads=0):
+        """The focal-plane view (ddof_focus_map): (rgb, (in focus, near, far)), rgb a bytearray
+        of width * height * 3 bytes, rows top first, of a colour buffer (3 or 4 channels) and
+        its signed CoC; with the aperture's legend when a camera dict is given. Raises
+        DdofError, or LibraryError when the library has no such call."""
+        self._need_focus_map()
+        if len(color) != width * height * color_channels or len(coc) != width * height:
+            raise ValueError("the colour or CoC buffer does not match %dx%d" % (width, height))
+        rgb = bytearray(width * height * 3)
+        counts = (ctypes.c_uint64 * 3)()
+        color_in = abi.ImageIn(_buffer_pointer(color), width, height, color_channels, 0)
+        coc_in = abi.ImageIn(_buffer_pointer(coc), width, height, 1, 0)
+        cam = ctypes.byref(self.make_camera(camera)) if camera else None
+        ctx = self._context(threads)
+        try:
+            self._check(ctx, self._dll.ddof_focus_map(ctx, ctypes.byref(color_in),
+                                                      ctypes.byref(coc_in), cam,
+                                                      _byte_pointer(rgb), len(rgb), counts),
+                        "focal-plane view")
+        finally:
+            self._dll.ddof_context_free(ctx)
+        return rgb, tuple(counts)
+
+    def focus_map_legend(self, camera, width, height, rgb):
+        """Draws the camera's aperture legend into a width x height RGB bytearray in place
+        (ddof_focus_map_legend): for a view of a render border shown in the whole frame."""
+        self._need_focus_map()
+        ctx = self._context(1)
+        try:
+            self._check(ctx, self._dll.ddof_focus_map_legend(
+                ctx, ctypes.byref(self.make_camera(camera)), width, height, _byte_pointer(rgb),
+                len(rgb)), "focal-plane view's legend")
+        finally:
+            self._dll.ddof_context_free(ctx)
 
     def session(self, threads=0, backend="cpu", plugin_path=None):
         """A Session: one context kept for many frames (its threads, working memory and, on a

@@ -330,6 +330,13 @@ EXPERIMENTAL_PROTOTYPES = {
     "ddof_render_frame_with_matte": (_enum, [c_ctx, ctypes.POINTER(Params), ctypes.POINTER(Frame),
                                              ctypes.POINTER(ImageIn), ctypes.POINTER(Image),
                                              ctypes.POINTER(Stats)]),
+    # the focal-plane view and its aperture legend
+    "ddof_focus_map": (_enum, [c_ctx, ctypes.POINTER(ImageIn), ctypes.POINTER(ImageIn),
+                               ctypes.POINTER(Camera), ctypes.POINTER(ctypes.c_uint8),
+                               ctypes.c_size_t, ctypes.POINTER(ctypes.c_uint64)]),
+    "ddof_focus_map_legend": (_enum, [c_ctx, ctypes.POINTER(Camera), ctypes.c_uint32,
+                                      ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint8),
+                                      ctypes.c_size_t]),
 }
 
 # ddof_render_frame_with_matte: the most (id, coverage) ranks a matte may hold per pixel.

@@ -156,22 +156,23 @@ class DIFFUSION_DOF_OT_focus_map(bpy.types.Operator):
                 if region is not None:
                     cam = dict(cam, **region.camera_fields())
                 coc = lib.coc(w, h, depth, dch, cam)
-                rgba = focus_map.focus_map_rgba(coc, color, ch, w, h, cam)
+                rgb, counts = lib.focus_map(w, h, color, ch, coc, cam)
             else:  # the border's pixels only; the rest of the frame black
                 x, y, rw, rh = region.x, region.y, region.width, region.height
                 coc = lib.coc(rw, rh, frame_region.crop(depth, w, dch, x, y, rw, rh), dch,
                               dict(cam, **region.camera_fields()))
-                part = focus_map.focus_map_rgba(coc, frame_region.crop(color, w, ch, x, y, rw,
-                                                                       rh), ch, rw, rh)
-                rgba = binding.new_buffer(w * h * 4)
-                frame_region.paste(rgba, w, 4, x, y, rw, rh, part)
-                focus_map.draw_legend(rgba, cam, w, h)
-            image = images.store_result(images.FOCUS_MAP_IMAGE, w, h, 4, rgba, data=True)
+                part, counts = lib.focus_map(rw, rh, frame_region.crop(color, w, ch, x, y, rw,
+                                                                       rh), ch, coc)
+                rgb = bytearray(w * h * 3)
+                focus_map.paste_rgb(rgb, w, x, y, part, rw, rh)
+                lib.focus_map_legend(cam, w, h, rgb)
+            image = images.store_result(images.FOCUS_MAP_IMAGE, w, h, 4,
+                                        focus_map.rgba_of(rgb, w, h), data=True)
         except (SetupError, binding.LibraryError, binding.DdofError) as err:
             self.report({"ERROR"}, str(err))
             return {"CANCELLED"}
-        sharp, near, far = focus_map.band_counts(coc)
-        total = max(len(coc), 1)
+        sharp, near, far = counts
+        total = max(sharp + near + far, 1)
         self.report({"INFO"}, "Focal-plane view in '%s': %.0f%% in focus (green), %.0f%% near "
                     "blur (orange), %.0f%% far blur (blue)" % (
                         image.name, 100.0 * sharp / total, 100.0 * near / total,

@@ -1003,6 +1003,34 @@ DDOF_API ddof_status ddof_render_frame_with_matte(ddof_context *context,
                                                   const ddof_image_in *matte,
                                                   const ddof_image *out, ddof_stats *stats);
 
+/* ------------------------------------------------------------------------------------------ */
+/* The focal-plane view: a frame in false colour by its CoC, to check the focus before a render */
+
+/* 8-bit RGB of the frame (rgb: width x height x 3 bytes, rows top first, rgb_size at least
+ * that), by its signed CoC (coc: one channel, as ddof_coc_from_camera writes it with
+ * signed_coc set; unsigned shows all blur as far):
+ *   in focus  (|CoC| < 1 px):               green
+ *   near blur (CoC < 0, before the focus):  orange, brighter with more blur
+ *   far blur  (CoC > 0 or NaN, behind it):  blue, brighter with more blur
+ * Blur strength t = (|CoC| - 1) / (the frame's largest finite |CoC| - 1), clamped to 0..1, is
+ * the hue's brightness 0.35 + 0.65 t; every colour is shaded by the colour's luminance (0.35 +
+ * 0.65 sqrt(Y), Y of linear Rec. 709 clamped to 0..1), so the frame stays recognisable. A
+ * camera (NULL: none) whose aperture is not round (blades, a ratio, an image) is drawn as the
+ * legend of ddof_focus_map_legend. counts (NULL: not wanted) gets the pixels in focus, near
+ * and far. The `ddof` command's --focus-map and the Blender add-on's view are this call. */
+DDOF_API ddof_status ddof_focus_map(ddof_context *context, const ddof_image_in *color,
+                                    const ddof_image_in *coc, const ddof_camera *camera,
+                                    uint8_t *rgb, size_t rgb_size, uint64_t counts[3]);
+
+/* Draws the camera's aperture into a width x height RGB map as its legend, as a light behind
+ * the focus draws it: a square of min(64, the smaller side / 4) pixels, 2 from the top and
+ * right edges, white inside the shape and black around it (an aperture image: its texels at
+ * least half its brightest). Nothing for a round aperture or a map under 48 pixels a side. For
+ * a host that maps part of a frame (a render border) and shows it in the whole. */
+DDOF_API ddof_status ddof_focus_map_legend(ddof_context *context, const ddof_camera *camera,
+                                           uint32_t width, uint32_t height, uint8_t *rgb,
+                                           size_t rgb_size);
+
 DDOF_ASSERT_32_BITS(ddof_backend_kind);
 DDOF_ASSERT_32_BITS(ddof_cards_expansion);
 

@@ -5,6 +5,7 @@ loads the built library and runs one small frame. Plain python3, no Blender:
     python3 tests/blender/check_abi.py ABI_LAYOUT_EXECUTABLE LIBDDOF_SO
 """
 
+import array
 import math
 import os
 import subprocess
@@ -330,6 +331,36 @@ def main():
                 failures.append("cancel: %s after %r" % (err, seen))
     if session._ctx is not None:
         failures.append("the session's context was not freed")
+
+    # The focal-plane view through the binding (tests/test_focus_map.c has the arithmetic):
+    # in focus green, near orange, far blue; the bands counted; a hexagon's legend of 514
+    # white pixels on a 200x120 map, drawn by the map with a camera and by the legend call.
+    if not lib.has_focus_map:
+        failures.append("the library has no ddof_focus_map of the binding's version")
+    else:
+        rgb, counts = lib.focus_map(3, 1, array.array("f", [0.5] * 9),
+                                    3, array.array("f", [0.2, -8.0, 8.0]))
+        pixels = [tuple(rgb[i:i + 3]) for i in (0, 3, 6)]
+        if counts != (1, 1, 1) or not (pixels[0][1] > max(pixels[0][0], pixels[0][2]) and
+                                       pixels[1][0] > max(pixels[1][1:]) and
+                                       pixels[2][2] > max(pixels[2][:2])):
+            failures.append("focus map %r, counts %r" % (pixels, counts))
+        hexagon = {"aperture_blades": 6, "aperture_rotation_deg": 15.0}
+        rgb, _ = lib.focus_map(200, 120, array.array("f", [0.5] * (200 * 120 * 3)), 3,
+                               array.array("f", [5.0] * (200 * 120)), hexagon)
+        legend = bytearray(200 * 120 * 3)
+        lib.focus_map_legend(hexagon, 200, 120, legend)
+        white = sum(1 for i in range(0, len(legend), 3) if legend[i] == 255)
+        mapped = sum(1 for i in range(0, len(rgb), 3) if rgb[i] == 255)
+        if white != 514 or mapped != 514:
+            failures.append("hexagon legend: %d white pixels, the map %d (want 514)"
+                            % (white, mapped))
+        try:
+            lib.focus_map(2, 1, array.array("f", [0.5] * 4), 2, array.array("f", [1.0, 2.0]))
+            failures.append("a two-channel colour made a focus map")
+        except b.DdofError as err:
+            if "RGB" not in str(err):
+                failures.append("two-channel focus map: %s" % err)
 
     # A library that is not ddof.
     os.environ[b.ENV_VAR] = "/nonexistent/libddof.so"

@@ -1,9 +1,9 @@
 # SPDX-License-Identifier: GPL-3.0-or-later
-"""The add-on's bpy-free focus tools from a plain python3: the focal-plane view's colours (the
-mapping `ddof --focus-map` uses, plugin/apps/cli/focus_map.h) on hand-computed pixels, and the
-picker's pixel and depth look-ups."""
+"""The add-on's bpy-free focus tools from a plain python3: the focal-plane view's bytes (the
+library's ddof_focus_map, checked in tests/test_focus_map.c and through the binding in
+check_abi.py) turned into a Blender image's floats and pasted into a frame, and the picker's
+pixel and depth look-ups."""
 
-import math
 import os
 import sys
 
@@ -20,45 +20,16 @@ def check(ok, message):
         print("FAIL:", message)
 
 
-def byte(v):
-    return int(min(max(v, 0.0), 1.0) * 255.0 + 0.5)
+# Two pixels of RGB bytes: floats of bytes / 255, alpha 1.
+rgba = fm.rgba_of(bytearray([0, 255, 51, 255, 128, 0]), 2, 1)
+check(len(rgba) == 8 and rgba.dtype.name == "float32", "rgba %r" % (rgba,))
+want = [0.0, 1.0, 51 / 255, 1.0, 1.0, 128 / 255, 0.0, 1.0]
+check(all(abs(float(v) - w) < 1e-7 for v, w in zip(rgba, want)), "rgba values %r" % list(rgba))
 
-
-# Four pixels: in focus, near at the largest blur, far at half of it, and far on black.
-coc = [0.5, -9.0, 5.0, 9.0]
-rgb = [1.0, 1.0, 1.0, 0.25, 0.25, 0.25, 1.0, 1.0, 1.0, 0.0, 0.0, 0.0]
-out = fm.focus_map_bytes(coc, rgb, 3, 4, 1)
-shade_q = 0.35 + 0.65 * math.sqrt(0.25)
-want = [byte(0.15), 255, byte(0.2),
-        byte(1.0 * shade_q), byte(0.45 * shade_q), byte(0.1 * shade_q),
-        byte(0.2 * (0.35 + 0.65 * 0.5)), byte(0.45 * (0.35 + 0.65 * 0.5)),
-        byte(1.0 * (0.35 + 0.65 * 0.5)),
-        byte(0.2 * 0.35), byte(0.45 * 0.35), byte(1.0 * 0.35)]
-check(out == want, "focus map bytes %r, want %r" % (out, want))
-check(fm.band_counts(coc) == (1, 1, 2), "bands %r" % (fm.band_counts(coc),))
-check(fm.focus_map_bytes([0.0, 0.2], [0.5] * 6, 3, 2, 1)[1] > 200, "all in focus: green")
-rgba = fm.focus_map_rgba(coc, rgb, 3, 4, 1)
-check(len(rgba) == 16 and rgba[3] == 1.0 and abs(rgba[1] - 1.0) < 1e-6, "rgba %r" % list(rgba))
-
-# A non-round aperture is the legend: the same white counts as `ddof --focus-map`'s
-# (tests/exr/test_cli_results.c, case focus_map), white in the middle, black in the square's corner.
-for cam, w, h, white in (({"aperture_blades": 6, "aperture_rotation_deg": 15.0}, 200, 120, 514),
-                         ({"aperture_ratio": 2.0}, 200, 120, 312),
-                         ({"aperture_blades": 5, "aperture_ratio": 0.5}, 320, 240, 990),
-                         ({"aperture_blades": 0, "aperture_ratio": 1.0}, 200, 120, 0),
-                         ({"aperture_blades": 6}, 47, 200, 0)):
-    legend = fm.aperture_legend(cam, w, h)
-    count = sum(1 for v in legend.values() if v == 255)
-    check(count == white, "legend of %r: %d white pixels, want %d" % (cam, count, white))
-    if white:
-        s = min(64, min(w, h) // 4)
-        middle = (2 + s // 2) * w + (w - 2 - s // 2)
-        corner = 2 * w + (w - 3)
-        check(legend[middle] == 255 and legend[corner] == 0, "legend of %r: middle %r, corner %r"
-              % (cam, legend[middle], legend[corner]))
-rgba = fm.focus_map_rgba([5.0] * (200 * 120), [0.5] * (200 * 120 * 3), 3, 200, 120,
-                         {"aperture_blades": 6, "aperture_rotation_deg": 15.0})
-check(rgba[4 * ((2 + 15) * 200 + (200 - 2 - 15))] == 1.0, "the legend is in the map")
+# A 2x1 part pasted at (1, 1) of a 3x2 frame: only its two pixels change.
+frame = bytearray(3 * 2 * 3)
+fm.paste_rgb(frame, 3, 1, 1, bytearray([1, 2, 3, 4, 5, 6]), 2, 1)
+check(list(frame) == [0] * 9 + [0, 0, 0, 1, 2, 3, 4, 5, 6], "pasted %r" % list(frame))
 
 check(fm.pixel_of(0.0, 0.0, 10, 5) == (0, 0), "pixel of (0, 0)")
 check(fm.pixel_of(0.999, 0.5, 10, 5) == (9, 2), "pixel of (0.999, 0.5)")

@@ -104,5 +104,22 @@ r, g, b = rgb(wall)
 checks.check(g > r and g > b, "refocused: the wall is not green: %.2f %.2f %.2f" % (r, g, b))
 r, g, b = rgb(card)
 checks.check(r > g and r > b, "refocused: the card is not orange: %.2f %.2f %.2f" % (r, g, b))
+
+# A render border kept in its frame: the view maps the border's pixels only (the rest black),
+# and a hexagonal aperture's legend is drawn in the whole frame's corner (rows 2.., as the map's
+# rows are stored), white in its middle and black at its edge.
+scene.render.use_border, scene.render.use_crop_to_border = True, False
+scene.render.border_min_x, scene.render.border_max_x = 0.25, 0.75
+scene.render.border_min_y, scene.render.border_max_y = 0.25, 0.75
+cam.data.dof.aperture_blades = 6
+bpy.ops.diffusion_dof.focus_map()
+fm = u.pixels(bpy.data.images[addon.images.FOCUS_MAP_IMAGE])
+side = min(64, min(w, h) // 4)
+checks.check(rgb((w // 8, h // 2)) == (0.0, 0.0, 0.0), "outside the border: %r"
+             % (rgb((w // 8, h // 2)),))
+checks.check(max(rgb((w // 2, h // 2))) > 0.1, "inside the border: %r" % (rgb((w // 2, h // 2)),))
+checks.check(rgb((w - 2 - side // 2, 2 + side // 2)) == (1.0, 1.0, 1.0) and
+             rgb((w - 3, 2)) == (0.0, 0.0, 0.0), "legend: middle %r, corner %r"
+             % (rgb((w - 2 - side // 2, 2 + side // 2)), rgb((w - 3, 2))))
 u.unload_addon(addon)
 checks.finish()

@@ -10,8 +10,6 @@
 #include <cJSON.h>
 #include <png.h>
 
-#include "focus_map.h"
-
 #include <math.h>
 #include <stdint.h>
 #include <stdio.h>
@@ -467,8 +465,9 @@ static int case_window(void)
 
 /* --focus-map: the focal-plane view. Depth in three bands (near 0.6 m, focus 1 m, far 6 m) of
  * a mid-grey frame: green where in focus, orange where near, blue where far; the PNG is
- * focus_map_pixels() of the camera's signed CoC, byte for byte; it is an output like the
- * others (never the input). */
+ * the library's ddof_focus_map() of the camera's signed CoC, byte for byte (its arithmetic and
+ * the aperture's legend: tests/test_focus_map.c); it is an output like the others (never the
+ * input). */
 static int case_focus_map(void)
 {
     static const char *const names[5] = {"R", "G", "B", "A", "Z"};
@@ -515,12 +514,14 @@ static int case_focus_map(void)
         const ddof_image_in depth_in = {planes[4], FW, FH, 1, 0};
         const ddof_image coc_out = {coc, FW, FH, 1, 0};
         CHECK(ddof_coc_from_camera(ctx, &cam, &depth_in, &coc_out) == DDOF_OK);
+        const ddof_image_in color_in = {rgb, FW, FH, 4, 0}, coc_in = {coc, FW, FH, 1, 0};
+        CHECK(ddof_focus_map(ctx, &color_in, &coc_in, &cam, want, sizeof want, NULL) ==
+              DDOF_OK);
     }
     ddof_context_free(ctx);
-    focus_map_pixels(coc, rgb, 4, FW, FH, want);
     for (i = 0; i < FW * FH * 3; i++)
         bad += px[i] != want[i];
-    CHECK_MSG(bad == 0, "%d bytes of the focus map differ from focus_map_pixels()", bad);
+    CHECK_MSG(bad == 0, "%d bytes of the focus map differ from ddof_focus_map()", bad);
     {
         const uint8_t *near = px + (size_t)(8 * FW + 2) * 3, *focus = px + (size_t)(8 * FW + 24) * 3,
                       *far = px + (size_t)(8 * FW + 45) * 3;
@@ -531,34 +532,6 @@ static int case_focus_map(void)
         CHECK_MSG(far[2] > far[0] && far[2] > far[1], "far %d %d %d", far[0], far[1], far[2]);
     }
     free(px);
-    /* A non-round aperture is the map's legend: the white pixels of the shapes the add-on's
-     * aperture_legend (blender_addon/diffusion_dof/focus_map.py) draws, counted there too
-     * (tests/blender/test_focus_map_plain.py): a hexagon at 15 degrees, a tall ellipse (ratio
-     * 2), a wide pentagon (ratio 0.5); none for a round aperture or a small map. */
-    {
-        static uint8_t legend[320 * 240 * 3];
-        const struct {
-            uint32_t blades;
-            double rotation, ratio;
-            uint32_t w, h, white;
-        } cases[] = {{6, 15.0, 1.0, 200, 120, 514}, {0, 0.0, 2.0, 200, 120, 312},
-                     {5, 0.0, 0.5, 320, 240, 990}, {0, 0.0, 1.0, 200, 120, 0},
-                     {6, 0.0, 1.0, 47, 200, 0}};
-        for (size_t k = 0; k < sizeof cases / sizeof cases[0]; k++) {
-            ddof_camera a;
-            ddof_camera_init(&a);
-            a.aperture_blades = cases[k].blades;
-            a.aperture_rotation_deg = cases[k].rotation;
-            a.aperture_ratio = cases[k].ratio;
-            memset(legend, 7, sizeof legend);
-            focus_map_aperture(&a, cases[k].w, cases[k].h, legend);
-            uint32_t white = 0;
-            for (size_t j = 0; j < (size_t)cases[k].w * cases[k].h * 3; j += 3)
-                white += legend[j] == 255;
-            CHECK_MSG(white == cases[k].white, "legend %zu: %u white pixels, want %u", k, white,
-                      cases[k].white);
-        }
-    }
     /* Never another output: refused before the first frame, so the EXR result (or the
      * preview) is not replaced by the PNG, in one frame or a batch. */
     {

@@ -207,7 +207,7 @@ int frame_run(ddof_context *context, const frame_setup *setup, const frame_paths
         progress_update(bar, slot, 0.1f);
         if (compute(context, setup, paths, &d, result, &link) == 0) {
             progress_update(bar, slot, 0.8f);
-            if (frame_output_write(setup, paths, &d, result, bar, slot) == 0) {
+            if (frame_output_write(context, setup, paths, &d, result, bar, slot) == 0) {
                 result->ok = 1;
                 rc = 0;
             }

@@ -107,8 +107,9 @@ static int write_output(const frame_setup *setup, const frame_paths *paths,
     return 0;
 }
 
-int frame_output_write(const frame_setup *setup, const frame_paths *paths,
-                       const frame_data *d, frame_result *result, progress *bar, int slot)
+int frame_output_write(ddof_context *context, const frame_setup *setup,
+                       const frame_paths *paths, const frame_data *d, frame_result *result,
+                       progress *bar, int slot)
 {
     const cli_options *opt = setup->options;
     const uint32_t channels = (uint32_t)d->layout.color_count;
@@ -136,8 +137,8 @@ int frame_output_write(const frame_setup *setup, const frame_paths *paths,
     }
     if (paths->focus_map[0]) {
         t = cli_now();
-        if (focus_map_write(paths->focus_map, d->coc, d->color, channels, d->part->width,
-                            d->part->height,
+        if (focus_map_write(context, paths->focus_map, d->coc, d->color, channels,
+                            d->part->width, d->part->height,
                             cli_options_camera_wanted(opt) ? &setup->camera : NULL, error,
                             sizeof error) != 0)
             return frame_fail(result, "focus map: %s", error);

@@ -8,9 +8,11 @@
 #include "frame_input.h"
 #include "progress.h"
 
-/* The EXR, the previews and the comparison with the truth. Returns 0 or -1 (result->error). */
-int frame_output_write(const frame_setup *setup, const frame_paths *paths, const frame_data *d,
-                       frame_result *result, progress *bar, int slot);
+/* The EXR, the previews and the comparison with the truth; the focal-plane view through the
+ * frame's context. Returns 0 or -1 (result->error). */
+int frame_output_write(ddof_context *context, const frame_setup *setup,
+                       const frame_paths *paths, const frame_data *d, frame_result *result,
+                       progress *bar, int slot);
 
 #endif
 
