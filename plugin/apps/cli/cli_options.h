@@ -72,31 +72,17 @@ typedef struct cli_options {
 
     /* solver: every value starts from the library's preset (ddof_params_init_preset) */
     ddof_preset preset;           /* --preset; default DDOF_PRESET_DEFAULT */
-    int method;                   /* ddof_method, or -1: the preset's */
-    int precision;                /* ddof_precision, or -1: the preset's */
-    int kernel;                   /* ddof_kernel, or -1: the preset's */
-    int solver;                   /* -1: preset's */
-    uint32_t substeps;            /* 0: preset's */
-    float beta_scale;             /* 0: preset's */
-    uint32_t jacobi_iterations;   /* 0: library default */
     uint32_t threads;             /* 0: all cores */
     ddof_backend_kind backend;    /* --backend; default DDOF_BACKEND_AUTO */
     const char *gl_plugin;        /* --gl-plugin: the libddof_gl file; NULL: the library's search */
 
-    /* layers (libddof 0.2): -1 / 0 mean "the preset's or the library's default" */
-    int background;               /* ddof_layer_mode or -1 */
-    float background_threshold;   /* px; 0: default */
-    float background_ramp_start;  /* px; < 0: default */
-    uint32_t background_levels;   /* 0: default */
-    int near_spread;              /* ddof_layer_mode or -1 */
-    float near_spread_threshold;  /* px; 0: default */
-    int near_layer;               /* ddof_layer_mode or -1 */
-    int far_field;                /* ddof_layer_mode or -1 */
-    int silhouettes;              /* ddof_layer_mode or -1 */
-    int blurred_edges;            /* ddof_layer_mode or -1 */
-    float near_layer_threshold;   /* px; 0: default */
-    int highlights;               /* ddof_layer_mode or -1 */
-    float highlight_threshold;    /* 0: default */
+    /* The library's parameters the flags give (method, kernel, solver, layers...), written
+     * straight into their ddof_params fields; params_given marks the byte where each given
+     * field starts (cli_param_given). The rest is the preset's. */
+    ddof_params params;
+    unsigned char params_given[sizeof(ddof_params)];
+
+    /* layers */
     int coc_signed;               /* --coc-signed: the CoC channel marks the near field < 0 */
     const char *foreground;       /* file (path or pattern) of a foreground element; NULL */
     const char *foreground_layer; /* its layer (in that file, or in the input); NULL */
@@ -131,5 +117,11 @@ typedef struct cli_options {
 #define CLI_EXIT_USAGE 2    /* unknown option, bad value, bad camera                    */
 #define CLI_EXIT_BACKEND 3  /* the backend asked for is unavailable, or it cannot run   */
                             /* the solver or precision asked for                        */
+
+/* Whether a flag gave the ddof_params field at this offset (offsetof(ddof_params, field)). */
+static inline int cli_param_given(const cli_options *o, size_t params_field)
+{
+    return params_field < sizeof o->params_given && o->params_given[params_field];
+}
 
 #endif

@@ -4,12 +4,6 @@
  * (option_table.c). */
 #include "option_table.h"
 
-void cli_options_unset_overrides(cli_options *o)
-{
-    for (size_t i = 0; i < cli_option_count; i++)
-        cli_option_unset(&cli_option_table[i], o);
-}
-
 void cli_options_override_params(const cli_options *o, ddof_params *params)
 {
     for (size_t i = 0; i < cli_option_count; i++)

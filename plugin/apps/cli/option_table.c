@@ -122,7 +122,7 @@ static int apply_keep(const cli_option *option, const char *value, cli_options *
 _Static_assert(CLI_MAX_THREADS == 1024u, "--threads' help says 1024");
 
 #define TARGET(field) .target = offsetof(cli_options, field)
-#define PARAMS(field) .to_params = 1, .params_field = offsetof(ddof_params, field)
+#define PARAMS .to_params = 1 /* target is params.FIELD: a ddof_params field */
 #define INPUT .section = CLI_SECTION_INPUT
 #define COC .section = CLI_SECTION_COC
 #define QUALITY .section = CLI_SECTION_QUALITY
@@ -221,24 +221,24 @@ const cli_option cli_option_table[] = {
      .help = "the library's named settings (ddof_params_init_preset,\n"
              "chosen by the accuracy study); the flags below override them\n"
              "(default: default)"},
-    {"--method", QUALITY, CHOICE(method, cli_choices_method), PARAMS(method),
+    {"--method", QUALITY, CHOICE(params.method, cli_choices_method), PARAMS,
      .apply = apply_method, .setting = "method",
      .help = "diffusion: the heat-diffusion solve; cod4: the fast,\n"
              "approximate Call of Duty 4 post-process (CPU; no --foreground)"},
-    {"--kernel", QUALITY, CHOICE(kernel, cli_choices_kernel), PARAMS(kernel),
+    {"--kernel", QUALITY, CHOICE(params.kernel, cli_choices_kernel), PARAMS,
      .setting = "kernel",
      .help = "the blur's shape: heat, the soft real\n"
              "diffusion; disc-*, the lens's disc bokeh (thomas or reference\n"
              "on the CPU; elsewhere heat runs)"},
-    {"--solver", QUALITY, CHOICE(solver, cli_choices_solver), PARAMS(solver),
+    {"--solver", QUALITY, CHOICE(params.solver, cli_choices_solver), PARAMS,
      .setting = "solver", .help = "the line solver (gruen: GL backends only)"},
-    {"--precision", QUALITY, CHOICE(precision, cli_choices_precision), PARAMS(precision),
+    {"--precision", QUALITY, CHOICE(params.precision, cli_choices_precision), PARAMS,
      .setting = "precision", .help = "arithmetic of the GL solvers (packed-half: gruen only)"},
-    {"--substeps", QUALITY, UINT(substeps, 1, 0), PARAMS(substeps), .setting = "substeps",
+    {"--substeps", QUALITY, UINT(params.substeps, 1, 0), PARAMS, .setting = "substeps",
      .help = "ADI sub-steps (more: closer to a Gaussian, linear cost)"},
-    {"--beta-scale", QUALITY, FLOAT(beta_scale, "K", CLI_POSITIVE), PARAMS(beta_scale),
+    {"--beta-scale", QUALITY, FLOAT(params.beta_scale, "K", CLI_POSITIVE), PARAMS,
      .setting = "beta_scale", .help = "k in beta = k * CoC^2"},
-    {"--jacobi-iterations", QUALITY, UINT(jacobi_iterations, 1, 0), PARAMS(jacobi_iterations),
+    {"--jacobi-iterations", QUALITY, UINT(params.jacobi_iterations, 1, 0), PARAMS,
      .setting = "jacobi_iterations", .help = "sweeps for --solver jacobi"},
     {"--threads", QUALITY, UINT(threads, 0, CLI_MAX_THREADS),
      .help = "threads per frame (0 = all cores, at most 1024)"},
@@ -251,45 +251,45 @@ const cli_option cli_option_table[] = {
              "libddof_gl.so beside libddof, then the loader's search path)"},
 
     /* layers */
-    {"--background", LAYERS, CHOICE(background, cli_choices_layer_mode), PARAMS(background),
+    {"--background", LAYERS, CHOICE(params.background, cli_choices_layer_mode), PARAMS,
      .setting = "background", .help = "blurring underneath sharp midground objects"},
-    {"--background-threshold", LAYERS, FLOAT(background_threshold, "PX", CLI_POSITIVE),
-     PARAMS(background_threshold_px), .setting = "background_threshold_px",
+    {"--background-threshold", LAYERS, FLOAT(params.background_threshold_px, "PX", CLI_POSITIVE),
+     PARAMS, .setting = "background_threshold_px",
      .help = "CoC at which a pixel is wholly background (default 8)"},
-    {"--background-ramp-start", LAYERS, FLOAT(background_ramp_start, "PX", CLI_NON_NEGATIVE),
-     PARAMS(background_ramp_start_px), .setting = "background_ramp_start_px",
+    {"--background-ramp-start", LAYERS,
+     FLOAT(params.background_ramp_start_px, "PX", CLI_NON_NEGATIVE), PARAMS, .setting = "background_ramp_start_px",
      .help = "CoC below which it is wholly midground (default 2)"},
-    {"--background-levels", LAYERS, UINT(background_levels, 1, 0), PARAMS(background_levels),
+    {"--background-levels", LAYERS, UINT(params.background_levels, 1, 0), PARAMS,
      .setting = "background_levels", .help = "background layers at t, 2t, 4t, ... (1..8)"},
-    {"--near-spread", LAYERS, CHOICE(near_spread, cli_choices_layer_mode), PARAMS(near_spread),
+    {"--near-spread", LAYERS, CHOICE(params.near_spread, cli_choices_layer_mode), PARAMS,
      .setting = "near_spread", .help = "soft silhouettes of blurred near objects (one image)"},
-    {"--near-spread-threshold", LAYERS, FLOAT(near_spread_threshold, "PX", CLI_POSITIVE),
-     PARAMS(near_spread_threshold_px), .setting = "near_spread_threshold_px",
+    {"--near-spread-threshold", LAYERS, FLOAT(params.near_spread_threshold_px, "PX", CLI_POSITIVE),
+     PARAMS, .setting = "near_spread_threshold_px",
      .help = "near CoC from which the silhouettes spread (default 4)"},
-    {"--near-layer", LAYERS, CHOICE(near_layer, cli_choices_layer_mode), PARAMS(near_layer),
+    {"--near-layer", LAYERS, CHOICE(params.near_layer, cli_choices_layer_mode), PARAMS,
      .setting = "near_layer",
      .help = "blurred near objects turn see-through (one image: the near\n"
              "field split off, what it hid filled in)"},
-    {"--near-layer-threshold", LAYERS, FLOAT(near_layer_threshold, "PX", CLI_POSITIVE),
-     PARAMS(near_layer_threshold_px), .setting = "near_layer_threshold_px",
+    {"--near-layer-threshold", LAYERS, FLOAT(params.near_layer_threshold_px, "PX", CLI_POSITIVE),
+     PARAMS, .setting = "near_layer_threshold_px",
      .help = "near CoC from which a pixel is wholly in the near layer (default 8)"},
-    {"--far-field", LAYERS, CHOICE(far_field, cli_choices_layer_mode), PARAMS(far_field),
+    {"--far-field", LAYERS, CHOICE(params.far_field, cli_choices_layer_mode), PARAMS,
      .setting = "far_field",
      .help = "smooth blur away from depth edges gathered in the lens's exact\n"
              "disc (docs/design.md)"},
-    {"--blurred-edges", LAYERS, CHOICE(blurred_edges, cli_choices_layer_mode),
-     PARAMS(blurred_edges), .setting = "blurred_edges",
+    {"--blurred-edges", LAYERS, CHOICE(params.blurred_edges, cli_choices_layer_mode),
+     PARAMS, .setting = "blurred_edges",
      .help = "where two blurred surfaces meet, each drawn with the lens's\n"
              "shape, the nearer over the farther (the far field's depth slices)"},
-    {"--silhouettes", LAYERS, CHOICE(silhouettes, cli_choices_layer_mode),
-     PARAMS(silhouettes), .setting = "silhouettes",
+    {"--silhouettes", LAYERS, CHOICE(params.silhouettes, cli_choices_layer_mode),
+     PARAMS, .setting = "silhouettes",
      .help = "mixed pixels where in-focus objects meet a blurred background\n"
              "split: the object's share sharp, the background's blurred"},
-    {"--highlights", LAYERS, CHOICE(highlights, cli_choices_layer_mode), PARAMS(highlights),
+    {"--highlights", LAYERS, CHOICE(params.highlights, cli_choices_layer_mode), PARAMS,
      .setting = "highlights",
      .help = "the brightest blurred pixels drawn as crisp discs (HDR bokeh)"},
-    {"--highlight-threshold", LAYERS, FLOAT(highlight_threshold, "VALUE", CLI_POSITIVE),
-     PARAMS(highlight_threshold), .setting = "highlight_threshold",
+    {"--highlight-threshold", LAYERS, FLOAT(params.highlight_threshold, "VALUE", CLI_POSITIVE),
+     PARAMS, .setting = "highlight_threshold",
      .help = "brightness above which a pixel is a highlight (default 0.25)"},
     {"--coc-signed", LAYERS, FLAG(coc_signed),
      .help = "the --coc-channel is negative in front of the focus plane"},

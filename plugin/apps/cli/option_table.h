@@ -61,8 +61,7 @@ struct cli_option {
     cli_number_range range;    /* CLI_OPT_DOUBLE, CLI_OPT_FLOAT                              */
     uint32_t min, max;         /* CLI_OPT_UINT; max 0: no upper limit                        */
     unsigned camera_bit;       /* CAM_*: a camera value that overrides the sidecar's; or 0  */
-    int to_params;             /* 1: overrides the preset's ddof_params at params_field     */
-    size_t params_field;       /* offsetof(ddof_params, ...)                                */
+    int to_params;             /* 1: target is a field of cli_options.params, over the preset */
     const char *setting;       /* its key in the --stats "settings"; NULL: not reported     */
     cli_option_apply_fn apply; /* does the work instead of the kind's parse; or NULL        */
     const char *example;       /* CLI_OPT_OTHER: a valid value, for the table's own test   */
@@ -92,18 +91,22 @@ int cli_option_bad_value(const cli_option *option, const char *value, const char
 /* The placeholder the usage shows: the option's arg, or its choices "a|b|c"; "" for a flag. */
 void cli_option_placeholder(const cli_option *option, char *out, size_t out_size);
 
-/* One option's kind applied to the whole (option_values.c): an option that overrides a
- * ddof_params field set to "not given", outside its range, so that the preset's value stands
- * until a flag gives one; its value over the params' when the user gave it; a camera value
- * given as a flag (o->camera_set) over the sidecar's. Others are left alone. */
-void cli_option_unset(const cli_option *option, cli_options *o);
+/* The offset in ddof_params of a to_params option's field. */
+static inline size_t cli_option_params_field(const cli_option *option)
+{
+    return option->target - offsetof(cli_options, params);
+}
+
+/* One option's kind applied to the whole (option_values.c): its value over the params' when
+ * the user gave it; a camera value given as a flag (o->camera_set) over the sidecar's. Others
+ * are left alone. */
 void cli_option_override_params(const cli_option *option, const cli_options *o,
-                                 ddof_params *params);
+                                ddof_params *params);
 void cli_option_override_camera(const cli_option *option, const cli_options *o,
                                 ddof_camera *camera);
 
-/* The same over every option of the table (option_overrides.c). */
-void cli_options_unset_overrides(cli_options *o);
+/* The same over every option of the table (option_overrides.c): the library's preset < flags,
+ * the sidecar < flags. */
 void cli_options_override_params(const cli_options *o, ddof_params *params);
 void cli_options_override_camera(const cli_options *o, ddof_camera *camera);
 

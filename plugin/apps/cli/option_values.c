@@ -119,7 +119,7 @@ static int parse_choice(const cli_option *option, const char *text, int *out)
     return 0;
 }
 
-int cli_option_parse_value(const cli_option *option, const char *value, cli_options *o)
+static int parse_into(const cli_option *option, const char *value, cli_options *o)
 {
     void *to = field(o, option);
     double number;
@@ -155,6 +155,15 @@ int cli_option_parse_value(const cli_option *option, const char *value, cli_opti
     }
 }
 
+int cli_option_parse_value(const cli_option *option, const char *value, cli_options *o)
+{
+    if (parse_into(option, value, o) != 0)
+        return -1;
+    if (option->to_params)
+        o->params_given[cli_option_params_field(option)] = 1;
+    return 0;
+}
+
 void cli_option_placeholder(const cli_option *option, char *out, size_t out_size)
 {
     if (option->kind == CLI_OPT_CHOICE && !option->arg)
@@ -163,58 +172,11 @@ void cli_option_placeholder(const cli_option *option, char *out, size_t out_size
         snprintf(out, out_size, "%s", option->arg ? option->arg : "");
 }
 
-/* Whether the user gave the option. The defaults (cli_option_unset) lie outside every overriding
- * option's range (-1 for a choice, 0 for a count or a scale that must be > 0, -1 for one
- * that may be 0), so "within range" is "given". */
-static int given(const cli_option *option, const cli_options *o)
-{
-    const void *from = const_field(o, option);
-    int choice;
-    uint32_t count;
-    float single;
-    switch (option->kind) {
-    case CLI_OPT_CHOICE:
-        memcpy(&choice, from, sizeof choice);
-        return choice >= 0;
-    case CLI_OPT_UINT:
-        memcpy(&count, from, sizeof count);
-        return count >= option->min && count > 0;
-    case CLI_OPT_FLOAT:
-        memcpy(&single, from, sizeof single);
-        return in_range(single, option->range) && option->range != CLI_ANY_NUMBER;
-    default:
-        return 0;
-    }
-}
-
-void cli_option_unset(const cli_option *option, cli_options *o)
-{
-    const int no_choice = -1;
-    const float no_number = option->range == CLI_NON_NEGATIVE ? -1.0f : 0.0f;
-    const uint32_t no_count = 0;
-    void *to = field(o, option);
-    if (!option->to_params)
-        return;
-    switch (option->kind) {
-    case CLI_OPT_CHOICE:
-        memcpy(to, &no_choice, sizeof no_choice);
-        break;
-    case CLI_OPT_FLOAT:
-        memcpy(to, &no_number, sizeof no_number);
-        break;
-    case CLI_OPT_UINT:
-        memcpy(to, &no_count, sizeof no_count);
-        break;
-    default:
-        break;
-    }
-}
-
 void cli_option_override_params(const cli_option *option, const cli_options *o,
                                  ddof_params *params)
 {
-    if (option->to_params && given(option, o))
-        memcpy((char *)params + option->params_field, const_field(o, option),
+    if (option->to_params && cli_param_given(o, cli_option_params_field(option)))
+        memcpy((char *)params + cli_option_params_field(option), const_field(o, option),
                value_size(option->kind));
 }
 
@@ -250,8 +212,9 @@ cli_setting cli_option_setting(const cli_option *option, const cli_options *o,
                                const ddof_params *params)
 {
     cli_setting s = {CLI_SETTING_NONE, NULL, 0.0};
-    const void *from = option->to_params ? (const char *)params + option->params_field
-                                         : const_field(o, option);
+    const void *from = option->to_params
+                           ? (const char *)params + cli_option_params_field(option)
+                           : const_field(o, option);
     int choice, flag;
     if (!option->setting)
         return s;

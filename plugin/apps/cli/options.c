@@ -5,6 +5,7 @@
 
 #include "option_table.h"
 
+#include <stddef.h>
 #include <string.h>
 
 static void defaults(cli_options *o)
@@ -14,7 +15,6 @@ static void defaults(cli_options *o)
     ddof_camera_init(&o->camera);
     ddof_curve_init(&o->curve);
     o->preset = DDOF_PRESET_DEFAULT;
-    cli_options_unset_overrides(o);
     o->backend = DDOF_BACKEND_AUTO;
     o->pixel_type = -1;
     o->compression = EXRIO_COMPRESSION_ZIP;
@@ -118,13 +118,18 @@ static int check_combination(const cli_options *o)
                 "--foreground-coc-channel\n");
         return -1;
     }
-    if (o->method == DDOF_METHOD_COD4_PREVIEW && has_foreground) {
+    if (cli_param_given(o, offsetof(ddof_params, method)) &&
+        o->params.method == DDOF_METHOD_COD4_PREVIEW && has_foreground) {
         fprintf(stderr, "ddof: --method cod4 takes no foreground element: the CoD4 preview "
                 "blurs one image (use --method diffusion with --foreground)\n");
         return -1;
     }
-    if ((o->near_spread == DDOF_LAYER_ON || o->near_layer == DDOF_LAYER_ON) && has_foreground) {
-        const char *flag = o->near_spread == DDOF_LAYER_ON ? "--near-spread" : "--near-layer";
+    const int spread_on = cli_param_given(o, offsetof(ddof_params, near_spread)) &&
+                          o->params.near_spread == DDOF_LAYER_ON;
+    const int near_on = cli_param_given(o, offsetof(ddof_params, near_layer)) &&
+                        o->params.near_layer == DDOF_LAYER_ON;
+    if ((spread_on || near_on) && has_foreground) {
+        const char *flag = spread_on ? "--near-spread" : "--near-layer";
         fprintf(stderr, "ddof: %s on works on one image: with a foreground element the element "
                 "is the near field (leave out %s on)\n", flag, flag);
         return -1;

@@ -12,6 +12,7 @@
 #include "path_safety.h"
 
 #include <stdio.h>
+#include <stddef.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -21,7 +22,8 @@ static void resolve_params(const cli_options *o, ddof_params *params)
 {
     (void)ddof_params_init_preset(params, o->preset); /* the parser accepted only known ones */
     cli_options_override_params(o, params);
-    if (o->method < 0 && params->method == DDOF_METHOD_COD4_PREVIEW &&
+    if (!cli_param_given(o, offsetof(ddof_params, method)) &&
+        params->method == DDOF_METHOD_COD4_PREVIEW &&
         (o->foreground || o->foreground_layer)) {
         /* The CoD4 preview blurs one image; a foreground element asks for the layers. */
         fprintf(stderr, "ddof: note: the %s preset's CoD4 preview takes no foreground element: "
