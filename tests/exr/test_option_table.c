@@ -191,7 +191,7 @@ static void check_valid(const cli_option *option)
         CHECK_MSG(memcmp(&params, &preset, sizeof params) != 0, "%s %s leaves the params",
                   option->name, value);
     }
-    if (option->camera_bit) {
+    if (option->to_camera) {
         ddof_camera_init(&camera0);
         camera = camera0;
         cli_options_override_camera(&o, &camera);

@@ -27,23 +27,6 @@ typedef enum progress_mode {
     PROGRESS_NEVER
 } progress_mode;
 
-/* Camera values given as flags; `set` bits say which (they override the sidecar). */
-enum {
-    CAM_FOCAL = 1 << 0,
-    CAM_SENSOR = 1 << 1,
-    CAM_FIT = 1 << 2,
-    CAM_FSTOP = 1 << 3,
-    CAM_FOCUS = 1 << 4,
-    CAM_ASPECT = 1 << 5,
-    CAM_DEPTH_KIND = 1 << 6,
-    CAM_UNIT = 1 << 7,
-    CAM_LENS = 1 << 8,
-    CAM_BLADES = 1 << 9,
-    CAM_ROTATION = 1 << 10,
-    CAM_RATIO = 1 << 11,
-    CAM_CATSEYE = 1 << 12
-};
-
 typedef struct cli_options {
     /* input and output */
     const char *input;            /* path or pattern with #### */
@@ -66,8 +49,8 @@ typedef struct cli_options {
     const char *camera_json;
     const char *cards_json;       /* --cards: a scene of textured cards instead of IN.exr    */
     const char *aperture_image;   /* --aperture-image: an EXR; NULL: the blades' shape      */
-    ddof_camera camera;           /* flag values (valid where camera_set says) */
-    unsigned camera_set;
+    ddof_camera camera;           /* flag values, over the sidecar's where camera_given says */
+    unsigned char camera_given[sizeof(ddof_camera)]; /* the byte where each given field starts */
     ddof_curve curve;
 
     /* solver: every value starts from the library's preset (ddof_params_init_preset) */
@@ -118,10 +101,15 @@ typedef struct cli_options {
 #define CLI_EXIT_BACKEND 3  /* the backend asked for is unavailable, or it cannot run   */
                             /* the solver or precision asked for                        */
 
-/* Whether a flag gave the ddof_params field at this offset (offsetof(ddof_params, field)). */
+/* Whether a flag gave the ddof_params (ddof_camera) field at this offset (offsetof). */
 static inline int cli_param_given(const cli_options *o, size_t params_field)
 {
     return params_field < sizeof o->params_given && o->params_given[params_field];
+}
+
+static inline int cli_camera_given(const cli_options *o, size_t camera_field)
+{
+    return camera_field < sizeof o->camera_given && o->camera_given[camera_field];
 }
 
 #endif

@@ -60,7 +60,7 @@ struct cli_option {
     const cli_choices *choices;/* CLI_OPT_CHOICE: the names                                  */
     cli_number_range range;    /* CLI_OPT_DOUBLE, CLI_OPT_FLOAT                              */
     uint32_t min, max;         /* CLI_OPT_UINT; max 0: no upper limit                        */
-    unsigned camera_bit;       /* CAM_*: a camera value that overrides the sidecar's; or 0  */
+    int to_camera;             /* 1: target is a field of cli_options.camera, over the sidecar */
     int to_params;             /* 1: target is a field of cli_options.params, over the preset */
     const char *setting;       /* its key in the --stats "settings"; NULL: not reported     */
     cli_option_apply_fn apply; /* does the work instead of the kind's parse; or NULL        */
@@ -91,14 +91,19 @@ int cli_option_bad_value(const cli_option *option, const char *value, const char
 /* The placeholder the usage shows: the option's arg, or its choices "a|b|c"; "" for a flag. */
 void cli_option_placeholder(const cli_option *option, char *out, size_t out_size);
 
-/* The offset in ddof_params of a to_params option's field. */
+/* The offset in ddof_params (ddof_camera) of a to_params (to_camera) option's field. */
 static inline size_t cli_option_params_field(const cli_option *option)
 {
     return option->target - offsetof(cli_options, params);
 }
 
+static inline size_t cli_option_camera_field(const cli_option *option)
+{
+    return option->target - offsetof(cli_options, camera);
+}
+
 /* One option's kind applied to the whole (option_values.c): its value over the params' when
- * the user gave it; a camera value given as a flag (o->camera_set) over the sidecar's. Others
+ * the user gave it; a camera value given as a flag (o->camera_given) over the sidecar's. Others
  * are left alone. */
 void cli_option_override_params(const cli_option *option, const cli_options *o,
                                 ddof_params *params);

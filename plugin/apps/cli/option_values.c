@@ -161,6 +161,8 @@ int cli_option_parse_value(const cli_option *option, const char *value, cli_opti
         return -1;
     if (option->to_params)
         o->params_given[cli_option_params_field(option)] = 1;
+    if (option->to_camera)
+        o->camera_given[cli_option_camera_field(option)] = 1;
     return 0;
 }
 
@@ -183,9 +185,8 @@ void cli_option_override_params(const cli_option *option, const cli_options *o,
 void cli_option_override_camera(const cli_option *option, const cli_options *o,
                                 ddof_camera *camera)
 {
-    const size_t camera_at = offsetof(cli_options, camera);
-    if (option->camera_bit && (o->camera_set & option->camera_bit))
-        memcpy((char *)camera + (option->target - camera_at), const_field(o, option),
+    if (option->to_camera && cli_camera_given(o, cli_option_camera_field(option)))
+        memcpy((char *)camera + cli_option_camera_field(option), const_field(o, option),
                value_size(option->kind));
 }
 

@@ -77,19 +77,33 @@ static int take_option(int argc, char **argv, int *i, cli_options *o)
             return -1;
         }
     }
-    o->camera_set |= option->camera_bit;
     return option->apply ? option->apply(option, value, o)
                          : cli_option_parse_value(option, value, o);
 }
 
-/* The camera flags that describe the aperture alone. */
-#define CAM_APERTURE (CAM_BLADES | CAM_ROTATION | CAM_RATIO | CAM_CATSEYE)
+/* Whether the camera field at this offset describes the aperture alone. */
+static int aperture_field(size_t field)
+{
+    return field == offsetof(ddof_camera, aperture_blades) ||
+           field == offsetof(ddof_camera, aperture_rotation_deg) ||
+           field == offsetof(ddof_camera, aperture_ratio) ||
+           field == offsetof(ddof_camera, aperture_catseye);
+}
+
+/* Whether a camera flag was given among the aperture's (aperture 1) or the others (0). */
+static int camera_flags_given(const cli_options *o, int aperture)
+{
+    for (size_t field = 0; field < sizeof o->camera_given; field++)
+        if (cli_camera_given(o, field) && aperture_field(field) == aperture)
+            return 1;
+    return 0;
+}
 
 int cli_options_camera_wanted(const cli_options *o)
 {
     return o->source == COC_FROM_CAMERA ||
            (o->source == COC_FROM_CHANNEL &&
-            (o->camera_json || (o->camera_set & CAM_APERTURE) || o->aperture_image));
+            (o->camera_json || camera_flags_given(o, 1) || o->aperture_image));
 }
 
 /* Options that do not go together, or need another. */
@@ -100,11 +114,12 @@ static int check_combination(const cli_options *o)
         fprintf(stderr, "ddof: --curve and --coc-channel are two CoC sources: give one\n");
         return -1;
     }
-    if (o->source == COC_FROM_CURVE && (o->camera_json || o->camera_set)) {
+    if (o->source == COC_FROM_CURVE &&
+        (o->camera_json || camera_flags_given(o, 0) || camera_flags_given(o, 1))) {
         fprintf(stderr, "ddof: camera options do not apply with --curve\n");
         return -1;
     }
-    if (o->source == COC_FROM_CHANNEL && (o->camera_set & ~(unsigned)CAM_APERTURE)) {
+    if (o->source == COC_FROM_CHANNEL && camera_flags_given(o, 0)) {
         fprintf(stderr, "ddof: with --coc-channel the CoC is given: of the camera, only "
                 "--camera and the aperture's flags (--aperture-*) apply\n");
         return -1;
@@ -144,13 +159,14 @@ static int check_combination(const cli_options *o)
 /* What a run (not --list) needs besides the input: an output and a CoC source. */
 static int check_run_needs(const cli_options *o)
 {
-    const unsigned least_camera = CAM_FSTOP | CAM_FOCUS | CAM_FOCAL;
     if (!o->output) {
         fprintf(stderr, "ddof: no output file: give -o OUT.exr (try --help)\n");
         return -1;
     }
     if (o->source == COC_FROM_CAMERA && !o->camera_json &&
-        (o->camera_set & least_camera) != least_camera) {
+        !(cli_camera_given(o, offsetof(ddof_camera, fstop)) &&
+          cli_camera_given(o, offsetof(ddof_camera, focus_distance_m)) &&
+          cli_camera_given(o, offsetof(ddof_camera, focal_length_mm)))) {
         fprintf(stderr, "ddof: no camera: give --camera CAMERA.json, or at least --focal-length, "
                 "--fstop and --focus (or --curve, or --coc-channel)\n");
         return -1;

@@ -50,7 +50,7 @@ static int resolve_camera(const cli_options *o, frame_setup *setup)
         setup->camera_aspect_given = 1;
     }
     cli_options_override_camera(o, c);
-    if (o->camera_set & CAM_ASPECT)
+    if (cli_camera_given(o, offsetof(ddof_camera, pixel_aspect)))
         setup->camera_aspect_given = 1;
     if (o->aperture_image) {
         char error[1024];
