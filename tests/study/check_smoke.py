@@ -90,7 +90,7 @@ if os.path.isfile(inc):
 # The library's committed presets are the full study's choice, as docs/accuracy.md states it
 # (not edited by hand, not a smoke run's).
 root = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-committed = open(os.path.join(root, "libddof", "src", "presets_measured.inc")).read()
+committed = open(os.path.join(root, "libddof", "src", "api", "presets_measured.inc")).read()
 report = open(os.path.join(root, "docs", "accuracy.md")).read()
 check("Written by study/report.py" in committed and "SMOKE" not in committed,
       "libddof/src/api/presets_measured.inc was written by a full study run")

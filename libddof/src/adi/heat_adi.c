@@ -350,14 +350,11 @@ ddof_status ddof_adi_run(ddof_context *context, const adi_request *r, adi_report
                               mark_floats;
     if (per_thread > SIZE_MAX / sizeof(float) / thread_count)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "scratch size overflows");
-    const size_t state_floats = align16(thread_count * sizeof(thread_state) / sizeof(float) + 1);
-    const size_t bytes = (state_floats + per_thread * thread_count) * sizeof(float);
-    float *memory = ddof_scratch_get(context, DDOF_SCRATCH_SOLVER, bytes);
-    if (!memory)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate %zu bytes of solver scratch", bytes);
-    thread_state *threads = (thread_state *)(void *)memory;
-    memory += state_floats;
+    float *memory;
+    thread_state *threads = solver_scratch(context, thread_count * sizeof(thread_state),
+                                           per_thread * thread_count, "solver scratch", &memory);
+    if (!threads)
+        return DDOF_ERROR_OUT_OF_MEMORY;
     for (uint32_t t = 0; t < thread_count; t++) {
         float *base = memory + per_thread * t;
         float *after_scratch = base + x_floats + 2 * coef_floats + scratch_floats;

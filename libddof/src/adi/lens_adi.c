@@ -333,14 +333,6 @@ DDOF_MULTIVERSION static void lens_column_batch(void *user, uint32_t batch_index
 
 /* ---- the run ------------------------------------------------------------------------------ */
 
-static uint64_t lens_solved(const lens_thread *threads, uint32_t count)
-{
-    uint64_t sum = 0;
-    for (uint32_t t = 0; t < count; t++)
-        sum += threads[t].lines_solved;
-    return sum;
-}
-
 ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_report *report)
 {
     const disc_kernel *k = r->disc;
@@ -357,17 +349,14 @@ ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_repor
     const size_t per_thread = 3 * lane_floats + 2 * coef_floats + solver_floats + mark_floats;
     const size_t image_floats = align16(t_stride * H);
     const size_t copy_floats = r->out == r->color ? align16((size_t)W * C * H) : 0;
-    const size_t state_floats = align16(threads * sizeof(lens_thread) / sizeof(float) + 1);
     if (per_thread > (SIZE_MAX / sizeof(float) - 2 * image_floats - copy_floats) / threads / 2)
         return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "scratch size overflows");
-    const size_t bytes =
-        (state_floats + per_thread * threads + 2 * image_floats + copy_floats) * sizeof(float);
-    float *memory = ddof_scratch_get(context, DDOF_SCRATCH_SOLVER, bytes);
-    if (!memory)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate %zu bytes of disc-kernel scratch", bytes);
-    lens_thread *state = (lens_thread *)(void *)memory;
-    memory += state_floats;
+    float *memory;
+    lens_thread *state = solver_scratch(context, threads * sizeof(lens_thread),
+                                        per_thread * threads + 2 * image_floats + copy_floats,
+                                        "disc-kernel scratch", &memory);
+    if (!state)
+        return DDOF_ERROR_OUT_OF_MEMORY;
     for (uint32_t t = 0; t < threads; t++) {
         float *base = memory + per_thread * t;
         float *after_coef = base + 3 * lane_floats + 2 * coef_floats;
@@ -439,12 +428,13 @@ ddof_status ddof_lens_run(ddof_context *context, const adi_request *r, adi_repor
         report->seconds_rows += t1 - t0;
         report->seconds_columns += ddof_seconds() - t1;
     }
-    report->lines_solved = lens_solved(state, threads);
+    for (uint32_t t = 0; t < threads; t++) {
+        report->lines_solved += state[t].lines_solved;
+        report->max_coc = ddof_maxf(report->max_coc, state[t].max_coc);
+    }
     report->lines_skipped =
         (uint64_t)(W + H) * k->components - report->lines_solved / k->steps;
     report->substeps_run = report->lines_solved ? 1 : 0;
-    for (uint32_t t = 0; t < threads; t++)
-        report->max_coc = ddof_maxf(report->max_coc, state[t].max_coc);
     if (status == DDOF_ERROR_CANCELLED) {
         /* A cancelled frame is still a valid image: the input. */
         for (uint32_t y = 0; y < H; y++)

@@ -5,6 +5,7 @@
  * sum_c Re(mix_c Z_c) (not as changes), no batching, skipping or threading. Links, singular runs,
  * masked input and the clamp to the input's range mean what they mean in lens_adi.c. */
 #include "adi.h"
+#include "reference_lines.h"
 
 #include "disc/disc_kernel.h"
 #include "solvers/lens_solver.h"
@@ -39,17 +40,11 @@ static void solve_line(const disc_kernel *k, uint32_t c, uint32_t n, lens_lines 
 {
     for (uint32_t m = 0; m < k->steps; m++) {
         const double complex kappa = k->kappa[c][m][0] + I * (double)k->kappa[c][m][1];
-        uint32_t start = 0;
-        for (uint32_t i = 0; i < n; i++) {
-            if (i + 1 < n && buf->b[i] > 0.0)
-                continue;
-            int holds_heat = 0;
-            for (uint32_t j = start; j <= i; j++)
-                holds_heat |= buf->gamma[j] > 0.0;
-            if (holds_heat)
-                thomas_complex(i + 1 - start, buf->b + start, buf->gamma + start, kappa,
+        for (uint32_t start = 0, end; start < n; start = end) {
+            end = reference_run_end(buf->b, start, n);
+            if (reference_run_holds_heat(buf->gamma, start, end))
+                thomas_complex(end - start, buf->b + start, buf->gamma + start, kappa,
                                buf->cprime + start, buf->value + start);
-            start = i + 1;
         }
     }
 }
@@ -59,9 +54,12 @@ static double coc_abs(const adi_request *r, uint32_t x, uint32_t y)
     return fabs((double)adi_request_coc(r, x, y));
 }
 
-static double gamma_at(const adi_request *r, uint32_t x, uint32_t y)
+/* The disc kernel's link: the float path's floor, applied to the same float value. */
+static double disc_link(const adi_request *r, double m, double scale)
 {
-    return r->gamma ? r->gamma[(size_t)y * r->gamma_stride + (size_t)x * r->gamma_channels] : 1.0;
+    const float bf = (float)(m * m) * (float)scale;
+    const int in_focus = r->coc && (float)m < r->in_focus_px;
+    return bf >= DDOF_LENS_MIN_LINK && !in_focus ? (double)bf : 0.0;
 }
 
 /* One pass of component c over the complex image (w * h * C). */
@@ -73,36 +71,15 @@ static uint64_t lens_pass(const adi_request *r, const disc_kernel *k, uint32_t c
     const double scale = rows ? 1.0 : (double)r->pixel_aspect * r->pixel_aspect;
     uint64_t solved = 0;
     for (uint32_t line = 0; line < lines; line++) {
-        int active = 0;
-        for (uint32_t i = 0; i < n; i++) {
-            const uint32_t x = rows ? i : line, y = rows ? line : i;
-            double b = 0.0;
-            if (i + 1 < n) {
-                const double d0 = coc_abs(r, x, y);
-                const double d1 = coc_abs(r, rows ? x + 1 : x, rows ? y : y + 1);
-                const double m = d0 < d1 ? d0 : d1;
-                /* The float path's floor, applied to the same float value. */
-                const float bf = (float)(m * m) * (float)scale;
-                const int in_focus = r->coc && (float)m < r->in_focus_px;
-                b = bf >= DDOF_LENS_MIN_LINK && !in_focus ? (double)bf : 0.0;
-            }
-            buf->b[i] = b;
-            buf->gamma[i] = gamma_at(r, x, y);
-            active |= b > 0.0;
-        }
-        if (!active)
+        if (!reference_read_line(r, rows, line, n, disc_link, scale, buf->b, buf->gamma))
             continue;
         solved += k->steps;
         for (uint32_t ch = 0; ch < C; ch++) {
-            for (uint32_t i = 0; i < n; i++) {
-                const size_t p = rows ? (size_t)line * r->width + i : (size_t)i * r->width + line;
-                buf->value[i] = image[p * C + ch];
-            }
+            for (uint32_t i = 0; i < n; i++)
+                buf->value[i] = image[reference_pixel(r, rows, line, i) * C + ch];
             solve_line(k, c, n, buf);
-            for (uint32_t i = 0; i < n; i++) {
-                const size_t p = rows ? (size_t)line * r->width + i : (size_t)i * r->width + line;
-                image[p * C + ch] = buf->value[i];
-            }
+            for (uint32_t i = 0; i < n; i++)
+                image[reference_pixel(r, rows, line, i) * C + ch] = buf->value[i];
         }
     }
     return solved;
@@ -138,7 +115,7 @@ ddof_status ddof_lens_reference(ddof_context *context, const adi_request *r, adi
             for (uint32_t x = 0; x < w; x++)
                 for (uint32_t ch = 0; ch < C; ch++)
                     image[((size_t)y * w + x) * C + ch] =
-                        gamma_at(r, x, y) > 0.0
+                        reference_gamma_at(r, x, y) > 0.0
                             ? r->color[(size_t)y * r->color_stride + (size_t)x * C + ch]
                             : 0.0;
         const double t0 = ddof_seconds();
@@ -163,9 +140,10 @@ ddof_status ddof_lens_reference(ddof_context *context, const adi_request *r, adi
         for (uint32_t y = 0; y < h; y++)
             for (uint32_t x = 0; x < w; x++)
                 for (uint32_t ch = 0; ch < C; ch++) {
-                    const double v = gamma_at(r, x, y) > 0.0
-                                         ? r->color[(size_t)y * r->color_stride + (size_t)x * C + ch]
-                                         : 0.0;
+                    const double v =
+                        reference_gamma_at(r, x, y) > 0.0
+                            ? r->color[(size_t)y * r->color_stride + (size_t)x * C + ch]
+                            : 0.0;
                     lo[ch] = fmin(lo[ch], v);
                     hi[ch] = fmax(hi[ch], v);
                 }

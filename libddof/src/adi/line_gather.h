@@ -19,6 +19,24 @@ static inline size_t align16(size_t floats)
     return (floats + 15) & ~(size_t)15;
 }
 
+/* A run's solver scratch: its threads' states (state_bytes) first, then `floats` floats, each
+ * part 64-byte aligned. Returns the states, or NULL with the error recorded (`what` names the
+ * scratch in it); *floats_start is where the floats begin. */
+static inline void *solver_scratch(ddof_context *context, size_t state_bytes, size_t floats,
+                                   const char *what, float **floats_start)
+{
+    const size_t state_floats = align16(state_bytes / sizeof(float) + 1);
+    const size_t bytes = (state_floats + floats) * sizeof(float);
+    float *memory = ddof_scratch_get(context, DDOF_SCRATCH_SOLVER, bytes);
+    if (!memory) {
+        ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "could not allocate %zu bytes of %s", bytes,
+                  what);
+        return NULL;
+    }
+    *floats_start = memory + state_floats;
+    return memory;
+}
+
 /* One pass's progress (thread_pool's done / total) as the request's fraction of all passes. */
 typedef struct pass_progress_state {
     const adi_request *request;

@@ -9,6 +9,7 @@
  * found explicitly and keeps its values, as heat_adi.c makes the float solvers do. The input's
  * values without heat capacity are never read (they are taken as 0). */
 #include "adi.h"
+#include "reference_lines.h"
 
 #include <string.h>
 
@@ -39,17 +40,11 @@ static void thomas_f64(uint32_t n, const double *beta, const double *gamma, doub
 /* Splits a line at its insulating links and solves each run; singular runs keep their values. */
 static void solve_line_f64(uint32_t n, line_buffers *buf)
 {
-    uint32_t start = 0;
-    for (uint32_t i = 0; i < n; i++) {
-        if (i + 1 < n && buf->beta[i] > 0.0)
-            continue;
-        int holds_heat = 0;
-        for (uint32_t k = start; k <= i; k++)
-            holds_heat |= buf->gamma[k] > 0.0;
-        if (holds_heat)
-            thomas_f64(i + 1 - start, buf->beta + start, buf->gamma + start, buf->cprime + start,
+    for (uint32_t start = 0, end; start < n; start = end) {
+        end = reference_run_end(buf->beta, start, n);
+        if (reference_run_holds_heat(buf->gamma, start, end))
+            thomas_f64(end - start, buf->beta + start, buf->gamma + start, buf->cprime + start,
                        buf->value + start);
-        start = i + 1;
     }
 }
 
@@ -59,13 +54,14 @@ static float coc_at(const adi_request *r, uint32_t x, uint32_t y)
     return d < 0.0f ? -d : d;
 }
 
-static double gamma_at(const adi_request *r, uint32_t x, uint32_t y)
+/* The heat kernel's link: beta_scale m^2, 0 below the in-focus threshold (compared in float as
+ * the float solvers do). */
+static double heat_link(const adi_request *r, double m, double beta_scale)
 {
-    return r->gamma ? r->gamma[(size_t)y * r->gamma_stride + (size_t)x * r->gamma_channels] : 1.0;
+    return r->coc && (float)m < r->in_focus_px ? 0.0 : beta_scale * m * m;
 }
 
-/* One pass over all lines of one direction. `along` steps between unknowns of a line, `across`
- * between lines (in image elements, i.e. pixels times channels or floats of CoC). */
+/* One pass over all lines of one direction (rows, or columns). */
 static uint64_t pass_f64(const adi_request *r, double *image, int rows, double beta_scale,
                          line_buffers *buf)
 {
@@ -74,33 +70,17 @@ static uint64_t pass_f64(const adi_request *r, double *image, int rows, double b
     const uint32_t lines = rows ? r->height : r->width;
     uint64_t solved = 0;
     for (uint32_t line = 0; line < lines; line++) {
-        int active = 0;
-        for (uint32_t i = 0; i < n; i++) {
-            const uint32_t x = rows ? i : line, y = rows ? line : i;
-            double beta = 0.0;
-            if (i + 1 < n) {
-                const float d0 = coc_at(r, x, y), d1 = coc_at(r, rows ? x + 1 : x, rows ? y : y + 1);
-                const double m = d0 < d1 ? d0 : d1;
-                /* The in-focus threshold, compared in float as the float solvers do. */
-                beta = r->coc && (float)m < r->in_focus_px ? 0.0 : beta_scale * m * m;
-            }
-            buf->beta[i] = beta;
-            buf->gamma[i] = gamma_at(r, x, y);
-            active |= beta > 0.0;
-        }
+        const int active =
+            reference_read_line(r, rows, line, n, heat_link, beta_scale, buf->beta, buf->gamma);
         if (!active && !r->gamma)
             continue;
         solved += active;
         for (uint32_t c = 0; c < C; c++) {
-            for (uint32_t i = 0; i < n; i++) {
-                const size_t pixel = rows ? (size_t)line * r->width + i : (size_t)i * r->width + line;
-                buf->value[i] = image[pixel * C + c];
-            }
+            for (uint32_t i = 0; i < n; i++)
+                buf->value[i] = image[reference_pixel(r, rows, line, i) * C + c];
             solve_line_f64(n, buf);
-            for (uint32_t i = 0; i < n; i++) {
-                const size_t pixel = rows ? (size_t)line * r->width + i : (size_t)i * r->width + line;
-                image[pixel * C + c] = buf->value[i];
-            }
+            for (uint32_t i = 0; i < n; i++)
+                image[reference_pixel(r, rows, line, i) * C + c] = buf->value[i];
         }
     }
     return solved;
@@ -126,8 +106,9 @@ ddof_status ddof_adi_reference(ddof_context *context, const adi_request *r, adi_
         for (uint32_t x = 0; x < w; x++)
             for (uint32_t c = 0; c < C; c++)
                 image[((size_t)y * w + x) * C + c] =
-                    gamma_at(r, x, y) > 0.0 ? r->color[(size_t)y * r->color_stride + x * C + c]
-                                            : 0.0;
+                    reference_gamma_at(r, x, y) > 0.0
+                        ? r->color[(size_t)y * r->color_stride + x * C + c]
+                        : 0.0;
 
     *report = (adi_report){.threads = 1};
     const double row_scale = (double)r->beta_scale / r->substeps;

@@ -109,7 +109,6 @@ void ddof_backend_release(ddof_context *context)
 static ddof_status set_backend(ddof_context *context, ddof_backend_kind kind,
                                const char *plugin_path)
 {
-    ddof_clear_error(context);
     if ((unsigned)kind >= DDOF_BACKEND_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "unknown backend %d", (int)kind);
 

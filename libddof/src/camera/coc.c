@@ -48,6 +48,20 @@ ddof_status ddof_read_curve(ddof_context *context, const ddof_curve *caller, ddo
     return DDOF_OK;
 }
 
+/* The depth's first channel against `rule`; the error names the first bad pixel and what a
+ * depth must be (`must_be`). */
+static ddof_status check_depth(ddof_context *context, const ddof_image_in *depth,
+                               size_t depth_stride, value_rule rule, const char *must_be)
+{
+    bad_value bad;
+    if (ddof_find_bad_value(context, depth->pixels, depth->width, depth->height,
+                            depth->channels, 1, depth_stride, rule, &bad, NULL))
+        return ddof_fail(context, DDOF_ERROR_BAD_DEPTH,
+                         "depth at pixel (%u, %u) is %g; it must be %s (+inf for the sky)",
+                         bad.x, bad.y, (double)bad.value, must_be);
+    return DDOF_OK;
+}
+
 typedef struct camera_job {
     const float *depth;
     size_t depth_stride;
@@ -87,13 +101,9 @@ ddof_status ddof_compute_coc_camera(ddof_context *context, const ddof_camera *ca
                                     const ddof_image_in *depth, size_t depth_stride,
                                     float *coc, size_t coc_stride)
 {
-    bad_value bad;
-    if (ddof_find_bad_value(context, depth->pixels, depth->width, depth->height,
-                            depth->channels, 1, depth_stride, VALUE_DEPTH, &bad, NULL))
-        return ddof_fail(context, DDOF_ERROR_BAD_DEPTH,
-                         "depth at pixel (%u, %u) is %g; it must be > 0 (+inf for the sky)",
-                         bad.x, bad.y, (double)bad.value);
-
+    const ddof_status status = check_depth(context, depth, depth_stride, VALUE_DEPTH, "> 0");
+    if (status != DDOF_OK)
+        return status;
     camera_job job = {
         .depth = depth->pixels, .depth_stride = depth_stride, .depth_channels = depth->channels,
         .width = depth->width, .height = depth->height, .coc = coc, .coc_stride = coc_stride,
@@ -145,77 +155,63 @@ ddof_status ddof_compute_coc_curve(ddof_context *context, const ddof_curve *curv
                                    const ddof_image_in *depth, size_t depth_stride, float *coc,
                                    size_t coc_stride)
 {
-    bad_value bad;
-    if (ddof_find_bad_value(context, depth->pixels, depth->width, depth->height,
-                            depth->channels, 1, depth_stride, VALUE_DEPTH_ZERO, &bad, NULL))
-        return ddof_fail(context, DDOF_ERROR_BAD_DEPTH,
-                         "depth at pixel (%u, %u) is %g; it must be >= 0 (+inf for the sky)",
-                         bad.x, bad.y, (double)bad.value);
+    const ddof_status status =
+        check_depth(context, depth, depth_stride, VALUE_DEPTH_ZERO, ">= 0");
+    if (status != DDOF_OK)
+        return status;
     curve_job job = {depth->pixels, depth_stride, depth->channels, depth->width, coc,
                      coc_stride, *curve};
     ddof_parallel_rows(context, depth->height, curve_rows, &job);
     return DDOF_OK;
 }
 
+ddof_status ddof_check_image_and_coc(ddof_context *context, const char *what,
+                                     const ddof_image_in *image, const ddof_image_in *coc,
+                                     size_t *image_stride, size_t *coc_stride)
+{
+    if (!image || !coc)
+        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s image is NULL",
+                         image ? "coc" : what);
+    const ddof_status status = ddof_check_image(context, what, image->pixels, image->width,
+                                                image->height, image->channels,
+                                                image->row_stride, image_stride);
+    if (status != DDOF_OK)
+        return status;
+    return ddof_check_coc_image(context, "coc", *coc, image->width, image->height, coc_stride);
+}
+
 /* The public entry points: validate everything, then compute. */
-static ddof_status check_coc_images(ddof_context *context, const ddof_image_in *depth,
-                                    const ddof_image *coc, size_t *depth_stride,
-                                    size_t *coc_stride)
-{
-    if (!depth || !coc)
-        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL",
-                         depth ? "coc image" : "depth image");
-    ddof_status status = ddof_check_image(context, "depth", depth->pixels, depth->width,
-                                          depth->height, depth->channels, depth->row_stride,
-                                          depth_stride);
-    if (status == DDOF_OK)
-        status = ddof_check_image(context, "coc", coc->pixels, coc->width, coc->height,
-                                  coc->channels, coc->row_stride, coc_stride);
-    if (status != DDOF_OK)
-        return status;
-    if (coc->width != depth->width || coc->height != depth->height || coc->channels != 1)
-        return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
-                         "coc is %ux%u with %u channels; it must be %ux%u with 1 channel",
-                         coc->width, coc->height, coc->channels, depth->width, depth->height);
-    return DDOF_OK;
-}
-
-static ddof_status coc_from_camera(ddof_context *context, const ddof_camera *camera,
-                                   const ddof_image_in *depth, const ddof_image *coc)
-{
-    ddof_clear_error(context);
-    size_t depth_stride, coc_stride;
-    ddof_camera full;
-    ddof_status status = ddof_read_camera(context, camera, &full);
-    if (status == DDOF_OK)
-        status = check_coc_images(context, depth, coc, &depth_stride, &coc_stride);
-    if (status != DDOF_OK)
-        return status;
-    return ddof_compute_coc_camera(context, &full, depth, depth_stride, coc->pixels, coc_stride);
-}
-
-static ddof_status coc_from_curve(ddof_context *context, const ddof_curve *curve,
+/* The CoC from the camera (from_camera) or else from the curve: the model is read first, so
+ * that its errors come before the images'. */
+static ddof_status coc_from_model(ddof_context *context, int from_camera,
+                                  const ddof_camera *camera, const ddof_curve *curve,
                                   const ddof_image_in *depth, const ddof_image *coc)
 {
-    ddof_clear_error(context);
+    ddof_camera full_camera;
+    ddof_curve full_curve;
+    ddof_status status = from_camera ? ddof_read_camera(context, camera, &full_camera)
+                                     : ddof_read_curve(context, curve, &full_curve);
     size_t depth_stride, coc_stride;
-    ddof_curve full;
-    ddof_status status = ddof_read_curve(context, curve, &full);
+    const ddof_image_in coc_in = coc ? ddof_as_input(coc) : (ddof_image_in){0};
     if (status == DDOF_OK)
-        status = check_coc_images(context, depth, coc, &depth_stride, &coc_stride);
+        status = ddof_check_image_and_coc(context, "depth", depth, coc ? &coc_in : NULL,
+                                          &depth_stride, &coc_stride);
     if (status != DDOF_OK)
         return status;
-    return ddof_compute_coc_curve(context, &full, depth, depth_stride, coc->pixels, coc_stride);
+    return from_camera ? ddof_compute_coc_camera(context, &full_camera, depth, depth_stride,
+                                                 coc->pixels, coc_stride)
+                       : ddof_compute_coc_curve(context, &full_curve, depth, depth_stride,
+                                                coc->pixels, coc_stride);
 }
 
 ddof_status ddof_coc_from_camera(ddof_context *context, const ddof_camera *camera,
                                  const ddof_image_in *depth, const ddof_image *coc)
 {
-    DDOF_EXCLUSIVE_CALL(context, coc_from_camera(context, camera, depth, coc));
+    DDOF_EXCLUSIVE_CALL(context, coc_from_model(context, 1, camera, NULL, depth, coc));
 }
 
 ddof_status ddof_coc_from_curve(ddof_context *context, const ddof_curve *curve,
                                 const ddof_image_in *depth, const ddof_image *coc)
 {
-    DDOF_EXCLUSIVE_CALL(context, coc_from_curve(context, curve, depth, coc));
+    DDOF_EXCLUSIVE_CALL(context, coc_from_model(context, 0, NULL, curve, depth, coc));
 }

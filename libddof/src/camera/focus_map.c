@@ -132,33 +132,19 @@ static ddof_status check_map_images(ddof_context *context, const ddof_image_in *
                                     const ddof_image_in *coc, size_t *color_stride,
                                     size_t *coc_stride)
 {
-    if (!color || !coc)
-        return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL",
-                         color ? "coc image" : "colour image");
-    ddof_status status = ddof_check_image(context, "colour", color->pixels, color->width,
-                                          color->height, color->channels, color->row_stride,
-                                          color_stride);
-    if (status == DDOF_OK)
-        status = ddof_check_image(context, "coc", coc->pixels, coc->width, coc->height,
-                                  coc->channels, coc->row_stride, coc_stride);
-    if (status != DDOF_OK)
-        return status;
-    if (color->channels < 3)
+    const ddof_status status =
+        ddof_check_image_and_coc(context, "colour", color, coc, color_stride, coc_stride);
+    if (status == DDOF_OK && color->channels < 3)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER,
                          "the colour has %u channels; the map needs RGB (3 or 4)",
                          color->channels);
-    if (coc->width != color->width || coc->height != color->height || coc->channels != 1)
-        return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
-                         "coc is %ux%u with %u channels; it must be %ux%u with 1 channel",
-                         coc->width, coc->height, coc->channels, color->width, color->height);
-    return DDOF_OK;
+    return status;
 }
 
 static ddof_status focus_map(ddof_context *context, const ddof_image_in *color,
                              const ddof_image_in *coc, const ddof_camera *camera, uint8_t *rgb,
                              size_t rgb_size, uint64_t *counts)
 {
-    ddof_clear_error(context);
     size_t color_stride, coc_stride;
     ddof_camera full;
     ddof_status status = check_map_images(context, color, coc, &color_stride, &coc_stride);
@@ -181,7 +167,6 @@ static ddof_status focus_map_legend(ddof_context *context, const ddof_camera *ca
                                     uint32_t width, uint32_t height, uint8_t *rgb,
                                     size_t rgb_size)
 {
-    ddof_clear_error(context);
     ddof_camera full;
     if (!camera)
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "camera is NULL");

@@ -78,7 +78,6 @@ static ddof_status render_cards(ddof_context *context, const ddof_cards_params *
                                 const ddof_camera *camera, const ddof_card *cards,
                                 uint32_t card_count, const ddof_image *out)
 {
-    ddof_clear_error(context);
     if (!camera || (!cards && card_count))
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "camera or cards is NULL");
     ddof_cards_params p;

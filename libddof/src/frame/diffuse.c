@@ -37,7 +37,6 @@ static ddof_status diffuse(ddof_context *context, const ddof_params *params,
                            const ddof_image *out, ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    ddof_clear_error(context);
     ddof_params p;
     adi_request r = {0};
     float max_coc = 0.0f;
@@ -61,7 +60,6 @@ static ddof_status diffuse_layers(ddof_context *context, const ddof_params *para
                                   ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    ddof_clear_error(context);
     ddof_params p;
     layers_request q = {.params = &p};
     int fg_visible = 0;

@@ -141,14 +141,10 @@ static ddof_status check_coc_out(ddof_context *context, frame_setup *s,
     const ddof_image *c = &s->frame.coc_out;
     if (!c->pixels)
         return DDOF_OK;
-    ddof_status status = ddof_check_image(context, "coc_out", c->pixels, c->width, c->height,
-                                          c->channels, c->row_stride, &s->coc_out_stride);
+    ddof_status status = ddof_check_coc_image(context, "coc_out", ddof_as_input(c), r->width,
+                                              r->height, &s->coc_out_stride);
     if (status != DDOF_OK)
         return status;
-    if (c->width != r->width || c->height != r->height || c->channels != 1)
-        return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
-                         "coc_out is %ux%u with %u channels; it must be %ux%u with 1 channel",
-                         c->width, c->height, c->channels, r->width, r->height);
     const ddof_frame *f = &s->frame;
     const ddof_image_in *inputs[7] = {&f->color, &f->depth, &f->coc, &f->foreground_color,
                                       &f->foreground_depth, &f->foreground_coc, matte};
@@ -334,7 +330,6 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
                                 const ddof_image *out, ddof_stats *stats)
 {
     const double t_start = ddof_seconds();
-    ddof_clear_error(context);
     frame_setup s = {0};
     ddof_frame_init(&s.frame);
     ddof_params p;
@@ -394,11 +389,9 @@ static ddof_status depth_of_field(ddof_context *context, const ddof_params *para
                                   const ddof_image_in *depth, const ddof_image *out,
                                   ddof_stats *stats)
 {
-    if (!camera || !color || !depth) {
-        ddof_clear_error(context);
+    if (!camera || !color || !depth)
         return ddof_fail(context, DDOF_ERROR_NULL_POINTER, "%s is NULL",
                          !camera ? "camera" : !color ? "colour image" : "depth image");
-    }
     ddof_frame frame;
     ddof_frame_init(&frame);
     frame.color = *color;
@@ -416,21 +409,14 @@ ddof_status ddof_depth_of_field(ddof_context *context, const ddof_params *params
                         depth_of_field(context, params, camera, color, depth, out, stats));
 }
 
-static ddof_status params_check(ddof_context *context, const ddof_params *params)
-{
-    ddof_clear_error(context);
-    ddof_params p;
-    return ddof_read_params(context, params, &p);
-}
-
 ddof_status ddof_params_check(ddof_context *context, const ddof_params *params)
 {
-    DDOF_EXCLUSIVE_CALL(context, params_check(context, params));
+    ddof_params full;
+    DDOF_EXCLUSIVE_CALL(context, ddof_read_params(context, params, &full));
 }
 
 static ddof_status camera_check(ddof_context *context, const ddof_camera *camera)
 {
-    ddof_clear_error(context);
     ddof_camera full;
     ddof_status status = ddof_read_camera(context, camera, &full);
     return status == DDOF_OK ? ddof_check_camera_aspect(context, &full) : status;
@@ -441,14 +427,8 @@ ddof_status ddof_camera_check(ddof_context *context, const ddof_camera *camera)
     DDOF_EXCLUSIVE_CALL(context, camera_check(context, camera));
 }
 
-static ddof_status curve_check(ddof_context *context, const ddof_curve *curve)
-{
-    ddof_clear_error(context);
-    ddof_curve full;
-    return ddof_read_curve(context, curve, &full);
-}
-
 ddof_status ddof_curve_check(ddof_context *context, const ddof_curve *curve)
 {
-    DDOF_EXCLUSIVE_CALL(context, curve_check(context, curve));
+    ddof_curve full;
+    DDOF_EXCLUSIVE_CALL(context, ddof_read_curve(context, curve, &full));
 }

@@ -92,6 +92,22 @@ static adi_request derived(const adi_request *base, const float *color, size_t c
     return r;
 }
 
+/* Points the request's CoC and its heat capacities, each where not NULL, at one of the layers'
+ * own maps: one float a pixel, rows width apart. */
+static void use_maps(adi_request *r, const float *coc, const float *gamma)
+{
+    if (coc) {
+        r->coc = coc;
+        r->coc_stride = r->width;
+        r->coc_channels = 1;
+    }
+    if (gamma) {
+        r->gamma = gamma;
+        r->gamma_stride = r->width;
+        r->gamma_channels = 1;
+    }
+}
+
 /* ---- per-pixel steps ---------------------------------------------------------------------- */
 
 typedef struct pixel_job {
@@ -192,15 +208,16 @@ static void blend_background_rows(void *user, uint32_t y0, uint32_t y1, uint32_t
     const pixel_job *j = user;
     const adi_request *r = &j->q->base;
     const uint32_t C = r->channels;
-    for (uint32_t y = y0; y < y1; y++) {
+    /* Outside the blend box the midground stays as it is. */
+    const uint32_t first = y0 > j->blend.y0 ? y0 : j->blend.y0;
+    const uint32_t end = y1 < j->blend.y1 ? y1 : j->blend.y1;
+    for (uint32_t y = first; y < end; y++) {
         float *out = r->out + (size_t)y * r->out_stride;
         const float *b = j->b + (size_t)y * r->width * C;
         const float *a = j->a + (size_t)y * r->width;
         const float *coc = r->coc + (size_t)y * r->coc_stride;
         const float *spread = j->spread ? j->spread + (size_t)y * j->spread_stride : NULL;
         const float *proximity = j->proximity + (size_t)y * r->width;
-        if (y < j->blend.y0 || y >= j->blend.y1)
-            continue;
         for (uint32_t x = j->blend.x0; x < j->blend.x1; x++) {
             const float c = coc[(size_t)x * r->coc_channels];
             const int claimed = spread && spread[x] > fabsf(c);
@@ -367,20 +384,13 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     fill.uniform_coc = threshold;
     fill.substeps = 1;
     fill.disc = NULL; /* the CoC itself spreads by plain heat */
-    fill.gamma = capacity;
-    fill.gamma_stride = r->width;
-    fill.gamma_channels = 1;
+    use_maps(&fill, NULL, capacity);
     if ((status = diffuse(context, &fill, st, report)) != DDOF_OK)
         return status;
 
     /* The colour, with the holes holding no heat of their own. */
     adi_request bg = derived(r, color, color_stride, r->channels, layer);
-    bg.coc = filled;
-    bg.coc_stride = r->width;
-    bg.coc_channels = 1;
-    bg.gamma = capacity;
-    bg.gamma_stride = r->width;
-    bg.gamma_channels = 1;
+    use_maps(&bg, filled, capacity);
     if ((status = diffuse(context, &bg, st, report)) != DDOF_OK)
         return status;
 
@@ -472,9 +482,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
     spread.color = filled;
     spread.color_stride = r->width;
     spread.out = filled; /* in place */
-    spread.gamma = sources;
-    spread.gamma_stride = r->width;
-    spread.gamma_channels = 1;
+    use_maps(&spread, NULL, sources);
     if ((status = diffuse(context, &spread, st, report)) != DDOF_OK)
         return status;
 
@@ -489,9 +497,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
         element = copy;
     }
     adi_request blur = derived(r, element, (size_t)r->width * 4, 4, premultiplied);
-    blur.coc = filled;
-    blur.coc_stride = r->width;
-    blur.coc_channels = 1;
+    use_maps(&blur, filled, NULL);
     if ((status = diffuse(context, &blur, st, report)) != DDOF_OK)
         return status;
     if (gather && (status = gather_element(context, &blur, report)) != DDOF_OK)
@@ -514,9 +520,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
         if (status != DDOF_OK)
             return status;
         adi_request alpha = derived(r, q->fg_carried_alpha, q->fg_carried_stride, 1, carried);
-        alpha.coc = filled;
-        alpha.coc_stride = r->width;
-        alpha.coc_channels = 1;
+        use_maps(&alpha, filled, NULL);
         if ((status = diffuse(context, &alpha, st, report)) != DDOF_OK)
             return status;
         job.b = carried;
@@ -590,9 +594,7 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *
         const double t0 = ddof_seconds();
         if ((status = near_spread(context, q, max_near_coc, &spread)) != DDOF_OK)
             return status;
-        mid.coc = spread;
-        mid.coc_stride = r->width;
-        mid.coc_channels = 1;
+        use_maps(&mid, spread, NULL);
         report->effects |= DDOF_EFFECT_NEAR_SPREAD;
         report->seconds_foreground += ddof_seconds() - t0;
     }

@@ -376,14 +376,22 @@ static void interior_span(const adi_request *r, const highlight *h, const disc_r
                                                     : (int)h->x + row->inner_r;
 }
 
-/* Rim column dx of a row: *x its image column, 0 when it is outside the image or has no
- * weight. */
-static int rim_pixel(const scatter_job *job, const highlight *h, const disc_row *row, int dx,
-                     int *x, float *w)
+/* What the k-th rim column on `side` of a row (rim_column) is to the image. */
+typedef enum rim_place {
+    RIM_NONE,   /* the row has no such column                                 */
+    RIM_OFF,    /* weight *w, but 0 or past the frame's left or right edge     */
+    RIM_ON      /* image column *x, weight *w > 0                              */
+} rim_place;
+
+static rim_place rim_pixel(const scatter_job *job, const highlight *h, const disc_row *row,
+                           int k, int side, int *x, float *w)
 {
+    const int dx = rim_column(row, k, side);
+    if (dx == INT_MIN)
+        return RIM_NONE;
     *w = rim_weight(&job->shape, h, row, dx);
     *x = (int)h->x + dx;
-    return *w > 0.0f && *x >= 0 && *x < (int)job->r->width;
+    return *w > 0.0f && *x >= 0 && *x < (int)job->r->width ? RIM_ON : RIM_OFF;
 }
 
 static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
@@ -417,12 +425,12 @@ static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
             const int steps = rim_steps(&row);
             for (int k = 1; k <= steps; k++)
                 for (int side = -1; side <= 1; side += 2) {
-                    const int dx = rim_column(&row, k, side);
                     int x;
                     float w;
-                    if (dx == INT_MIN)
+                    const rim_place place = rim_pixel(job, h, &row, k, side, &x, &w);
+                    if (place == RIM_NONE)
                         continue;
-                    if (!rim_pixel(job, h, &row, dx, &x, &w) || !row_inside)
+                    if (place == RIM_OFF || !row_inside)
                         sum += w; /* no weight, or past the frame's edges */
                     else if (h->hidden ||
                              lands(r, job->coc_signed, job->threshold, (uint32_t)x, (uint32_t)y))
@@ -496,10 +504,9 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const int steps = rim_steps(&row);
             for (int k = 1; k <= steps; k++)
                 for (int side = -1; side <= 1; side += 2) {
-                    const int dx = rim_column(&row, k, side);
                     int x;
                     float w;
-                    if (dx != INT_MIN && rim_pixel(job, h, &row, dx, &x, &w)) {
+                    if (rim_pixel(job, h, &row, k, side, &x, &w) == RIM_ON) {
                         const float v[3] = {e[0] * w, e[1] * w, e[2] * w};
                         add_diff(d, job->bx1, x, v);
                     }

@@ -350,6 +350,21 @@ static uint32_t merge_entries(const hidden_entry *e, size_t count, float aspect,
     return n;
 }
 
+/* Memory for `count` highlights as a set holds them: the list twice (found, then sorted into
+ * size classes), their weights, and the per-row landing counts of one size class at a time
+ * (landing_bytes). NULL, with the error recorded, when there is none. */
+static highlight *highlight_memory(ddof_context *context, uint64_t count, size_t landing_bytes)
+{
+    highlight *items = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHTS,
+                                        2 * (size_t)count * sizeof *items +
+                                            (size_t)count * sizeof(float) + landing_bytes);
+    if (!items)
+        ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                  "could not allocate the highlight pass's %llu highlights",
+                  (unsigned long long)count);
+    return items;
+}
+
 /* Adds the hidden parts of the set's `*kept` items (items: their allocation, which may move)
  * in row order; *kept and *cost grow by them, *hidden says how many. */
 static ddof_status add_hidden_parts(ddof_context *context, find_job *job, size_t landing_bytes,
@@ -380,13 +395,9 @@ static ddof_status add_hidden_parts(ddof_context *context, find_job *job, size_t
         return DDOF_OK;
     memcpy(copy, *items, visible * sizeof *copy);
     const uint64_t total = (uint64_t)visible + n;
-    highlight *all = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHTS,
-                                      2 * (size_t)total * sizeof *all +
-                                          (size_t)total * sizeof(float) + landing_bytes);
+    highlight *all = highlight_memory(context, total, landing_bytes);
     if (!all)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the highlight pass's %llu highlights",
-                         (unsigned long long)total);
+        return DDOF_ERROR_OUT_OF_MEMORY;
     /* Both lists are in row order and never share a pixel (a sharp pixel is no highlight). */
     for (uint32_t a = 0, b = 0, o = 0; o < total; o++) {
         const int take_copy =
@@ -455,16 +466,10 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
         for (int k = first; k < CLASSES; k++)
             at += counts[c].count[k];
     }
-    /* The highlights twice (found, then sorted into size classes), their weights, and the
-     * per-row landing counts of one size class at a time. */
     const size_t landing_bytes = (size_t)(r->width + 1) * r->height * sizeof(uint32_t);
-    highlight *items = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHTS,
-                                        2 * (size_t)kept * sizeof *items +
-                                            (size_t)kept * sizeof(float) + landing_bytes);
+    highlight *items = highlight_memory(context, kept, landing_bytes);
     if (!items)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the highlight pass's %llu highlights",
-                         (unsigned long long)kept);
+        return DDOF_ERROR_OUT_OF_MEMORY;
     job.items = items;
     ddof_parallel_rows(context, r->height, fill_rows, &job);
     uint32_t hidden = 0;

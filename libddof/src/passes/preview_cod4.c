@@ -372,45 +372,65 @@ static void box_columns(const preview *p, const float *src, float *dst, uint32_t
     }
 }
 
-/* Row stage: the 3x3 box's horizontal half, and all three horizontal passes of the large blur
- * and of the near CoC blur. */
-static void quarter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+/* box_rows or box_columns: one box pass over lines [first, end) of a quarter image. */
+typedef void (*box_pass)(const preview *p, const float *src, float *dst, uint32_t first,
+                         uint32_t end, uint32_t channels, box b);
+
+/* A separable blur of the quarter-resolution images: `passes` box passes per axis (1, or 3 for a
+ * Gaussian to within a few percent) that ping-pong between a and b. */
+typedef struct quarter_blur {
+    const float *src;
+    float *a, *b;
+    uint32_t channels, passes;
+    box window;
+} quarter_blur;
+
+/* One stage of a blur over lines [first, end): the row stage starts from src and ends in b
+ * (src -> b -> a -> b), the column stage goes on from b and ends in a (b -> a -> b -> a). */
+static void blur_stage(const preview *p, const quarter_blur *q, int along_columns,
+                       uint32_t first, uint32_t end)
 {
-    (void)chunk;
-    const preview *p = user;
-    const uint32_t C = p->channels;
-    box_rows(p, p->down, p->medium_h, y0, y1, C, p->medium_box);
-    if (p->has_large) {
-        box_rows(p, p->down, p->large_b, y0, y1, C, p->large_box);
-        box_rows(p, p->large_b, p->large_a, y0, y1, C, p->large_box);
-        box_rows(p, p->large_a, p->large_b, y0, y1, C, p->large_box);
-    }
-    if (p->has_near) {
-        box_rows(p, p->near0, p->near_b, y0, y1, 1, p->near_box);
-        box_rows(p, p->near_b, p->near_a, y0, y1, 1, p->near_box);
-        box_rows(p, p->near_a, p->near_b, y0, y1, 1, p->near_box);
+    const box_pass pass = along_columns ? box_columns : box_rows;
+    const float *from = along_columns ? q->b : q->src;
+    float *into = along_columns ? q->a : q->b, *other = along_columns ? q->b : q->a;
+    pass(p, from, into, first, end, q->channels, q->window);
+    for (uint32_t k = 1; k < q->passes; k += 2) {
+        pass(p, into, other, first, end, q->channels, q->window);
+        pass(p, other, into, first, end, q->channels, q->window);
     }
 }
 
+/* One stage of every blur the frame needs: the 3x3 box (the medium level: down -> medium_h ->
+ * medium), the large blur (ends in large_a) and the near CoC's (ends in near_a). */
+static void quarter_stage(const preview *p, int along_columns, uint32_t first, uint32_t end)
+{
+    const quarter_blur blurs[3] = {
+        {p->down, p->medium, p->medium_h, p->channels, 1, p->medium_box},
+        {p->down, p->large_a, p->large_b, p->channels, 3, p->large_box},
+        {p->near0, p->near_a, p->near_b, 1, 3, p->near_box},
+    };
+    const int wanted[3] = {1, p->has_large, p->has_near};
+    for (int i = 0; i < 3; i++)
+        if (wanted[i])
+            blur_stage(p, &blurs[i], along_columns, first, end);
+}
+
+/* Row stage: every horizontal pass of rows [y0, y1). */
+static void quarter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    quarter_stage(user, 0, y0, y1);
+}
+
 /* Column stage: every vertical pass of columns [x0, x1). A column's passes need nothing from
- * other columns, so one task runs all of them on its strip while it is in cache: the 3x3 box's
- * vertical half, the large blur's three passes (b -> a -> b -> a) and the near CoC's (likewise),
- * then the spread near CoC D = min(max(D0, 2 D_blurred - D0), largest near CoC) into near0. */
+ * other columns, so one task runs all of them on its strip while it is in cache, then the
+ * spread near CoC D = min(max(D0, 2 D_blurred - D0), largest near CoC) into near0. */
 static void quarter_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
 {
     (void)chunk;
     const preview *p = user;
-    const uint32_t C = p->channels;
-    box_columns(p, p->medium_h, p->medium, x0, x1, C, p->medium_box);
-    if (p->has_large) {
-        box_columns(p, p->large_b, p->large_a, x0, x1, C, p->large_box);
-        box_columns(p, p->large_a, p->large_b, x0, x1, C, p->large_box);
-        box_columns(p, p->large_b, p->large_a, x0, x1, C, p->large_box);
-    }
+    quarter_stage(p, 1, x0, x1);
     if (p->has_near) {
-        box_columns(p, p->near_b, p->near_a, x0, x1, 1, p->near_box);
-        box_columns(p, p->near_a, p->near_b, x0, x1, 1, p->near_box);
-        box_columns(p, p->near_b, p->near_a, x0, x1, 1, p->near_box);
         for (uint32_t y = 0; y < p->qh; y++) {
             float *restrict d0 = p->near0 + (size_t)y * p->qw;
             const float *restrict blurred = p->near_a + (size_t)y * p->qw;

@@ -295,25 +295,28 @@ static void clean_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     job->chunk_pixels[chunk] = pixels;
 }
 
-/* Blurred pixels behind a sharp 4-neighbour, from the CoC alone. */
-static void pair_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+/* Whether rows [y0, y1) hold a blurred pixel behind a sharp 4-neighbour, from the CoC alone. */
+static int rows_have_pair(const adi_request *r, uint32_t y0, uint32_t y1)
 {
-    split_job *job = user;
-    const adi_request *r = job->r;
-    uint64_t pairs = 0;
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
             if (!is_blurred_behind(adi_request_coc(r, x, y)))
                 continue;
             for (int dir = 0; dir < 4; dir++) {
                 const int64_t px = (int64_t)x - step_x[dir], py = (int64_t)y - step_y[dir];
-                if (inside(r, px, py) && is_sharp(r, adi_request_coc(r, px, py))) {
-                    pairs++;
-                    break;
-                }
+                if (inside(r, px, py) && is_sharp(r, adi_request_coc(r, px, py)))
+                    return 1;
             }
         }
-    job->chunk_pixels[chunk] = pairs;
+    return 0;
+}
+
+/* The scan before the split: chunk_pixels[chunk] is 1 when the chunk's rows hold a pair, else
+ * 0; only whether the frame has one matters, so a chunk stops at its first. */
+static void pair_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    split_job *job = user;
+    job->chunk_pixels[chunk] = (uint64_t)rows_have_pair(job->r, y0, y1);
 }
 
 ddof_status ddof_clean_silhouettes(ddof_context *context, const adi_request *r,

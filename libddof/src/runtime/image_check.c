@@ -59,6 +59,21 @@ ddof_status ddof_check_image(ddof_context *context, const char *what, const floa
                                   stride_floats);
 }
 
+ddof_status ddof_check_coc_image(ddof_context *context, const char *what, ddof_image_in coc,
+                                 uint32_t width, uint32_t height, size_t *stride_floats)
+{
+    const ddof_status status = ddof_check_image(context, what, coc.pixels, coc.width,
+                                                coc.height, coc.channels, coc.row_stride,
+                                                stride_floats);
+    if (status != DDOF_OK)
+        return status;
+    if (coc.width != width || coc.height != height || coc.channels != 1)
+        return ddof_fail(context, DDOF_ERROR_SIZE_MISMATCH,
+                         "%s is %ux%u with %u channels; it must be %ux%u with 1 channel", what,
+                         coc.width, coc.height, coc.channels, width, height);
+    return DDOF_OK;
+}
+
 ddof_status ddof_check_image_up_to(ddof_context *context, const char *what, const float *pixels,
                                    uint32_t width, uint32_t height, uint32_t channels,
                                    uint32_t most_channels, size_t row_stride,

@@ -100,13 +100,15 @@ void ddof_context_leave(ddof_context *context);
 
 /* The body of a public call that takes a context, made exclusive: NULL is
  * DDOF_ERROR_NULL_POINTER, a context in use DDOF_ERROR_CONTEXT_BUSY (its last error left to
- * the call running on it). */
+ * the call running on it). A call that enters starts with no last error, so that the message
+ * a caller reads is always its own call's. */
 #define DDOF_EXCLUSIVE_CALL(context, call)                                                      \
     do {                                                                                        \
         if (!(context))                                                                         \
             return DDOF_ERROR_NULL_POINTER;                                                     \
         if (!ddof_context_enter(context))                                                       \
             return DDOF_ERROR_CONTEXT_BUSY;                                                     \
+        ddof_clear_error(context);                                                              \
         const ddof_status exclusive_status_ = (call);                                           \
         ddof_context_leave(context);                                                            \
         return exclusive_status_;                                                               \
@@ -148,6 +150,11 @@ ddof_status ddof_check_image_up_to(ddof_context *context, const char *what, cons
                                    uint32_t width, uint32_t height, uint32_t channels,
                                    uint32_t most_channels, size_t row_stride,
                                    size_t *stride_floats);
+
+/* A CoC image, read or written (an output through ddof_as_input): valid as ddof_check_image
+ * says, and width x height with one channel. */
+ddof_status ddof_check_coc_image(ddof_context *context, const char *what, ddof_image_in coc,
+                                 uint32_t width, uint32_t height, size_t *stride_floats);
 
 /* The bytes a validated image spans, [lo, hi): by byte range, not base pointer, so that the
  * colour's alpha (`color + 3` with its stride), an address inside an image or `out + 1` all

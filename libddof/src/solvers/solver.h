@@ -95,6 +95,20 @@ static inline float solver_share(float num, float den)
     return num / ddof_maxf(den, FLT_TRUE_MIN);
 }
 
+/* The body of a solver's solve(): solve_channels(batch, C) with C a constant 1..4 (any other
+ * count solves nothing), one copy per channel count, so that every inner loop has a constant
+ * trip count. */
+#define DDOF_SOLVE_PER_CHANNEL_COUNT(solve_channels, batch)                                    \
+    do {                                                                                        \
+        switch ((batch)->channels) {                                                            \
+        case 1: solve_channels((batch), 1); break;                                              \
+        case 2: solve_channels((batch), 2); break;                                              \
+        case 3: solve_channels((batch), 3); break;                                              \
+        case 4: solve_channels((batch), 4); break;                                              \
+        default: break;                                                                         \
+        }                                                                                       \
+    } while (0)
+
 extern const solver_ops ddof_solver_thomas;
 extern const solver_ops ddof_solver_cr;
 extern const solver_ops ddof_solver_pcr;

@@ -84,16 +84,9 @@ static DDOF_ALWAYS_INLINE void cr_solve_channels(const line_batch *batch, const 
     for (uint32_t i = 0; i < batch->n; i++) store_values(batch, i, level[0] + i * rf, ch);
 }
 
-/* One copy of the solver per channel count, so every inner loop has a constant trip count. */
 DDOF_MULTIVERSION static void cr_solve(const line_batch *batch)
 {
-    switch (batch->channels) {
-    case 1: cr_solve_channels(batch, 1); break;
-    case 2: cr_solve_channels(batch, 2); break;
-    case 3: cr_solve_channels(batch, 3); break;
-    case 4: cr_solve_channels(batch, 4); break;
-    default: break;
-    }
+    DDOF_SOLVE_PER_CHANNEL_COUNT(cr_solve_channels, batch);
 }
 
 const solver_ops ddof_solver_cr = {"cr", cr_scratch_floats, cr_solve};

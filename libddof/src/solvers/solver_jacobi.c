@@ -106,16 +106,9 @@ static DDOF_ALWAYS_INLINE void jacobi_solve_channels(const line_batch *batch, co
     }
 }
 
-/* One copy of the solver per channel count, so every inner loop has a constant trip count. */
 DDOF_MULTIVERSION static void jacobi_solve(const line_batch *batch)
 {
-    switch (batch->channels) {
-    case 1: jacobi_solve_channels(batch, 1); break;
-    case 2: jacobi_solve_channels(batch, 2); break;
-    case 3: jacobi_solve_channels(batch, 3); break;
-    case 4: jacobi_solve_channels(batch, 4); break;
-    default: break;
-    }
+    DDOF_SOLVE_PER_CHANNEL_COUNT(jacobi_solve_channels, batch);
 }
 
 const solver_ops ddof_solver_jacobi = {"jacobi", jacobi_scratch_floats, jacobi_solve};

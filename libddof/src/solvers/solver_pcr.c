@@ -43,16 +43,9 @@ static DDOF_ALWAYS_INLINE void pcr_solve_channels(const line_batch *batch, const
     for (uint32_t i = 0; i < n; i++) store_values(batch, i, src + i * rf, ch);
 }
 
-/* One copy of the solver per channel count, so every inner loop has a constant trip count. */
 DDOF_MULTIVERSION static void pcr_solve(const line_batch *batch)
 {
-    switch (batch->channels) {
-    case 1: pcr_solve_channels(batch, 1); break;
-    case 2: pcr_solve_channels(batch, 2); break;
-    case 3: pcr_solve_channels(batch, 3); break;
-    case 4: pcr_solve_channels(batch, 4); break;
-    default: break;
-    }
+    DDOF_SOLVE_PER_CHANNEL_COUNT(pcr_solve_channels, batch);
 }
 
 const solver_ops ddof_solver_pcr = {"pcr", pcr_scratch_floats, pcr_solve};
