@@ -291,6 +291,17 @@ static int case_sidecar(void)
     CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", test_path(dir, "none.json"),
                NULL) == 2);
     CHECK(err_contains("cannot open camera file"));
+    { /* a sidecar is read in one bounded piece: a file over 1 MiB is no sidecar */
+        const char *big = test_path(dir, "big.json");
+        FILE *f = fopen(big, "wb");
+        CHECK(f != NULL);
+        for (int k = 0; f && k < (1 << 20) + 1; k++)
+            fputc(' ', f);
+        if (f)
+            fclose(f);
+        CHECK(ddof(in, "-o", test_path(dir, "bad.exr"), "--camera", big, NULL) == 2);
+        CHECK(err_contains("too large for a camera file (over 1048576 bytes)"));
+    }
 
     /* Issue 14: a pixel aspect the diffusion cannot take is exit 2 before the first frame,
      * with the sidecar's own value (not the float each frame would convert it to). */

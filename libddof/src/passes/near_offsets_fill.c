@@ -123,19 +123,28 @@ static void box_sums(ddof_context *context, offsets_job *j, uint32_t maps, uint3
 
 /* ---- 3. scores ---------------------------------------------------------------------------- */
 
+/* Whether block (x, y) moved by the current candidate's offset lands on a known block of the
+ * level, which is then *t. */
+static int lands_on_known(const offsets_job *j, uint32_t x, uint32_t y, size_t *t)
+{
+    const offset d = j->level[j->current];
+    const int64_t tx = (int64_t)x + d.dx, ty = (int64_t)y + d.dy;
+    if (tx < 0 || ty < 0 || tx >= j->wl || ty >= j->hl)
+        return 0;
+    *t = (size_t)ty * j->wl + (size_t)tx;
+    return j->known[*t] > 0.0f;
+}
+
 static void candidate_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
     const size_t n = (size_t)j->wl * j->hl;
-    const offset d = j->level[j->current];
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < j->wl; x++) {
             const size_t b = (size_t)y * j->wl + x;
-            const int64_t tx = (int64_t)x + d.dx, ty = (int64_t)y + d.dy;
-            const int inside = tx >= 0 && ty >= 0 && tx < j->wl && ty < j->hl;
-            const size_t t = inside ? (size_t)ty * j->wl + (size_t)tx : 0;
-            const int used = j->band[b] > 0.0f && inside && j->known[t] > 0.0f;
+            size_t t = 0;
+            const int used = j->band[b] > 0.0f && lands_on_known(j, x, y, &t);
             j->box[b] = used ? offsets_sq_distance3(j->mean + b * 3, j->mean + t * 3) : 0.0f;
             j->box[n + b] = (float)used;
         }
@@ -147,15 +156,12 @@ static void keep_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     (void)chunk;
     const offsets_job *j = user;
     const size_t n = (size_t)j->wl * j->hl;
-    const offset d = j->level[j->current];
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < j->wl; x++) {
             const size_t b = (size_t)y * j->wl + x;
-            if (j->hole[b] <= 0.0f || !(j->box[n + b] > MIN_BAND_SAMPLES))
-                continue;
-            const int64_t tx = (int64_t)x + d.dx, ty = (int64_t)y + d.dy;
-            if (tx < 0 || ty < 0 || tx >= j->wl || ty >= j->hl ||
-                j->known[(size_t)ty * j->wl + (size_t)tx] <= 0.0f)
+            size_t t;
+            if (j->hole[b] <= 0.0f || !(j->box[n + b] > MIN_BAND_SAMPLES) ||
+                !lands_on_known(j, x, y, &t))
                 continue;
             const float cost = j->box[b] / j->box[n + b];
             float *tc = j->top_cost + b * KEPT, *ti = j->top_index + b * KEPT;

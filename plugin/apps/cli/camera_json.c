@@ -16,33 +16,6 @@
 /* A sidecar is a few hundred bytes; anything past this is not one. */
 #define MAX_SIDECAR_BYTES (1u << 20)
 
-static char *read_text(const char *path, size_t *size, char *error, size_t error_size)
-{
-    FILE *f = input_file_open(path, "camera file", error, error_size);
-    char *text;
-    size_t n;
-    if (!f)
-        return NULL;
-    text = malloc(MAX_SIDECAR_BYTES + 1);
-    if (!text) {
-        fclose(f);
-        snprintf(error, error_size, "%s: out of memory", path);
-        return NULL;
-    }
-    n = fread(text, 1, MAX_SIDECAR_BYTES + 1, f);
-    if (ferror(f) || n > MAX_SIDECAR_BYTES) {
-        snprintf(error, error_size, "%s: %s", path,
-                 ferror(f) ? "cannot read camera file" : "too large for a camera sidecar");
-        fclose(f);
-        free(text);
-        return NULL;
-    }
-    fclose(f);
-    text[n] = '\0';
-    *size = n;
-    return text;
-}
-
 /* An optional finite number of any sign (the aperture's blades, rotation and cat's eye: the
  * library judges their ranges). */
 static int finite_number(const cJSON *root, const char *key, double *out, const char *path,
@@ -206,7 +179,8 @@ done:
 int camera_sidecar_read(const char *path, camera_sidecar *out, char *error, size_t error_size)
 {
     size_t size = 0;
-    char *text = read_text(path, &size, error, error_size);
+    char *text =
+        input_file_read_text(path, "camera file", MAX_SIDECAR_BYTES, &size, error, error_size);
     int rc;
     memset(out, 0, sizeof *out);
     ddof_camera_init(&out->camera);

@@ -17,25 +17,9 @@
 #include <strings.h>
 #include <sys/stat.h>
 
-static char *read_file(const char *path, size_t *size, char *error, size_t error_size)
-{
-    FILE *f = input_file_open(path, "cards scene", error, error_size);
-    char *text = NULL;
-    long n;
-    if (!f)
-        return NULL;
-    if (fseek(f, 0, SEEK_END) != 0 || (n = ftell(f)) < 0 || fseek(f, 0, SEEK_SET) != 0 ||
-        !(text = malloc((size_t)n + 1)) || fread(text, 1, (size_t)n, f) != (size_t)n) {
-        snprintf(error, error_size, "cannot read cards scene %s", path);
-        free(text);
-        fclose(f);
-        return NULL;
-    }
-    fclose(f);
-    text[n] = '\0';
-    *size = (size_t)n;
-    return text;
-}
+/* A scene of a card a few hundred bytes long: this is tens of thousands of cards, far past what
+ * one frame draws; a larger file is not a scene (and would be read whole into memory). */
+#define MAX_SCENE_BYTES (64u << 20)
 
 /* A path relative to the scene file's folder. */
 static void resolve_path(const char *scene_path, const char *name, char *out, size_t size)
@@ -237,7 +221,8 @@ static int read_card(const char *path, const cJSON *item, int k, ddof_card *card
 int cards_scene_read(const char *path, cards_scene *scene, char *error, size_t error_size)
 {
     size_t size = 0;
-    char *text = read_file(path, &size, error, error_size);
+    char *text =
+        input_file_read_text(path, "cards scene", MAX_SCENE_BYTES, &size, error, error_size);
     cJSON *root = text ? json_strict_parse(text, size, path, "a cards scene is {\"camera\": "
                                            "{...}, \"cards\": [...]}", error, error_size)
                        : NULL;

@@ -4,6 +4,7 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -59,6 +60,35 @@ FILE *input_file_open(const char *path, const char *what, char *error, size_t er
         close(fd);
     }
     return f;
+}
+
+char *input_file_read_text(const char *path, const char *what, size_t max_bytes, size_t *size,
+                           char *error, size_t error_size)
+{
+    FILE *f = input_file_open(path, what, error, error_size);
+    if (!f)
+        return NULL;
+    char *text = malloc(max_bytes + 1);
+    if (!text) {
+        fclose(f);
+        snprintf(error, error_size, "%s: out of memory", path);
+        return NULL;
+    }
+    const size_t n = fread(text, 1, max_bytes + 1, f);
+    if (ferror(f) || n > max_bytes) {
+        if (ferror(f))
+            snprintf(error, error_size, "%s: cannot read %s", path, what);
+        else
+            snprintf(error, error_size, "%s: too large for a %s (over %zu bytes)", path, what,
+                     max_bytes);
+        fclose(f);
+        free(text);
+        return NULL;
+    }
+    fclose(f);
+    text[n] = '\0';
+    *size = n;
+    return text;
 }
 
 int input_file_check(const char *path, const char *what, char *error, size_t error_size)

@@ -16,6 +16,13 @@
  * is a FIFO, not a regular file" in error. `what` names the input ("camera file"). */
 FILE *input_file_open(const char *path, const char *what, char *error, size_t error_size);
 
+/* The whole of a small text file (a JSON sidecar or scene), NUL-terminated, at most max_bytes
+ * (*size: its length); NULL with "PATH: cannot read WHAT" or "PATH: too large for a WHAT
+ * (over N bytes)" in error, or input_file_open's sentence. Read in one bounded piece, never
+ * sized by seeking, so a pipe or a /proc file reads as what it holds. Free with free(). */
+char *input_file_read_text(const char *path, const char *what, size_t max_bytes, size_t *size,
+                           char *error, size_t error_size);
+
 /* 0 when `path` is a regular file that can be opened for reading, else -1 with the sentence
  * input_file_open writes. For readers that open the path themselves (OpenEXR). */
 int input_file_check(const char *path, const char *what, char *error, size_t error_size);
