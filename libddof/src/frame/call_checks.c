@@ -328,11 +328,11 @@ ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *c
                             fg.coc.channels, r->width, first_bad, found, has_alpha, box, max_coc};
     ddof_parallel_rows(context, r->height, scan_foreground_rows, &scan);
     *visible = 0;
-    q->fg_box = box_empty();
-    q->fg_max_coc = 0.0f;
+    q->fg.box = box_empty();
+    q->fg.max_coc = 0.0f;
     for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++) {
-        q->fg_box = box_union(q->fg_box, box[c]);
-        q->fg_max_coc = ddof_maxf(q->fg_max_coc, max_coc[c]);
+        q->fg.box = box_union(q->fg.box, box[c]);
+        q->fg.max_coc = ddof_maxf(q->fg.max_coc, max_coc[c]);
         if (found[c]) {
             const bad_value b = first_bad[c];
             return b.channel == 4
@@ -346,11 +346,11 @@ ddof_status ddof_read_foreground(ddof_context *context, const ddof_foreground *c
         }
         *visible |= has_alpha[c];
     }
-    q->fg_color = fg.color.pixels;
-    q->fg_color_stride = color_stride;
-    q->fg_coc = fg.coc.pixels;
-    q->fg_coc_stride = coc_stride;
-    q->fg_coc_channels = fg.coc.channels;
-    q->fg_premultiplied = fg.premultiplied != 0;
+    q->fg.color = fg.color.pixels;
+    q->fg.color_stride = color_stride;
+    q->fg.coc = fg.coc.pixels;
+    q->fg.coc_stride = coc_stride;
+    q->fg.coc_channels = fg.coc.channels;
+    q->fg.premultiplied = fg.premultiplied != 0;
     return DDOF_OK;
 }

@@ -61,18 +61,21 @@ static ddof_status diffuse_layers(ddof_context *context, const ddof_params *para
 {
     const double t_start = ddof_seconds();
     ddof_params p;
-    layers_request q = {.params = &p};
-    int fg_visible = 0;
+    frame_request f = {.layers = {.params = &p}};
+    layers_request *q = &f.layers;
     float max_coc = 0.0f;
-    ddof_status status = prepare(context, params, color, coc, out, stats, &p, &q.base, &max_coc);
+    ddof_status status = prepare(context, params, color, coc, out, stats, &p, &q->base, &max_coc);
     if (status == DDOF_OK && foreground)
         status = ddof_check_element_allowed(context, &p);
     if (status == DDOF_OK && foreground)
-        status = ddof_read_foreground(context, foreground, &q, &fg_visible);
+        status = ddof_read_foreground(context, foreground, q, &f.element.visible);
     if (status != DDOF_OK)
         return status;
-    return ddof_run_frame(context, &q, foreground != NULL, fg_visible, max_coc, stats, t_start,
-                          ddof_seconds() - t_start);
+    f.element.given = foreground != NULL;
+    f.known_max_coc = max_coc;
+    f.t_start = t_start;
+    f.seconds_coc = ddof_seconds() - t_start;
+    return ddof_run_frame(context, &f, stats);
 }
 
 ddof_status ddof_diffuse_layers(ddof_context *context, const ddof_params *params,

@@ -333,9 +333,9 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
     frame_setup s = {0};
     ddof_frame_init(&s.frame);
     ddof_params p;
-    layers_request q = {.params = &p};
-    adi_request *r = &q.base;
-    int fg_visible = 0;
+    frame_request f = {.layers = {.params = &p}};
+    layers_request *q = &f.layers;
+    adi_request *r = &q->base;
     float max_coc = -1.0f;
     ddof_status status = ddof_read_struct(context, frame, DDOF_FRAME_SIZE_0_5, &s.frame,
                                           sizeof s.frame, "frame");
@@ -353,22 +353,25 @@ static ddof_status render_frame(ddof_context *context, const ddof_params *params
                                         s.source == SOURCE_GIVEN ? "coc" : "depth", out, r,
                                         &s.map_stride);
     if (status == DDOF_OK)
-        status = read_matte(context, matte, r, &q.matte);
+        status = read_matte(context, matte, r, &q->matte);
     if (status == DDOF_OK)
         status = check_foreground(context, &s, &p, r);
     if (status == DDOF_OK)
         status = check_coc_out(context, &s, matte, r);
     if (status == DDOF_OK && s.has_foreground)
-        status = prepare_foreground(context, &s, &q, &fg_visible);
+        status = prepare_foreground(context, &s, q, &f.element.visible);
     if (status == DDOF_OK)
         status = prepare_coc(context, &s, &p, r, &max_coc);
     if (status != DDOF_OK)
         return status;
     ddof_fill_request_params(context, r, &p);
     if (s.source == SOURCE_CAMERA || s.aperture_camera)
-        q.aperture = aperture_of(&s.camera, r->width, r->height);
-    return ddof_run_frame(context, &q, s.has_foreground, fg_visible, max_coc, stats, t_start,
-                          ddof_seconds() - t_start);
+        q->aperture = aperture_of(&s.camera, r->width, r->height);
+    f.element.given = s.has_foreground;
+    f.known_max_coc = max_coc;
+    f.t_start = t_start;
+    f.seconds_coc = ddof_seconds() - t_start;
+    return ddof_run_frame(context, &f, stats);
 }
 
 ddof_status ddof_render_frame(ddof_context *context, const ddof_params *params,

@@ -138,15 +138,15 @@ ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
 static int element_is_bright(const layers_request *q)
 {
     const float threshold = q->params->highlight_threshold;
-    for (uint32_t y = q->fg_box.y0; y < q->fg_box.y1; y++) {
-        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
-        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
-        for (uint32_t x = q->fg_box.x0; x < q->fg_box.x1; x++) {
+    for (uint32_t y = q->fg.box.y0; y < q->fg.box.y1; y++) {
+        const float *fg = q->fg.color + (size_t)y * q->fg.color_stride;
+        const float *coc = q->fg.coc + (size_t)y * q->fg.coc_stride;
+        for (uint32_t x = q->fg.box.x0; x < q->fg.box.x1; x++) {
             const float *px = fg + (size_t)x * 4;
             /* foreground_rows' premultiplication */
-            const float scale = q->fg_premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
+            const float scale = q->fg.premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
             if (px[3] > 0.0f && ddof_is_highlight(ddof_highlight_brightness(px) * scale,
-                                                  coc[(size_t)x * q->fg_coc_channels],
+                                                  coc[(size_t)x * q->fg.coc_channels],
                                                   threshold))
                 return 1;
         }
@@ -161,7 +161,7 @@ static int element_is_bright(const layers_request *q)
 static int device_runs_frame(ddof_context *context, const layers_request *q,
                              const frame_plan *plan, uint32_t frame_highlights)
 {
-    if (!ddof_backend_runs_layers(context, &q->base) || q->fg_carried_alpha)
+    if (!ddof_backend_runs_layers(context, &q->base) || q->fg.carried_alpha)
         return 0;
     /* The far field and the silhouettes go under the element, which the device composites
      * itself. */
@@ -293,16 +293,16 @@ static ddof_status split_near_layer(ddof_context *context, layers_request *q,
         ddof_split_near(context, r, q->params->near_layer_threshold_px, &split);
     if (status != DDOF_OK)
         return status;
-    q->fg_color = split.element;
-    q->fg_color_stride = (size_t)r->width * 4;
-    q->fg_coc = split.element_coc;
-    q->fg_coc_stride = r->width;
-    q->fg_coc_channels = 1;
-    q->fg_premultiplied = 1;
-    q->fg_carried_alpha = split.carried_alpha;
-    q->fg_carried_stride = r->width;
-    q->fg_box = split.box;
-    q->fg_max_coc = split.max_coc;
+    q->fg.color = split.element;
+    q->fg.color_stride = (size_t)r->width * 4;
+    q->fg.coc = split.element_coc;
+    q->fg.coc_stride = r->width;
+    q->fg.coc_channels = 1;
+    q->fg.premultiplied = 1;
+    q->fg.carried_alpha = split.carried_alpha;
+    q->fg.carried_stride = r->width;
+    q->fg.box = split.box;
+    q->fg.max_coc = split.max_coc;
     plan->foreground = split.element_pixels > 0;
     r->color = split.rest;
     r->color_stride = (size_t)r->width * r->channels;
@@ -316,11 +316,14 @@ static ddof_status split_near_layer(ddof_context *context, layers_request *q,
     return DDOF_OK;
 }
 
-ddof_status ddof_run_frame(ddof_context *context, layers_request *q, int fg_given,
-                           int fg_visible, float known_max_coc, ddof_stats *stats,
-                           double t_start, double seconds_coc)
+ddof_status ddof_run_frame(ddof_context *context, frame_request *frame, ddof_stats *stats)
 {
+    layers_request *q = &frame->layers;
     const adi_request *r = &q->base;
+    const int fg_given = frame->element.given;
+    int fg_visible = frame->element.visible;
+    const float known_max_coc = frame->known_max_coc;
+    const double t_start = frame->t_start, seconds_coc = frame->seconds_coc;
     if (q->params->method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, r, (int)q->params->coc_signed, stats, t_start, seconds_coc);
     const double t_plan = ddof_seconds();
@@ -347,7 +350,7 @@ ddof_status ddof_run_frame(ddof_context *context, layers_request *q, int fg_give
     if (plan.copy_only) {
         copy_frame(context, r, &report.adi, analysis.max_coc);
     } else {
-        q->fg_color = fg_visible ? q->fg_color : NULL;
+        q->fg.color = fg_visible ? q->fg.color : NULL;
         q->background_box = analysis.background_box;
         q->near_box = analysis.near_box;
         ddof_status status = run_planned(context, q, &plan, analysis.max_near_coc, &report);

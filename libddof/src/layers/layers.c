@@ -241,16 +241,16 @@ static void foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk
     const layers_request *q = j->q;
     const uint32_t w = q->base.width;
     for (uint32_t y = y0; y < y1; y++) {
-        const float *fg = q->fg_color + (size_t)y * q->fg_color_stride;
-        const float *coc = q->fg_coc + (size_t)y * q->fg_coc_stride;
+        const float *fg = q->fg.color + (size_t)y * q->fg.color_stride;
+        const float *coc = q->fg.coc + (size_t)y * q->fg.coc_stride;
         for (uint32_t x = 0; x < w; x++) {
             float *p = j->a + ((size_t)y * w + x) * 4;
             const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, fg[x * 4 + 3]));
-            const float scale = q->fg_premultiplied ? 1.0f : alpha;
+            const float scale = q->fg.premultiplied ? 1.0f : alpha;
             for (int c = 0; c < 3; c++)
                 p[c] = alpha > 0.0f ? fg[x * 4 + c] * scale : 0.0f;
             p[3] = alpha;
-            j->b[(size_t)y * w + x] = alpha > 0.0f ? fabsf(coc[(size_t)x * q->fg_coc_channels]) : 0.0f;
+            j->b[(size_t)y * w + x] = alpha > 0.0f ? fabsf(coc[(size_t)x * q->fg.coc_channels]) : 0.0f;
         }
     }
 }
@@ -311,12 +311,12 @@ static layers_request crop(const layers_request *q, pixel_box b)
     r->out += (size_t)b.y0 * r->out_stride + (size_t)b.x0 * r->channels;
     if (r->coc)
         r->coc += (size_t)b.y0 * r->coc_stride + (size_t)b.x0 * r->coc_channels;
-    if (c.fg_color) {
-        c.fg_color += (size_t)b.y0 * c.fg_color_stride + (size_t)b.x0 * 4;
-        c.fg_coc += (size_t)b.y0 * c.fg_coc_stride + (size_t)b.x0 * c.fg_coc_channels;
+    if (c.fg.color) {
+        c.fg.color += (size_t)b.y0 * c.fg.color_stride + (size_t)b.x0 * 4;
+        c.fg.coc += (size_t)b.y0 * c.fg.coc_stride + (size_t)b.x0 * c.fg.coc_channels;
     }
-    if (c.fg_carried_alpha)
-        c.fg_carried_alpha += (size_t)b.y0 * c.fg_carried_stride + b.x0;
+    if (c.fg.carried_alpha)
+        c.fg.carried_alpha += (size_t)b.y0 * c.fg.carried_stride + b.x0;
     r->width = b.x1 - b.x0;
     r->height = b.y1 - b.y0;
     return c;
@@ -445,9 +445,9 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
     if (q->params->highlights != DDOF_LAYER_OFF) {
         const double t0 = ddof_seconds();
         adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
-        er.coc = q->fg_coc;
-        er.coc_stride = q->fg_coc_stride;
-        er.coc_channels = q->fg_coc_channels;
+        er.coc = q->fg.coc;
+        er.coc_stride = q->fg.coc_stride;
+        er.coc_channels = q->fg.coc_channels;
         float *base = ddof_highlight_base_image(context, &er);
         if (!base)
             return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
@@ -514,12 +514,12 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
     }
 
     job.b = NULL;
-    if (q->fg_carried_alpha && r->channels == 4) {
+    if (q->fg.carried_alpha && r->channels == 4) {
         /* The element's part of the frame's alpha channel, blurred as its colour is. */
         float *carried = scratch(context, DDOF_SCRATCH_LAYER_MATTE, pixels, &status);
         if (status != DDOF_OK)
             return status;
-        adi_request alpha = derived(r, q->fg_carried_alpha, q->fg_carried_stride, 1, carried);
+        adi_request alpha = derived(r, q->fg.carried_alpha, q->fg.carried_stride, 1, carried);
         use_maps(&alpha, filled, NULL);
         if ((status = diffuse(context, &alpha, st, report)) != DDOF_OK)
             return status;
@@ -576,7 +576,7 @@ layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
     const adi_request *r = &q->base;
     return (layer_stages){r->progress, r->progress_user, 0,
                           1 + 2 * (plan->background ? q->params->background_levels : 0) +
-                              (q->fg_carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
+                              (q->fg.carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
 }
 
 ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
@@ -612,8 +612,8 @@ ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_reque
     const adi_request *r = &q->base;
     const double t0 = ddof_seconds();
     /* The element's blur reaches no further than its largest CoC carries. */
-    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
-    const pixel_box area = box_grow(q->fg_box, reach, r->width, r->height);
+    const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
+    const pixel_box area = box_grow(q->fg.box, reach, r->width, r->height);
     const layers_request sub = crop(q, area);
     const ddof_status status = foreground(context, &sub, st, report);
     if (status != DDOF_OK)

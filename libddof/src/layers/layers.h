@@ -8,24 +8,30 @@
 #include "planner/planner.h"
 #include "passes/silhouettes.h"
 
+/* A foreground element composited over the frame: the caller's (ddof_foreground) or the
+ * near layer's split of the frame itself. */
+typedef struct layers_element {
+    const float *color;        /* NULL: no element; else 4 channels                           */
+    size_t color_stride;
+    const float *coc;
+    size_t coc_stride;
+    uint32_t coc_channels;
+    int premultiplied;
+    const float *carried_alpha; /* NULL: the output's alpha channel is composited by the
+                                   element's coverage (alpha); else the element's part of the
+                                   frame's alpha channel (w x h, stride carried_stride), blurred
+                                   like its colour and composited as colour is: the near layer
+                                   of a frame whose alpha is not 1 where it splits            */
+    size_t carried_stride;
+    pixel_box box;             /* where the element's alpha > 0                               */
+    float max_coc;             /* its largest |CoC| there                                     */
+} layers_element;
+
 /* A validated layered request. */
 typedef struct layers_request {
     adi_request base;          /* colour, CoC (possibly signed), out and the solver settings */
     const ddof_params *params; /* the layer settings                                         */
-    const float *fg_color;     /* NULL: no foreground element; else 4 channels                */
-    size_t fg_color_stride;
-    const float *fg_coc;
-    size_t fg_coc_stride;
-    uint32_t fg_coc_channels;
-    int fg_premultiplied;
-    const float *fg_carried_alpha; /* NULL: the output's alpha channel is composited by the
-                                      element's coverage (alpha); else the element's part of
-                                      the frame's alpha channel (w x h, stride fg_carried_stride),
-                                      blurred like its colour and composited as colour is: the
-                                      near layer of a frame whose alpha is not 1 where it splits */
-    size_t fg_carried_stride;
-    pixel_box fg_box;          /* where the element's alpha > 0                              */
-    float fg_max_coc;          /* its largest |CoC| there                                    */
+    layers_element fg;         /* the foreground element; fg.color NULL: none                 */
     pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */
     pixel_box near_box;        /* where the near-field pixels are (CoC < 0)                  */
     highlight_aperture aperture; /* the highlights' shape (zero: a disc); the aperture ratio  */

@@ -37,15 +37,15 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_reques
                                                           : edges);
     }
     if (plan->foreground) {
-        d.fg_color = q->fg_color;
-        d.fg_color_stride = q->fg_color_stride;
-        d.fg_coc = q->fg_coc;
-        d.fg_coc_stride = q->fg_coc_stride;
-        d.fg_coc_channels = q->fg_coc_channels;
-        d.fg_premultiplied = (uint32_t)q->fg_premultiplied;
-        d.fg_max_coc = q->fg_max_coc;
-        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg_max_coc);
-        d.fg_area = seam_box(box_grow(q->fg_box, reach, r->width, r->height));
+        d.fg_color = q->fg.color;
+        d.fg_color_stride = q->fg.color_stride;
+        d.fg_coc = q->fg.coc;
+        d.fg_coc_stride = q->fg.coc_stride;
+        d.fg_coc_channels = q->fg.coc_channels;
+        d.fg_premultiplied = (uint32_t)q->fg.premultiplied;
+        d.fg_max_coc = q->fg.max_coc;
+        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
+        d.fg_area = seam_box(box_grow(q->fg.box, reach, r->width, r->height));
     }
     adi_layers_report a;
     const ddof_status status = ddof_backend_run_layers(context, &d, &a);

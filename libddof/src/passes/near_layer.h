@@ -34,7 +34,7 @@ typedef struct near_split {
                               largest near |CoC| beside it                                   */
     const float *carried_alpha; /* with 4 channels, where an element pixel's alpha is not 1:
                               the matte times the input's alpha (w x h), the element's part of
-                              the alpha channel (layers_request.fg_carried_alpha); else NULL */
+                              the alpha channel (layers_request.fg.carried_alpha); else NULL */
     pixel_box box;         /* where the element's alpha is above 0                           */
     float max_coc;         /* the element's largest |CoC|                                    */
     uint64_t element_pixels; /* pixels with matte > 0                                        */
