@@ -17,6 +17,7 @@ static uint32_t W = 83, H = 61;
 enum { CH = 4 };
 
 static ddof_context *gl, *cpu;
+static const char *gl_name; /* its backend, as the plan names it */
 static int verbose;
 
 /* In-focus bars, a far background of CoC 12..40, and a disc of CoC 30 (near when signed). */
@@ -256,6 +257,13 @@ static void far_field_frames(ddof_kernel kernel)
                   (DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND),
               "far field + element: effects %u (%s)", sc.effects, sc.plan);
     CHECK_EQ_INT(sg.effects, sc.effects);
+    /* The plan says where the layers ran and why (the planner decides): the CPU's, since the
+     * far field goes under the element; a CPU context's plan says nothing of it. */
+    char why[160];
+    snprintf(why, sizeof why, "layers: on the CPU, not %s: the far field and the silhouettes "
+             "go under the element", gl_name);
+    CHECK_MSG(strstr(sg.plan, why) != NULL, "far field + element: %s", sg.plan);
+    CHECK_MSG(strstr(sc.plan, "layers: on") == NULL, "the CPU's plan: %s", sc.plan);
     free(ref);
     free(out);
     free(fg_color);
@@ -419,6 +427,10 @@ static void layouts(uint32_t ch, int with_element)
                      0);
         CHECK_EQ_INT(st.device_uploads, 1);
         CHECK_EQ_INT(st.device_readbacks, 1);
+        char where[96];
+        snprintf(where, sizeof where, "layers: on %s%s", gl_name,
+                 with_element ? ", the element's composite included" : "\n");
+        CHECK_MSG(strstr(st.plan, where) != NULL, "layouts: %s", st.plan);
         free(in);
         free(out);
     }
@@ -484,6 +496,7 @@ int main(int argc, char **argv)
 {
     verbose = verbose_test();
     gl = gl_context_for(backend_from_name(argc > 1 ? argv[1] : NULL));
+    gl_name = ddof_backend_name(backend_from_name(argc > 1 ? argv[1] : NULL));
     if (!gl)
         return GL_TEST_SKIP;
     cpu = make_context(0);

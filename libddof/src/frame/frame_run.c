@@ -154,21 +154,20 @@ static int element_is_bright(const layers_request *q)
     return 0;
 }
 
-/* Whether the device runs the whole plan. It does, the element's composite included, but the
- * highlights (the frame's, which go under the element, and the element's own, in it), the far
- * field and the silhouettes are the CPU's: a frame with an element and any of them runs on the
- * CPU's layers, one diffusion at a time. */
-static int device_runs_frame(ddof_context *context, const layers_request *q,
-                             const frame_plan *plan, uint32_t frame_highlights)
+/* Where the layers run: what the planner needs to know, found here, and its decision. The
+ * element is looked at only when it could change the answer. */
+static int device_runs_frame(ddof_context *context, const layers_request *q, frame_plan *plan,
+                             uint32_t frame_highlights)
 {
-    if (!ddof_backend_runs_layers(context, &q->base) || q->fg.carried_alpha)
-        return 0;
-    /* The far field and the silhouettes go under the element, which the device composites
-     * itself. */
-    if ((plan->far_field || plan->silhouettes) && plan->foreground)
-        return 0;
-    const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
-    return !(element_lights && (frame_highlights || element_is_bright(q)));
+    const int takes = ddof_backend_runs_layers(context, &q->base);
+    const layers_device_facts facts = {
+        .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
+        .carried_alpha = q->fg.carried_alpha != NULL,
+        .highlights = frame_highlights,
+        .element_bright = takes && plan->foreground && !frame_highlights &&
+                          q->params->highlights != DDOF_LAYER_OFF && element_is_bright(q),
+    };
+    return ddof_plan_layers_device(plan, q->params, &facts);
 }
 
 /* The silhouettes' split and the highlights' discs over the layers' result. The discs are

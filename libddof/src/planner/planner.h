@@ -56,4 +56,22 @@ void ddof_plan_frame(const coc_analysis *analysis, const ddof_params *params,
                      uint32_t color_channels, int foreground_given, int foreground_visible,
                      frame_plan *plan);
 
+/* What decides where a planned frame's layers run, once its highlights are found. */
+typedef struct layers_device_facts {
+    const char *device;       /* the context's backend ("egl") when it runs whole layered
+                               * frames of this request (ddof_backend_runs_layers), else NULL */
+    int carried_alpha;        /* the element carries part of the frame's alpha (a near layer
+                               * split off a frame whose alpha is not 1 there)                 */
+    uint32_t highlights;      /* highlights found in the frame                                 */
+    int element_bright;       /* the element holds a pixel the highlight pass would take      */
+} layers_device_facts;
+
+/* Whether the device runs the whole plan, the element's composite included. The highlights
+ * (the frame's, which go under the element, and the element's own, in it), the far field and
+ * the silhouettes are the CPU's: a frame with an element and any of them runs on the CPU's
+ * layers, one diffusion at a time. Says which and why in the plan when there is a device (a
+ * CPU context's plan has no such line). */
+int ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
+                            const layers_device_facts *facts);
+
 #endif
