@@ -1,7 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* fuzz_library.c - libddof's entry points on fuzzed sizes, channel counts, row strides, CoC,
  * depth, camera, curve and params: ddof_diffuse, ddof_diffuse_layers (with and without a
- * foreground element), ddof_depth_of_field, ddof_coc_from_camera and ddof_coc_from_curve;
+ * foreground element), ddof_depth_of_field, ddof_coc_from_camera, ddof_coc_from_curve and
+ * ddof_focus_map;
  * params of every size the struct rules allow (ddof_params_init_sized, older and newer).
  *
  * The buffers are always as large as the description handed over says (a caller that lies
@@ -9,6 +10,9 @@
  * on DDOF_OK every output value is finite; on an error the output is untouched and there is a
  * message. Colour, CoC, depth and every parameter take raw float and double bit patterns (NaN,
  * infinities, denormals, values near FLT_MAX) as well as plausible values. */
+#ifndef DDOF_EXPERIMENTAL /* ddof_focus_map (the build may define it already) */
+#define DDOF_EXPERIMENTAL
+#endif
 #include <ddof.h>
 
 #include <math.h>
@@ -109,6 +113,33 @@ static void check_call(ddof_context *ctx, const char *what, ddof_status s, const
                 }
             }
     }
+}
+
+/* The focal-plane view of the colour by the depth read as a CoC (any values), with the
+ * camera's legend: a known status; on DDOF_OK every pixel in one band, on an error the map
+ * untouched with a message. */
+static void check_focus_map(ddof_context *ctx, const ddof_image_in *color,
+                            const ddof_image_in *coc, const ddof_camera *camera, size_t pixels)
+{
+    uint8_t *map = malloc(pixels * 3);
+    uint64_t counts[3] = {0, 0, 0};
+    if (!map)
+        return;
+    memset(map, 0xA5, pixels * 3);
+    const ddof_status s = ddof_focus_map(ctx, color, coc, camera, map, pixels * 3, counts);
+    size_t i = 0;
+    if (s != DDOF_OK)
+        while (i < pixels * 3 && map[i] == 0xA5)
+            i++;
+    if (!known_status(s) || (s == DDOF_OK && counts[0] + counts[1] + counts[2] != pixels) ||
+        (s != DDOF_OK && (i != pixels * 3 || !ddof_context_last_error(ctx)[0]))) {
+        fprintf(stderr, "fuzz_library: ddof_focus_map: status %d, counts %llu %llu %llu of "
+                "%zu, map %s (%s)\n", (int)s, (unsigned long long)counts[0],
+                (unsigned long long)counts[1], (unsigned long long)counts[2], pixels,
+                i == pixels * 3 ? "untouched" : "written", ddof_context_last_error(ctx));
+        abort();
+    }
+    free(map);
 }
 
 int LLVMFuzzerInitialize(int *argc, char ***argv);
@@ -262,13 +293,19 @@ int LLVMFuzzerTestOneInput(const uint8_t *data, size_t size)
                     camera.aperture_image = aperture;
                 }
             }
-            if (byte(&r) & 1) {
+            switch (byte(&r) % 3u) {
+            case 0:
                 s = ddof_depth_of_field(ctx, pp, &camera, &ci, &zi, &oi, NULL);
                 check_call(ctx, "ddof_depth_of_field", s, out, before, ofloats, &oi);
-            } else {
+                break;
+            case 1:
                 s = ddof_coc_from_camera(ctx, &camera, &zi_tight, &co_img);
                 check_call(ctx, "ddof_coc_from_camera", s, coc_out, coc_before,
                            (size_t)w * h, &co_img);
+                break;
+            default:
+                check_focus_map(ctx, &ci, &zi_tight, &camera, (size_t)w * h);
+                break;
             }
             break;
         case 3:
