@@ -15,8 +15,8 @@ declaration of, this also keeps the calls from forming a circle across the parts
 A file's unit is its name without the extension (x.h and x.c are one unit). C: unit A depends
 on unit B when a file of A includes "B.h" of the same folder. Python: module A depends on B when
 it imports B relatively (`from . import B`, `from .B import ...`), inside a function too: an
-import put in a function to dodge a circle is still one. Includes and imports only: calls through a
-table of function pointers (the backends') are not seen.
+import put in a function to dodge a circle is still one. Includes and imports only: calls
+through a table of function pointers (the backends') are not seen.
 
 --calls reads the calls themselves from a built target's object files (nm: the symbols each
 defines and the ones it needs), file by file, and exits 1 on any circle among them: what the
@@ -96,7 +96,7 @@ def part_breaks(root):
                 text = f.read()
             for inc in re.findall(r'^\s*#\s*include\s+"([^"]+)"', text, re.M):
                 where = "%s/%s/%s includes \"%s\"" % (PARTS_ROOT, part, name, inc)
-                head, _, tail = inc.rpartition("/")
+                head = inc.rpartition("/")[0]
                 if not head:
                     if any(os.path.exists(os.path.join(src, p, inc)) for p in order) and \
                             not os.path.exists(os.path.join(folder, inc)):

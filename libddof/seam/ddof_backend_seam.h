@@ -112,8 +112,8 @@ typedef struct adi_box {
 } adi_box;
 
 /* A validated, planned layered frame (libddof/src/layers/layers.c's pipeline, docs/design.md
- * section 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then what the
- * plan switched on. The core has decided what runs and where the near spread and foreground
+ * section 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then
+ * what the plan switched on. The core has decided what runs and where the near spread and foreground
  * work; the background's area depends on the midground's largest CoC, so the backend grows
  * background_edges by the kernel's reach itself, by the rules layers.c uses
  * (ddof_layer_rules.h). */

@@ -38,9 +38,11 @@ static void map_pixels(const ddof_image_in *color, size_t color_stride, const dd
     const double span = largest - FOCUS_MAP_SHARP_PX;
     for (uint32_t y = 0; y < coc->height; y++)
         for (uint32_t x = 0; x < coc->width; x++) {
-            const float *p = color->pixels + (size_t)y * color_stride + (size_t)x * color->channels;
+            const float *p =
+                color->pixels + (size_t)y * color_stride + (size_t)x * color->channels;
             const float d = coc_of(coc, coc_stride, x, y);
-            const double lum = fmin(fmax(0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2], 0.0), 1.0);
+            const double lum =
+                fmin(fmax(0.2126 * p[0] + 0.7152 * p[1] + 0.0722 * p[2], 0.0), 1.0);
             const double shade = 0.35 + 0.65 * sqrt(lum);
             const double a = fabs((double)d);
             const double *hue = SHARP_HUE;
