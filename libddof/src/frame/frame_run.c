@@ -155,7 +155,7 @@ static int element_is_bright(const layers_request *q)
 }
 
 /* Where the layers run: what the planner needs to know, found here, and its decision. The
- * element is looked at only when it could change the answer. */
+ * element is looked at only when a device could take the frame. */
 static int device_runs_frame(ddof_context *context, const layers_request *q, frame_plan *plan,
                              uint32_t frame_highlights)
 {
@@ -164,8 +164,7 @@ static int device_runs_frame(ddof_context *context, const layers_request *q, fra
         .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
         .carried_alpha = q->fg.carried_alpha != NULL,
         .highlights = frame_highlights,
-        .element_bright = takes && plan->foreground && !frame_highlights &&
-                          q->params->highlights != DDOF_LAYER_OFF && element_is_bright(q),
+        .element_bright = takes && plan->foreground && element_is_bright(q),
     };
     return ddof_plan_layers_device(plan, q->params, &facts);
 }

@@ -68,13 +68,25 @@ char *input_file_read_text(const char *path, const char *what, size_t max_bytes,
     FILE *f = input_file_open(path, what, error, error_size);
     if (!f)
         return NULL;
-    char *text = malloc(max_bytes + 1);
-    if (!text) {
-        fclose(f);
-        snprintf(error, error_size, "%s: out of memory", path);
-        return NULL;
+    /* Grown as it fills, so a small file costs little of the bound; one byte past the bound
+     * tells a file that is too large. */
+    size_t capacity = 0, n = 0;
+    char *text = NULL;
+    while (!ferror(f) && !feof(f) && n <= max_bytes) {
+        if (n == capacity) {
+            const size_t grown = capacity ? capacity * 2 : 4096;
+            char *more = realloc(text, (grown < max_bytes + 1 ? grown : max_bytes + 1) + 1);
+            if (!more) {
+                fclose(f);
+                free(text);
+                snprintf(error, error_size, "%s: out of memory", path);
+                return NULL;
+            }
+            text = more;
+            capacity = grown < max_bytes + 1 ? grown : max_bytes + 1;
+        }
+        n += fread(text + n, 1, capacity - n, f);
     }
-    const size_t n = fread(text, 1, max_bytes + 1, f);
     if (ferror(f) || n > max_bytes) {
         if (ferror(f))
             snprintf(error, error_size, "%s: cannot read %s", path, what);
