@@ -108,8 +108,15 @@ static DDOF_ALWAYS_INLINE void pixel_discs_of(const draw_job *job, double y, con
         d->shear[i] = (a0 * b0 + a1 * b1) / bb;
         d->half_width[i] = 0.25 * r2det / reach_y;
         d->inv_area[i] = 1.0 / (CARDS_PI * r2det);
+        /* Every texel position the disc's strips reach stays a finite number (disc_average:
+         * rows t1 +- reach_y, columns t0 +- |shear| reach_y + half_width strips slice, a
+         * slice at most pi): a finite but huge gradient would overflow them to inf - inf. */
+        const double columns = fabs(t0) + fabs(d->shear[i] * reach_y) +
+                               4.0 * CARDS_MAX_STRIPS * d->half_width[i];
         d->valid[i] = (z > 0.0) & finite_value(z) & finite_value(t0) & finite_value(t1) &
-                      finite_value(a0 + a1 + b0 + b1) & (CARDS_PI * r2det > 1e-12) & (bb > 0.0);
+                      finite_value(a0 + a1 + b0 + b1) & (CARDS_PI * r2det > 1e-12) & (bb > 0.0) &
+                      finite_value(columns) & finite_value(fabs(t1) + reach_y) &
+                      finite_value(d->reach_x[i]);
     }
 }
 
