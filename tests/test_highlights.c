@@ -43,6 +43,7 @@ static ddof_status run(frame *f, ddof_layer_mode highlights, ddof_stats *stats)
     p.highlights = highlights;
     p.background = DDOF_LAYER_OFF;
     p.near_spread = DDOF_LAYER_OFF;
+    p.silhouettes = DDOF_LAYER_OFF; /* it blurs a thin bar's background share */
     return ddof_diffuse_layers(ctx, &p, &(ddof_image_in){f->color, W, H, 4, 0},
                                &(ddof_image_in){f->coc, W, H, 1, 0}, NULL,
                                &(ddof_image){f->out, W, H, 4, 0}, stats);

@@ -10,7 +10,7 @@ from .formatting import config_name, fmt, fmt_ms, k_text, scene_size
 from .names import LAYERS_TEXT, NODE_IDS, NODE_NAMES
 from .presets_file import HEAT_FALLBACK
 from .results import mean, num
-from .rule import (ACCURACY_TEXT, FINAL_MARGIN_DB, FINAL_TIME_FRACTION, FRONT_MIN_GAIN_DB,
+from .rule import (ACCURACY_TEXT, BAR_MARGIN_DB, FINAL_TIME_FRACTION, FRONT_MIN_GAIN_DB,
                    PRESET_LAYERS, PRESET_ORDER, PRESET_SOLVERS, PRESET_TOLERANCE_DB)
 from .presets import held_out_presets
 from .tables import (bar_table, blurred_edge_table, brightness_table, describe_machine,
@@ -73,7 +73,16 @@ def header_lines(study, args):
              "plots and `libddof/src/api/presets_measured.inc`; nothing here is edited by hand. "
              "`study/README.md` says how it works." % args.command)
     L.append("")
-    L.append("Measured %s." % m.get("date_utc", "?").replace("T", " ").replace("Z", " UTC"))
+    def when(date):
+        return date.replace("T", " ").replace("Z", " UTC")
+    # A sweep appended later (ddof-study run --append) replaces the results it measured again.
+    sweeps = [s for s in getattr(study, "sweeps", []) if s["ids"]]
+    if len(sweeps) > 1:
+        L.append("Measured %s (`ddof-study run --append`)." % "; ".join(
+            "%s: %d configuration%s" % (when(s["date_utc"]), len(s["ids"]),
+                                        "s" if len(s["ids"]) > 1 else "") for s in sweeps))
+    else:
+        L.append("Measured %s." % when(m.get("date_utc", "?")))
     L.append("")
     L += describe_machine(m, study, ", ".join(blender))
     L.append("")
@@ -202,12 +211,14 @@ def presets_lines(study, chosen, front, cands):
                  "default preset's values). "
                  "**default**: the diffusion (ddof.h promises for the default settings that "
                  "in-focus pixels stay untouched and nothing diffuses across them, which the "
-                 "CoD4 post-process does not keep) matching or beating the bar on every scene "
+                 "CoD4 post-process does not keep) beating the bar by %g dB on every scene "
                  "with blur, image and band (band on the scenes that have one; a mean can hide "
-                 "a scene where a preset loses); among those the fastest point within %g dB "
+                 "a scene where a preset loses, and a default that only matches the node gives "
+                 "no reason to choose it there); among those the fastest point within %g dB "
                  "of the most accurate point (or, when none is within it, the most accurate); "
-                 "when no candidate meets the bar, the tolerance alone picks and the report "
-                 "says so below. "
+                 "when no candidate beats the bar by the margin, the same among those matching "
+                 "or beating it; when none meets the bar, the tolerance alone picks; the report "
+                 "says below which held. "
                  "**final**: the most accurate diffusion candidate whose time is at most %g of "
                  "the best node's (on each scene with blur, the node with the best image PSNR "
                  "there) and which beats the bar by %g dB on every scene with blur, image and "
@@ -223,8 +234,8 @@ def presets_lines(study, chosen, front, cands):
                  % (", ".join(sorted(PRESET_SOLVERS | {"jacobi"})),
                     ", ".join(sorted(PRESET_LAYERS)), len(front), len(cands),
                     FRONT_MIN_GAIN_DB, "1920x1080" if study.has_large else "the scenes' size",
-                    PRESET_TOLERANCE_DB["preview"], PRESET_TOLERANCE_DB["default"],
-                    FINAL_TIME_FRACTION, FINAL_MARGIN_DB))
+                    PRESET_TOLERANCE_DB["preview"], BAR_MARGIN_DB, PRESET_TOLERANCE_DB["default"],
+                    FINAL_TIME_FRACTION, BAR_MARGIN_DB))
         L.append("")
         L += bar_table(study, chosen)
         for n in PRESET_ORDER:

@@ -6,7 +6,7 @@ import math
 from .bar import bar_misses, beats_baseline, within_budget
 from .formatting import fmt
 from .names import BASELINES_TO_BEAT
-from .rule import (FINAL_MARGIN_DB, FINAL_TIME_FRACTION, FRONT_MIN_GAIN_DB, PRESET_METHODS,
+from .rule import (BAR_MARGIN_DB, FINAL_TIME_FRACTION, FRONT_MIN_GAIN_DB, PRESET_METHODS,
                    PRESET_ORDER, PRESET_TOLERANCE_DB, PRESETS_BEATING_BASELINE)
 
 
@@ -42,8 +42,17 @@ def choose_presets(study):
     for name in ("preview", "default"):
         tol = PRESET_TOLERANCE_DB[name]
         pool = [c for c in cands if c.kind in PRESET_METHODS[name]] or cands
+        margin = 0.0
         if name in PRESETS_BEATING_BASELINE and any_node:
-            beating = [c for c in pool if beats_baseline(c, study)]
+            beating = [c for c in pool if beats_baseline(c, study, BAR_MARGIN_DB)]
+            margin = BAR_MARGIN_DB
+            if not beating:
+                study.preset_notes[name].append(
+                    "No candidate beats the best Defocus node by %g dB on every scene with blur "
+                    "(image and band): the %s preset is chosen among those that match or beat "
+                    "it." % (BAR_MARGIN_DB, name))
+                beating = [c for c in pool if beats_baseline(c, study)]
+                margin = 0.0
             if not beating:
                 study.preset_notes[name].append(
                     "No candidate matches or beats the best Defocus node on every scene with "
@@ -56,10 +65,11 @@ def choose_presets(study):
             ok = [c for c in sub if c.accuracy >= best - tol] or \
                 [max(sub, key=lambda c: c.accuracy)]
         chosen[name] = min(ok, key=lambda c: (c.cost, -c.accuracy))
-        misses = bar_misses(chosen[name], study) if name in PRESETS_BEATING_BASELINE else []
+        misses = bar_misses(chosen[name], study, margin) \
+            if name in PRESETS_BEATING_BASELINE else []
         if misses:
-            study.preset_notes[name].append("Where it falls short of the bar: %s dB."
-                                            % misses_text(misses))
+            study.preset_notes[name].append("Where it falls short of the bar%s: %s dB." % (
+                " + %g dB" % margin if margin else "", misses_text(misses)))
 
     # final: the most accurate within the time budget, beating the bar by the margin.
     pool = [c for c in cands if c.kind in PRESET_METHODS["final"]] or cands
@@ -70,8 +80,8 @@ def choose_presets(study):
                      "blur: the final preset is the most accurate candidate, over the budget."
                      % FINAL_TIME_FRACTION)
         timed = pool
-    tiers = [(FINAL_MARGIN_DB, "beats the best node by %g dB or more on every scene with blur"
-              % FINAL_MARGIN_DB), (0.0, "matches or beats the best node on every scene with "
+    tiers = [(BAR_MARGIN_DB, "beats the best node by %g dB or more on every scene with blur"
+              % BAR_MARGIN_DB), (0.0, "matches or beats the best node on every scene with "
                                         "blur"), (None, "")]
     for margin, text in tiers:
         group = timed if margin is None or not any_node else \
@@ -82,10 +92,10 @@ def choose_presets(study):
         if any_node:
             notes.append("No candidate within the budget %s (image and band)." % text)
     if any_node:
-        misses = bar_misses(chosen["final"], study, FINAL_MARGIN_DB)
+        misses = bar_misses(chosen["final"], study, BAR_MARGIN_DB)
         if misses:
             notes.append("Where the final preset falls short of the best node + %g dB: %s dB."
-                         % (FINAL_MARGIN_DB, misses_text(misses)))
+                         % (BAR_MARGIN_DB, misses_text(misses)))
     if chosen["final"].id == chosen["default"].id:
         notes.append("The final preset is the default's configuration: no candidate within "
                      "the budget is more accurate.")

@@ -26,6 +26,8 @@ def mean(values):
 class Study:
     def __init__(self, paths):
         self.machine = {}
+        self.sweeps = []        # per sweep (a machine record): its date and the ids whose results
+        #                         it holds (a later sweep's result replaces an earlier one's)
         self.scenes = {}        # name -> scene record
         self.scene_order = []
         self.results = {}       # id -> {scene: record}
@@ -43,6 +45,7 @@ class Study:
                     if t == "machine":
                         if not self.machine:
                             self.machine = rec
+                        self.sweeps.append({"date_utc": rec.get("date_utc", "?"), "ids": set()})
                     elif t == "scene":
                         if rec["scene"] not in self.scenes:
                             self.scene_order.append(rec["scene"])
@@ -53,6 +56,10 @@ class Study:
                             self.results[cid] = {}
                             self.order.append(cid)
                         self.results[cid][rec["scene"]] = rec
+                        for sweep in self.sweeps[:-1]:
+                            sweep["ids"].discard(cid)
+                        if self.sweeps:
+                            self.sweeps[-1]["ids"].add(cid)
                     elif t == "done":
                         self.seconds += float(rec.get("seconds", 0.0))
                         self.peak_rss = max(self.peak_rss, float(rec.get("peak_rss_bytes", 0)))

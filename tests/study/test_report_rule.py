@@ -3,7 +3,7 @@
 made-up results: the bar is the best Defocus node per scene (image and band separately), the
 default meets it, the final is the most accurate configuration within a tenth of the best node's
 1080p time (the 4.2 / 5.x node's scaled by the 3.4 node's ratio) and beats the bar by 1 dB,
-the report says so in words when no candidate meets a rule, and results of a study before the
+the default beats it by 1 dB too, or else meets it, the report says so in words when no candidate meets a rule, and results of a study before the
 smooth far field (no psnr_smooth, a defocus-5.0 node) still report. System python3 + numpy +
 matplotlib (exit 77 without them)."""
 
@@ -93,7 +93,7 @@ configs = {
 }
 # Accuracy (mean of the image mean and the band mean): n1 28.5, disc-2x2 30.4, disc-3x3 30.775,
 # disc-2x3 30.875 (the most accurate): the default is the fastest within 0.5 dB of it that
-# meets the bar.
+# beats the bar by 1 dB (disc-2x2 only meets it: its band on b is 0.9 dB above the node's).
 lines = [scene(sc) for sc in SC] + nodes
 for cid, (per, ms) in configs.items():
     kernel = cid.split("/")[3] if cid.split("/")[3].startswith("disc") else "heat"
@@ -105,8 +105,8 @@ check(report.final_budget(study, "a")[0] == 20000.0, "budget a %r" % (report.fin
     study, "a"),))
 check(report.final_budget(study, "b")[0] == 10000.0, "budget b %r" % (report.final_budget(
     study, "b"),))
-check(chosen["default"].id == "cpu/thomas/f32/disc-2x2/auto",
-      "default %s, want disc-2x2 (the fastest within 0.5 dB that meets the bar)"
+check(chosen["default"].id == "cpu/thomas/f32/disc-3x3/auto",
+      "default %s, want disc-3x3 (the fastest within 0.5 dB that beats the bar by 1 dB)"
       % chosen["default"].id)
 check(chosen["final"].id == "cpu/thomas/f32/disc-3x3/auto",
       "final %s, want disc-3x3 (disc-2x3 is over b's budget)" % chosen["final"].id)
@@ -117,14 +117,42 @@ check("No candidate" not in text, "no 'no candidate' note when the rules are met
 # Leave one scene out: on scene a alone every disc is within a's budget and beats its bar by
 # 1 dB, so the final chosen without b is disc-2x3 (the most accurate; over b's budget), judged on
 # b: image 33.60 / band 28.70 against the bar 32.00 / 27.50, a margin of 1.20 dB; the default
-# chosen without b is the one chosen on both (=).
+# chosen without b is disc-2x2 (on a it beats the bar by 1 dB), which misses it on b by 0.1.
 held = text[text.index("### The presets held out"):]
 row_b = [line for line in held.splitlines() if line.startswith("| b |")]
 check(len(row_b) == 1 and "33.60 / 28.70 | 1.20 | cpu thomas, disc-2x3" in row_b[0]
       and "| 31.20 / 28.40 | " not in row_b[0],
       "held-out row of b: %r" % row_b)
-check(len(row_b) == 1 and "| 33.00 / 28.40 | 0.90 | = |" in row_b[0],
-      "the default held out on b is the default chosen on both: %r" % row_b)
+check(len(row_b) == 1 and "| 33.00 / 28.40 | 0.90 | = | 33.00 / 28.40 | 0.90 | cpu thomas, "
+      "disc-2x2" in row_b[0], "the default held out on b (after the preview): %r" % row_b)
+
+# A sweep appended later (ddof-study run --append: a machine record, then its results) replaces
+# what it measured again, and the report dates each part.
+again = lines + [{"type": "machine", "date_utc": "2026-12-05T00:00:00Z"}] + [
+    result("cpu/thomas/f32/disc-2x2/auto", sc, p + 0.5, b + 0.5, 600.0, smooth=p + 10,
+           base=diffusion("x", "disc-2x2"))
+    for sc, (p, b) in zip(SC, configs["cpu/thomas/f32/disc-2x2/auto"][0])]
+chosen, study, text = run(again)
+check("Measured 2026-12-04 00:00:00 UTC: 6 configurations; 2026-12-05 00:00:00 UTC: 1 "
+      "configuration (`ddof-study run --append`)." in text, "the appended sweep dated")
+check(abs(study.by_id["cpu/thomas/f32/disc-2x2/auto"].psnr["a"] - 31.7) < 1e-9,
+      "the appended result replaces the first")
+
+# No candidate beats the bar by 1 dB on b's band (disc-3x3 and disc-2x3 0.6 and 0.7 dB above
+# it): the default is chosen among those that meet it, disc-2x2, and the report says so.
+short_of_margin = []
+for line in lines:
+    line = dict(line)
+    if line.get("type") == "result" and line["scene"] == "b" and line["id"] in (
+            "cpu/thomas/f32/disc-3x3/auto", "cpu/thomas/f32/disc-2x3/auto"):
+        line["psnr_band"] -= 0.5
+    short_of_margin.append(line)
+chosen, study, text = run(short_of_margin)
+check(chosen["default"].id == "cpu/thomas/f32/disc-2x2/auto",
+      "default %s, want disc-2x2 (no candidate beats the bar by 1 dB; it meets it)"
+      % chosen["default"].id)
+check("No candidate beats the best Defocus node by 1 dB" in text,
+      "the default's margin failure said in words")
 
 # The blurred-edge band is part of the bar where a scene has one: disc-2x2 beats the node's
 # image and band on a but not where its blurred surfaces meet, so the default is disc-3x3.

@@ -7,7 +7,9 @@
  * direction d, the object's colour O is p - d's (or p's, where p - d is not sharp) and the
  * background's B is q + d's (or q's): the pixels one step away are the likeliest unmixed. A
  * pixel x of the pair is the mixture x = a O + (1 - a) B; its object share a is the projection
- * of x - B on O - B, clamped to [0, 1] (skipped where O and B are too alike to tell).
+ * of x - B on O - B, clamped to [0, 1] (skipped where O and B are too alike to tell). Where p
+ * is thin (one pixel across along d: O is p, itself a mixture), p's share is THIN_OBJECT_SHARE
+ * and q's at most THIN_NEIGHBOUR_SHARE of O, and q takes O with O's background share blurred.
  *  - q (its depth says background): the diffusion blurred the object's share away with the
  *    background; it is put back sharp: out(q) = a O + (1 - a) out(q).
  *  - p (its depth says object): its background share stayed sharp; it becomes the blurred
@@ -30,6 +32,18 @@
 /* The smallest object share of p from which its colour gives the object's (the matte's path):
  * below it the background's error dominates the solve. */
 #define MATTE_SOLVE_SHARE 0.3f
+
+/* A sharp pixel one pixel across along the pair (a wire, a strand) has no pixel inside it that
+ * shows the object unmixed: it is O itself, and its colour alone cannot tell a bright wire
+ * covering half of it from a faint one covering all. A render's depth names the surface its
+ * pixel's centre sees, so such a pixel is partly background, and its blurred neighbours, whose
+ * centres miss the object, hold less of it than it does. Both shares below are the values that
+ * the accuracy study's Cryptomattes and its scenes support (docs/design.md, "Mixed pixels at
+ * silhouettes"): the object covers 0.69 and 0.74 of such a pixel on the mean in thin_bars and
+ * thin_strands, and a neighbour 0.25 and 0.28 of what the pixel holds (90th percentile 0.65,
+ * 0.58), where its colour's projection on O, misled by the background's texture, says more. */
+#define THIN_OBJECT_SHARE 0.7f    /* the object's share of the thin pixel p               */
+#define THIN_NEIGHBOUR_SHARE 0.5f /* the largest share of O = p that its neighbour q holds */
 
 typedef struct split_job {
     const adi_request *r;
@@ -118,13 +132,17 @@ static float background_coverage(const object_matte *m, int64_t x, int64_t y, in
  * object's share of pixel (xx, xy), one of the two. 0 when the two colours are too alike to
  * split by and no matte tells. */
 static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, int64_t xx,
-                       int64_t xy, float object[3], float background[3], float *share)
+                       int64_t xy, float object[3], float background[3], float *share,
+                       float *object_share)
 {
     const adi_request *r = job->r;
     const int64_t dx = step_x[dir], dy = step_y[dir];
     int64_t ox = px - dx, oy = py - dy;
     const int64_t bx = px + 2 * dx, by = py + 2 * dy;
-    if (!(inside(r, ox, oy) && is_sharp(r, adi_request_coc(r, ox, oy)))) {
+    /* p is thin where the pixel behind it along d is in the frame and not sharp. */
+    const int behind_inside = inside(r, ox, oy);
+    const int thin = behind_inside && !is_sharp(r, adi_request_coc(r, ox, oy));
+    if (thin || !behind_inside) {
         ox = px;
         oy = py;
     }
@@ -140,6 +158,7 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
         background[c] = b[c];
     }
     const object_matte *m = job->matte;
+    *object_share = 1.0f;
     if (m && m->ranks) {
         /* The object's share: all that is not the background's (its pixel's rank 0, or the
          * world), so that strands crossing at a pixel count together. */
@@ -162,7 +181,12 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
     /* Colours within 1% of each other say nothing of the share. */
     if (!(norm > 1e-4 * size) || !(norm > 1e-20))
         return 0;
-    const double a = dot / norm;
+    double a = dot / norm;
+    if (thin) {
+        *object_share = THIN_OBJECT_SHARE;
+        a = xx == px && xy == py ? THIN_OBJECT_SHARE
+                                     : (a < THIN_NEIGHBOUR_SHARE ? a : THIN_NEIGHBOUR_SHARE);
+    }
     *share = (float)(a < 0.0 ? 0.0 : a > 1.0 ? 1.0 : a);
     return 1;
 }
@@ -171,6 +195,7 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
  * a O and of a B. */
 typedef struct shares {
     double a, object[3], background[3];
+    double mixed, mixed_background[3]; /* of a (1 - the object's share of O), and of that B */
 } shares;
 
 static int blurred_shares(const split_job *job, int64_t x, int64_t y, shares *s)
@@ -180,35 +205,42 @@ static int blurred_shares(const split_job *job, int64_t x, int64_t y, shares *s)
     int pairs = 0;
     for (int dir = 0; dir < 4; dir++) {
         const int64_t px = x - step_x[dir], py = y - step_y[dir];
-        float object[3], background[3], a;
+        float object[3], background[3], a, o;
         if (!inside(r, px, py) || !is_sharp(r, adi_request_coc(r, px, py)) ||
-            !pair_colors(job, px, py, dir, x, y, object, background, &a))
+            !pair_colors(job, px, py, dir, x, y, object, background, &a, &o))
             continue;
         s->a += a;
+        s->mixed += (double)a * (1.0 - o);
         for (int c = 0; c < 3; c++) {
             s->object[c] += (double)a * object[c];
             s->background[c] += (double)a * background[c];
+            s->mixed_background[c] += (double)a * (1.0 - o) * background[c];
         }
         pairs++;
     }
     if (pairs) {
         s->a /= pairs;
+        s->mixed /= pairs;
         for (int c = 0; c < 3; c++) {
             s->object[c] /= pairs;
             s->background[c] /= pairs;
+            s->mixed_background[c] /= pairs;
         }
     }
     return pairs;
 }
 
-/* The change of a blurred pixel q next to sharp ones: its object share put back sharp. */
+/* The change of a blurred pixel q next to sharp ones: its object share put back sharp (a O, and
+ * where O is a thin pixel, a (1 - its object share) (out - B): O's background blurred). */
 static int blurred_side(const split_job *job, int64_t x, int64_t y, float delta[3])
 {
     const float *out = out_at(job->r, x, y);
     shares s;
     const int pairs = blurred_shares(job, x, y, &s);
     for (int c = 0; c < 3; c++)
-        delta[c] = pairs ? (float)(s.object[c] - s.a * out[c]) : 0.0f;
+        delta[c] = pairs ? (float)(s.object[c] + (s.mixed - s.a) * out[c] -
+                                   s.mixed_background[c])
+                         : 0.0f;
     return pairs;
 }
 
@@ -220,9 +252,9 @@ static int sharp_side(const split_job *job, int64_t x, int64_t y, float delta[3]
     int pairs = 0;
     for (int dir = 0; dir < 4; dir++) {
         const int64_t qx = x + step_x[dir], qy = y + step_y[dir];
-        float object[3], background[3], a;
+        float object[3], background[3], a, o;
         if (!inside(r, qx, qy) || !is_blurred_behind(adi_request_coc(r, qx, qy)) ||
-            !pair_colors(job, x, y, dir, x, y, object, background, &a))
+            !pair_colors(job, x, y, dir, x, y, object, background, &a, &o))
             continue;
         const float *blurred = out_at(r, qx, qy);
         for (int c = 0; c < 3; c++)
