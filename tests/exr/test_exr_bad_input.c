@@ -198,6 +198,27 @@ static void refused_claim(const char *bytes, size_t size, const char *attribute,
     exrio_close(&image);
 }
 
+/* fuzz_exr_read's input fuzz/corpus/exr_read/dwa_window_3801104x1793_on_64x64: a DWAA file
+ * whose dataWindow attribute claims 32784 bytes, not a box2i's 16, over the box
+ * (0,0)-(3801103,1792). OpenEXR's C core reports the size and keeps a 64x64 window, by which
+ * the planes are sized; the C++ library reads the box and allocated 1.46 GB of line buffers
+ * for it. The reader refuses the file where the two windows differ. */
+static void dwa_window_disagrees(const char *corpus)
+{
+    const char *path = test_path(corpus, "dwa_window_3801104x1793_on_64x64");
+    char error[2048];
+    exrio_image image;
+    CHECK_MSG(exrio_open(path, &image, error, sizeof error) == EXRIO_OK, "%s", error);
+    CHECK(image.parts && image.parts[0].data_window.max_x == 63 &&
+          image.parts[0].data_window.max_y == 63);
+    CHECK(exrio_load(&image, NULL, error, sizeof error) == EXRIO_ERROR_CORRUPT);
+    CHECK_MSG(contains(error, "dwa_window_3801104x1793_on_64x64") &&
+                  contains(error, "reads the data window as (0,0)-(3801103,1792), its C core "
+                                  "as (0,0)-(63,63)"),
+              "%s", error);
+    exrio_close(&image);
+}
+
 /* A DWAA or DWAB header over ZIP data: a ZIP file with the value byte of its "compression"
  * header attribute (name, type, size 1, value) changed to DWAA (8) or DWAB (9). The header is
  * then exactly that of a DWA file; the reader takes it for one (OpenEXR's C++ library decodes
@@ -493,8 +514,8 @@ static void windows(void)
 
 int main(int argc, char **argv)
 {
-    if (argc != 2) {
-        fprintf(stderr, "usage: test_exr_bad_input SCRATCH_DIR\n");
+    if (argc != 3) {
+        fprintf(stderr, "usage: test_exr_bad_input SCRATCH_DIR EXR_READ_CORPUS_DIR\n");
         return 2;
     }
     dir = argv[1];
@@ -504,6 +525,7 @@ int main(int argc, char **argv)
     short_chunk();
     dwa();
     dwa_huge_tiles();
+    dwa_window_disagrees(argv[2]);
     missing_channels();
     layers();
     mismatched_parts();

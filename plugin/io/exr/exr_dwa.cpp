@@ -269,6 +269,18 @@ extern "C" exrio_status exrio_dwa_load_part(const exrio_image *image, int part,
         Imf::MultiPartInputFile file(image->path, file_threads(threads));
         Imf::FrameBuffer frame;
         const Imath::Box2i window = box_of(p.data_window);
+        // The C core, which sized the planes, and the C++ library, which fills them, must read
+        // the same window: on a damaged dataWindow attribute (its size not a box2i's) the core
+        // reports the error and keeps a 64x64 window where the C++ library read 3801104x1793
+        // and allocated 1.46 GB of line buffers for it (fuzz_exr_read).
+        const Imath::Box2i seen = file.header(part).dataWindow();
+        if (seen != window) {
+            std::snprintf(error, error_size, "%s: damaged header (DWA): OpenEXR's C++ library "
+                          "reads the data window as (%d,%d)-(%d,%d), its C core as "
+                          "(%d,%d)-(%d,%d)", image->path, seen.min.x, seen.min.y, seen.max.x,
+                          seen.max.y, window.min.x, window.min.y, window.max.x, window.max.y);
+            return EXRIO_ERROR_CORRUPT;
+        }
         const size_t line = static_cast<size_t>(p.width) * 4;
         for (int c = 0; c < image->channel_count; c++) {
             const exrio_channel &ch = image->channels[c];
