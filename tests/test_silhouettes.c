@@ -11,6 +11,8 @@
  *    matte's share is the one used, over the world (no id behind the strand) too, its bad
  *    shapes, values and an overlap with the output are refused; across a far light, the
  *    matte's shares hide and show the light's disc;
+ *  - a wire thinner than a pixel before brick and mortar courses, with the colours alone: the
+ *    thin pixel and its neighbours against the lens;
  *  - the plan's line and effect bit, OFF, unsigned CoC, one channel, a bad mode. */
 #include "ddof.h"
 #include "test_images.h"
@@ -370,8 +372,8 @@ static void test_strand_across_a_light(void)
     ddof_context_free(ctx);
 }
 
-/* A wire thinner than a pixel (0.6 of column 48, 0.1 of 47, 0.05 of 49; the depth names
- * only 48 the wire's) before a far wall of brick and mortar courses (constant along the wire,
+/* A wire thinner than a pixel (0.6 of column 48, 0.1 of 47, 0.05 of 49; only column 48 has
+ * the wire's depth) before a far wall of brick and mortar courses (constant along the wire,
  * so the pixels two steps away show exactly what lies behind it). No pixel shows the wire
  * unmixed, so the colours cannot give its coverage; the split takes the thin pixel as 0.7
  * covered and blurs the rest, and its neighbours hold their share of it. The lens: each pixel
