@@ -82,7 +82,7 @@ case "$mode" in
     # does not reach).
     exr=build/valgrind/tests/exr
     memcheck exr_roundtrip "$exr/test_exr_roundtrip" "$scratch/roundtrip" tests/exr/data
-    memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input"
+    memcheck exr_bad_input "$exr/test_exr_bad_input" "$scratch/bad_input" fuzz/corpus/exr_read
     memcheck exr_threads "$exr/test_exr_threads" "$scratch/threads"
     memcheck exr_dwa_roundtrip "$exr/test_exr_dwa" roundtrip "$scratch/dwa_roundtrip"
     memcheck exr_blender_sample "$exr/test_exr_blender" sample samples "$scratch/sample"
