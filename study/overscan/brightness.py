@@ -2,8 +2,8 @@
 """study/overscan/brightness.py OUT SCENE... - the table of study/overscan/brightness.sh: per
 scene the mean of linear R, G, B over the truth's, inside the frame (14 px or more from every
 side) and in the border band, for the pinhole, ddof on the frame as rendered and ddof on the
-frame rendered with the margin (cropped), and per side where the margin's border is off by more
-than 1%."""
+frame rendered with the margin (cropped), and the sides where the margin's border is off by
+more than the study's tolerance."""
 
 import os
 import sys
@@ -12,9 +12,11 @@ import numpy as np
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, os.path.join(HERE, "..", "scenes"))
+sys.path.insert(0, os.path.join(HERE, ".."))
 from exr_io import read_exr, rgb_of  # noqa: E402
+from accuracy_report.tables import BRIGHTNESS_TOLERANCE  # noqa: E402
 
-BAND_PX = 14  # the study's border band (study_brightness, study/metrics.c)
+BAND_PX = 14  # the study's border band (STUDY_BORDER_PX of study_brightness, study/metrics.c)
 SCENES = os.path.join(HERE, "..", "..", "build", "study-cache", "scenes")
 
 
@@ -50,10 +52,11 @@ def main(out, scenes):
                                           img[~inside].mean() / truth[~inside].mean()))
         print("| %s | %d | %s |" % (s, m, " | ".join(cells)))
         off = ["%s %.4f" % (n, images[2][r].mean() / truth[r].mean())
-               for n, r in sides.items() if abs(images[2][r].mean() / truth[r].mean() - 1) > 0.01]
+               for n, r in sides.items()
+               if abs(images[2][r].mean() / truth[r].mean() - 1) > BRIGHTNESS_TOLERANCE]
         if off:
-            notes.append("%s with the margin, the sides off by more than 1%%: %s"
-                         % (s, ", ".join(off)))
+            notes.append("%s with the margin, the sides off by more than %g%%: %s"
+                         % (s, 100 * BRIGHTNESS_TOLERANCE, ", ".join(off)))
     if notes:
         print("")
         for n in notes:

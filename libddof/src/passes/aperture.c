@@ -15,9 +15,9 @@ static float rim_margin(float aspect)
 }
 
 /* Rows of a disc above and below its centre (the pixel aspect stretches it vertically). */
-int aperture_half_height(const highlight *h, float aspect)
+int aperture_half_height(const aperture_shape *s, const highlight *h)
 {
-    return (int)ceilf((radius_of(h) + rim_margin(aspect)) * aspect);
+    return (int)ceilf((radius_of(h) + rim_margin(s->aspect)) * s->aspect);
 }
 
 aperture_shape aperture_shape_of(const highlight_aperture *aperture, const double *sums,
@@ -146,10 +146,9 @@ static int clip_row(const highlight *h, float margin, aperture_row *row)
 }
 
 /* The row of the shape itself (disc or polygon), before any clip. */
-static int shape_row_at(const aperture_shape *s, const highlight *h, float aspect, int dy,
-                        aperture_row *row)
+static int shape_row_at(const aperture_shape *s, const highlight *h, int dy, aperture_row *row)
 {
-    const float margin = rim_margin(aspect);
+    const float aspect = s->aspect, margin = rim_margin(aspect);
     const float outer_r = radius_of(h) + margin, inner_r = outer_r - 2.0f * margin;
     const float v = (float)dy / aspect, v2 = v * v;
     if (v2 >= outer_r * outer_r)
@@ -198,13 +197,12 @@ static int shape_row_at(const aperture_shape *s, const highlight *h, float aspec
 }
 
 /* A row of the highlight's shape, clipped by the cat's eye when there is one. */
-int aperture_row_at(const aperture_shape *s, const highlight *h, float aspect, int dy,
-                    aperture_row *row)
+int aperture_row_at(const aperture_shape *s, const highlight *h, int dy, aperture_row *row)
 {
-    if (!shape_row_at(s, h, aspect, dy, row))
+    if (!shape_row_at(s, h, dy, row))
         return 0;
     row->clipped = clip_offset(s, h, &row->clip_x, &row->clip_y);
-    return !row->clipped || clip_row(h, rim_margin(aspect), row);
+    return !row->clipped || clip_row(h, rim_margin(s->aspect), row);
 }
 
 /* 0.5 - the signed distance in pixels of shape point (u, v) from a circle of radius r about

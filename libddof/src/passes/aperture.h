@@ -43,12 +43,11 @@ aperture_shape aperture_shape_of(const highlight_aperture *aperture, const doubl
                                  float aspect);
 
 /* Rows of a highlight's shape above and below its centre. */
-int aperture_half_height(const highlight *h, float aspect);
+int aperture_half_height(const aperture_shape *s, const highlight *h);
 
 /* Row dy (from the centre) of a highlight's shape, clipped by the cat's eye when there is one;
  * 0 when the row is empty. */
-int aperture_row_at(const aperture_shape *s, const highlight *h, float aspect, int dy,
-                    aperture_row *row);
+int aperture_row_at(const aperture_shape *s, const highlight *h, int dy, aperture_row *row);
 
 /* The weight of rim pixel dx of a row: clamp(0.5 - its signed distance from the shape's edge,
  * 0, 1), or an aperture image's average over the pixel. */

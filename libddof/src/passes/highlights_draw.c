@@ -96,12 +96,12 @@ static void weigh_items(void *user, uint32_t i0, uint32_t i1, uint32_t chunk)
     const adi_request *r = job->r;
     for (uint32_t i = i0; i < i1; i++) {
         const highlight *h = &job->items[i];
-        const int reach = aperture_half_height(h, r->pixel_aspect);
+        const int reach = aperture_half_height(&job->shape, h);
         double sum = 0.0;
         for (int dy = -reach; dy <= reach; dy++) {
             const int y = (int)h->y + dy;
             aperture_row row;
-            if (!aperture_row_at(&job->shape, h, r->pixel_aspect, dy, &row))
+            if (!aperture_row_at(&job->shape, h, dy, &row))
                 continue;
             const int row_inside = y >= 0 && y < (int)r->height;
             if (row.inner_l <= row.inner_r) {
@@ -178,12 +178,12 @@ static void scatter_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
         const highlight *h = &job->items[i];
         const float k = job->weights[i];
         const float e[3] = {h->excess[0] * k, h->excess[1] * k, h->excess[2] * k};
-        const int reach = aperture_half_height(h, r->pixel_aspect);
+        const int reach = aperture_half_height(&job->shape, h);
         for (int dy = -reach; dy <= reach; dy++) {
             const int y = (int)h->y + dy;
             aperture_row row;
             if (y < (int)y0 || y >= (int)y1 ||
-                !aperture_row_at(&job->shape, h, r->pixel_aspect, dy, &row))
+                !aperture_row_at(&job->shape, h, dy, &row))
                 continue;
             float *d = job->diff + (size_t)y * row_floats;
             if (row.inner_l <= row.inner_r) {
@@ -261,7 +261,7 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
         job.bx1 = job.by1 = INT32_MIN;
         for (uint32_t i = 0; i < job.count; i++) {
             const highlight *h = &job.items[i];
-            const int reach = aperture_half_height(h, r->pixel_aspect);
+            const int reach = aperture_half_height(&job.shape, h);
             const int reach_x = (int)ceilf(radius_of(h) + 0.5f) + 1;
             job.reach_rows = reach > job.reach_rows ? reach : job.reach_rows;
             job.bx0 = (int)h->x - reach_x < job.bx0 ? (int)h->x - reach_x : job.bx0;
