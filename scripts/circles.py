@@ -10,7 +10,9 @@ taken apart, issue 43), or when a file of libddof/src breaks the order of its pa
 libddof/src's parts are the folders its README.md lists, bottom first: a file may include a
 header of its own folder by bare name, or one of an earlier part as "part/name.h", and nothing
 else of src/; no file stands outside the parts. Since C calls nothing it has not included a
-declaration of, this also keeps the calls from forming a circle across the parts.
+declaration of, this also keeps the calls from forming a circle across the parts. A part's one
+subfolder is gl/, its GL code, which the GL module (plugin/gl) builds with src/ off its include
+path: it includes no part's header at all.
 
 A file's unit is its name without the extension (x.h and x.c are one unit). C: unit A depends
 on unit B when a file of A includes "B.h" of the same folder. Python: module A depends on B when
@@ -33,6 +35,7 @@ PRODUCT_DIRS = ("libddof", "plugin", "blender_addon")
 # Circles left to take apart (issue 43), by folder: sorted unit names.
 KNOWN = {}
 PARTS_ROOT = "libddof/src"
+GL_FOLDER = "gl"  # a part's GL code (plugin/gl/CMakeLists.txt)
 
 
 def c_edges(folder, names):
@@ -89,6 +92,7 @@ def part_breaks(root):
         if not os.path.isdir(folder):
             found.append("%s/%s/ is listed in README.md but missing" % (PARTS_ROOT, part))
             continue
+        found += gl_breaks(src, order, part)
         for name in sorted(os.listdir(folder)):
             if not name.endswith((".c", ".h", ".inc")):
                 continue
@@ -107,6 +111,38 @@ def part_breaks(root):
                     found.append(where + ": %s/ is above %s/" % (head, part))
                 elif head == part:
                     found.append(where + ": its own folder's header by bare name")
+    return found
+
+
+def core_headers(src, order):
+    """The names of the headers in the parts' own folders (not their gl/ folders)."""
+    return {name for part in order if os.path.isdir(os.path.join(src, part))
+            for name in os.listdir(os.path.join(src, part)) if name.endswith((".h", ".inc"))}
+
+
+def gl_breaks(src, order, part):
+    """A part's only subfolder is gl/: its GL code, built into the GL module (plugin/gl) with
+    src/ off the include path, so it includes no header of a part, by path or by bare name."""
+    found = []
+    folder = os.path.join(src, part)
+    for name in sorted(os.listdir(folder)):
+        if os.path.isdir(os.path.join(folder, name)) and name != GL_FOLDER:
+            found.append("%s/%s/%s/ is not a part's %s/ folder" % (PARTS_ROOT, part, name,
+                                                                  GL_FOLDER))
+    gl = os.path.join(folder, GL_FOLDER)
+    if not os.path.isdir(gl):
+        return found
+    core = core_headers(src, order)
+    for name in sorted(os.listdir(gl)):
+        if not name.endswith((".c", ".h")):
+            continue
+        with open(os.path.join(gl, name), encoding="utf-8", errors="replace") as f:
+            text = f.read()
+        for inc in re.findall(r'^\s*#\s*include\s+"([^"]+)"', text, re.M):
+            if "/" in inc or (inc in core and not os.path.exists(os.path.join(gl, inc))):
+                found.append("%s/%s/%s/%s includes \"%s\": a part's GL code includes only "
+                             "the GL module's headers, the seam and ddof.h" %
+                             (PARTS_ROOT, part, GL_FOLDER, name, inc))
     return found
 
 

@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
-/* gl_layers.c - the seam's run_layers: libddof/src/layers.c's pipeline with every step on the
- * device. The colour, the CoC and the foreground element go up in one mapped write (FRAME, in
- * the caller's layouts), the result comes back in one mapped read (OUT), and in between each
- * step is the CPU's: the per-pixel steps are layers.comp, the cone dilation cone_dilate.comp,
- * and the diffusions gl_resident.c's on the device's maps, in the CPU's order and on the
- * CPU's areas (the crops are offsets into the maps), so that the device's frame differs from
- * the CPU's only by the diffusions' float rounding. */
+/* gl_layers.c - the seam's run_layers: ../layers.c's pipeline with every step on the device.
+ * The colour, the CoC and the foreground element go up in one mapped write (FRAME, in the
+ * caller's layouts), the result comes back in one mapped read (OUT), and in between each step
+ * is the CPU's: the per-pixel steps are layers.comp, the cone dilation cone_dilate.comp, and
+ * the diffusions gl_resident.c's on the device's maps, in the CPU's order and on the CPU's
+ * areas (the crops are offsets into the maps), so that the device's frame differs from the
+ * CPU's only by the diffusions' float rounding. */
 #include "gl_layers.h"
 
 #include "ddof_layer_rules.h"

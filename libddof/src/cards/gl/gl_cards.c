@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_cards.c - ddof_render_cards on the device (the seam's render_cards), the patent's way:
- * each card's expanded polygon drawn as a triangle fan (shaders/cards_vert.glsl), the
+ * each card's expanded polygon drawn as a triangle fan (cards_vert.glsl), the
  * rasteriser covering its pixels, a fragment shader averaging the card's texture over each
- * pixel's disc (shaders/cards_frag.glsl), blending compositing the cards near to far, each
+ * pixel's disc (cards_frag.glsl), blending compositing the cards near to far, each
  * under the ones already drawn (source factor 1 - destination alpha, destination factor 1:
  * out += (1 - out.a) card, the CPU's operator), a pixel already opaque skipped by the shader
  * reading the frame so far (glTextureBarrier between cards). A float RGBA framebuffer holds

@@ -1,6 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-// cone_dilate.comp - a band of rows of libddof/src/passes/cone_dilate.c's raster passes on the
-// device:
+// cone_dilate.comp - a band of rows of ../cone_dilate.c's raster passes on the device:
 // v(p) <- max_q v(q) - slope d(p, q) with the 8-connected chamfer distance, with the CPU's
 // roundings (max is exact, each subtraction rounds once, in the CPU's order), so the map comes
 // out bit for bit as the CPU's: the proximity map's cone heights near 2^20 round to 1/8 px,
