@@ -156,8 +156,8 @@ static int element_is_bright(const layers_request *q)
 
 /* Where the layers run: what the planner needs to know, found here, and its decision. The
  * element is looked at only when a device could take the frame. */
-static int device_runs_frame(ddof_context *context, const layers_request *q, frame_plan *plan,
-                             uint32_t frame_highlights)
+static layers_placement place_layers(ddof_context *context, const layers_request *q,
+                                     frame_plan *plan, uint32_t frame_highlights)
 {
     const int takes = ddof_backend_runs_layers(context, &q->base);
     const layers_device_facts facts = {
@@ -167,6 +167,19 @@ static int device_runs_frame(ddof_context *context, const layers_request *q, fra
         .element_bright = takes && plan->foreground && element_is_bright(q),
     };
     return ddof_plan_layers_device(plan, q->params, &facts);
+}
+
+/* The caller's progress for a device's run that is the first `share` of the frame's stages. */
+typedef struct stage_share {
+    ddof_progress_fn progress;
+    void *user;
+    float share;
+} stage_share;
+
+static int shared_progress(void *user, float fraction)
+{
+    const stage_share *s = user;
+    return s->progress(s->user, fraction * s->share);
 }
 
 /* The silhouettes' split and the highlights' discs over the layers' result. The discs are
@@ -227,7 +240,8 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
 
     /* Diffusing in place overwrites the colour the background layer (on the CPU) and the far
      * field still need (the highlight pass's base is a copy already). */
-    const int on_device = device_runs_frame(context, q, plan, highlights.count);
+    const layers_placement where = place_layers(context, q, plan, highlights.count);
+    const int on_device = where.device;
     if (((plan->background && !on_device) || plan->far_field || plan->silhouettes) &&
         r->out == r->color && color == r->color) {
         const size_t row = (size_t)r->width * r->channels;
@@ -258,7 +272,17 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         layers_request device_q = *q;
         device_q.base.color = diffused;
         device_q.base.color_stride = diffused_stride;
-        status = ddof_run_layers_on_device(context, &device_q, plan, max_near_coc, report);
+        /* With the element left for later, the device's run is the stages before it. */
+        const uint32_t element_stages = where.element ? 0 : ddof_element_stages(q, plan);
+        stage_share share = {r->progress, r->progress_user,
+                             (float)(st.count - element_stages) / (float)st.count};
+        if (r->progress && element_stages) {
+            device_q.base.progress = shared_progress;
+            device_q.base.progress_user = &share;
+        }
+        status = ddof_run_layers_on_device(context, &device_q, plan, where.element,
+                                           max_near_coc, report);
+        st.current = st.count - element_stages;
     } else {
         status = ddof_run_layers_on_cpu(context, q, plan, max_near_coc, diffused,
                                         diffused_stride, &st, report);
@@ -271,8 +295,8 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     if ((status = split_and_draw(context, q, plan, pairs, color, color_stride, &highlights,
                                  report)) != DDOF_OK)
         return status;
-    /* On the CPU the element goes over all of it (the device composited it already). */
-    if (plan->foreground && !on_device)
+    /* The element goes over all of it (unless the device composited it already). */
+    if (plan->foreground && !where.element)
         return ddof_run_foreground_on_cpu(context, q, &st, report);
     return DDOF_OK;
 }

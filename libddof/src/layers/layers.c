@@ -571,12 +571,17 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     return DDOF_OK;
 }
 
+uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan)
+{
+    return plan->foreground ? (q->fg.carried_alpha ? 4u : 3u) : 0u;
+}
+
 layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
 {
     const adi_request *r = &q->base;
     return (layer_stages){r->progress, r->progress_user, 0,
                           1 + 2 * (plan->background ? q->params->background_levels : 0) +
-                              (q->fg.carried_alpha ? 4 : 3) * (uint32_t)plan->foreground};
+                              ddof_element_stages(q, plan)};
 }
 
 ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,

@@ -59,6 +59,9 @@ typedef struct layer_stages {
 
 layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan);
 
+/* Of those, the foreground element's (0 without one). */
+uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan);
+
 /* The layers behind the foreground element on the CPU (each diffusion on the context's
  * backend, one at a time): the near spread, the midground of `diffused` and the background
  * levels, into q->base.out. out is written only after every check has passed (the caller's
@@ -72,10 +75,11 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *
 ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
                                        layer_stages *st, layers_report *report);
 
-/* Every layer of the plan, the element's composite included, on the context's device in one
- * run (layers_device.c, the seam's run_layers), of q->base.color. */
+/* Every layer of the plan on the context's device in one run (layers_device.c, the seam's
+ * run_layers), of q->base.color; with `element`, the plan's foreground element blurred and
+ * composited last in it, else left for ddof_run_foreground_on_cpu. */
 ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
-                                      const frame_plan *plan, float max_near_coc,
+                                      const frame_plan *plan, int element, float max_near_coc,
                                       layers_report *report);
 
 #endif

@@ -14,10 +14,10 @@ static adi_box seam_box(pixel_box b)
 }
 
 /* The plan and the areas layers.c would use, handed to the device's run_layers, which runs
- * the same steps there (plugin/gl/gl_layers.c): one upload, one read-back. The background's
+ * the same steps there (gl/gl_layers.c): one upload, one read-back. The background's
  * area depends on the midground's largest CoC, so the device grows its edges itself. */
 ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
-                                      const frame_plan *plan, float max_near_coc,
+                                      const frame_plan *plan, int element, float max_near_coc,
                                       layers_report *report)
 {
     const adi_request *r = &q->base;
@@ -36,7 +36,7 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_reques
         d.background_edges = seam_box(box_is_empty(edges) ? (pixel_box){0, 0, r->width, r->height}
                                                           : edges);
     }
-    if (plan->foreground) {
+    if (element) {
         d.fg_color = q->fg.color;
         d.fg_color_stride = q->fg.color_stride;
         d.fg_coc = q->fg.coc;
@@ -57,6 +57,6 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_reques
     report->effects = DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
-                      (plan->foreground ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
+                      (element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
     return DDOF_OK;
 }

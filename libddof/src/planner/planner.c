@@ -293,26 +293,24 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
         plan->silhouettes = 1;
 }
 
-int ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
-                            const layers_device_facts *facts)
+layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
+                                         const layers_device_facts *facts)
 {
     if (!facts->device)
-        return 0;
-    const char *cpu_because = NULL;
-    if (facts->carried_alpha)
-        cpu_because = "the near layer carries the frame's alpha, which the device does not "
-                      "composite";
-    else if ((plan->far_field || plan->silhouettes) && plan->foreground)
-        cpu_because = "the far field and the silhouettes go under the element, which the "
-                      "device composites itself";
+        return (layers_placement){0, 0};
+    const char *after_because = NULL;
+    if (plan->foreground && facts->carried_alpha)
+        after_because = "it carries the frame's alpha, which the device's frame does not hold";
+    else if (plan->foreground && (plan->far_field || plan->silhouettes))
+        after_because = "the far field and the silhouettes go under it";
     else if (plan->foreground && params->highlights != DDOF_LAYER_OFF &&
              (facts->highlights || facts->element_bright))
-        cpu_because = "the highlights are drawn before the element's composite, which the "
-                      "device does itself";
-    if (cpu_because)
-        ddof_plan_say(plan, "layers: on the CPU, not %s: %s", facts->device, cpu_because);
+        after_because = "the highlights are drawn under it or into it";
+    if (after_because)
+        ddof_plan_say(plan, "layers: on %s; the element after the passes, by the CPU's steps: %s",
+                      facts->device, after_because);
     else
         ddof_plan_say(plan, "layers: on %s%s", facts->device,
                       plan->foreground ? ", the element's composite included" : "");
-    return cpu_because == NULL;
+    return (layers_placement){1, plan->foreground && !after_because};
 }

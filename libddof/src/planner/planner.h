@@ -66,12 +66,22 @@ typedef struct layers_device_facts {
     int element_bright;       /* the element holds a pixel the highlight pass would take      */
 } layers_device_facts;
 
-/* Whether the device runs the whole plan, the element's composite included. The highlights
- * (the frame's, which go under the element, and the element's own, in it), the far field and
- * the silhouettes are the CPU's: a frame with an element and any of them runs on the CPU's
- * layers, one diffusion at a time. Says which and why in the plan when there is a device (a
- * CPU context's plan has no such line). */
-int ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
-                            const layers_device_facts *facts);
+/* Where a planned frame's layers run. The element is composited last, over every pass; the
+ * device's run_layers can only composite it at the end of the layers, so it takes the element
+ * only where no pass runs between them. */
+typedef struct layers_placement {
+    int device;  /* the layers on the context's device (its run_layers), else the CPU's      */
+    int element; /* the element blurred and composited inside that run_layers; else after
+                  * the passes, by the CPU's steps (its diffusions on the context's backend) */
+} layers_placement;
+
+/* Decides the placement: on the device whenever facts->device names one; the element with
+ * it unless something must come between the layers and the element's composite or the device
+ * cannot do the element's part: the highlights (the frame's, which go under the element, and
+ * the element's own, drawn into it), the far field and the silhouettes (under it, and the far
+ * field gathers the element itself), an element carrying part of the frame's alpha. Says
+ * which and why in the plan when there is a device (a CPU context's plan has no such line). */
+layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
+                                         const layers_device_facts *facts);
 
 #endif

@@ -7,8 +7,10 @@
 // percent. The row's links to the row before it (in the pass's direction) are independent
 // (all invocations); the run along the row is a chain (invocation 0), and rows follow each
 // other. gl_layers.c dispatches one work group per band of rows, in pass order: a whole pass
-// in one invocation would exceed llvmpipe's loop limit (65,535 iterations, after which it
-// silently stops), so a band runs at most CONE_BAND_STEPS steps.
+// in one invocation would exceed llvmpipe's loop limit (65,535 iterations of all its loops
+// together, after which it silently stops), so a band runs at most CONE_BAND_STEPS steps, and
+// a row longer than that (a frame up to 65,536 pixels wide) runs alone, its run along the row
+// cut into pieces of one dispatch each, the row's links in the first.
 // 8 invocations: llvmpipe runs them as one 8-lane vector, so the two barriers a row are no
 // coroutine switches; the run along a row is serial whatever the group's size.
 layout(local_size_x = 8) in;
@@ -22,6 +24,8 @@ uniform uint u_first;     // the pass's first row of this dispatch (in pass orde
 uniform uint u_count;     // rows of this dispatch
 uniform uint u_backward;  // 0: the forward pass (top down, left to right), 1: the backward pass
 uniform uint u_width;
+uniform uint u_run_first; // the run's first step this dispatch takes (0: with the row's links)
+uniform uint u_run_count; // and how many (u_width - 1: the whole row)
 uniform float u_axial;    // slope
 uniform float u_diagonal; // slope * sqrt 2, as the CPU rounds it
 
@@ -56,15 +60,18 @@ void main()
     for (uint i = u_first; i < u_first + u_count; i++) {
         uint y = u_backward != 0u ? u_height - 1u - i : i;
         uint row = u_base + y * u_stride;
-        if (i > 0u)
+        if (i > 0u && u_run_first == 0u)
             from_row(row, u_backward != 0u ? row + u_stride : row - u_stride);
         sync();
+        // Step s of the run sets pixel 1 + s (forward) or u_width - 2 - s (backward).
         if (first && u_backward == 0u)
-            for (uint x = 1u; x < u_width; x++)
-                map[row + x] = max(map[row + x], map[row + x - 1u] - u_axial);
+            for (uint s = u_run_first; s < u_run_first + u_run_count; s++)
+                map[row + 1u + s] = max(map[row + 1u + s], map[row + s] - u_axial);
         if (first && u_backward != 0u)
-            for (uint x = u_width - 1u; x-- > 0u;)
+            for (uint s = u_run_first; s < u_run_first + u_run_count; s++) {
+                uint x = u_width - 2u - s;
                 map[row + x] = max(map[row + x], map[row + x + 1u] - u_axial);
+            }
         sync();
     }
 }

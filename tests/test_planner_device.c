@@ -1,0 +1,86 @@
+/* SPDX-License-Identifier: MIT */
+/* test_planner_device.c - where a planned frame's layers run (ddof_plan_layers_device): on the
+ * device whenever the context's device takes the frame; the foreground element composited
+ * inside the device's run only where no pass goes between the layers and the element (the far
+ * field, the silhouettes, the highlights drawn under it or into it) and the element carries no
+ * part of the frame's alpha; else after the passes. The plan says which and why on a device,
+ * nothing on the CPU. The whole frames behind each case are tests/gl/test_gl_frame.c's. */
+#include "planner/planner.h"
+#include "test_util.h"
+
+#include <string.h>
+
+/* A plan with only the foreground element switched on. */
+static frame_plan element_plan(void)
+{
+    frame_plan plan;
+    memset(&plan, 0, sizeof plan);
+    plan.foreground = 1;
+    return plan;
+}
+
+/* Places plan's layers with facts, and checks the placement and the plan's one new line. */
+static void expect(const char *name, frame_plan plan, const ddof_params *params,
+                   layers_device_facts facts, int device, int element, const char *line)
+{
+    const layers_placement where = ddof_plan_layers_device(&plan, params, &facts);
+    CHECK_MSG(where.device == device && where.element == element,
+              "%s: device %d element %d, wanted %d %d", name, where.device, where.element,
+              device, element);
+    if (line)
+        CHECK_MSG(strcmp(plan.text, line) == 0, "%s: the plan says \"%s\", wanted \"%s\"", name,
+                  plan.text, line);
+    else
+        CHECK_MSG(plan.used == 0, "%s: a CPU context's plan says \"%s\"", name, plan.text);
+}
+
+int main(void)
+{
+    ddof_params params;
+    ddof_params_init(&params);
+    params.highlights = DDOF_LAYER_AUTO;
+    const layers_device_facts egl = {.device = "egl"};
+
+    frame_plan plan = element_plan();
+    expect("no device", plan, &params, (layers_device_facts){0}, 0, 0, NULL);
+    layers_device_facts carried = {.device = NULL, .carried_alpha = 1, .highlights = 3};
+    plan.far_field = 1;
+    expect("no device, every reason", plan, &params, carried, 0, 0, NULL);
+
+    frame_plan none = element_plan();
+    none.foreground = 0;
+    none.far_field = 1;
+    expect("no element", none, &params, egl, 1, 0, "layers: on egl\n");
+    expect("an element alone", element_plan(), &params, egl, 1, 1,
+           "layers: on egl, the element's composite included\n");
+
+    const char *after = "layers: on egl; the element after the passes, by the CPU's steps: ";
+    char line[256];
+    layers_device_facts f = egl;
+    f.carried_alpha = 1;
+    snprintf(line, sizeof line, "%sit carries the frame's alpha, which the device's frame does "
+             "not hold\n", after);
+    expect("carried alpha", element_plan(), &params, f, 1, 0, line);
+
+    snprintf(line, sizeof line, "%sthe far field and the silhouettes go under it\n", after);
+    plan = element_plan();
+    plan.far_field = 1;
+    expect("the far field", plan, &params, egl, 1, 0, line);
+    plan = element_plan();
+    plan.silhouettes = 1;
+    expect("the silhouettes", plan, &params, egl, 1, 0, line);
+
+    snprintf(line, sizeof line, "%sthe highlights are drawn under it or into it\n", after);
+    f = egl;
+    f.highlights = 2;
+    expect("the frame's highlights", element_plan(), &params, f, 1, 0, line);
+    f = egl;
+    f.element_bright = 1;
+    expect("the element's own highlights", element_plan(), &params, f, 1, 0, line);
+    /* With the highlight pass off nothing is drawn, so the device takes the element. */
+    params.highlights = DDOF_LAYER_OFF;
+    f.highlights = 2;
+    expect("highlights off", element_plan(), &params, f, 1, 1,
+           "layers: on egl, the element's composite included\n");
+    return test_report("test_planner_device");
+}
