@@ -2,8 +2,9 @@
 /* test_planner_device.c - where a planned frame's layers run (ddof_plan_layers_device): on the
  * device whenever the context's device takes the frame; the foreground element composited
  * inside the device's run only where no pass goes between the layers and the element (the far
- * field, the silhouettes, the highlights drawn under it or into it) and the element carries no
- * part of the frame's alpha; else after the passes. The plan says which and why on a device,
+ * field, the silhouettes, the highlights drawn under it or into it), the far field does not
+ * gather the element itself and the element carries no part of the frame's alpha; else after
+ * the passes. The plan says which and why on a device,
  * nothing on the CPU. The whole frames behind each case are tests/gl/test_gl_frame.c's. */
 #include "planner/planner.h"
 #include "test_util.h"
@@ -39,6 +40,7 @@ int main(void)
     ddof_params params;
     ddof_params_init(&params);
     params.highlights = DDOF_LAYER_AUTO;
+    params.far_field = DDOF_LAYER_OFF;
     const layers_device_facts egl = {.device = "egl"};
 
     frame_plan plan = element_plan();
@@ -77,6 +79,12 @@ int main(void)
     f = egl;
     f.element_bright = 1;
     expect("the element's own highlights", element_plan(), &params, f, 1, 0, line);
+    /* The far field allowed gathers the element even where the frame's plan has none. */
+    params.far_field = DDOF_LAYER_AUTO;
+    snprintf(line, sizeof line, "%sthe far field gathers it, which the device does not\n",
+             after);
+    expect("the element's gather", element_plan(), &params, egl, 1, 0, line);
+    params.far_field = DDOF_LAYER_OFF;
     /* With the highlight pass off nothing is drawn, so the device takes the element. */
     params.highlights = DDOF_LAYER_OFF;
     f.highlights = 2;

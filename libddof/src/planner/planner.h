@@ -78,8 +78,10 @@ typedef struct layers_placement {
 /* Decides the placement: on the device whenever facts->device names one; the element with
  * it unless something must come between the layers and the element's composite or the device
  * cannot do the element's part: the highlights (the frame's, which go under the element, and
- * the element's own, drawn into it), the far field and the silhouettes (under it, and the far
- * field gathers the element itself), an element carrying part of the frame's alpha. Says
+ * the element's own, drawn into it), the far field and the silhouettes (under it), the far
+ * field's gather of the element itself (whenever params allow the far field: the element's
+ * CoC may call for it where the frame's does not), an element carrying part of the frame's
+ * alpha. Says
  * which and why in the plan when there is a device (a CPU context's plan has no such line). */
 layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
                                          const layers_device_facts *facts);
