@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* test_planner_device.c - where a planned frame's layers run (ddof_plan_layers_device): on the
- * device whenever the context's device takes the frame; the foreground element composited
- * inside the device's run only where no pass goes between the layers and the element (the far
+ * device whenever the context's device takes the frame, else on the CPU's table; the
+ * foreground element composited inside that run, on either, only where no pass goes between the layers and the element (the far
  * field, the silhouettes, the highlights drawn under it or into it), the far field does not
  * gather the element itself and the element carries no part of the frame's alpha; else after
  * the passes. The plan says which and why on a device,
@@ -43,10 +43,12 @@ int main(void)
     params.far_field = DDOF_LAYER_OFF;
     const layers_device_facts egl = {.device = "egl"};
 
+    /* The CPU's layers take the element by the same rule, and say nothing. */
     frame_plan plan = element_plan();
-    expect("no device", plan, &params, (layers_device_facts){0}, 0, 0, NULL);
-    layers_device_facts carried = {.device = NULL, .carried_alpha = 1, .highlights = 3};
+    expect("no device", plan, &params, (layers_device_facts){0}, 0, 1, NULL);
     plan.far_field = 1;
+    expect("no device, the far field", plan, &params, (layers_device_facts){0}, 0, 0, NULL);
+    layers_device_facts carried = {.device = NULL, .carried_alpha = 1, .highlights = 3};
     expect("no device, every reason", plan, &params, carried, 0, 0, NULL);
 
     frame_plan none = element_plan();

@@ -6,8 +6,8 @@
  * *how* to run one request; a backend with run_layers (ABI 3) takes the whole planned layered
  * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
  * upload and one read-back). The CPU is a table of the same shape inside the core
- * (libddof/src/backends/backend_cpu.c; its layers are run by the core's frame runner,
- * frame_run.c); the GL backends live in the plugin library libddof_gl (plugin/gl, with each
+ * (libddof/src/cpu/backend_cpu.c: its run_layers is the core's layers.c, each diffusion
+ * through the dispatch); the GL backends live in the plugin library libddof_gl (plugin/gl, with each
  * part's GL code from libddof/src/PART/gl), which the core loads with dlopen(RTLD_LOCAL) and
  * asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be
  * mixed up on disk, so the table carries an ABI number and its size, both checked before use.
@@ -218,9 +218,9 @@ typedef struct ddof_backend_table {
     int (*supports_disc)(const ddof_device *device);
 
     /* ABI 3. The whole layered frame on the device (one upload of the images, one read-back
-     * of the result), with run()'s contract: the same answer as the core's pipeline within
-     * float rounding, out untouched on failure unless cancelled. NULL: the core runs the
-     * layers itself, one run() per diffusion. */
+     * of the result), with run()'s contract: the same answer as the CPU table's (the core's
+     * layers.c) within float rounding, out untouched on failure unless cancelled. NULL: the
+     * CPU's table runs the layers, one run() per diffusion. */
     ddof_status (*run_layers)(ddof_device *device, const adi_layers_request *request,
                               adi_layers_report *report, char *message, size_t message_size);
 

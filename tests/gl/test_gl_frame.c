@@ -99,6 +99,29 @@ static void expect_element_after(const char *name, const ddof_stats *sg, double 
     CHECK_MSG(strstr(sg->plan, line) != NULL, "%s: %s", name, sg->plan);
 }
 
+/* A frame whose element goes after the passes, on both backends: GL within TOL_FRAME of the
+ * CPU, the effects `want` among the CPU's and the same on GL, and the transfers and plan line
+ * of expect_element_after. */
+static void element_after_frame(const char *name, const ddof_params *p, const float *color,
+                                const float *coc, const ddof_foreground *fg, uint32_t want,
+                                uint32_t diffusions, const char *because)
+{
+    const size_t n = (size_t)W * H * CH;
+    float *ref = alloc_f(n), *out = alloc_f(n);
+    ddof_stats sc = stats_init(), sg = stats_init();
+    CHECK_EQ_INT(diffuse_layers(cpu, p, color, coc, fg, ref, W, H, CH, &sc), DDOF_OK);
+    CHECK_EQ_INT(diffuse_layers(gl, p, color, coc, fg, out, W, H, CH, &sg), DDOF_OK);
+    const double e = max_diff(out, ref, n);
+    CHECK_MSG(e <= TOL_FRAME, "%s %s: GL vs CPU %.3g", name, ddof_kernel_name(p->kernel), e);
+    CHECK_MSG((sc.effects & want) == want, "%s: effects %u, wanted %u (%s)", name, sc.effects,
+              want, sc.plan);
+    CHECK_EQ_INT(sg.effects, sc.effects);
+    CHECK_MSG(strstr(sc.plan, "layers: on") == NULL, "%s: the CPU's plan: %s", name, sc.plan);
+    expect_element_after(name, &sg, e, diffusions, because);
+    free(ref);
+    free(out);
+}
+
 /* What a frame's progress callback saw. */
 typedef struct progress_seen {
     float last;
@@ -282,22 +305,13 @@ static void far_field_frames(ddof_kernel kernel)
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
     p.highlights = DDOF_LAYER_OFF;
-    float *ref = alloc_f(n), *out = alloc_f(n);
-    ddof_stats sc = stats_init(), sg = stats_init();
-    CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, &fg, ref, W, H, CH, &sc), DDOF_OK);
-    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, &fg, out, W, H, CH, &sg), DDOF_OK);
-    const double e = max_diff(out, ref, n);
-    CHECK_MSG(e <= TOL_FRAME, "far field + element %s: GL vs CPU %.3g",
-              ddof_kernel_name(kernel), e);
-    CHECK_MSG((sc.effects & (DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND)) ==
-                  (DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND),
-              "far field + element: effects %u (%s)", sc.effects, sc.plan);
-    CHECK_EQ_INT(sg.effects, sc.effects);
     /* The plan says where the layers ran and why (the planner decides): on the device, the
      * element after the far field, which goes under it; a CPU context's plan says nothing. */
-    expect_element_after("far field + element", &sg, e, 3,
-                         "the far field and the silhouettes go under it");
+    element_after_frame("far field + element", &p, color, coc, &fg,
+                        DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND, 3,
+                        "the far field and the silhouettes go under it");
     /* One rising fraction over the device's run and the element's three diffusions after it. */
+    float *out = alloc_f(n);
     progress_seen seen = {0};
     p.progress = see_progress;
     p.progress_user = &seen;
@@ -306,24 +320,13 @@ static void far_field_frames(ddof_kernel kernel)
               "far field + element: %u calls, %u backwards, the last %g", seen.calls,
               seen.backwards, seen.last);
     p.progress = NULL;
-    CHECK_MSG(strstr(sc.plan, "layers: on") == NULL, "the CPU's plan: %s", sc.plan);
     /* A sharp frame under the blurred element: the frame calls for no far field, but the
      * element's CoC does, and its gather is the CPU's steps. The device once composited the
      * element without it: GL vs CPU 0.070 (heat) and 0.0073 (disc-2x3), effects 5 against 69. */
     for (size_t i = 0; i < (size_t)W * H; i++)
         coc[i] = 0.5f;
-    sc = stats_init();
-    sg = stats_init();
-    CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, &fg, ref, W, H, CH, &sc), DDOF_OK);
-    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, &fg, out, W, H, CH, &sg), DDOF_OK);
-    const double e_sharp = max_diff(out, ref, n);
-    CHECK_MSG(e_sharp <= TOL_FRAME, "sharp frame + element %s: GL vs CPU %.3g",
-              ddof_kernel_name(kernel), e_sharp);
-    CHECK_MSG(sc.effects & DDOF_EFFECT_FAR_FIELD, "sharp frame + element: effects %u (%s)",
-              sc.effects, sc.plan);
-    CHECK_EQ_INT(sg.effects, sc.effects);
-    expect_element_after("sharp frame + element", &sg, e_sharp, 3, NULL);
-    free(ref);
+    element_after_frame("sharp frame + element", &p, color, coc, &fg, DDOF_EFFECT_FAR_FIELD, 3,
+                        NULL);
     free(out);
     free(fg_color);
     free(fg_coc);
@@ -358,32 +361,15 @@ static void highlights(ddof_kernel kernel)
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
-    float *ref = alloc_f(n), *out = alloc_f(n);
-    ddof_stats sc = stats_init(), sg = stats_init();
-    CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, &fg, ref, W, H, CH, &sc), DDOF_OK);
-    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, &fg, out, W, H, CH, &sg), DDOF_OK);
-    const double e = max_diff(out, ref, n);
-    CHECK_MSG(e <= TOL_FRAME, "highlights + element %s: GL vs CPU %.3g",
-              ddof_kernel_name(kernel), e);
-    CHECK(sc.effects & DDOF_EFFECT_HIGHLIGHTS && sc.effects & DDOF_EFFECT_FOREGROUND);
-    CHECK_EQ_INT(sg.effects, sc.effects);
-    expect_element_after("highlights + element", &sg, e, 3, NULL);
+    element_after_frame("highlights + element", &p, color, coc, &fg,
+                        DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND, 3, NULL);
 
     /* The element's own highlights alone (the rest dimmed below the threshold): drawn into
      * the element by the CPU's steps, so the element again comes after the layers. */
     for (size_t i = 0; i < n; i++)
         color[i] *= 0.1f;
-    sc = stats_init();
-    sg = stats_init();
-    CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, &fg, ref, W, H, CH, &sc), DDOF_OK);
-    CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, &fg, out, W, H, CH, &sg), DDOF_OK);
-    const double e2 = max_diff(out, ref, n);
-    CHECK_MSG(e2 <= TOL_FRAME, "element's highlights %s: GL vs CPU %.3g",
-              ddof_kernel_name(kernel), e2);
-    CHECK_MSG(sc.effects & DDOF_EFFECT_HIGHLIGHTS, "element's highlights: effects %u (%s)",
-              sc.effects, sc.plan);
-    CHECK_EQ_INT(sg.effects, sc.effects);
-    expect_element_after("element's highlights", &sg, e2, 3, NULL);
+    element_after_frame("element's highlights", &p, color, coc, &fg, DDOF_EFFECT_HIGHLIGHTS, 3,
+                        NULL);
 
     /* The near layer of a frame whose alpha is not 1 under the near field: the element carries
      * its part of the alpha channel, a fifth channel the device's frame does not have, so it
@@ -395,28 +381,18 @@ static void highlights(ddof_kernel kernel)
         if (lights)
             for (size_t i = 0; i < (size_t)W * H; i++)
                 color[i * CH + 3] = 1.0f;
-        sc = stats_init();
-        sg = stats_init();
-        CHECK_EQ_INT(diffuse_layers(cpu, &p, color, coc, NULL, ref, W, H, CH, &sc), DDOF_OK);
-        CHECK_EQ_INT(diffuse_layers(gl, &p, color, coc, NULL, out, W, H, CH, &sg), DDOF_OK);
-        const double e3 = max_diff(out, ref, n);
-        CHECK_MSG(e3 <= TOL_FRAME, "near layer, %s %s: GL vs CPU %.3g",
-                  lights ? "highlights" : "alpha not 1", ddof_kernel_name(kernel), e3);
-        CHECK_MSG(sc.effects & DDOF_EFFECT_NEAR_LAYER, "near layer: effects %u (%s)", sc.effects,
-                  sc.plan);
-        CHECK(!lights || sc.effects & DDOF_EFFECT_HIGHLIGHTS);
-        CHECK_EQ_INT(sg.effects, sc.effects);
-        /* Its alpha's part is a fourth diffusion of the element's. */
-        if (lights) /* the far field, on by default, is the first reason */
-            expect_element_after("near layer, highlights", &sg, e3, 3,
-                                 "the far field and the silhouettes go under it");
+        /* Its alpha's part is a fourth diffusion of the element's; with the lights, the far
+         * field (on by default) is the first reason. */
+        if (lights)
+            element_after_frame("near layer, highlights", &p, color, coc, NULL,
+                                DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS, 3,
+                                "the far field and the silhouettes go under it");
         else
-            expect_element_after("near layer, alpha not 1", &sg, e3, 4,
-                                 "it carries the frame's alpha, which the device's frame does "
-                                 "not hold");
+            element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
+                                DDOF_EFFECT_NEAR_LAYER, 4,
+                                "it carries the frame's alpha, which the device's frame does "
+                                "not hold");
     }
-    free(ref);
-    free(out);
     free(fg_color);
     free(fg_coc);
     free(color);

@@ -2,6 +2,7 @@
 /* context_lifetime.c - a context's options, creation and teardown: its allocator, worker
  * threads and (at teardown) the backend it loaded. */
 #include "backends/backend.h"
+#include "cpu/backend_cpu.h"
 
 #include <stdlib.h>
 #include <string.h>
@@ -70,7 +71,7 @@ ddof_status ddof_context_create(const ddof_context_options *options, ddof_contex
     if (!context)
         return DDOF_ERROR_OUT_OF_MEMORY;
     *context = (ddof_context){.allocator = allocator, .thread_count = 1,
-                              .backend = {.kind = DDOF_BACKEND_CPU}};
+                              .backend = {.kind = DDOF_BACKEND_CPU}, .cpu = &ddof_cpu_backend};
     atomic_init(&context->in_use, 0);
 
     uint32_t threads = options->thread_count ? options->thread_count : online_cores();

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* backend.c - choosing where the diffusion runs: the CPU solvers here, or a GL device from the
- * plugin library, loaded at run time so that libddof itself never links GL. */
+/* backend.c - choosing where the diffusion runs: the CPU's table (the context's), or a GL
+ * device from the plugin library, loaded at run time so that libddof itself never links GL. */
 #define _GNU_SOURCE /* dladdr */
 #include "backend.h"
 #include "ddof_output_struct.h"
@@ -163,8 +163,19 @@ static const ddof_backend_table *runner(const ddof_context *context, ddof_solver
         *device = b->device;
         return b->table;
     }
-    *device = ddof_cpu_device((ddof_context *)context);
-    return &ddof_cpu_backend;
+    *device = (ddof_device *)context; /* the CPU's device: the context itself */
+    return context->cpu;
+}
+
+/* A backend's failure, recorded once: where the core already said why (the CPU's steps, a
+ * card the core prepared), that stands; else the backend's sentence, named by the context's
+ * backend. */
+static ddof_status failed(ddof_context *context, ddof_status status, const char *why)
+{
+    if (context->last_error[0])
+        return status;
+    return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(context->backend.kind),
+                     why[0] ? why : ddof_status_string(status));
 }
 
 /* The disc kernel runs on the CPU with Thomas (lens_adi.c), on a device whose table says so
@@ -254,16 +265,14 @@ ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_
 {
     ddof_device *device;
     const ddof_backend_table *t = runner(context, request->solver, request->disc != NULL, &device);
-    const float max_coc = t != &ddof_cpu_backend && request->coc && request->in_focus_px > 0.0f
+    const float max_coc = t != context->cpu && request->coc && request->in_focus_px > 0.0f
                               ? largest_coc(context, request)
                               : -1.0f;
     char why[512] = "";
     *report = (adi_report){0};
     ddof_status status = t->run(device, request, report, why, sizeof why);
-    if (status != DDOF_OK && t != &ddof_cpu_backend) /* the CPU's solvers said why */
-        return ddof_fail(context, status, "%s backend: %s",
-                         ddof_backend_name(context->backend.kind),
-                         why[0] ? why : ddof_status_string(status));
+    if (status != DDOF_OK)
+        return failed(context, status, why);
     if (status == DDOF_OK && max_coc >= 0.0f)
         report->max_coc = max_coc;
     return status;
@@ -278,17 +287,17 @@ int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
            t->run_layers && (!r->disc || table_runs_disc(t, b->device));
 }
 
-ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+ddof_status ddof_backend_run_layers(ddof_context *context, int on_device,
+                                    const adi_layers_request *request,
                                     adi_layers_report *report)
 {
     ddof_backend_state *b = &context->backend;
+    const ddof_backend_table *t = on_device ? b->table : context->cpu;
+    ddof_device *device = on_device ? b->device : (ddof_device *)context;
     char why[512] = "";
     memset(report, 0, sizeof *report);
-    ddof_status status = b->table->run_layers(b->device, request, report, why, sizeof why);
-    if (status != DDOF_OK)
-        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
-                         why[0] ? why : ddof_status_string(status));
-    return DDOF_OK;
+    const ddof_status status = t->run_layers(device, request, report, why, sizeof why);
+    return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
 }
 
 /* Not on the host's own context (HOST_GL): drawing sets a framebuffer, blending, the viewport
@@ -306,9 +315,6 @@ ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_requ
 {
     ddof_backend_state *b = &context->backend;
     char why[512] = "";
-    ddof_status status = b->table->render_cards(b->device, request, why, sizeof why);
-    if (status != DDOF_OK && !context->last_error[0]) /* else the core said why (a card) */
-        return ddof_fail(context, status, "%s backend: %s", ddof_backend_name(b->kind),
-                         why[0] ? why : ddof_status_string(status));
-    return status;
+    const ddof_status status = b->table->render_cards(b->device, request, why, sizeof why);
+    return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
 }

@@ -3,21 +3,13 @@
  * context's backend, and what the planner asks of it. What crosses the seam (the request, the
  * report, the backend's table) is in ddof_backend_seam.h, which the GL plugin includes alone.
  * Every backend is a table of that shape: the GL plugin's, loaded at run time, and the CPU's
- * (backend_cpu.c: heat_adi.c, lens_adi.c and the double references), so one dispatch serves both.
- */
+ * (cpu/backend_cpu.c: the solvers, the layers and the double references), which the context
+ * holds (context->cpu), so one dispatch serves both. */
 #ifndef DDOF_BACKEND_H
 #define DDOF_BACKEND_H
 
 #include "adi/adi.h"
 
-/* ---- the CPU's table (backend_cpu.c) ------------------------------------------------------ */
-
-extern const ddof_backend_table ddof_cpu_backend;
-
-/* The CPU's device: the context itself (its threads and scratch). */
-ddof_device *ddof_cpu_device(ddof_context *context);
-
-/* ---- the core's side (backend.c) ---------------------------------------------------------- */
 
 /* Runs one diffusion on the backend that takes it: the context's loaded device, else the CPU
  * (the double reference always, and a disc kernel the device does not run). */
@@ -38,8 +30,11 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
  * device whose table has the entry, a solver it runs, the disc kernel only where it runs it. */
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
 
-/* The whole layered frame on the device; a failure is recorded in the context. */
-ddof_status ddof_backend_run_layers(ddof_context *context, const adi_layers_request *request,
+/* The whole layered frame on the context's device (on_device: where the planner put it, which
+ * ddof_backend_runs_layers allowed), else on the CPU's table; a failure is recorded in the
+ * context. */
+ddof_status ddof_backend_run_layers(ddof_context *context, int on_device,
+                                    const adi_layers_request *request,
                                     adi_layers_report *report);
 
 /* Whether the context's device draws cards (ddof_render_cards), and the call. */

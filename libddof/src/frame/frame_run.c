@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* frame_run.c - one frame's run, for every call that renders one (ddof_render_frame,
  * ddof_depth_of_field, ddof_diffuse_layers, ddof_diffuse): from a validated request with its
- * CoC, the plan (planner.c), the near layer's split, where the layers run (the CPU's layers.c
- * or the device's run_layers, decided once per frame), the passes around them
- * (frame_passes.c), the element's composite, and the stats. */
+ * CoC, the plan (planner.c), the near layer's split, the layers as one run_layers request on
+ * the backend the planner chose (the CPU's table or the context's device), the passes around
+ * them (frame_passes.c), the element's composite, and the stats. */
 #include "frame_run.h"
 #include "ddof_output_struct.h"
 
@@ -155,7 +155,7 @@ static int element_is_bright(const layers_request *q)
 }
 
 /* Where the layers run: what the planner needs to know, found here, and its decision. The
- * element is looked at only when a device could take the frame. */
+ * element is looked at only where the highlight pass would look at it. */
 static layers_placement place_layers(ddof_context *context, const layers_request *q,
                                      frame_plan *plan, uint32_t frame_highlights)
 {
@@ -164,12 +164,13 @@ static layers_placement place_layers(ddof_context *context, const layers_request
         .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
         .carried_alpha = q->fg.carried_alpha != NULL,
         .highlights = frame_highlights,
-        .element_bright = takes && plan->foreground && element_is_bright(q),
+        .element_bright = plan->foreground && q->params->highlights != DDOF_LAYER_OFF &&
+                          element_is_bright(q),
     };
     return ddof_plan_layers_device(plan, q->params, &facts);
 }
 
-/* The caller's progress for a device's run that is the first `share` of the frame's stages. */
+/* The caller's progress for a layers' run that is the first `share` of the frame's stages. */
 typedef struct stage_share {
     ddof_progress_fn progress;
     void *user;
@@ -213,8 +214,8 @@ static ddof_status split_and_draw(ddof_context *context, const layers_request *q
 }
 
 /* The planned frame's layers and the passes around them. Where the layers run is decided
- * here, once, after the highlights are found (the device's run takes them only where the
- * element does not need the CPU's pass). */
+ * here, once, after the highlights are found (the layers' run takes the element only where
+ * nothing comes between them and it needs none of the CPU's extra steps). */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
                                frame_plan *plan, float max_near_coc, layers_report *report)
 {
@@ -238,11 +239,11 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         report->seconds_highlights += ddof_seconds() - t0;
     }
 
-    /* Diffusing in place overwrites the colour the background layer (on the CPU) and the far
-     * field still need (the highlight pass's base is a copy already). */
+    /* Diffusing in place overwrites the colour the background layer (on the CPU: the device
+     * reads its upload) and the far field still need (the highlight pass's base is a copy
+     * already). */
     const layers_placement where = place_layers(context, q, plan, highlights.count);
-    const int on_device = where.device;
-    if (((plan->background && !on_device) || plan->far_field || plan->silhouettes) &&
+    if (((plan->background && !where.device) || plan->far_field || plan->silhouettes) &&
         r->out == r->color && color == r->color) {
         const size_t row = (size_t)r->width * r->channels;
         float *copy = ddof_scratch_get(context, DDOF_SCRATCH_LAYER_COLOR_COPY,
@@ -268,34 +269,28 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         return status;
 
     layer_stages st = ddof_layer_stages(q, plan);
-    if (on_device) {
-        layers_request device_q = *q;
-        device_q.base.color = diffused;
-        device_q.base.color_stride = diffused_stride;
-        /* With the element left for later, the device's run is the stages before it. */
-        const uint32_t element_stages = where.element ? 0 : ddof_element_stages(q, plan);
-        stage_share share = {r->progress, r->progress_user,
-                             (float)(st.count - element_stages) / (float)st.count};
-        if (r->progress && element_stages) {
-            device_q.base.progress = shared_progress;
-            device_q.base.progress_user = &share;
-        }
-        status = ddof_run_layers_on_device(context, &device_q, plan, where.element,
-                                           max_near_coc, report);
-        st.current = st.count - element_stages;
-    } else {
-        status = ddof_run_layers_on_cpu(context, q, plan, max_near_coc, diffused,
-                                        diffused_stride, &st, report);
+    layers_request layers_q = *q;
+    layers_q.base.color = diffused;
+    layers_q.base.color_stride = diffused_stride;
+    /* With the element left for later, the layers' run is the stages before it. */
+    const uint32_t element_stages = where.element ? 0 : ddof_element_stages(q, plan);
+    stage_share share = {r->progress, r->progress_user,
+                         (float)(st.count - element_stages) / (float)st.count};
+    if (r->progress && element_stages) {
+        layers_q.base.progress = shared_progress;
+        layers_q.base.progress_user = &share;
     }
-    if (status != DDOF_OK)
+    if ((status = ddof_run_layers(context, &layers_q, plan, where, max_near_coc, report)) !=
+        DDOF_OK)
         return status;
+    st.current = st.count - element_stages;
     if (plan->far_field && (status = ddof_pass_far_field(context, q, diffused, diffused_stride,
                                                          plan, report)) != DDOF_OK)
         return status;
     if ((status = split_and_draw(context, q, plan, pairs, color, color_stride, &highlights,
                                  report)) != DDOF_OK)
         return status;
-    /* The element goes over all of it (unless the device composited it already). */
+    /* The element goes over all of it (unless the layers' run composited it already). */
     if (plan->foreground && !where.element)
         return ddof_run_foreground_on_cpu(context, q, &st, report);
     return DDOF_OK;

@@ -334,8 +334,9 @@ static float *scratch(ddof_context *context, int slot, size_t floats, ddof_statu
 }
 
 /* Near spread: writes the spread CoC (w x h, 1 channel) into *spread_coc. The dilation runs on
- * the near pixels' box grown by the farthest any of them reaches (max_near / slope). */
-static ddof_status near_spread(ddof_context *context, const layers_request *q, float max_near,
+ * `b`: the near pixels' box grown by the farthest any of them reaches (max_near / slope,
+ * layers_dispatch.c). */
+static ddof_status near_spread(ddof_context *context, const layers_request *q, pixel_box b,
                                const float **spread_coc)
 {
     const adi_request *r = &q->base;
@@ -347,8 +348,6 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, f
         return status;
     pixel_job job = {.q = q, .a = d};
     ddof_parallel_rows(context, r->height, near_map_rows, &job);
-    const uint32_t reach = ddof_near_spread_reach_px(max_near);
-    const pixel_box b = box_grow(q->near_box, reach, r->width, r->height);
     if (!box_is_empty(b))
         ddof_cone_dilate(d + (size_t)b.y0 * r->width + b.x0, b.x1 - b.x0, b.y1 - b.y0, r->width,
                          DDOF_NEAR_SPREAD_SLOPE);
@@ -424,7 +423,16 @@ static ddof_status gather_element(ddof_context *context, const adi_request *blur
     return DDOF_OK;
 }
 
-static ddof_status foreground(ddof_context *context, const layers_request *q, layer_stages *st,
+/* What the element's blur does besides the diffusion, on the frame's settings: its own
+ * highlights and the far field's gather. Neither runs inside a run_layers request. */
+typedef struct element_extras {
+    int highlights;  /* find the element's highlights (params.highlights not off) */
+    float threshold; /* params.highlight_threshold                                */
+    int gather;      /* the far field gathers its blur (params.far_field not off)  */
+} element_extras;
+
+static ddof_status foreground(ddof_context *context, const layers_request *q,
+                              const element_extras *extras, layer_stages *st,
                               layers_report *report)
 {
     const adi_request *r = &q->base;
@@ -442,7 +450,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
      * premultiplied colour here, drawn into it after its blur. */
     highlight_set lights = {0};
     const float *element = premultiplied;
-    if (q->params->highlights != DDOF_LAYER_OFF) {
+    if (extras->highlights) {
         const double t0 = ddof_seconds();
         adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
         er.coc = q->fg.coc;
@@ -453,7 +461,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
             return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                              "could not allocate the highlight pass's %ux%u image", r->width,
                              r->height);
-        if ((status = ddof_find_highlights(context, &er, q->params->highlight_threshold, 0,
+        if ((status = ddof_find_highlights(context, &er, extras->threshold, 0,
                                            &q->aperture, 0, base, &lights)) != DDOF_OK)
             return status;
         if (lights.count)
@@ -488,7 +496,7 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
 
     /* Premultiplied colour and alpha spread together: coverage falls below 1. In place, unless
      * the far field gathers from the element afterwards. */
-    const int gather = q->params->far_field != DDOF_LAYER_OFF;
+    const int gather = extras->gather;
     if (gather && element == premultiplied) {
         float *copy = scratch(context, DDOF_SCRATCH_ELEMENT_SHARP, pixels * 4, &status);
         if (status != DDOF_OK)
@@ -530,13 +538,14 @@ static ddof_status foreground(ddof_context *context, const layers_request *q, la
 }
 
 /* The background layer's levels, blended into r->out near the edges where it changes
- * anything. `color` is what the midground diffused, `spread` the near-spread CoC or NULL. */
+ * anything. `color` is what the midground diffused, `spread` the near-spread CoC or NULL;
+ * the levels and their settings are the request's. */
 static ddof_status run_background(ddof_context *context, const layers_request *q,
-                                  const float *color, size_t color_stride, const float *spread,
-                                  layer_stages *st, layers_report *report)
+                                  const adi_layers_request *d, const float *color,
+                                  size_t color_stride, const float *spread, layer_stages *st,
+                                  layers_report *report)
 {
     const adi_request *r = &q->base;
-    const ddof_params *p = q->params;
     ddof_status status = DDOF_OK;
     const double t0 = ddof_seconds();
     /* The layer only changes pixels near its edges (where a far CoC meets an in-focus
@@ -544,10 +553,9 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
      * so the crop's insulated border never shows. Forced on without edges, it covers all. */
     const uint32_t reach =
         ddof_background_reach_px(r->disc, r->beta_scale, report->adi.max_coc,
-                                 p->background_threshold_px, p->background_levels);
-    pixel_box edges = q->background_box;
-    if (box_is_empty(edges))
-        edges = (pixel_box){0, 0, r->width, r->height};
+                                 d->background_threshold_px, d->background_levels);
+    const pixel_box edges = {d->background_edges.x0, d->background_edges.y0,
+                             d->background_edges.x1, d->background_edges.y1};
     const pixel_box area = box_grow(edges, 2 * reach, r->width, r->height);
     const pixel_box near = box_grow(edges, reach, r->width, r->height);
     const pixel_box blend = {near.x0 - area.x0, near.y0 - area.y0, near.x1 - area.x0,
@@ -556,10 +564,10 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     color += (size_t)area.y0 * color_stride + (size_t)area.x0 * r->channels;
     if (spread)
         spread += (size_t)area.y0 * r->width + area.x0;
-    for (uint32_t level = 0; level < p->background_levels; level++) {
-        const float threshold = ddof_background_threshold(p->background_threshold_px, level);
+    for (uint32_t level = 0; level < d->background_levels; level++) {
+        const float threshold = ddof_background_threshold(d->background_threshold_px, level);
         const float ramp_start =
-            ddof_background_ramp_start(threshold, level, p->background_ramp_start_px);
+            ddof_background_ramp_start(threshold, level, d->background_ramp_start_px);
         status = background_level(context, &sub, color, color_stride, ramp_start, threshold,
                                   ddof_background_blend_from(threshold, level), spread,
                                   r->width, blend, st, report);
@@ -584,30 +592,65 @@ layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
                               ddof_element_stages(q, plan)};
 }
 
-ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
-                                   const frame_plan *plan, float max_near_coc,
-                                   const float *diffused, size_t diffused_stride,
-                                   layer_stages *st, layers_report *report)
+/* The element (q->fg, its area `area`) blurred and composited over q->base.out. */
+static ddof_status element(ddof_context *context, const layers_request *q, pixel_box area,
+                           const element_extras *extras, layer_stages *st,
+                           layers_report *report)
 {
-    const adi_request *r = &q->base;
+    const double t0 = ddof_seconds();
+    const layers_request sub = crop(q, area);
+    const ddof_status status = foreground(context, &sub, extras, st, report);
+    if (status != DDOF_OK)
+        return status;
+    report->effects |= DDOF_EFFECT_FOREGROUND;
+    report->seconds_foreground += ddof_seconds() - t0;
+    return DDOF_OK;
+}
+
+static pixel_box pixel_box_of(adi_box b)
+{
+    return (pixel_box){b.x0, b.y0, b.x1, b.y1};
+}
+
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_request *d,
+                                   adi_layers_report *out)
+{
+    const adi_request *r = &d->base;
+    layers_request q = {.base = *r};
+    layers_report report = {0};
+    layer_stages st = {r->progress, r->progress_user, 0,
+                       1 + 2 * d->background_levels + (d->fg_color ? 3u : 0u)};
     ddof_status status;
     adi_request mid = *r;
-    mid.color = diffused;
-    mid.color_stride = diffused_stride;
     const float *spread = NULL;
-    if (plan->near_spread) {
+    if (d->near_spread) {
         const double t0 = ddof_seconds();
-        if ((status = near_spread(context, q, max_near_coc, &spread)) != DDOF_OK)
+        if ((status = near_spread(context, &q, pixel_box_of(d->near_dilate), &spread)) !=
+            DDOF_OK)
             return status;
         use_maps(&mid, spread, NULL);
-        report->effects |= DDOF_EFFECT_NEAR_SPREAD;
-        report->seconds_foreground += ddof_seconds() - t0;
+        report.seconds_foreground += ddof_seconds() - t0;
     }
-    if ((status = diffuse(context, &mid, st, report)) != DDOF_OK)
+    if ((status = diffuse(context, &mid, &st, &report)) != DDOF_OK)
         return status;
-    report->effects |= DDOF_EFFECT_MIDGROUND;
-    if (plan->background)
-        return run_background(context, q, diffused, diffused_stride, spread, st, report);
+    if (d->background_levels &&
+        (status = run_background(context, &q, d, r->color, r->color_stride, spread, &st,
+                                 &report)) != DDOF_OK)
+        return status;
+    if (d->fg_color) {
+        q.fg = (layers_element){.color = d->fg_color, .color_stride = d->fg_color_stride,
+                                .coc = d->fg_coc, .coc_stride = d->fg_coc_stride,
+                                .coc_channels = d->fg_coc_channels,
+                                .premultiplied = (int)d->fg_premultiplied,
+                                .max_coc = d->fg_max_coc};
+        const element_extras none = {0};
+        if ((status = element(context, &q, pixel_box_of(d->fg_area), &none, &st, &report)) !=
+            DDOF_OK)
+            return status;
+    }
+    *out = (adi_layers_report){.adi = report.adi,
+                               .seconds_background = report.seconds_background,
+                               .seconds_foreground = report.seconds_foreground};
     return DDOF_OK;
 }
 
@@ -615,15 +658,12 @@ ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_reque
                                        layer_stages *st, layers_report *report)
 {
     const adi_request *r = &q->base;
-    const double t0 = ddof_seconds();
+    const ddof_params *p = q->params;
+    const element_extras extras = {.highlights = p->highlights != DDOF_LAYER_OFF,
+                                   .threshold = p->highlight_threshold,
+                                   .gather = p->far_field != DDOF_LAYER_OFF};
     /* The element's blur reaches no further than its largest CoC carries. */
     const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
-    const pixel_box area = box_grow(q->fg.box, reach, r->width, r->height);
-    const layers_request sub = crop(q, area);
-    const ddof_status status = foreground(context, &sub, st, report);
-    if (status != DDOF_OK)
-        return status;
-    report->effects |= DDOF_EFFECT_FOREGROUND;
-    report->seconds_foreground += ddof_seconds() - t0;
-    return DDOF_OK;
+    return element(context, q, box_grow(q->fg.box, reach, r->width, r->height), &extras, st,
+                   report);
 }

@@ -62,24 +62,26 @@ layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan);
 /* Of those, the foreground element's (0 without one). */
 uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan);
 
-/* The layers behind the foreground element on the CPU (each diffusion on the context's
- * backend, one at a time): the near spread, the midground of `diffused` and the background
- * levels, into q->base.out. out is written only after every check has passed (the caller's
- * job), and on error its contents are finite but unspecified. */
-ddof_status ddof_run_layers_on_cpu(ddof_context *context, const layers_request *q,
-                                   const frame_plan *plan, float max_near_coc,
-                                   const float *diffused, size_t diffused_stride,
-                                   layer_stages *st, layers_report *report);
+/* The seam's run_layers on the CPU (the CPU table's entry, cpu/backend_cpu.c): the request's
+ * layers as the device runs them (the near spread, the midground, the background levels, the
+ * element's blur and composite where it carries one), each diffusion through the dispatch, on
+ * the CPU or on the context's device one request at a time. out is written only after every
+ * check has passed (the caller's job), and on error its contents are finite but unspecified. */
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_request *request,
+                                   adi_layers_report *report);
 
-/* The foreground element blurred and composited over q->base.out, on the CPU. */
+/* The foreground element blurred and composited over q->base.out by the CPU's steps, with
+ * what a request cannot ask for: its own highlights and the far field's gather (q->params),
+ * and the part of the frame's alpha it may carry. */
 ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
                                        layer_stages *st, layers_report *report);
 
-/* Every layer of the plan on the context's device in one run (layers_device.c, the seam's
- * run_layers), of q->base.color; with `element`, the plan's foreground element blurred and
- * composited last in it, else left for ddof_run_foreground_on_cpu. */
-ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
-                                      const frame_plan *plan, int element, float max_near_coc,
-                                      layers_report *report);
+/* Every layer of the plan as the seam's request (layers_dispatch.c), of q->base.color, on the
+ * backend the planner chose (where.device: the context's device, else the CPU's table); the
+ * plan's foreground element blurred and composited last in it where where.element says so,
+ * else left for ddof_run_foreground_on_cpu. */
+ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
+                            const frame_plan *plan, layers_placement where, float max_near_coc,
+                            layers_report *report);
 
 #endif

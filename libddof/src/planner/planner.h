@@ -66,23 +66,23 @@ typedef struct layers_device_facts {
     int element_bright;       /* the element holds a pixel the highlight pass would take      */
 } layers_device_facts;
 
-/* Where a planned frame's layers run. The element is composited last, over every pass; the
- * device's run_layers can only composite it at the end of the layers, so it takes the element
- * only where no pass runs between them. */
+/* Where a planned frame's layers run. The element is composited last, over every pass; a
+ * run_layers request can only composite it at the end of the layers, so the request takes the
+ * element only where no pass runs between them. */
 typedef struct layers_placement {
     int device;  /* the layers on the context's device (its run_layers), else the CPU's      */
     int element; /* the element blurred and composited inside that run_layers; else after
                   * the passes, by the CPU's steps (its diffusions on the context's backend) */
 } layers_placement;
 
-/* Decides the placement: on the device whenever facts->device names one; the element with
- * it unless something must come between the layers and the element's composite or the device
- * cannot do the element's part: the highlights (the frame's, which go under the element, and
- * the element's own, drawn into it), the far field and the silhouettes (under it), the far
- * field's gather of the element itself (whenever params allow the far field: the element's
- * CoC may call for it where the frame's does not), an element carrying part of the frame's
- * alpha. Says
- * which and why in the plan when there is a device (a CPU context's plan has no such line). */
+/* Decides the placement: on the device whenever facts->device names one, else on the CPU's
+ * table; the element inside that run, on either, unless something must come between the
+ * layers and the element's composite or a request cannot ask for the element's part: the
+ * highlights (the frame's, which go under the element, and the element's own, drawn into it),
+ * the far field and the silhouettes (under it), the far field's gather of the element itself
+ * (whenever params allow the far field: the element's CoC may call for it where the frame's
+ * does not), an element carrying part of the frame's alpha. Says which and why in the plan
+ * when there is a device (the CPU's layers add no line). */
 layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
                                          const layers_device_facts *facts);
 

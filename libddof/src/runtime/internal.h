@@ -85,6 +85,10 @@ typedef struct ddof_backend_state {
 struct ddof_context {
     ddof_allocator allocator;
     ddof_backend_state backend;
+    /* The CPU's table (cpu/backend_cpu.c), set when the context is created: what runs a
+     * request the device does not take, and what a context without a device runs. The
+     * dispatch (backends/) reaches it only through here: the CPU's layers are a part above. */
+    const struct ddof_backend_table *cpu;
     thread_pool *pool;      /* NULL when the context works on the caller's thread only */
     uint32_t thread_count;  /* workers + the caller                                    */
     ddof_scratch scratch[DDOF_SCRATCH_COUNT];

@@ -1,16 +1,14 @@
 /* SPDX-License-Identifier: MIT */
-/* backend_cpu.c - the CPU as a backend: the core's solvers behind the seam's table, as the GL
- * plugin's are, so that backend.c has one dispatch for both. Its device is the context itself
- * (its threads and scratch); it opens nothing. It runs the double references too, on every
- * backend: those are the core's measure of the others. */
-#include "backend.h"
+/* backend_cpu.c - the CPU as a backend: the core's solvers and layers behind the seam's table,
+ * as the GL plugin's are, so that backends/backend.c has one dispatch for both. Its device is
+ * the context itself (its threads and scratch); it opens nothing. It runs the double
+ * references too, on every backend: those are the core's measure of the others. */
+#include "backend_cpu.h"
+
+#include "adi/adi.h"
+#include "layers/layers.h"
 
 #include <stdio.h>
-
-ddof_device *ddof_cpu_device(ddof_context *context)
-{
-    return (ddof_device *)context;
-}
 
 static ddof_context *context_of(const ddof_device *device)
 {
@@ -54,6 +52,17 @@ static int cpu_supports_disc(const ddof_device *device)
     return 1;
 }
 
+/* The layers' steps of layers.c, each diffusion through the dispatch (on the CPU, or on the
+ * context's device one request at a time where it takes the request); failures are recorded
+ * in the context by the steps themselves. */
+static ddof_status cpu_run_layers(ddof_device *device, const adi_layers_request *request,
+                                  adi_layers_report *report, char *message, size_t message_size)
+{
+    (void)message;
+    (void)message_size;
+    return ddof_run_layers_on_cpu(context_of(device), request, report);
+}
+
 const ddof_backend_table ddof_cpu_backend = {
     .abi = DDOF_BACKEND_ABI,
     .table_size = sizeof(ddof_backend_table),
@@ -63,6 +72,6 @@ const ddof_backend_table ddof_cpu_backend = {
     .supports = cpu_supports,
     .run = cpu_run,
     .supports_disc = cpu_supports_disc,
-    .run_layers = NULL,   /* the core's frame runner runs the CPU's layers (layers.c) */
+    .run_layers = cpu_run_layers,
     .render_cards = NULL, /* the core draws the cards itself (cards_draw.c) */
 };

@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* layers_device.c - a planned frame's layers handed whole to the device (the seam's
- * run_layers): the plan's switches and the areas the CPU's layers would use. */
+/* layers_dispatch.c - a planned frame's layers handed whole to a backend as the seam's
+ * run_layers request: the plan's switches and the areas the layers' steps use. */
 #include "layers.h"
 
 #include "backends/backend.h"
@@ -13,12 +13,13 @@ static adi_box seam_box(pixel_box b)
     return (adi_box){b.x0, b.y0, b.x1, b.y1};
 }
 
-/* The plan and the areas layers.c would use, handed to the device's run_layers, which runs
- * the same steps there (gl/gl_layers.c): one upload, one read-back. The background's
- * area depends on the midground's largest CoC, so the device grows its edges itself. */
-ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_request *q,
-                                      const frame_plan *plan, int element, float max_near_coc,
-                                      layers_report *report)
+/* The plan and the areas layers.c uses, handed to a backend's run_layers, which runs the same
+ * steps: the CPU's (layers.c) or the device's (gl/gl_layers.c: one upload, one read-back).
+ * The background's area depends on the midground's largest CoC, so the backend grows its
+ * edges itself. */
+ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
+                            const frame_plan *plan, layers_placement where, float max_near_coc,
+                            layers_report *report)
 {
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
@@ -36,7 +37,7 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_reques
         d.background_edges = seam_box(box_is_empty(edges) ? (pixel_box){0, 0, r->width, r->height}
                                                           : edges);
     }
-    if (element) {
+    if (where.element) {
         d.fg_color = q->fg.color;
         d.fg_color_stride = q->fg.color_stride;
         d.fg_coc = q->fg.coc;
@@ -48,15 +49,15 @@ ddof_status ddof_run_layers_on_device(ddof_context *context, const layers_reques
         d.fg_area = seam_box(box_grow(q->fg.box, reach, r->width, r->height));
     }
     adi_layers_report a;
-    const ddof_status status = ddof_backend_run_layers(context, &d, &a);
+    const ddof_status status = ddof_backend_run_layers(context, where.device, &d, &a);
     if (status != DDOF_OK)
         return status;
     report->adi = a.adi;
     report->seconds_background = a.seconds_background;
     report->seconds_foreground = a.seconds_foreground;
-    report->effects = DDOF_EFFECT_MIDGROUND |
+    report->effects |= DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
-                      (element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
+                      (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
     return DDOF_OK;
 }
