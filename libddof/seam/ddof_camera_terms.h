@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* ddof_camera_terms.h - a camera's CoC reduced to a few numbers per frame, shared by the core's
  * CPU pass (libddof/src/camera/coc.c) and the GL plugin's device pass
- * (shaders/host_pack.comp through ddof_gl_host_diffuse_depth), so both sides compute one CoC
+ * (plugin/gl/host_pack.comp through ddof_gl_host_diffuse_depth), so both sides compute one CoC
  * from one formula.
  *
  * Both lens models reduce to d = k_px * |1 - S1 / Z| pixels, which is 0 at the focus plane and

@@ -4,9 +4,11 @@
  * itself: upload, ADI (heat or disc kernel), read back, with the device's context current only
  * for the call; run_layers and render_cards the same bracket around gl_layers.c and
  * gl_cards.c. */
+#include "gl_adi.h"
 #include "gl_cards.h"
 #include "gl_io.h"
 #include "gl_layers.h"
+#include "gl_solvers.h"
 
 #include <stdio.h>
 #include <string.h>

@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_programs.c - building the compute programs from the embedded shader sources.
  *
- * A program's source is "#version 450", its defines, shaders/prelude.glsl, then (solver
+ * A program's source is "#version 450", its defines, prelude.glsl, then (solver
  * kernels) line.glsl and (reduction kernels) pyramid.glsl, then the kernel itself. */
 #include "gl_programs.h"
 

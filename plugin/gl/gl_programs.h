@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* gl_programs.h - the compute programs, built from the embedded shaders/ sources on first use
+/* gl_programs.h - the compute programs, built from the embedded GLSL sources (this folder's
+ * and the parts' gl/) on first use
  * (compiling all of them up front would cost a second on llvmpipe for solvers never run). */
 #ifndef DDOF_GL_PROGRAMS_H
 #define DDOF_GL_PROGRAMS_H
@@ -53,7 +54,7 @@ GLuint gl_programs_get(const gl_functions *gl, gl_programs *programs, gl_program
                        char *message, size_t message_size);
 void gl_programs_free(const gl_functions *gl, gl_programs *programs);
 
-/* The text of an embedded shaders/ file, or NULL when there is none of that name. */
+/* The text of an embedded GLSL file, or NULL when there is none of that name. */
 const char *gl_shader_text(const char *name);
 
 /* A shader of `kind` from `count` parts of source, or 0 with a sentence in message: a part is

@@ -1,7 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* gl_solve.h - one diffusion on the GPU: the ADI driver (gl_solve.c) and the line solvers
- * behind it (gl_solvers.c). Input and output stages are separate (gl_io.c for host memory,
- * host_api.c for a host's textures), so both share everything in between. */
+/* gl_solve.h - what one diffusion on the GPU is made of and what its stages share (gl_solve.c):
+ * the packed images' description, a pass, the analysis up front, binding and dispatch. The ADI
+ * drivers are libddof/src/adi/gl (gl_adi.h), the line solvers behind them
+ * libddof/src/solvers/gl (gl_solvers.h). Input and output stages are separate (gl_io.c for
+ * host memory, host_api.c for a host's textures), so both share everything in between. */
 #ifndef DDOF_GL_SOLVE_H
 #define DDOF_GL_SOLVE_H
 
@@ -31,19 +33,6 @@ typedef struct gl_pass {
     uint32_t flag_bit; /* 1 rows, 2 columns; 0 without heat capacities */
     GLuint src, dst;   /* vec4 images                                  */
 } gl_pass;
-
-/* The heat kernel on the packed images, the result in IMAGE_A (gl_heat.c). */
-ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
-                       char *message, size_t message_size);
-
-/* The disc kernel (d->disc, Thomas only) on the same packed images, the result again in
- * IMAGE_A (gl_lens.c). */
-/* The range per channel of the request's input as the disc reads it (0 where gamma is 0),
- * which the disc kernel clamps its result to (libddof/src/lens_adi.c); unused channels get
- * the whole float range. */
-void gl_lens_input_range(const adi_request *r, float lo[4], float hi[4]);
-ddof_status gl_lens_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
-                            char *message, size_t message_size);
 
 /* The two directions of a diffusion over d's images: the rows (IMAGE_A to IMAGE_B), then the
  * columns (back), beta scaled by the row scale along the rows and by pixel_aspect^2 more along
@@ -76,13 +65,6 @@ void gl_pass_timed(const gl_functions *gl, adi_report *report, int axis, double 
 
 /* A monotonic clock in seconds (the report's pass times). */
 double gl_seconds(void);
-
-/* Solves every line of a pass with d->solver; 0 with a sentence in message on failure. */
-int gl_solve_pass(ddof_device *device, const gl_diffusion *d, const gl_pass *pass,
-                  char *message, size_t message_size);
-
-/* Whether the GPU solvers cover this solver and precision. */
-int gl_solver_supported(ddof_solver solver, ddof_precision precision);
 
 /* Dispatch helpers shared by the stages: `invocations` threads of `local` each (2D beyond the
  * 65535-group limit), then a storage barrier. */

@@ -8,7 +8,8 @@
 #include "ddof_camera_terms.h"
 #include "ddof_output_struct.h"
 #include "ddof_param_rules.h"
-#include "gl_solve.h"
+#include "gl_adi.h"
+#include "gl_solvers.h"
 
 #include <stddef.h>
 #include <stdio.h>

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* test_gl_disc.c - the disc kernel on a GL backend (plugin/gl/gl_lens.c, lens_thomas.comp)
+/* test_gl_disc.c - the disc kernel on a GL backend (libddof/src/adi/gl/gl_lens.c, lens_thomas.comp)
  * against the CPU's (libddof/src/adi/lens_adi.c): ddof_diffuse on random CoC with in-focus pixels
  * (every kernel, 1..4 channels, a pixel aspect, in place, CoC 0 next to CoC 10,000, lines of
  * one pixel, cancelled), ddof_diffuse_layers with the

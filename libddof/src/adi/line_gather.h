@@ -56,7 +56,7 @@ static inline int pass_progress(void *user, uint32_t done, uint32_t total)
  * kernel's floor (FLT_MIN for the heat kernel, DDOF_LENS_MIN_LINK for the disc kernel: one
  * meaning of "no link" for its solver) and 0 where the smaller |CoC| is below the in-focus
  * threshold, i.e. where one of the two pixels counts as in focus. Each kernel multiplies in
- * its own order, which the GL shaders repeat (shaders/line.glsl), so both sides agree bit for
+ * its own order, which the GL shaders repeat (solvers/gl/line.glsl), so both sides agree bit for
  * bit. A product with 0 or 1 rather than a select: GCC does not if-convert a float select under
  * -ftrapping-math, and the links' loops would stay scalar. */
 static inline float link_conductance(float scale, float in_focus_px, float coc_a, float coc_b,

@@ -18,7 +18,7 @@
  *
  * The pyramid of reduced levels is laid out [row][line]; when a whole pass's pyramid would
  * exceed the renderer's storage-block limit, the lines are solved in batches. */
-#include "gl_solve.h"
+#include "gl_solvers.h"
 
 #include <stdio.h>
 

@@ -1,5 +1,5 @@
 /* SPDX-License-Identifier: MIT */
-/* gl_lens.c - the disc kernel (libddof/src/disc_kernel.h) on the GPU, with the CPU driver's
+/* gl_lens.c - the disc kernel (libddof/src/disc/disc_kernel.h) on the GPU, with the CPU driver's
  * semantics (libddof/src/lens_adi.c): per component c, a row pass runs the component's chain of
  * complex steps from the masked colour (IMAGE_A) into the complex image T_c (IMAGE_B real,
  * IMAGE_C imaginary), then a column pass runs the chain on T_c and folds Z_c into the output,
@@ -9,7 +9,7 @@
  * upload to the read-back. Links are the disc kernel's (min |CoC|^2, columns times aspect^2, 0
  * below DDOF_LENS_MIN_LINK), so the analysis runs with those too: its conductive lines are the
  * report's and its singular runs are the ones the chain keeps. */
-#include "gl_solve.h"
+#include "gl_adi.h"
 
 #include <float.h>
 #include <stdio.h>

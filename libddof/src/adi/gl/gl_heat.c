@@ -3,7 +3,8 @@
  * with the CPU path's semantics (libddof/src/adi/heat_adi.c): beta from the smaller |CoC| of a
  * link, scaled by k / substeps (columns also by pixel_aspect^2), insulated borders, singular
  * runs kept, progress between passes. A call with nothing conductive solves nothing. */
-#include "gl_solve.h"
+#include "gl_adi.h"
+#include "gl_solvers.h"
 
 ddof_status gl_diffuse(ddof_device *device, const gl_diffusion *d, adi_report *report,
                        char *message, size_t message_size)
