@@ -11,7 +11,7 @@ import os
 import sys
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
-TOP_DIRS = ("libddof", "plugin", "shaders", "blender_addon", "tests", "study", "scripts",
+TOP_DIRS = ("libddof", "plugin", "blender_addon", "tests", "study", "scripts",
             "fuzz", ".ci")
 GPL_DIRS = ("blender_addon", "tests/blender", "tests/bpy")
 SKIP_DIRS = {".git", "build", "__pycache__", "corpus", "known"}
