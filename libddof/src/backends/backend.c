@@ -273,9 +273,9 @@ ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_
     ddof_status status = t->run(device, request, report, why, sizeof why);
     if (status != DDOF_OK)
         return failed(context, status, why);
-    if (status == DDOF_OK && max_coc >= 0.0f)
+    if (max_coc >= 0.0f)
         report->max_coc = max_coc;
-    return status;
+    return DDOF_OK;
 }
 
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)

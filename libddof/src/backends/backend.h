@@ -10,7 +10,6 @@
 
 #include "adi/adi.h"
 
-
 /* Runs one diffusion on the backend that takes it: the context's loaded device, else the CPU
  * (the double reference always, and a disc kernel the device does not run). */
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report);
