@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* test_planner_device.c - where a planned frame's layers run (ddof_plan_layers_device): on the
  * device whenever the context's device takes the frame, else on the CPU's table; the
- * foreground element composited inside that run, on either, only where no pass goes between the layers and the element (the far
- * field, the silhouettes, the highlights drawn under it or into it), the far field does not
- * gather the element itself and the element carries no part of the frame's alpha; else after
- * the passes. The plan says which and why on a device,
+ * foreground element composited inside that run, on either, only where no pass goes between
+ * the layers and the element (the far field, the silhouettes, the highlights drawn under it
+ * or into it), the far field does not gather the element itself and the element carries no
+ * part of the frame's alpha; else after the passes. The plan says which and why on a device,
  * nothing on the CPU. The whole frames behind each case are tests/gl/test_gl_frame.c's. */
 #include "planner/planner.h"
 #include "test_util.h"

@@ -7,9 +7,9 @@
  * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
  * upload and one read-back). The CPU is a table of the same shape inside the core
  * (libddof/src/cpu/backend_cpu.c: its run_layers is the core's layers.c, each diffusion
- * through the dispatch); the GL backends live in the plugin library libddof_gl (plugin/gl, with each
- * part's GL code from libddof/src/PART/gl), which the core loads with dlopen(RTLD_LOCAL) and
- * asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be
+ * through the dispatch); the GL backends live in the plugin library libddof_gl (plugin/gl,
+ * with each part's GL code from libddof/src/PART/gl), which the core loads with
+ * dlopen(RTLD_LOCAL) and asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be
  * mixed up on disk, so the table carries an ABI number and its size, both checked before use.
  *
  * Everything a backend may rely on is in this header, ddof_layer_rules.h and ddof.h; a backend

@@ -2,7 +2,8 @@
 /* ddof_layer_rules.h - the layers' arithmetic that the core (libddof/src/layers/layers.c and
  * layers_dispatch.c) and a device running whole layered frames (the GL module's
  * libddof/src/layers/gl/gl_layers.c) must share to the bit: how a box grows, how far a kernel
- * carries a CoC, and the background layer's levels. Header-only, so that each side compiles the same expressions. */
+ * carries a CoC, and the background layer's levels. Header-only, so that each side compiles
+ * the same expressions. */
 #ifndef DDOF_LAYER_RULES_H
 #define DDOF_LAYER_RULES_H
 

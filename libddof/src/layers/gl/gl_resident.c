@@ -1,8 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_resident.c - one diffusion whose images already lie in device buffers (gl_layers.c's
  * maps and layers): pack.comp reads them at an offset with their strides, as it reads an
- * upload, the ADI driver (gl_heat.c or gl_lens.c, libddof/src/adi/gl) runs on the packed images, and unpack.comp
- * writes the result at an offset of another (or the same) buffer. Nothing crosses to the host
+ * upload, the ADI driver (gl_heat.c or gl_lens.c, libddof/src/adi/gl) runs on the packed
+ * images, and unpack.comp writes the result at an offset of another (or the same) buffer. Nothing crosses to the host
  * but the analysis' counters and, for the disc kernel, its clamp range (range.comp), a few
  * bytes each. */
 #include "gl_layers.h"
