@@ -76,8 +76,7 @@ typedef struct adi_request {
     void *progress_user;
     /* |CoC| below this (read from `coc`; a uniform CoC is the layers' own fill and is never
      * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device
-     * applies it as the CPU does (the GL plugin: pack.comp); report.max_coc may be measured
-     * after it, the core keeps the figure from before (backend.c). */
+     * applies it as the CPU does (the GL plugin: pack.comp). */
     float in_focus_px;
 } adi_request;
 
@@ -93,7 +92,7 @@ typedef struct adi_report {
     uint64_t lines_skipped;
     uint32_t substeps_run; /* 0 when nothing conducted (output is a copy) */
     uint32_t threads;
-    float max_coc;
+    float max_coc; /* ABI 4: the largest |CoC| of the request before the in-focus cut */
     double seconds_rows;
     double seconds_columns;
     uint64_t device_bytes; /* GL: peak GPU memory of the call; 0 on the CPU */
@@ -177,7 +176,7 @@ typedef struct adi_cards_request {
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 3
+#define DDOF_BACKEND_ABI 4
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */

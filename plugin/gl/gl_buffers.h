@@ -20,7 +20,7 @@ typedef enum gl_buffer_slot {
     GL_BUF_WEIGHTS,   /* Thomas' back-substitution weights     */
     GL_BUF_RUNNING,   /* the disc kernel's output so far       */
     GL_BUF_PYRAMID,   /* reduced levels (CR, hybrid, Gruen)    */
-    GL_BUF_COUNTERS,  /* active rows, columns, max CoC         */
+    GL_BUF_COUNTERS,  /* active rows, columns, largest |CoC|   */
     GL_BUF_DUMMY,     /* bound where a kernel reads nothing    */
     GL_BUF_RANGE,     /* the disc's clamp range (8 uint keys)  */
     GL_BUF_FRAME,     /* a layered frame's one upload          */

@@ -89,6 +89,8 @@ int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_
     gl_uniform_u(gl, pack, "u_has_gamma", r->gamma != NULL);
     gl_uniform_u(gl, pack, "u_gamma_stride", (GLuint)r->gamma_stride);
     gl_uniform_u(gl, pack, "u_gamma_channels", r->gamma_channels);
+    if (!gl_largest_reset(device, message, size))
+        return 0;
     gl->UseProgram(pack);
     gl_dispatch(gl, pixels, 256);
     return 1;

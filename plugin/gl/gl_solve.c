@@ -73,6 +73,19 @@ void gl_pass_uniforms(const gl_functions *gl, GLuint program, const gl_pass *pas
     gl_uniform_u(gl, program, "u_flag_bit", pass->flag_bit);
 }
 
+int gl_largest_reset(ddof_device *device, char *message, size_t message_size)
+{
+    const gl_functions *gl = &device->gl;
+    GLuint counters = gl_need(device, GL_BUF_COUNTERS, 16, message, message_size);
+    if (!counters)
+        return 0;
+    const GLuint zero = 0;
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
+    gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 2 * sizeof zero, sizeof zero, &zero);
+    gl_bind(gl, 3, counters);
+    return 1;
+}
+
 /* Runs analyse.comp over one direction. */
 static void analyse(ddof_device *device, GLuint program, const gl_diffusion *d,
                     const gl_pass *pass, GLuint counter)
@@ -99,7 +112,7 @@ int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d, flo
     if (!dummy || !counters || !flags || !program)
         return 0;
     lay_out(device, d, row_scale, directions);
-    const GLuint zero[4] = {0, 0, 0, 0};
+    const GLuint zero[2] = {0, 0}; /* [2] is the packing's (gl_largest_reset) */
     gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
     gl->BufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof zero, zero);
     gl_bind(gl, 0, device->buffers.name[GL_BUF_COC]);
@@ -109,7 +122,9 @@ int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d, flo
     analyse(device, program, d, &directions->along[0], 0);
     analyse(device, program, d, &directions->along[1], 1);
     gl->MemoryBarrier(GL_BUFFER_UPDATE_BARRIER_BIT);
-    GLuint counted[4]; /* conductive rows, conductive columns, the largest CoC's bits */
+    /* conductive rows, conductive columns, the largest |CoC|'s bits before the in-focus cut
+     * (the packing's: the report's, as the CPU's solvers measure it) */
+    GLuint counted[3];
     gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, counters);
     gl->GetBufferSubData(GL_SHADER_STORAGE_BUFFER, 0, sizeof counted, counted);
     float max_coc;

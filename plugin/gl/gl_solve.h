@@ -42,9 +42,14 @@ typedef struct gl_directions {
     uint64_t active;
 } gl_directions;
 
+/* Zeroes the largest |CoC| that the packing stage (pack.comp, host_pack.comp) then measures,
+ * and binds it where they write it (binding 3): call before each packing. 0 with a sentence in
+ * message on failure. */
+int gl_largest_reset(ddof_device *device, char *message, size_t message_size);
+
 /* Lays out d's directions with row_scale and runs program `id` (analyse.comp, heat or disc
  * links) on them, which with heat capacities also marks the singular runs in FLAGS; starts the
- * report with what it finds (one thread, the largest CoC). IMAGE_B must be allocated. 0 with a
+ * report with what it finds (one thread, the largest |CoC| the packing measured). IMAGE_B must be allocated. 0 with a
  * sentence in message on failure. */
 int gl_analyse(ddof_device *device, gl_program_id id, const gl_diffusion *d, float row_scale,
                gl_directions *directions, adi_report *report, char *message,

@@ -204,6 +204,8 @@ static ddof_status host_stages(ddof_device *device, const gl_diffusion *d, float
     gl_uniform_f(gl, pack, "u_in_focus", in_focus);
     if (depth_terms && !set_depth_terms(device, pack, depth_terms, message, size))
         return DDOF_ERROR_BACKEND_FAILED;
+    if (!gl_largest_reset(device, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
     gl->UseProgram(pack);
     gl->DispatchCompute((d->width + 15) / 16, (d->height + 15) / 16, 1);
     gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);

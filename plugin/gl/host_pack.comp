@@ -10,6 +10,7 @@
 layout(local_size_x = 16, local_size_y = 16) in;
 
 layout(std430, binding = 0) writeonly buffer CocOut { float coc_out[]; };
+layout(std430, binding = 3) buffer Counters { uint counters[]; }; // [2]: the largest |CoC|
 layout(std430, binding = 4) writeonly buffer ValueOut { vec4 value_out[]; };
 
 layout(binding = 0) uniform sampler2D u_color;
@@ -45,11 +46,11 @@ float coc_from_depth(uvec2 xy)
 }
 #endif
 
-void main()
+shared uint group_largest;
+
+// Pixel xy's colour and CoC packed; its |CoC| before the in-focus cut is returned.
+float pack(uvec2 xy)
 {
-    uvec2 xy = gl_GlobalInvocationID.xy;
-    if (xy.x >= u_width || xy.y >= u_height)
-        return;
     uint p = xy.y * u_width + xy.x;
     value_out[p] = texelFetch(u_color, ivec2(xy), 0);
 #ifdef FROM_DEPTH
@@ -62,4 +63,19 @@ void main()
     float d = abs(texelFetch(u_coc, ivec2(xy), 0).x);
 #endif
     coc_out[p] = d >= u_in_focus ? d : 0.0;
+    return d;
+}
+
+// The largest |CoC| before the cut goes to counters[2], one atomic a group (pack.comp's rule).
+void main()
+{
+    uvec2 xy = gl_GlobalInvocationID.xy;
+    if (gl_LocalInvocationIndex == 0u)
+        group_largest = 0u;
+    barrier();
+    if (xy.x < u_width && xy.y < u_height)
+        atomicMax(group_largest, floatBitsToUint(pack(xy)));
+    barrier();
+    if (gl_LocalInvocationIndex == 0u)
+        atomicMax(counters[2], group_largest);
 }

@@ -390,6 +390,31 @@ static void test_host_context(void)
         CHECK_MSG(e0 <= 1e-5, "host %s, threshold 0: max error %.3g",
                   ddof_solver_name(solvers[k]), e0);
     }
+    /* Every CoC below the in-focus threshold: nothing conducts, and the largest CoC reported is
+     * the one before the cut, as ddof_diffuse reports it (the host's path said 0 before). */
+    if (gl_host) {
+        float *below = malloc((size_t)W * H * sizeof *below);
+        for (size_t i = 0; i < (size_t)W * H; i++)
+            below[i] = 0.01f * coc[i]; /* |CoC| <= 0.25 px, the threshold 0.5 */
+        float largest = 0.0f;
+        for (size_t i = 0; i < (size_t)W * H; i++)
+            largest = fabsf(below[i]) > largest ? fabsf(below[i]) : largest;
+        bind_texture(GL_TEXTURE_2D, tex[1]);
+        tex_sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED, GL_FLOAT, below);
+        p = params_for(DDOF_SOLVER_THOMAS, 1);
+        st = stats_init();
+        CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, &st), DDOF_OK);
+        CHECK_MSG(st.max_coc_px == largest && largest > 0.0f,
+                  "host, CoC below the threshold: max_coc_px %.9g, wanted %.9g",
+                  (double)st.max_coc_px, (double)largest);
+        /* ddof_diffuse on the host's context: the device reports it, as the CPU does. */
+        st = stats_init();
+        CHECK_EQ_INT(diffuse(ctx, &p, color, below, out, W, H, CH, &st), DDOF_OK);
+        CHECK_MSG(st.max_coc_px == largest, "ddof_diffuse, CoC below the threshold: %.9g",
+                  (double)st.max_coc_px);
+        tex_sub_image(GL_TEXTURE_2D, 0, 0, 0, W, H, GL_RED, GL_FLOAT, coc);
+        free(below);
+    }
     /* A threshold outside 0..DDOF_MAX_COC_PX is refused, as by ddof_diffuse. */
     p.in_focus_threshold_px = -1.0f;
     CHECK_EQ_INT(host_diffuse(gl_host, &p, tex[0], tex[1], tex[2], W, H, NULL),

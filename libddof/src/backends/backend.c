@@ -228,54 +228,14 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
     return DDOF_OK;
 }
 
-typedef struct largest_job {
-    const adi_request *r;
-    float *chunk_max; /* the largest |CoC| per row chunk */
-} largest_job;
-
-static void largest_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
-{
-    const largest_job *job = user;
-    const adi_request *r = job->r;
-    float m = 0.0f;
-    for (uint32_t y = y0; y < y1; y++) {
-        const float *src = r->coc + (size_t)y * r->coc_stride;
-        for (uint32_t x = 0; x < r->width; x++)
-            m = ddof_maxf(m, fabsf(src[(size_t)x * r->coc_channels]));
-    }
-    job->chunk_max[chunk] = m;
-}
-
-/* The request's largest |CoC|. A device applies the in-focus threshold itself (pack.comp: a
- * |CoC| below it conducts as 0, as on the CPU) but measures the CoC after it; the stats and the
- * background layer's reach take the largest from before it, as the CPU's solvers report it. */
-static float largest_coc(ddof_context *context, const adi_request *r)
-{
-    enum { max_chunks = (DDOF_MAX_DIMENSION + DDOF_ROWS_PER_CHUNK - 1) / DDOF_ROWS_PER_CHUNK };
-    float chunk_max[max_chunks];
-    largest_job job = {r, chunk_max};
-    ddof_parallel_rows(context, r->height, largest_rows, &job);
-    float m = 0.0f;
-    for (uint32_t c = 0; c < ddof_row_chunks(r->height); c++)
-        m = ddof_maxf(m, chunk_max[c]);
-    return m;
-}
-
 ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_report *report)
 {
     ddof_device *device;
     const ddof_backend_table *t = runner(context, request->solver, request->disc != NULL, &device);
-    const float max_coc = t != context->cpu && request->coc && request->in_focus_px > 0.0f
-                              ? largest_coc(context, request)
-                              : -1.0f;
     char why[512] = "";
     *report = (adi_report){0};
-    ddof_status status = t->run(device, request, report, why, sizeof why);
-    if (status != DDOF_OK)
-        return failed(context, status, why);
-    if (max_coc >= 0.0f)
-        report->max_coc = max_coc;
-    return DDOF_OK;
+    const ddof_status status = t->run(device, request, report, why, sizeof why);
+    return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
 }
 
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)

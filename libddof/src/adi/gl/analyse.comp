@@ -1,11 +1,11 @@
 /* SPDX-License-Identifier: MIT */
 // analyse.comp - one invocation per line, once per direction and call (the CoC and gamma are
 // the same for every substep): counts lines with a conductive link (the CPU path's
-// lines_solved), the largest CoC (rows only), and with heat capacities marks the singular runs
-// (links joining pixels whose gamma are all 0), which keep their values (store_result).
+// lines_solved), and with heat capacities marks the singular runs (links joining pixels whose
+// gamma are all 0), which keep their values (store_result). The largest CoC is the packing's.
 layout(local_size_x = 64) in;
 
-layout(std430, binding = 6) buffer Counters { uint counters[]; }; // active rows, columns, max CoC bits
+layout(std430, binding = 6) buffer Counters { uint counters[]; }; // active rows, columns
 
 uniform uint u_counter; // 0 rows, 1 columns
 
@@ -15,11 +15,9 @@ void main()
     if (line >= u_lines)
         return;
     bool conducts = false, holds_heat = false;
-    float largest = 0.0;
     uint start = 0u;
     for (uint i = 0u; i < u_n; i++) {
         uint p = pixel(line, i);
-        largest = max(largest, coc[p]);
         float b = link_beta(line, int(i));
         conducts = conducts || b > 0.0;
         if (u_has_gamma == 0u)
@@ -38,6 +36,4 @@ void main()
     }
     if (conducts)
         atomicAdd(counters[u_counter], 1u);
-    if (u_counter == 0u)
-        atomicMax(counters[2], floatBitsToUint(largest)); // >= 0: bit order is value order
 }

@@ -2,8 +2,11 @@
 // pack.comp - the caller's images (uploaded as they lie: strided rows, 1..4 channels, the CoC
 // and gamma as the first of several channels) into the solver's working layout: one vec4 per
 // pixel, |CoC| and gamma as one float each. Where gamma is 0 the colour is not read (it may be
-// NaN): it becomes 0, as in libddof/src/adi/heat_adi.c.
+// NaN): it becomes 0, as in libddof/src/adi/heat_adi.c. The largest |CoC| before the in-focus
+// cut goes to counters[2] (the report's, as the CPU's solvers measure it), one atomic a group.
 layout(local_size_x = 256) in;
+
+layout(std430, binding = 3) buffer Counters { uint counters[]; };
 
 layout(std430, binding = 0) writeonly buffer CocOut { float coc_out[]; };
 layout(std430, binding = 1) writeonly buffer HeatOut { float heat_out[]; };
@@ -28,11 +31,10 @@ uniform uint u_gamma_offset;
 uniform uint u_gamma_stride;
 uniform uint u_gamma_channels;
 
-void main()
+shared uint group_largest;
+
+void pack(uint p)
 {
-    uint p = global_id();
-    if (p >= u_width * u_height)
-        return;
     uint x = p % u_width, y = p / u_width;
     float g = u_has_gamma != 0u
                   ? raw_heat[u_gamma_offset + y * u_gamma_stride + x * u_gamma_channels]
@@ -43,11 +45,23 @@ void main()
             v[c] = raw_color[u_color_offset + y * u_color_stride + x * u_channels + c];
     value_out[p] = v;
     float d = abs(u_uniform_coc);
-    if (u_has_coc != 0u) {
+    if (u_has_coc != 0u)
         d = abs(raw_coc[u_coc_offset + y * u_coc_stride + x * u_coc_channels]);
-        d = d >= u_in_focus ? d : 0.0;
-    }
-    coc_out[p] = d;
+    atomicMax(group_largest, floatBitsToUint(d)); // |CoC| >= 0: its bits order as it does
+    coc_out[p] = u_has_coc == 0u || d >= u_in_focus ? d : 0.0;
     if (u_has_gamma != 0u)
         heat_out[p] = g;
+}
+
+void main()
+{
+    uint p = global_id();
+    if (gl_LocalInvocationIndex == 0u)
+        group_largest = 0u;
+    barrier();
+    if (p < u_width * u_height)
+        pack(p);
+    barrier();
+    if (gl_LocalInvocationIndex == 0u)
+        atomicMax(counters[2], group_largest);
 }

@@ -58,6 +58,8 @@ static int pack(ddof_device *device, const gl_resident *q, float in_focus, char 
     gl_uniform_u(gl, prog, "u_gamma_offset", q->gamma.offset);
     gl_uniform_u(gl, prog, "u_gamma_stride", q->gamma.stride);
     gl_uniform_u(gl, prog, "u_gamma_channels", q->gamma.step);
+    if (!gl_largest_reset(device, message, size))
+        return 0;
     gl->UseProgram(prog);
     gl_dispatch(gl, pixels, 256);
     return 1;
