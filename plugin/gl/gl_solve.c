@@ -1,8 +1,9 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_solve.c - what the GPU's ADI drivers (libddof/src/adi/gl) and the line solvers
  * (libddof/src/solvers/gl) share: binding and dispatch, buffers, a pass's uniforms, the
- * analysis of both directions up front (the conductive lines, the largest CoC, the singular
- * runs: the CoC and gamma do not change between substeps), cancelling and timing a pass. */
+ * largest |CoC| the packing measures, the analysis of both directions up front (the
+ * conductive lines and the singular runs: the CoC and gamma do not change between substeps),
+ * cancelling and timing a pass. */
 #include "gl_solve.h"
 
 #include <stdio.h>

@@ -6,10 +6,8 @@
 #include "ddof_output_struct.h"
 
 #include "disc/disc_kernel.h"
-#include "runtime/parallel_rows.h"
 
 #include <dlfcn.h>
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
