@@ -154,8 +154,8 @@ static int element_is_bright(const layers_request *q)
     return 0;
 }
 
-/* Where the layers run: what the planner needs to know, found here, and its decision. The
- * element is looked at only where the highlight pass would look at it. */
+/* Where the layers run: what the planner needs to know, found here, and its decision (the
+ * planner alone says whether the element's brightness matters). */
 static layers_placement place_layers(ddof_context *context, const layers_request *q,
                                      frame_plan *plan, uint32_t frame_highlights)
 {
@@ -164,8 +164,7 @@ static layers_placement place_layers(ddof_context *context, const layers_request
         .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
         .carried_alpha = q->fg.carried_alpha != NULL,
         .highlights = frame_highlights,
-        .element_bright = plan->foreground && q->params->highlights != DDOF_LAYER_OFF &&
-                          element_is_bright(q),
+        .element_bright = plan->foreground && element_is_bright(q),
     };
     return ddof_plan_layers_device(plan, q->params, &facts);
 }

@@ -579,16 +579,29 @@ static ddof_status run_background(ddof_context *context, const layers_request *q
     return DDOF_OK;
 }
 
+/* The diffusions behind the element: the midground and two per background level (the CoC
+ * fill, the colour). */
+static uint32_t layer_diffusions(uint32_t background_levels)
+{
+    return 1 + 2 * background_levels;
+}
+
+/* An element's: its CoC filled in two steps, its colour, and the alpha it may carry. */
+static uint32_t element_diffusions(int carried_alpha)
+{
+    return carried_alpha ? 4u : 3u;
+}
+
 uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan)
 {
-    return plan->foreground ? (q->fg.carried_alpha ? 4u : 3u) : 0u;
+    return plan->foreground ? element_diffusions(q->fg.carried_alpha != NULL) : 0u;
 }
 
 layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
 {
     const adi_request *r = &q->base;
     return (layer_stages){r->progress, r->progress_user, 0,
-                          1 + 2 * (plan->background ? q->params->background_levels : 0) +
+                          layer_diffusions(plan->background ? q->params->background_levels : 0) +
                               ddof_element_stages(q, plan)};
 }
 
@@ -619,7 +632,8 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
     layers_request q = {.base = *r};
     layers_report report = {0};
     layer_stages st = {r->progress, r->progress_user, 0,
-                       1 + 2 * d->background_levels + (d->fg_color ? 3u : 0u)};
+                       layer_diffusions(d->background_levels) +
+                           (d->fg_color ? element_diffusions(0) : 0u)};
     ddof_status status;
     adi_request mid = *r;
     const float *spread = NULL;
