@@ -2,10 +2,12 @@
 /* test_planner_device.c - where a planned frame's layers run (ddof_plan_layers_device): on the
  * device whenever the context's device takes the frame, else on the CPU's table; the
  * foreground element composited inside that run, on either, only where no pass goes between
- * the layers and the element (the far field, the silhouettes, the highlights drawn under it
- * or into it), the far field does not gather the element itself and the element carries no
- * part of the frame's alpha; else after the passes. The plan says which and why on a device,
- * nothing on the CPU. The whole frames behind each case are tests/gl/test_gl_frame.c's. */
+ * the layers and the element (the silhouettes' split when a matte puts it after the
+ * highlights' discs, the highlights drawn under it or into it; the far field and otherwise the
+ * split are stages of the run), the far field does not gather the element itself and the
+ * element carries no part of the frame's alpha; else after the passes. The plan says which and
+ * why on a device, nothing on the CPU. The whole frames behind each case are
+ * tests/gl/test_gl_frame.c's. */
 #include "planner/planner.h"
 #include "test_util.h"
 
@@ -47,7 +49,7 @@ int main(void)
     frame_plan plan = element_plan();
     expect("no device", plan, &params, (layers_device_facts){0}, 0, 1, NULL);
     plan.far_field = 1;
-    expect("no device, the far field", plan, &params, (layers_device_facts){0}, 0, 0, NULL);
+    expect("no device, the far field", plan, &params, (layers_device_facts){0}, 0, 1, NULL);
     layers_device_facts carried = {.device = NULL, .carried_alpha = 1, .highlights = 3};
     expect("no device, every reason", plan, &params, carried, 0, 0, NULL);
 
@@ -66,13 +68,29 @@ int main(void)
              "not hold\n", after);
     expect("carried alpha", element_plan(), &params, f, 1, 0, line);
 
-    snprintf(line, sizeof line, "%sthe far field and the silhouettes go under it\n", after);
+    /* The far field is a stage of the layers' run, before the element: no reason. */
     plan = element_plan();
     plan.far_field = 1;
-    expect("the far field", plan, &params, egl, 1, 0, line);
+    expect("the far field", plan, &params, egl, 1, 1,
+           "layers: on egl, the element's composite included\n");
+    /* So is the silhouettes' split, unless a matte puts it after the highlights' discs. */
     plan = element_plan();
     plan.silhouettes = 1;
-    expect("the silhouettes", plan, &params, egl, 1, 0, line);
+    expect("the silhouettes", plan, &params, egl, 1, 1,
+           "layers: on egl, the element's composite included\n");
+    snprintf(line, sizeof line, "%sthe silhouettes go under it\n", after);
+    f = egl;
+    f.matte = 1;
+    f.highlights = 2;
+    expect("the silhouettes after the discs", plan, &params, f, 1, 0, line);
+    CHECK_EQ_INT(ddof_plan_layers_device(&plan, &params, &f).split, 0);
+    f.highlights = 0;
+    CHECK_EQ_INT(ddof_plan_layers_device(&plan, &params, &f).split, 1);
+    f = egl;
+    f.matte = 1;
+    f.highlights = 2;
+    plan.silhouettes = 0;
+    CHECK_EQ_INT(ddof_plan_layers_device(&plan, &params, &f).split, 0);
 
     snprintf(line, sizeof line, "%sthe highlights are drawn under it or into it\n", after);
     f = egl;

@@ -133,12 +133,28 @@ typedef struct adi_layers_request {
     uint32_t fg_premultiplied;
     float fg_max_coc;         /* largest |CoC| where alpha > 0                               */
     adi_box fg_area;          /* where the element's blur can reach                          */
+    uint32_t far_field;       /* 1: the far field over the layers' result, before the element
+                               * (libddof/src/passes/far_field.h), from base.color            */
+    uint32_t far_slices;      /* 1: with its depth slices where blurred surfaces meet         */
+    uint32_t silhouettes;     /* 1: the silhouettes' split (libddof/src/passes/silhouettes.h):
+                               * base.color cleaned before the layers diffuse it, the split
+                               * after the far field, before the element; 3 or 4 channels     */
+    const float *matte;       /* the object matte's (id, coverage) pairs, matte_ranks a pixel,
+                               * matte_stride floats a row; NULL: the shares from the colours  */
+    size_t matte_stride;
+    uint32_t matte_ranks;
 } adi_layers_request;
 
 typedef struct adi_layers_report {
     adi_report adi;           /* summed over every diffusion (maxima for max_coc, bytes)     */
     double seconds_background;
     double seconds_foreground; /* the foreground element or the near spread                  */
+    double seconds_far_field;
+    uint64_t far_pixels;       /* the far field's far_field_report                           */
+    uint64_t far_layered_pixels;
+    uint32_t far_slices, far_levels;
+    double seconds_silhouettes;
+    uint64_t silhouette_pixels; /* mixed pixels split                                        */
 } adi_layers_report;
 
 /* ---- cards (ddof_render_cards, docs/cards.md) -------------------------------------------- */
@@ -176,7 +192,7 @@ typedef struct adi_cards_request {
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 4
+#define DDOF_BACKEND_ABI 5
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */

@@ -32,6 +32,19 @@ typedef enum gl_buffer_slot {
     GL_BUF_SPREAD,
     GL_BUF_LAYER,
     GL_BUF_CHECK,     /* a host texture's first bad pixel     */
+    GL_BUF_FAR_RADIUS,  /* the far field (gl_far_field.c): its maps */
+    GL_BUF_FAR_WEIGHT,
+    GL_BUF_FAR_REACH,
+    GL_BUF_FAR_LAYERED,
+    GL_BUF_FAR_SHARP,
+    GL_BUF_FAR_LEVELS,  /* image levels, prefix sums, samples   */
+    GL_BUF_FAR_TABLE,   /* counts, the levels' table, the cuts  */
+    GL_BUF_FAR_SINK,    /* the depth slices' composite so far   */
+    GL_BUF_FAR_WORK,    /* a slice's image and box sums         */
+    GL_BUF_FAR_DOUBLES, /* running sums in double               */
+    GL_BUF_SIL_CLEAN,   /* the silhouettes (gl_silhouettes.c): the colour diffused */
+    GL_BUF_SIL_DELTA,   /* the split's changes                  */
+    GL_BUF_SIL_COUNTS,  /* pixels cleaned, pixels split         */
     GL_BUF_COUNT
 } gl_buffer_slot;
 

@@ -6,6 +6,8 @@
 #include "gl_programs.h"
 
 #include "ddof_backend_seam.h"
+#include "ddof_far_rules.h"
+#include "ddof_silhouette_rules.h"
 
 #include "gl_shader_sources.h"
 
@@ -18,6 +20,21 @@ enum { PART_LINE = 1, PART_PYRAMID = 2 };
 #define GL_STRING_(x) #x
 #define GL_STRING(x) GL_STRING_(x)
 #define LENS_DEFINES "#define LENS_MIN_LINK " GL_STRING(DDOF_LENS_MIN_LINK) "\n"
+/* The far field's constants (ddof_far_rules.h) and the frame's size limit; the
+ * silhouettes' (ddof_silhouette_rules.h). */
+#define FAR_DEFINES                                                                          \
+    "#define FAR_EDGE_STEP_PX " GL_STRING(FAR_EDGE_STEP_PX) "\n"                            \
+    "#define FAR_BLURRED_PX " GL_STRING(FAR_BLURRED_PX) "\n"                                \
+    "#define FAR_RAMP_PX " GL_STRING(FAR_RAMP_PX) "\n"                                      \
+    "#define FAR_NO_EDGE " GL_STRING(FAR_NO_EDGE) "\n"                                      \
+    "#define FAR_FIELD_MAX_CHANNELS " GL_STRING(FAR_FIELD_MAX_CHANNELS) "\n"                \
+    "#define FAR_LEVEL_RADIUS " GL_STRING(FAR_LEVEL_RADIUS) "\n"                            \
+    "#define DDOF_MAX_DIMENSION " GL_STRING(DDOF_MAX_DIMENSION) "\n"
+#define SILHOUETTE_DEFINES                                                                   \
+    "#define DDOF_SILHOUETTE_MIN_COC_PX " GL_STRING(DDOF_SILHOUETTE_MIN_COC_PX) "\n"        \
+    "#define DDOF_MATTE_SOLVE_SHARE " GL_STRING(DDOF_MATTE_SOLVE_SHARE) "\n"                \
+    "#define DDOF_THIN_OBJECT_SHARE " GL_STRING(DDOF_THIN_OBJECT_SHARE) "\n"                \
+    "#define DDOF_THIN_NEIGHBOUR_SHARE " GL_STRING(DDOF_THIN_NEIGHBOUR_SHARE) "\n"
 
 typedef struct program_recipe {
     const char *kernel;
@@ -67,6 +84,26 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_LAYER_FG_PREPARE] = {"layers.comp", 0, "#define STEP_FG_PREPARE 1\n"},
     [GL_PROG_LAYER_HOLDS_VALUE] = {"layers.comp", 0, "#define STEP_HOLDS_VALUE 1\n"},
     [GL_PROG_LAYER_COMPOSITE] = {"layers.comp", 0, "#define STEP_COMPOSITE 1\n"},
+    [GL_PROG_FAR_SEED] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SEED 1\n"},
+    [GL_PROG_FAR_WEIGHT] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_WEIGHT 1\n"},
+    [GL_PROG_FAR_PAIRS_RANGE] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_PAIRS_RANGE 1\n"},
+    [GL_PROG_FAR_PAIRS_RUNS] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_PAIRS_RUNS 1\n"},
+    [GL_PROG_FAR_SLICE_INDEX] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_INDEX 1\n"},
+    [GL_PROG_FAR_SLICE_MEAN] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_MEAN 1\n"},
+    [GL_PROG_FAR_SLICE_IMAGE] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_IMAGE 1\n"},
+    [GL_PROG_FAR_SLICE_BOX] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_BOX 1\n"},
+    [GL_PROG_FAR_SLICE_RADII] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_RADII 1\n"},
+    [GL_PROG_FAR_SLICES_BLEND] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICES_BLEND 1\n"},
+    [GL_PROG_FAR_DOWNSAMPLE] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_DOWNSAMPLE 1\n"},
+    [GL_PROG_FAR_PREFIX] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_PREFIX 1\n"},
+    [GL_PROG_FAR_EDGE_ROWS] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_EDGE_ROWS 1\n"},
+    [GL_PROG_FAR_EDGE_SIDES] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_EDGE_SIDES 1\n"},
+    [GL_PROG_FAR_MARK] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_MARK 1\n"},
+    [GL_PROG_FAR_SAMPLES] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SAMPLES 1\n"},
+    [GL_PROG_FAR_GATHER] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_GATHER 1\n"},
+    [GL_PROG_SIL_CLEAN] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_CLEAN 1\n"},
+    [GL_PROG_SIL_DELTA] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_DELTA 1\n"},
+    [GL_PROG_SIL_APPLY] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_APPLY 1\n"},
 };
 
 const char *gl_shader_text(const char *name)

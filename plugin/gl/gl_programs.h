@@ -42,6 +42,26 @@ typedef enum gl_program_id {
     GL_PROG_LAYER_FG_PREPARE,
     GL_PROG_LAYER_HOLDS_VALUE,
     GL_PROG_LAYER_COMPOSITE,
+    GL_PROG_FAR_SEED,          /* the far field (gl_far_field.c, far_field.comp) */
+    GL_PROG_FAR_WEIGHT,
+    GL_PROG_FAR_PAIRS_RANGE,
+    GL_PROG_FAR_PAIRS_RUNS,
+    GL_PROG_FAR_SLICE_INDEX,
+    GL_PROG_FAR_SLICE_MEAN,
+    GL_PROG_FAR_SLICE_IMAGE,
+    GL_PROG_FAR_SLICE_BOX,
+    GL_PROG_FAR_SLICE_RADII,
+    GL_PROG_FAR_SLICES_BLEND,
+    GL_PROG_FAR_DOWNSAMPLE,
+    GL_PROG_FAR_PREFIX,
+    GL_PROG_FAR_EDGE_ROWS,
+    GL_PROG_FAR_EDGE_SIDES,
+    GL_PROG_FAR_MARK,
+    GL_PROG_FAR_SAMPLES,
+    GL_PROG_FAR_GATHER,
+    GL_PROG_SIL_CLEAN,          /* the silhouettes (gl_silhouettes.c, silhouettes.comp) */
+    GL_PROG_SIL_DELTA,
+    GL_PROG_SIL_APPLY,
     GL_PROG_COUNT
 } gl_program_id;
 

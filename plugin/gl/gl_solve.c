@@ -32,6 +32,29 @@ void gl_dispatch(const gl_functions *gl, uint64_t invocations, uint32_t local)
     gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
 }
 
+void gl_bind_ref(const gl_functions *gl, GLuint index, const gl_image_ref *ref, GLuint fallback)
+{
+    if (!ref->buffer)
+        gl_bind(gl, index, fallback);
+    else if (ref->bytes)
+        gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, index, ref->buffer, (GLintptr)ref->at,
+                            (GLsizeiptr)ref->bytes);
+    else
+        gl_bind(gl, index, ref->buffer);
+}
+
+void gl_uniform_ref(const gl_functions *gl, GLuint program, const char *prefix,
+                    const gl_image_ref *ref)
+{
+    static const char *const fields[3] = {"base", "stride", "step"};
+    const GLuint values[3] = {ref->offset, ref->stride, ref->step};
+    for (int i = 0; i < 3; i++) {
+        char name[64];
+        snprintf(name, sizeof name, "%s_%s", prefix, fields[i]);
+        gl_uniform_u(gl, program, name, values[i]);
+    }
+}
+
 GLuint gl_need(ddof_device *device, gl_buffer_slot slot, uint64_t bytes, char *message,
                size_t message_size)
 {

@@ -75,6 +75,26 @@ double gl_seconds(void);
  * 65535-group limit), then a storage barrier. */
 void gl_dispatch(const gl_functions *gl, uint64_t invocations, uint32_t local);
 void gl_bind(const gl_functions *gl, GLuint index, GLuint buffer);
+
+/* An image in a device buffer: the float index of its first pixel, floats between rows and
+ * between pixels (the CoC and gamma may be the first of several channels). buffer 0: none.
+ * With `bytes` > 0 only the section [at, at + bytes) of the buffer is bound and offset counts
+ * from its start: one buffer holds a frame's several images, each within the renderer's
+ * storage-block limit while the whole may not be. */
+typedef struct gl_image_ref {
+    GLuint buffer;
+    uint32_t offset, stride, step;
+    uint64_t at, bytes;
+} gl_image_ref;
+
+/* Binds ref's buffer (or its section) to storage binding `index`, else `fallback`. */
+void gl_bind_ref(const gl_functions *gl, GLuint index, const gl_image_ref *ref, GLuint fallback);
+
+/* Sets a program's uniforms PREFIX_base, PREFIX_stride and PREFIX_step to ref's offset, stride
+ * and step (those the program does not use are ignored). */
+void gl_uniform_ref(const gl_functions *gl, GLuint program, const char *prefix,
+                    const gl_image_ref *ref);
+
 /* A buffer slot sized for `bytes`, checked against the renderer's SSBO size limit. */
 GLuint gl_need(ddof_device *device, gl_buffer_slot slot, uint64_t bytes, char *message,
                size_t message_size);

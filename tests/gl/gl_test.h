@@ -50,6 +50,19 @@ static inline double max_diff(const float *a, const float *b, size_t n)
     return worst;
 }
 
+/* A pass that runs on the device inside the frame's one upload and one read-back: the same
+ * effects as the CPU's frame, and none of the pass's host scratch (`pass_bytes`: what the CPU
+ * holds for it) on the host. Uses test_util.h's checks. */
+#define CHECK_PASS_ON_DEVICE(name, sc, sg, pass_bytes)                                        \
+    do {                                                                                      \
+        CHECK_EQ_INT((sg).effects, (sc).effects);                                             \
+        CHECK_EQ_INT((sg).device_uploads, 1);                                                 \
+        CHECK_EQ_INT((sg).device_readbacks, 1);                                               \
+        CHECK_MSG((sg).host_bytes + (pass_bytes) <= (sc).host_bytes,                          \
+                  "%s: GL host scratch %llu, the CPU's %llu", name,                           \
+                  (unsigned long long)(sg).host_bytes, (unsigned long long)(sc).host_bytes); \
+    } while (0)
+
 static inline int verbose_test(void)
 {
     const char *v = getenv("DDOF_TEST_VERBOSE");

@@ -306,10 +306,11 @@ static void far_field_frames(ddof_kernel kernel)
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
     p.highlights = DDOF_LAYER_OFF;
     /* The plan says where the layers ran and why (the planner decides): on the device, the
-     * element after the far field, which goes under it; a CPU context's plan says nothing. */
+     * far field and the silhouettes included, the element after them, since the far field
+     * gathers the element's blur too; a CPU context's plan says nothing. */
     element_after_frame("far field + element", &p, color, coc, &fg,
                         DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND, 3,
-                        "the far field and the silhouettes go under it");
+                        "the far field gathers it, which the device does not");
     /* One rising fraction over the device's run and the element's three diffusions after it. */
     float *out = alloc_f(n);
     progress_seen seen = {0};
@@ -382,11 +383,11 @@ static void highlights(ddof_kernel kernel)
             for (size_t i = 0; i < (size_t)W * H; i++)
                 color[i * CH + 3] = 1.0f;
         /* Its alpha's part is a fourth diffusion of the element's; with the lights, the far
-         * field (on by default) is the first reason. */
+         * field's gather of the element (on by default) is the first reason. */
         if (lights)
             element_after_frame("near layer, highlights", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS, 3,
-                                "the far field and the silhouettes go under it");
+                                "the far field gathers it, which the device does not");
         else
             element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER, 4,

@@ -1,10 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* frame_passes.c - the passes that run on the CPU around a frame's layers, wherever the layers
  * run (frame_run.c orders them): the highlights found before the layers and drawn after them,
- * the far field and the silhouettes over the layers' result. Each writes its plan line. */
+ * the silhouettes over the layers' result; and the plan line of the far field, which runs in
+ * the layers' run. Each writes its plan line. */
 #include "frame_passes.h"
 
-#include "passes/far_field.h"
 #include "passes/silhouettes.h"
 
 #include <stdio.h>
@@ -74,46 +74,53 @@ void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
     report->seconds_highlights += ddof_seconds() - t0;
 }
 
-/* The far field over the layers' result (far_field.h): before the highlights are drawn, from
- * the colour the layers diffused (without them). */
-ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
-                                const float *color, size_t color_stride, frame_plan *plan,
-                                layers_report *report)
+/* The far field's plan line, from what the layers' run found (it runs there, over their
+ * result, from the colour they diffused: without the highlights). */
+void ddof_say_far_field(const layers_request *q, frame_plan *plan, layers_report *report)
 {
-    const double t0 = ddof_seconds();
-    far_field_report far;
-    const ddof_status status =
-        ddof_far_field(context, &q->base, color, color_stride, plan->blurred_edges, &far);
-    if (status != DDOF_OK)
-        return status;
+    const far_field_report *far = &report->far;
     const double pixels = (double)q->base.width * q->base.height;
     /* Where two blurred surfaces meet (ddof_params.blurred_edges), in the same line: the plan
      * a caller gets is short. */
     char edges[80];
-    if (far.slices)
+    if (far->slices)
         snprintf(edges, sizeof edges, "; blurred edges: %.1f%%, %u depth slices",
-                 100.0 * (double)far.layered_pixels / pixels, far.slices);
+                 100.0 * (double)far->layered_pixels / pixels, far->slices);
     else
         snprintf(edges, sizeof edges, "; blurred edges: %s",
                  plan->blurred_edges                            ? "none"
                  : q->params->blurred_edges == DDOF_LAYER_OFF ? "forced off"
                                                                 : "off (unsigned CoC)");
-    if (far.pixels) {
+    if (far->pixels) {
         report->effects |= DDOF_EFFECT_FAR_FIELD;
         ddof_plan_say(plan, "far field: on: %.1f%% of pixels, %u level%s%s",
-                      100.0 * (double)far.pixels / pixels, far.levels,
-                      far.levels == 1 ? "" : "s", edges);
+                      100.0 * (double)far->pixels / pixels, far->levels,
+                      far->levels == 1 ? "" : "s", edges);
     } else {
         ddof_plan_say(plan, "far field: off: every blurred pixel is near a depth edge");
     }
-    report->seconds_far_field = ddof_seconds() - t0;
-    return DDOF_OK;
 }
 
-/* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result before the
- * highlights are drawn (their discs land behind the object, whole; with a matte after them,
- * frame_run.c) and the foreground element covers it, estimated from the colour before its
- * objects were taken out of what the layers diffused (ddof_clean_silhouettes). */
+/* The silhouettes' plan line and effect from the pixels the split changed. */
+void ddof_say_silhouettes(const layers_request *q, frame_plan *plan, uint64_t pixels,
+                          layers_report *report)
+{
+    report->silhouette_pixels = pixels;
+    if (pixels) {
+        report->effects |= DDOF_EFFECT_SILHOUETTES;
+        ddof_plan_say(plan, "silhouettes: on: %llu mixed pixels split%s",
+                      (unsigned long long)pixels, q->matte.ranks ? " by the object matte" : "");
+    } else {
+        ddof_plan_say(plan,
+                      "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
+                      (double)DDOF_SILHOUETTE_MIN_COC_PX);
+    }
+}
+
+/* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result after the
+ * highlights' discs (with an object matte; otherwise the split is a stage of the layers' run)
+ * and before the foreground element covers it, estimated from the colour before its objects
+ * were taken out of what the layers diffused (ddof_clean_silhouettes). */
 ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
                                   const float *color, size_t color_stride, frame_plan *plan,
                                   layers_report *report)
@@ -125,16 +132,7 @@ ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q
               : DDOF_OK;
     if (status != DDOF_OK)
         return status;
-    if (split.pixels) {
-        report->effects |= DDOF_EFFECT_SILHOUETTES;
-        ddof_plan_say(plan, "silhouettes: on: %llu mixed pixels split%s",
-                      (unsigned long long)split.pixels,
-                      q->matte.ranks ? " by the object matte" : "");
-    } else {
-        ddof_plan_say(plan,
-                      "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
-                      (double)DDOF_SILHOUETTE_MIN_COC_PX);
-    }
-    report->seconds_silhouettes = ddof_seconds() - t0;
+    ddof_say_silhouettes(q, plan, split.pixels, report);
+    report->seconds_silhouettes += ddof_seconds() - t0;
     return DDOF_OK;
 }

@@ -17,13 +17,17 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
 void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
                                const highlight_set *set, float *scratch, layers_report *report);
 
-/* The far field over the layers' result, from the colour the layers diffused. */
-ddof_status ddof_pass_far_field(ddof_context *context, const layers_request *q,
-                                const float *color, size_t color_stride, frame_plan *plan,
-                                layers_report *report);
+/* The far field's plan line and effect, from what the layers' run found (the far field is a
+ * stage of that run, on the backend that runs it). */
+void ddof_say_far_field(const layers_request *q, frame_plan *plan, layers_report *report);
 
-/* The mixed pixels of in-focus silhouettes split in the result; `pairs` from
- * ddof_clean_silhouettes, `color` the colour before their objects were taken out. */
+/* The silhouettes' plan line and effect from the pixels the split changed. */
+void ddof_say_silhouettes(const layers_request *q, frame_plan *plan, uint64_t pixels,
+                          layers_report *report);
+
+/* The mixed pixels of in-focus silhouettes split in the result (after the highlights' discs,
+ * with an object matte); `pairs` from ddof_clean_silhouettes, `color` the colour before their
+ * objects were taken out. */
 ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
                                   const float *color, size_t color_stride, frame_plan *plan,
                                   layers_report *report);

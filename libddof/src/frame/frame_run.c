@@ -165,6 +165,7 @@ static layers_placement place_layers(ddof_context *context, const layers_request
         .carried_alpha = q->fg.carried_alpha != NULL,
         .highlights = frame_highlights,
         .element_bright = plan->foreground && element_is_bright(q),
+        .matte = q->matte.ranks > 0,
     };
     return ddof_plan_layers_device(plan, q->params, &facts);
 }
@@ -182,19 +183,19 @@ static int shared_progress(void *user, float fraction)
     return s->progress(s->user, fraction * s->share);
 }
 
-/* The silhouettes' split and the highlights' discs over the layers' result. The discs are
- * drawn through the colour's buffer, the last of its readers, so they come after the split:
- * a disc then lands whole behind a mixed pixel's object share. With an object matte the shares
- * are the render's own, and the split comes after the discs (drawn through the split's scratch,
- * still free): a mixed pixel's background share then shows the disc behind it and its object
- * share hides it, as a strand across a light does through a lens. The colours' guess of the
- * share errs too often for that: it would cut dark notches into the discs. */
+/* The highlights' discs over the layers' result, and the silhouettes' split where it is not a
+ * stage of the layers' run (`split`). The discs are drawn through the colour's buffer, the
+ * last of its readers, so they come after the split (in the run): a disc then lands whole
+ * behind a mixed pixel's object share. With an object matte the shares are the render's own,
+ * and the split comes after the discs (drawn through the split's scratch, still free): a mixed
+ * pixel's background share then shows the disc behind it and its object share hides it, as a
+ * strand across a light does through a lens. The colours' guess of the share errs too often
+ * for that: it would cut dark notches into the discs. */
 static ddof_status split_and_draw(ddof_context *context, const layers_request *q,
-                                  frame_plan *plan, int pairs, const float *color,
+                                  frame_plan *plan, int split, int pairs, const float *color,
                                   size_t color_stride, const highlight_set *highlights,
                                   layers_report *report)
 {
-    const int split = plan->silhouettes;
     if (split && pairs && highlights->count && q->matte.ranks) {
         float *scratch = ddof_silhouettes_scratch(context, &q->base);
         if (!scratch)
@@ -257,12 +258,14 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         color_stride = row;
     }
 
-    /* What the layers blur: the silhouettes' objects taken out (silhouettes.h); `color` stays
-     * what the split reads afterwards. */
+    /* What the layers blur: the silhouettes' objects taken out (silhouettes.h), by the
+     * layers' run where the split is one of its stages, else here; `color` stays what the
+     * split reads afterwards. */
     const float *diffused = color;
     size_t diffused_stride = color_stride;
     int pairs = 0;
-    if (plan->silhouettes &&
+    const int split_here = plan->silhouettes && !where.split;
+    if (split_here &&
         (status = ddof_clean_silhouettes(context, r, &q->matte, &diffused, &diffused_stride,
                                          &pairs)) != DDOF_OK)
         return status;
@@ -283,11 +286,12 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         DDOF_OK)
         return status;
     st.current = st.count - element_stages;
-    if (plan->far_field && (status = ddof_pass_far_field(context, q, diffused, diffused_stride,
-                                                         plan, report)) != DDOF_OK)
-        return status;
-    if ((status = split_and_draw(context, q, plan, pairs, color, color_stride, &highlights,
-                                 report)) != DDOF_OK)
+    if (plan->far_field)
+        ddof_say_far_field(q, plan, report);
+    if (plan->silhouettes && where.split)
+        ddof_say_silhouettes(q, plan, report->silhouette_pixels, report);
+    if ((status = split_and_draw(context, q, plan, split_here, pairs, color, color_stride,
+                                 &highlights, report)) != DDOF_OK)
         return status;
     /* The element goes over all of it (unless the layers' run composited it already). */
     if (plan->foreground && !where.element)

@@ -629,13 +629,25 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
                                    adi_layers_report *out)
 {
     const adi_request *r = &d->base;
-    layers_request q = {.base = *r};
     layers_report report = {0};
     layer_stages st = {r->progress, r->progress_user, 0,
                        layer_diffusions(d->background_levels) +
                            (d->fg_color ? element_diffusions(0) : 0u)};
     ddof_status status;
-    adi_request mid = *r;
+    /* What the layers diffuse: with the silhouettes, their objects taken out. */
+    adi_request base = *r;
+    const object_matte matte = {d->matte, d->matte_stride, d->matte ? d->matte_ranks : 0u};
+    int pairs = 0;
+    double seconds_silhouettes = 0.0;
+    if (d->silhouettes) {
+        const double t0 = ddof_seconds();
+        if ((status = ddof_clean_silhouettes(context, r, &matte, &base.color, &base.color_stride,
+                                             &pairs)) != DDOF_OK)
+            return status;
+        seconds_silhouettes = ddof_seconds() - t0;
+    }
+    layers_request q = {.base = base};
+    adi_request mid = base;
     const float *spread = NULL;
     if (d->near_spread) {
         const double t0 = ddof_seconds();
@@ -648,9 +660,27 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
     if ((status = diffuse(context, &mid, &st, &report)) != DDOF_OK)
         return status;
     if (d->background_levels &&
-        (status = run_background(context, &q, d, r->color, r->color_stride, spread, &st,
+        (status = run_background(context, &q, d, base.color, base.color_stride, spread, &st,
                                  &report)) != DDOF_OK)
         return status;
+    far_field_report far = {0};
+    double seconds_far_field = 0.0;
+    if (d->far_field) {
+        const double t0 = ddof_seconds();
+        if ((status = ddof_far_field(context, r, base.color, base.color_stride,
+                                     (int)d->far_slices, &far)) != DDOF_OK)
+            return status;
+        seconds_far_field = ddof_seconds() - t0;
+    }
+    /* The split estimates each pixel's shares from the colour before the clean. */
+    silhouette_report split = {0};
+    if (pairs) {
+        const double t0 = ddof_seconds();
+        if ((status = ddof_split_silhouettes(context, r, &matte, r->color, r->color_stride,
+                                             &split)) != DDOF_OK)
+            return status;
+        seconds_silhouettes += ddof_seconds() - t0;
+    }
     if (d->fg_color) {
         q.fg = (layers_element){.color = d->fg_color, .color_stride = d->fg_color_stride,
                                 .coc = d->fg_coc, .coc_stride = d->fg_coc_stride,
@@ -664,7 +694,14 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
     }
     *out = (adi_layers_report){.adi = report.adi,
                                .seconds_background = report.seconds_background,
-                               .seconds_foreground = report.seconds_foreground};
+                               .seconds_foreground = report.seconds_foreground,
+                               .seconds_far_field = seconds_far_field,
+                               .far_pixels = far.pixels,
+                               .far_layered_pixels = far.layered_pixels,
+                               .far_slices = far.slices,
+                               .far_levels = far.levels,
+                               .seconds_silhouettes = seconds_silhouettes,
+                               .silhouette_pixels = split.pixels};
     return DDOF_OK;
 }
 

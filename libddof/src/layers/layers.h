@@ -4,6 +4,7 @@
 #define DDOF_LAYERS_H
 
 #include "adi/adi.h"
+#include "passes/far_field.h"
 #include "passes/highlights.h"
 #include "planner/planner.h"
 #include "passes/silhouettes.h"
@@ -48,6 +49,8 @@ typedef struct layers_report {
     double seconds_highlights;
     double seconds_far_field;
     double seconds_silhouettes;
+    far_field_report far;      /* what the far field found (in the layers' run)        */
+    uint64_t silhouette_pixels; /* the mixed pixels the silhouettes' split changed      */
 } layers_report;
 
 /* The frame's diffusions counted, so that the caller's progress sees one rising fraction. */

@@ -48,13 +48,28 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
         d.fg_area = seam_box(box_grow(q->fg.box, reach, r->width, r->height));
     }
-    adi_layers_report a;
+    d.far_field = (uint32_t)plan->far_field;
+    d.far_slices = (uint32_t)plan->blurred_edges;
+    if (where.split && r->channels >= 3) {
+        d.silhouettes = 1;
+        d.matte = q->matte.ranks ? q->matte.pairs : NULL;
+        d.matte_stride = q->matte.stride;
+        d.matte_ranks = q->matte.ranks;
+    }
+    adi_layers_report a = {0};
     const ddof_status status = ddof_backend_run_layers(context, where.device, &d, &a);
     if (status != DDOF_OK)
         return status;
     report->adi = a.adi;
     report->seconds_background = a.seconds_background;
     report->seconds_foreground = a.seconds_foreground;
+    report->seconds_far_field = a.seconds_far_field;
+    report->far = (far_field_report){.pixels = a.far_pixels,
+                                     .layered_pixels = a.far_layered_pixels,
+                                     .slices = a.far_slices,
+                                     .levels = a.far_levels};
+    report->seconds_silhouettes = a.seconds_silhouettes;
+    report->silhouette_pixels = a.silhouette_pixels;
     report->effects |= DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |

@@ -13,7 +13,7 @@
  * (as the accuracy study's band counts them; 1 px lost 0.9 dB on its daylight scene, where tree
  * crowns before the sky differ by about 1-3 px across a blur of 20). A pixel takes the gather fully
  * when the nearest edge is beyond its own radius + 1 and no edge's reach (half the pair's larger
- * |CoC|, + 1) covers it; over RAMP_PX toward either it is mixed with the layers' result;
+ * |CoC|, + 1) covers it; over FAR_RAMP_PX toward either it is mixed with the layers' result;
  * in-focus pixels keep theirs. Both distances are cone dilations (cone_dilate.h: the chamfer
  * distance, within 8% of Euclidean).
  *
@@ -32,8 +32,6 @@
 #include <math.h>
 #include <string.h>
 
-#define RAMP_PX 4.0f
-#define NO_EDGE (-1e30f)
 #define MAPS 5
 
 typedef struct far_maps {
@@ -61,7 +59,7 @@ static void seed_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const size_t i = (size_t)y * w + x;
             const float c = adi_request_coc(r, x, y), a = fabsf(c);
             m->radius[i] = a > 0.0f && a >= r->in_focus_px ? 0.5f * a : 0.0f;
-            float reach = NO_EDGE, sharp = NO_EDGE;
+            float reach = FAR_NO_EDGE, sharp = FAR_NO_EDGE;
             for (int k = 0; k < 4; k++) {
                 const int64_t qx = (int64_t)x + nx[k], qy = (int64_t)y + ny[k];
                 if (qx < 0 || qy < 0 || qx >= (int64_t)w || qy >= (int64_t)h)
@@ -74,9 +72,9 @@ static void seed_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
                 if (ddof_minf(a, fabsf(q)) < FAR_BLURRED_PX)
                     sharp = ddof_maxf(sharp, edge_reach);
             }
-            m->weight[i] = reach > NO_EDGE ? 0.0f : NO_EDGE;
+            m->weight[i] = reach > FAR_NO_EDGE ? 0.0f : FAR_NO_EDGE;
             m->reach[i] = reach;
-            m->layered[i] = sharp > NO_EDGE ? 0.0f : NO_EDGE;
+            m->layered[i] = sharp > FAR_NO_EDGE ? 0.0f : FAR_NO_EDGE;
             m->sharp_reach[i] = sharp;
         }
 }
@@ -92,12 +90,12 @@ static void weight_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const size_t i = (size_t)y * w + x;
             const float rho = m->radius[i];
             const float room = ddof_minf(-m->weight[i] - rho - 1.0f, -m->reach[i]);
-            const float weight = rho > 0.0f ? ddof_minf(ddof_maxf(room / RAMP_PX, 0.0f), 1.0f)
+            const float weight = rho > 0.0f ? ddof_minf(ddof_maxf(room / FAR_RAMP_PX, 0.0f), 1.0f)
                                             : 0.0f;
             float share = 0.0f;
             if (m->slices && rho > 0.0f && weight < 1.0f) {
                 const float open = ddof_minf(-m->layered[i] - rho - 1.0f, -m->sharp_reach[i]);
-                share = ddof_minf(ddof_maxf(open / RAMP_PX, 0.0f), 1.0f);
+                share = ddof_minf(ddof_maxf(open / FAR_RAMP_PX, 0.0f), 1.0f);
             }
             m->weight[i] = weight;
             m->layered[i] = share;

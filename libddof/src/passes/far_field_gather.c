@@ -11,11 +11,11 @@
  * at their centres (measured on the study's receding plane: two points everywhere 40.80 dB,
  * one 40.47, two below a radius of 4 pixels 40.96).
  *
- * A pixel whose disc is wider than LEVEL_RADIUS pixels interpolates (bilinearly) samples taken
+ * A pixel whose disc is wider than FAR_LEVEL_RADIUS pixels interpolates (bilinearly) samples taken
  * at the pixel centres of level k of the frame (boxes of 2^k pixels), the level whose pixels are
  * an eighth to a quarter of the radius apart, where the blurred image is smooth; each sample
  * reads level k - 1 (twice finer: its boxes blur the disc's rim less; the radius shrunk by the
- * box's variance so the spread stays the disc's). So a pixel costs O(LEVEL_RADIUS) rows at any
+ * box's variance so the spread stays the disc's). So a pixel costs O(FAR_LEVEL_RADIUS) rows at any
  * CoC, and a large blur far less. */
 #include "far_field_internal.h"
 #include "far_layer_sink.h"
@@ -26,7 +26,6 @@
 #include <math.h>
 #include <string.h>
 
-#define LEVEL_RADIUS 8.0f
 #define GRADIENT_MAX 0.5f
 #define RAMP_TOLERANCE 0.25f /* the two halves' slopes may differ by this share */
 #define GAUSS_POINT 0.28867513f /* 1 / (2 sqrt 3) */
@@ -37,7 +36,7 @@ static uint32_t level_of(const far_gather *g, float rho)
 {
     const float extent = rho * ddof_maxf(1.0f, g->r->pixel_aspect);
     uint32_t k = 0;
-    while (k + 1 < g->level_count && extent > LEVEL_RADIUS * (float)(1u << k))
+    while (k + 1 < g->level_count && extent > FAR_LEVEL_RADIUS * (float)(1u << k))
         k++;
     return k;
 }
@@ -146,16 +145,12 @@ static ddof_status build_levels(ddof_context *context, far_gather *g, float larg
 {
     const adi_request *r = g->r;
     const uint32_t channels = r->channels;
-    const float extent = largest * ddof_maxf(1.0f, r->pixel_aspect);
-    uint32_t count = 0, w = r->width, h = r->height;
+    const uint32_t count = ddof_far_level_count(largest, r->pixel_aspect, r->width, r->height);
+    uint32_t w = r->width, h = r->height;
     size_t floats = (size_t)r->width * channels, bytes = 0; /* the edge rows' scratch */
-    for (;;) {
-        floats += prefix_floats(w, h, channels) + image_floats(count, w, h, channels);
-        bytes += count ? (size_t)w * h : 0;
-        count++;
-        if (count == FAR_FIELD_MAX_LEVELS ||
-            extent <= LEVEL_RADIUS * (float)(1u << (count - 1)) || (w == 1 && h == 1))
-            break;
+    for (uint32_t k = 0; k < count; k++) {
+        floats += prefix_floats(w, h, channels) + image_floats(k, w, h, channels);
+        bytes += k ? (size_t)w * h : 0;
         w = (w + 1) / 2;
         h = (h + 1) / 2;
     }
@@ -408,7 +403,7 @@ static void sample_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             const float rho = g->radius[(size_t)y * r->width + x] + gx * (cx - (float)x) +
                               gy * (cy - (float)y);
             /* Read from the level below the grid's (twice finer: a radius of up to twice
-             * LEVEL_RADIUS of its pixels), so that its boxes blur the disc's rim less. */
+             * FAR_LEVEL_RADIUS of its pixels), so that its boxes blur the disc's rim less. */
             const float f = (float)(1u << (k - 1));
             conic_gather(g, channels, k - 1, (cx + 0.5f) / f - 0.5f, (cy + 0.5f) / f - 0.5f, rho,
                          gx, gy, l->samples + ((size_t)j * l->width + i) * channels);

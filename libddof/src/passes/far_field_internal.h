@@ -5,15 +5,9 @@
 #define DDOF_FAR_FIELD_INTERNAL_H
 
 #include "ddof_backend_seam.h"
+#include "ddof_far_rules.h"
 #include "runtime/internal.h"
 
-#define FAR_FIELD_MAX_LEVELS 16
-/* A depth edge: 4-neighbours whose signed CoC differs by this much (far_field.c); one between
- * two blurred surfaces: both |CoC| at least FAR_BLURRED_PX (far_layers.c). */
-#define FAR_EDGE_STEP_PX 2.0f
-#define FAR_BLURRED_PX 2.0f
-/* Colour (up to 4) and, in a layer's gather, its coverage. */
-#define FAR_FIELD_MAX_CHANNELS 5
 
 /* A level of the frame, 2^k pixels a side each, and what continues it beyond the frame: the
  * full-resolution frame's edge pixels reduced the same way (a level's own edge pixel would

@@ -8,7 +8,7 @@
  *
  * The frame is cut into depth slices by its signed CoC (the nearer, the smaller), at the values
  * that separate the most pairs of 4-neighbours across edges between blurred surfaces (at most
- * FAR_LAYERS_MAX_SLICES - 1 cuts, each separating at least MIN_SEPARATED pairs not separated
+ * FAR_LAYERS_MAX_SLICES - 1 cuts, each separating at least FAR_MIN_SEPARATED pairs not separated
  * yet). Each slice is an image of premultiplied colour and coverage (1 on its pixels, 0
  * elsewhere), gathered as the far field gathers, with the radius the pixel's own on the slice
  * and the mean of the slice's radii around it elsewhere. Nearest first, a slice of coverage A
@@ -28,9 +28,6 @@
 #include <math.h>
 #include <string.h>
 
-#define BIN_PX 0.25f      /* the cuts' resolution in signed CoC */
-#define MAX_BINS 4096u
-#define MIN_SEPARATED 16u /* pairs a cut must separate */
 #define NO_SLICE 255u
 
 typedef struct edge_pair {
@@ -78,17 +75,9 @@ static size_t collect_pairs(const adi_request *r, edge_pair *pairs)
     return n;
 }
 
-static int separated(const edge_pair *p, const float *cuts, uint32_t count)
-{
-    for (uint32_t i = 0; i < count; i++)
-        if (p->lo < cuts[i] && cuts[i] <= p->hi)
-            return 1;
-    return 0;
-}
-
 /* The cuts, ascending: each in turn the bin edge that separates the most pairs the earlier
- * ones left together (a difference array over the bins each pair spans). `runs`: MAX_BINS + 2
- * counters. */
+ * ones left together (a difference array over the bins each pair spans). `runs`:
+ * FAR_MAX_BINS + 2 counters. */
 static uint32_t choose_cuts(const edge_pair *pairs, size_t count, int64_t *runs, float *cuts)
 {
     if (!count)
@@ -98,42 +87,26 @@ static uint32_t choose_cuts(const edge_pair *pairs, size_t count, int64_t *runs,
         lo = ddof_minf(lo, pairs[i].lo);
         hi = ddof_maxf(hi, pairs[i].hi);
     }
-    const float span = (hi - lo) / BIN_PX;
-    const uint32_t bins = span < (float)MAX_BINS ? (uint32_t)ceilf(span) + 1u : MAX_BINS;
-    const float width = (hi - lo) / (float)bins;
+    float width;
+    const uint32_t bins = ddof_far_bins(lo, hi, &width);
     uint32_t n = 0;
     while (n < FAR_LAYERS_MAX_SLICES - 1) {
         memset(runs, 0, (size_t)(bins + 2) * sizeof *runs);
         for (size_t i = 0; i < count; i++) {
             const edge_pair *p = &pairs[i];
-            if (separated(p, cuts, n))
+            if (ddof_far_separated(p->lo, p->hi, cuts, n))
                 continue;
-            /* Bin edge b (the value lo + b width) separates the pair when p->lo < it <= p->hi. */
-            const uint32_t b0 = (uint32_t)floorf((p->lo - lo) / width) + 1u;
-            const uint32_t b1 = (uint32_t)ddof_minf(floorf((p->hi - lo) / width), (float)bins);
+            uint32_t b0, b1;
+            ddof_far_pair_bins(p->lo, p->hi, lo, width, bins, &b0, &b1);
             if (b0 <= b1) {
                 runs[b0]++;
                 runs[b1 + 1]--;
             }
         }
-        int64_t run = 0, best = 0;
-        uint32_t best_bin = 0;
-        for (uint32_t b = 1; b <= bins; b++) {
-            run += runs[b];
-            if (run > best) {
-                best = run;
-                best_bin = b;
-            }
-        }
-        if (best < (int64_t)MIN_SEPARATED)
+        const uint32_t more = ddof_far_take_cut(runs, bins, lo, width, cuts, n);
+        if (more == n)
             break;
-        const float cut = lo + (float)best_bin * width;
-        uint32_t at = n++;
-        while (at > 0 && cuts[at - 1] > cut) {
-            cuts[at] = cuts[at - 1];
-            at--;
-        }
-        cuts[at] = cut;
+        n = more;
     }
     return n;
 }
@@ -262,7 +235,7 @@ ddof_status ddof_far_layers(ddof_context *context, const adi_request *r, const f
     /* One block: the pairs, the cuts' counters, the slots, the slice indices, the slice's
      * image, box sums and radii, the columns' running sums, and the composite's arrays. */
     const size_t image_floats = pixels * (channels + 1);
-    const size_t bytes = pair_count * sizeof(edge_pair) + (MAX_BINS + 2) * sizeof(int64_t) +
+    const size_t bytes = pair_count * sizeof(edge_pair) + (FAR_MAX_BINS + 2) * sizeof(int64_t) +
                          (size_t)w * 2 * sizeof(double) + pixels * sizeof(uint32_t) +
                          (image_floats + 3 * pixels) * sizeof(float) +
                          taken * (2 * channels + 2) * sizeof(float) + pixels;
@@ -272,7 +245,7 @@ ddof_status ddof_far_layers(ddof_context *context, const adi_request *r, const f
                          "could not allocate the far field's %ux%u depth slices", w, h);
     edge_pair *pairs = (edge_pair *)(void *)block;
     int64_t *runs = (int64_t *)(void *)(pairs + pair_count);
-    double *column = (double *)(void *)(runs + MAX_BINS + 2);
+    double *column = (double *)(void *)(runs + FAR_MAX_BINS + 2);
     uint32_t *slot = (uint32_t *)(void *)(column + (size_t)w * 2);
     float *floats = (float *)(void *)(slot + pixels);
     slicing s = {.r = r, .color = color, .color_stride = color_stride, .radius = radius,

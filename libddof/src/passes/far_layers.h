@@ -7,10 +7,8 @@
 #define DDOF_FAR_LAYERS_H
 
 #include "ddof_backend_seam.h"
+#include "ddof_far_rules.h"
 #include "runtime/internal.h"
-
-/* The most depth slices a frame is cut into. */
-#define FAR_LAYERS_MAX_SLICES 4
 
 typedef struct far_layers_report {
     uint64_t pixels; /* pixels that took the slices' composite */

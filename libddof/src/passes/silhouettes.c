@@ -8,8 +8,9 @@
  * background's B is q + d's (or q's): the pixels one step away are the likeliest unmixed. A
  * pixel x of the pair is the mixture x = a O + (1 - a) B; its object share a is the projection
  * of x - B on O - B, clamped to [0, 1] (skipped where O and B are too alike to tell). Where p
- * is thin (one pixel across along d: O is p, itself a mixture), p's share is THIN_OBJECT_SHARE
- * and q's at most THIN_NEIGHBOUR_SHARE of O, and q takes O with O's background share blurred.
+ * is thin (one pixel across along d: O is p, itself a mixture), p's share is
+ * DDOF_THIN_OBJECT_SHARE and q's at most DDOF_THIN_NEIGHBOUR_SHARE of O, and q takes O with O's
+ * background share blurred.
  *  - q (its depth says background): the diffusion blurred the object's share away with the
  *    background; it is put back sharp: out(q) = a O + (1 - a) out(q).
  *  - p (its depth says object): its background share stayed sharp; it becomes the blurred
@@ -17,8 +18,8 @@
  * With an object matte (Cryptomatte) a is the share of x not covered by the background's
  * object (the id of rank 0 at the background's pixel, or the world, what no object covers,
  * where that covers more of it), and O is solved from p itself where the object covers at
- * least MATTE_SOLVE_SHARE of it: O = (p - (1 - a_p) B) / a_p (a strand of 1-2 px has no pixel
- * wholly inside it). A pixel in several pairs takes the mean over them.
+ * least DDOF_MATTE_SOLVE_SHARE of it: O = (p - (1 - a_p) B) / a_p (a strand of 1-2 px has no
+ * pixel wholly inside it). A pixel in several pairs takes the mean over them.
  * Every change is computed from the result before any is applied (a delta image), so rows can
  * run on any thread. Colour channels only; alpha keeps the layers' value. */
 #include "silhouettes.h"
@@ -28,22 +29,6 @@
 
 #include <math.h>
 #include <string.h>
-
-/* The smallest object share of p from which its colour gives the object's (the matte's path):
- * below it the background's error dominates the solve. */
-#define MATTE_SOLVE_SHARE 0.3f
-
-/* A sharp pixel one pixel across along the pair (a wire, a strand) has no pixel inside it that
- * shows the object unmixed: it is O itself, and its colour alone cannot tell a bright wire
- * covering half of it from a faint one covering all. A render's depth names the surface its
- * pixel's centre sees, so such a pixel is partly background, and its blurred neighbours, whose
- * centres miss the object, hold less of it than it does. Both shares below are the values that
- * the accuracy study's Cryptomattes and its scenes support (docs/design.md, "Mixed pixels at
- * silhouettes"): the object covers 0.69 and 0.74 of such a pixel on the mean in thin_bars and
- * thin_strands, and a neighbour 0.25 and 0.28 of what the pixel holds (90th percentile 0.65,
- * 0.58), where its colour's projection on O, misled by the background's texture, says more. */
-#define THIN_OBJECT_SHARE 0.7f    /* the object's share of the thin pixel p               */
-#define THIN_NEIGHBOUR_SHARE 0.5f /* the largest share of O = p that its neighbour q holds */
 
 typedef struct split_job {
     const adi_request *r;
@@ -164,7 +149,7 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
          * world), so that strands crossing at a pixel count together. */
         *share = 1.0f - background_coverage(m, xx, xy, bgx, bgy);
         const float at_p = 1.0f - background_coverage(m, px, py, bgx, bgy);
-        if (at_p >= MATTE_SOLVE_SHARE) {
+        if (at_p >= DDOF_MATTE_SOLVE_SHARE) {
             const float *p = color_at(job, px, py);
             for (int c = 0; c < 3; c++)
                 object[c] = (p[c] - (1.0f - at_p) * b[c]) / at_p;
@@ -183,9 +168,10 @@ static int pair_colors(const split_job *job, int64_t px, int64_t py, int dir, in
         return 0;
     double a = dot / norm;
     if (thin) {
-        *object_share = THIN_OBJECT_SHARE;
-        a = xx == px && xy == py ? THIN_OBJECT_SHARE
-                                     : (a < THIN_NEIGHBOUR_SHARE ? a : THIN_NEIGHBOUR_SHARE);
+        *object_share = DDOF_THIN_OBJECT_SHARE;
+        a = xx == px && xy == py
+                ? DDOF_THIN_OBJECT_SHARE
+                : (a < DDOF_THIN_NEIGHBOUR_SHARE ? a : DDOF_THIN_NEIGHBOUR_SHARE);
     }
     *share = (float)(a < 0.0 ? 0.0 : a > 1.0 ? 1.0 : a);
     return 1;

@@ -11,11 +11,9 @@
 #define DDOF_SILHOUETTES_H
 
 #include "ddof_backend_seam.h"
+#include "ddof_silhouette_rules.h"
 #include "runtime/internal.h"
 
-/* The smallest CoC (px) of the blurred side: below it a pixel's mixture is blurred so little
- * that splitting it changes nothing a viewer sees. */
-#define DDOF_SILHOUETTE_MIN_COC_PX 4.0f
 
 /* A render's object matte (Cryptomatte): per pixel `ranks` pairs of (id, coverage), `stride`
  * floats a row; ranks 0: none, the shares come from the colours. */

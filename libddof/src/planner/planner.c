@@ -296,11 +296,13 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
 layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
                                          const layers_device_facts *facts)
 {
+    /* The split goes after the highlights' discs only with a matte (frame_run.c). */
+    const int split = plan->silhouettes && !(facts->matte && facts->highlights);
     const char *after_because = NULL;
     if (plan->foreground && facts->carried_alpha)
         after_because = "it carries the frame's alpha, which the device's frame does not hold";
-    else if (plan->foreground && (plan->far_field || plan->silhouettes))
-        after_because = "the far field and the silhouettes go under it";
+    else if (plan->foreground && plan->silhouettes && !split)
+        after_because = "the silhouettes go under it";
     else if (plan->foreground && params->far_field != DDOF_LAYER_OFF)
         after_because = "the far field gathers it, which the device does not";
     else if (plan->foreground && params->highlights != DDOF_LAYER_OFF &&
@@ -308,12 +310,12 @@ layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *pa
         after_because = "the highlights are drawn under it or into it";
     const int element = plan->foreground && !after_because;
     if (!facts->device) /* the CPU's layers: the plan says nothing of where they run */
-        return (layers_placement){0, element};
+        return (layers_placement){0, element, split};
     if (after_because)
         ddof_plan_say(plan, "layers: on %s; the element after the passes, by the CPU's steps: %s",
                       facts->device, after_because);
     else
         ddof_plan_say(plan, "layers: on %s%s", facts->device,
                       plan->foreground ? ", the element's composite included" : "");
-    return (layers_placement){1, element};
+    return (layers_placement){1, element, split};
 }

@@ -64,6 +64,7 @@ typedef struct layers_device_facts {
                                * split off a frame whose alpha is not 1 there)                 */
     uint32_t highlights;      /* highlights found in the frame                                 */
     int element_bright;       /* the element holds a pixel the highlight pass would take      */
+    int matte;                /* the frame has an object matte (the silhouettes' shares)      */
 } layers_device_facts;
 
 /* Where a planned frame's layers run. The element is composited last, over every pass; a
@@ -73,13 +74,17 @@ typedef struct layers_placement {
     int device;  /* the layers on the context's device (its run_layers), else the CPU's      */
     int element; /* the element blurred and composited inside that run_layers; else after
                   * the passes, by the CPU's steps (its diffusions on the context's backend) */
+    int split;   /* the silhouettes' split inside that run, after the far field; else (with an
+                  * object matte and highlights: the discs are drawn before the split, through
+                  * its matte's shares) after the run, by the CPU's steps                   */
 } layers_placement;
 
 /* Decides the placement: on the device whenever facts->device names one, else on the CPU's
  * table; the element inside that run, on either, unless something must come between the
  * layers and the element's composite or a request cannot ask for the element's part: the
  * highlights (the frame's, which go under the element, and the element's own, drawn into it),
- * the far field and the silhouettes (under it), the far field's gather of the element itself
+ * the silhouettes when they are not in the run (under it; the far field is a stage of the
+ * run), the far field's gather of the element itself
  * (whenever params allow the far field: the element's CoC may call for it where the frame's
  * does not), an element carrying part of the frame's alpha. Says which and why in the plan
  * when there is a device (the CPU's layers add no line). */

@@ -8,6 +8,8 @@
  * CPU's only by the diffusions' float rounding. */
 #include "gl_layers.h"
 
+#include "gl_passes.h"
+
 #include "ddof_layer_rules.h"
 
 #include <math.h>
@@ -17,7 +19,7 @@
 /* ---- the frame's state -------------------------------------------------------------------- */
 
 /* The images of the one upload, each a section of FRAME. */
-enum { IN_COLOR, IN_COC, IN_FG, IN_FG_COC, IN_COUNT };
+enum { IN_COLOR, IN_COC, IN_FG, IN_FG_COC, IN_MATTE, IN_COUNT };
 
 typedef struct frame {
     ddof_device *device;
@@ -50,6 +52,18 @@ static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride
                           f->at[in], f->bytes[in]};
 }
 
+/* What the layers diffuse, from frame pixel (x, y): the upload's colour, or with the
+ * silhouettes its cleaned copy (SIL_CLEAN, width x channels floats a row). */
+static gl_image_ref diffused(const frame *f, uint32_t x, uint32_t y)
+{
+    const adi_request *r = &f->q->base;
+    if (f->q->silhouettes)
+        return (gl_image_ref){f->device->buffers.name[GL_BUF_SIL_CLEAN], (y * f->w + x) * f->c,
+                              f->w * f->c, f->c, 0, 0};
+    return input(f, IN_COLOR, (uint32_t)(y * r->color_stride) + x * f->c, r->color_stride,
+                 f->c);
+}
+
 static GLuint need(frame *f, gl_buffer_slot s, uint64_t floats)
 {
     return gl_need(f->device, s, floats * sizeof(float), f->message, f->size);
@@ -62,10 +76,13 @@ static int upload(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc};
+    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc, q->matte};
     uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
                                  span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1), 0,
-                                 0};
+                                 0, 0};
+    if (q->silhouettes && q->matte && q->matte_ranks)
+        floats[IN_MATTE] = span_floats(f->w, f->h, q->matte_stride, 2 * q->matte_ranks,
+                                       2 * q->matte_ranks);
     if (q->fg_color) {
         floats[IN_FG] = span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
         floats[IN_FG_COC] = span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
@@ -198,64 +215,12 @@ static int simple_step(frame *f, gl_program_id id, adi_box area)
     return prog != 0;
 }
 
-/* Loop steps one invocation of cone_dilate.comp may run: llvmpipe stops a shader's loops
- * after 65,535 iterations of all of them together (measured: they then end silently), so a
- * band of rows stays well below that; each row is its width of steps plus its share of the
- * row links. A row longer than that runs alone, its run along the row in pieces of this many
- * steps, the first with the row's links (at most 8192 steps more). */
-#define CONE_BAND_STEPS 32768u
-
-/* One dispatch of cone_dilate.comp: `count` rows from `first` (pass order), each taking the
- * steps [run_first, run_first + run_count) of its run along the row. */
-static void cone_dispatch(const gl_functions *gl, GLuint prog, const GLint at[4], uint32_t first,
-                          uint32_t count, uint32_t run_first, uint32_t run_count)
-{
-    gl->ProgramUniform1ui(prog, at[0], first);
-    gl->ProgramUniform1ui(prog, at[1], count);
-    gl->ProgramUniform1ui(prog, at[2], run_first);
-    gl->ProgramUniform1ui(prog, at[3], run_count);
-    gl->DispatchCompute(1, 1, 1);
-    gl->MemoryBarrier(GL_SHADER_STORAGE_BARRIER_BIT);
-}
-
-/* cone_dilate.c on a map: the box at `base` (floats), rows `stride` apart; both passes, one
- * dispatch per band of rows (cone_dilate.comp). */
+/* cone_dilate.c on one of the frame's maps (gl_passes.h). */
 static int cone_dilate(frame *f, gl_buffer_slot map, uint32_t base, uint32_t width,
                        uint32_t height, uint32_t stride, float slope)
 {
-    const gl_functions *gl = &f->device->gl;
-    GLuint prog = gl_programs_get(gl, &f->device->programs, GL_PROG_CONE_DILATE, f->message,
-                                  f->size);
-    if (!prog)
-        return 0;
-    gl_bind(gl, 2, slot(f, map));
-    gl_uniform_u(gl, prog, "u_base", base);
-    gl_uniform_u(gl, prog, "u_stride", stride);
-    gl_uniform_u(gl, prog, "u_height", height);
-    gl_uniform_u(gl, prog, "u_width", width);
-    gl_uniform_f(gl, prog, "u_axial", slope);
-    gl_uniform_f(gl, prog, "u_diagonal", slope * 1.41421356f);
-    const uint32_t row_steps = width + width / 8 + 2; /* the run and the links, 8 lanes */
-    const uint32_t run = width - 1;                   /* the run's steps along a row */
-    const GLint at[4] = {gl->GetUniformLocation(prog, "u_first"),
-                         gl->GetUniformLocation(prog, "u_count"),
-                         gl->GetUniformLocation(prog, "u_run_first"),
-                         gl->GetUniformLocation(prog, "u_run_count")};
-    gl->UseProgram(prog);
-    for (uint32_t pass = 0; pass < 2; pass++) {
-        gl_uniform_u(gl, prog, "u_backward", pass);
-        if (row_steps <= CONE_BAND_STEPS) {
-            const uint32_t band = CONE_BAND_STEPS / row_steps;
-            for (uint32_t i = 0; i < height; i += band)
-                cone_dispatch(gl, prog, at, i, height - i < band ? height - i : band, 0, run);
-            continue;
-        }
-        for (uint32_t i = 0; i < height; i++)
-            for (uint32_t s = 0; s < run; s += CONE_BAND_STEPS)
-                cone_dispatch(gl, prog, at, i, 1, s,
-                              run - s < CONE_BAND_STEPS ? run - s : CONE_BAND_STEPS);
-    }
-    return 1;
+    return gl_cone_dilate(f->device, slot(f, map), base, width, height, stride, slope,
+                          f->message, f->size);
 }
 
 /* ---- diffusions --------------------------------------------------------------------------- */
@@ -343,7 +308,7 @@ static ddof_status midground(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    gl_resident mid = derived(f, whole(f), input(f, IN_COLOR, 0, r->color_stride, f->c), f->c,
+    gl_resident mid = derived(f, whole(f), diffused(f, 0, 0), f->c,
                               map_ref(f, GL_BUF_OUT, f->w, f->c));
     mid.coc = q->near_spread ? map_ref(f, GL_BUF_SPREAD, f->w, 1)
                              : input(f, IN_COC, 0, r->coc_stride, r->coc_channels);
@@ -355,7 +320,6 @@ static ddof_status midground(frame *f)
 static ddof_status background_level(frame *f, adi_box area, adi_box blend, float ramp_start,
                                     float threshold, float blend_from)
 {
-    const adi_request *r = &f->q->base;
     const gl_functions *gl = &f->device->gl;
     const uint32_t aw = area.x1 - area.x0, ah = area.y1 - area.y0;
     const uint64_t pixels = (uint64_t)aw * ah;
@@ -382,8 +346,7 @@ static ddof_status background_level(frame *f, adi_box area, adi_box blend, float
         return status;
 
     /* The colour, with the holes holding no heat of their own. */
-    const uint32_t color_at = (uint32_t)(area.y0 * r->color_stride) + area.x0 * f->c;
-    gl_resident bg = derived(f, area, input(f, IN_COLOR, color_at, r->color_stride, f->c), f->c,
+    gl_resident bg = derived(f, area, diffused(f, area.x0, area.y0), f->c,
                              map_ref(f, GL_BUF_LAYER, aw, f->c));
     bg.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
     bg.gamma = map_ref(f, GL_BUF_CAPACITY, aw, 1);
@@ -470,6 +433,60 @@ static ddof_status foreground(frame *f)
     return simple_step(f, GL_PROG_LAYER_COMPOSITE, area) ? DDOF_OK : DDOF_ERROR_BACKEND_FAILED;
 }
 
+/* The silhouettes' request (gl_passes.h): from the upload's colour, CoC and matte. */
+static gl_silhouettes_request silhouettes_request(const frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    gl_silhouettes_request s = {.width = f->w, .height = f->h, .channels = f->c,
+                                .color = input(f, IN_COLOR, 0, r->color_stride, f->c),
+                                .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels),
+                                .in_focus_px = r->in_focus_px};
+    if (f->bytes[IN_MATTE]) {
+        s.matte = input(f, IN_MATTE, 0, q->matte_stride, 2 * q->matte_ranks);
+        s.ranks = q->matte_ranks;
+    }
+    return s;
+}
+
+/* The colour the layers diffuse, with the silhouettes' objects taken out (SIL_CLEAN). */
+static int clean_silhouettes(frame *f)
+{
+    const gl_silhouettes_request s = silhouettes_request(f);
+    GLuint cleaned = need(f, GL_BUF_SIL_CLEAN, (uint64_t)f->w * f->h * f->c);
+    return cleaned && gl_clean_silhouettes(f->device, &s, cleaned, f->message, f->size);
+}
+
+/* The silhouettes' split of OUT. */
+static int split_silhouettes(frame *f)
+{
+    const gl_silhouettes_request s = silhouettes_request(f);
+    return gl_split_silhouettes(f->device, &s, f->device->buffers.name[GL_BUF_OUT],
+                                &f->report->silhouette_pixels, f->message, f->size);
+}
+
+/* The far field over OUT (gl_passes.h), from the colour the layers diffused. */
+static ddof_status far_field(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    const gl_far_field_request far = {
+        .width = f->w, .height = f->h, .channels = f->c,
+        .color = diffused(f, 0, 0),
+        .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels),
+        .out = f->device->buffers.name[GL_BUF_OUT], .in_focus_px = r->in_focus_px,
+        .pixel_aspect = r->pixel_aspect, .slices = (int)q->far_slices};
+    gl_far_field_report found;
+    if (!gl_far_field(f->device, &far, &found, f->message, f->size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    adi_layers_report *report = f->report;
+    report->far_pixels = found.pixels;
+    report->far_layered_pixels = found.layered_pixels;
+    report->far_slices = found.slices;
+    report->far_levels = found.levels;
+    return DDOF_OK;
+}
+
 ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
                           adi_layers_report *report, char *message, size_t size)
 {
@@ -482,6 +499,10 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
         return DDOF_ERROR_BACKEND_FAILED;
     ddof_status status = DDOF_OK;
     double t0 = gl_seconds();
+    if (q->silhouettes && !clean_silhouettes(&f))
+        return DDOF_ERROR_BACKEND_FAILED;
+    report->seconds_silhouettes = gl_seconds() - t0;
+    t0 = gl_seconds();
     if (q->near_spread && !near_spread(&f))
         return DDOF_ERROR_BACKEND_FAILED;
     report->seconds_foreground += gl_seconds() - t0;
@@ -491,6 +512,18 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
         status = background(&f);
         device->gl.Finish();
         report->seconds_background = gl_seconds() - t0;
+    }
+    if (status == DDOF_OK && q->far_field) {
+        t0 = gl_seconds();
+        status = far_field(&f);
+        device->gl.Finish();
+        report->seconds_far_field = gl_seconds() - t0;
+    }
+    if (status == DDOF_OK && q->silhouettes) {
+        t0 = gl_seconds();
+        if (!split_silhouettes(&f))
+            status = DDOF_ERROR_BACKEND_FAILED;
+        report->seconds_silhouettes += gl_seconds() - t0;
     }
     if (status == DDOF_OK && q->fg_color) {
         t0 = gl_seconds();

@@ -6,20 +6,6 @@
 
 #include "gl_solve.h"
 
-/* An image in a device buffer: the float index of its first pixel, floats between rows and
- * between pixels (the CoC and gamma may be the first of several channels). buffer 0: none.
- * With `bytes` > 0 only the section [at, at + bytes) of the buffer is bound and offset counts
- * from its start: one buffer holds a frame's several images, each within the renderer's
- * storage-block limit while the whole may not be. */
-typedef struct gl_image_ref {
-    GLuint buffer;
-    uint32_t offset, stride, step;
-    uint64_t at, bytes;
-} gl_image_ref;
-
-/* Binds ref's buffer (or its section) to storage binding `index`, else `fallback`. */
-void gl_bind_ref(const gl_functions *gl, GLuint index, const gl_image_ref *ref, GLuint fallback);
-
 /* One diffusion of device-resident images, with adi_request's meaning for each field. */
 typedef struct gl_resident {
     uint32_t width, height, channels;

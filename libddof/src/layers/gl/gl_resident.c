@@ -13,17 +13,6 @@
 #include <stdio.h>
 #include <string.h>
 
-void gl_bind_ref(const gl_functions *gl, GLuint index, const gl_image_ref *ref, GLuint fallback)
-{
-    if (!ref->buffer)
-        gl_bind(gl, index, fallback);
-    else if (ref->bytes)
-        gl->BindBufferRange(GL_SHADER_STORAGE_BUFFER, index, ref->buffer, (GLintptr)ref->at,
-                            (GLsizeiptr)ref->bytes);
-    else
-        gl_bind(gl, index, ref->buffer);
-}
-
 static int pack(ddof_device *device, const gl_resident *q, float in_focus, char *message,
                 size_t size)
 {

@@ -1,0 +1,60 @@
+/* SPDX-License-Identifier: MIT */
+/* gl_passes.h - the passes on the device, on images that already lie in device buffers: the
+ * cone dilation (gl_cone_dilate.c, cone_dilate.comp), the far field (gl_far_field.c,
+ * far_field.comp) and the silhouettes' split (gl_silhouettes.c, silhouettes.comp). */
+#ifndef DDOF_GL_PASSES_H
+#define DDOF_GL_PASSES_H
+
+#include "gl_solve.h"
+
+/* ../cone_dilate.c on the map in `buffer`: the box at `base` (floats), rows `stride` apart,
+ * both passes. 0 with a sentence in message on failure. */
+int gl_cone_dilate(ddof_device *device, GLuint buffer, uint32_t base, uint32_t width,
+                   uint32_t height, uint32_t stride, float slope, char *message,
+                   size_t message_size);
+
+/* The far field of a frame whose layers' result lies in `out` (width x channels floats a row,
+ * blended in place), with ../far_field.h's meaning for each field. */
+typedef struct gl_far_field_request {
+    uint32_t width, height, channels;
+    gl_image_ref color; /* what the layers diffused: stride floats a row, channels a pixel */
+    gl_image_ref coc;   /* the frame's signed CoC: stride floats a row, step a pixel         */
+    GLuint out;
+    float in_focus_px, pixel_aspect;
+    int slices;         /* gather where two blurred surfaces meet in depth slices           */
+} gl_far_field_request;
+
+/* ../far_field.h's far_field_report. */
+typedef struct gl_far_field_report {
+    uint64_t pixels, layered_pixels;
+    uint32_t slices, levels;
+} gl_far_field_report;
+
+/* Runs it: the maps, the depth slices and the gathers on the device; the host reads only the
+ * counts that size the next step (a few bytes, and the cuts' counters). 0 with a sentence in
+ * message on failure. */
+int gl_far_field(ddof_device *device, const gl_far_field_request *q, gl_far_field_report *report,
+                 char *message, size_t message_size);
+
+/* The silhouettes of a frame (../silhouettes.h), with its meaning for each field. */
+typedef struct gl_silhouettes_request {
+    uint32_t width, height, channels; /* 3 or 4 channels */
+    gl_image_ref color; /* the colour before the clean: stride floats a row, channels a pixel */
+    gl_image_ref coc;   /* the frame's signed CoC: stride floats a row, step a pixel          */
+    gl_image_ref matte; /* the object matte's (id, coverage) pairs, `ranks` a pixel; buffer 0:
+                         * none (the shares from the colours)                                  */
+    uint32_t ranks;
+    float in_focus_px;
+} gl_silhouettes_request;
+
+/* ddof_clean_silhouettes: the colour the layers diffuse into `cleaned` (width x channels
+ * floats a row). 0 with a sentence in message on failure. */
+int gl_clean_silhouettes(ddof_device *device, const gl_silhouettes_request *q, GLuint cleaned,
+                         char *message, size_t message_size);
+
+/* ddof_split_silhouettes on the result in `out` (width x channels floats a row), in place;
+ * *pixels: the mixed pixels split (4 bytes read back). 0 with a sentence on failure. */
+int gl_split_silhouettes(ddof_device *device, const gl_silhouettes_request *q, GLuint out,
+                         uint64_t *pixels, char *message, size_t message_size);
+
+#endif
