@@ -2,11 +2,11 @@
 /* test_layers_element_routes.c - the two routes of a foreground element on the CPU give the
  * same bits: inside the CPU table's run_layers request (ddof_run_layers_on_cpu, what the
  * planner picks where nothing comes between the layers and the element) and after the layers
- * by the CPU's steps (ddof_run_foreground_on_cpu, where something does), with neither the
- * element's own highlights nor the far field's gather to tell them apart. The planner moves
- * an element between the routes by what the frame holds, so an output must not depend on
- * which it took. With the heat kernel and disc-2x2, a background level and the near spread
- * on, in 1 and 2 threads. */
+ * by the CPU's steps (ddof_run_foreground_on_cpu, where something does), without the
+ * element's own highlights (never inside a request) and with and without the far field's
+ * gather of its blur (the request's fg_gather). The planner moves an element between the
+ * routes by what the frame holds, so an output must not depend on which it took. With the heat
+ * kernel and disc-2x2, a background level and the near spread on, in 1 and 2 threads. */
 #include "frame/call_checks.h"
 #include "layers/layers.h"
 #include "test_images.h"
@@ -42,7 +42,7 @@ static void scene(float *color, float *coc, float *fg, float *fg_coc)
         }
 }
 
-static void routes(ddof_context *ctx, ddof_kernel kernel)
+static void routes(ddof_context *ctx, ddof_kernel kernel, int gather)
 {
     const size_t n = (size_t)W * H * CH;
     float *color = alloc_f(n), *coc = alloc_f((size_t)W * H);
@@ -56,7 +56,7 @@ static void routes(ddof_context *ctx, ddof_kernel kernel)
     p.kernel = kernel;
     p.coc_signed = 1;
     p.highlights = DDOF_LAYER_OFF;
-    p.far_field = DDOF_LAYER_OFF;
+    p.far_field = gather ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
     adi_request r = {.color = color, .color_stride = (size_t)W * CH, .coc = coc,
                      .coc_stride = W, .coc_channels = 1, .width = W, .height = H,
                      .channels = CH, .out_stride = (size_t)W * CH};
@@ -91,15 +91,18 @@ static void routes(ddof_context *ctx, ddof_kernel kernel)
     d.fg_premultiplied = 1;
     d.fg_max_coc = 14.0f;
     d.fg_area = (adi_box){0, 0, W, H};
+    d.fg_gather = (uint32_t)gather;
     CHECK_EQ_INT(ddof_run_layers_on_cpu(ctx, &d, &a), DDOF_OK);
+    CHECK_EQ_INT(a.element_far_field, (report.effects & DDOF_EFFECT_FAR_FIELD) != 0);
+    CHECK_EQ_INT(a.element_far_field, gather);
 
     size_t differ = 0, changed = 0;
     for (size_t i = 0; i < n; i++) {
         differ += memcmp(&inside[i], &after[i], sizeof(float)) != 0;
         changed += inside[i] != layers_only[i];
     }
-    printf("%s: %zu of %zu values differ between the routes; the element changed %zu\n",
-           ddof_kernel_name(kernel), differ, n, changed);
+    printf("%s%s: %zu of %zu values differ between the routes; the element changed %zu\n",
+           ddof_kernel_name(kernel), gather ? ", gathered" : "", differ, n, changed);
     CHECK_MSG(differ == 0, "%s: %zu values differ", ddof_kernel_name(kernel), differ);
     CHECK_MSG(changed > (size_t)W * H / 20, "%s: the element changed only %zu values",
               ddof_kernel_name(kernel), changed);
@@ -116,8 +119,10 @@ int main(void)
 {
     for (uint32_t threads = 1; threads <= 2; threads++) {
         ddof_context *ctx = make_context(threads);
-        routes(ctx, DDOF_KERNEL_HEAT);
-        routes(ctx, DDOF_KERNEL_DISC_2X2);
+        for (int gather = 0; gather < 2; gather++) {
+            routes(ctx, DDOF_KERNEL_HEAT, gather);
+            routes(ctx, DDOF_KERNEL_DISC_2X2, gather);
+        }
         ddof_context_free(ctx);
     }
     return test_report("test_layers_element_routes");

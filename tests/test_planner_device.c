@@ -4,8 +4,8 @@
  * foreground element composited inside that run, on either, only where no pass goes between
  * the layers and the element (the silhouettes' split when a matte puts it after the
  * highlights' discs, the highlights drawn under it or into it; the far field and otherwise the
- * split are stages of the run), the far field does not gather the element itself and the
- * element carries no part of the frame's alpha; else after the passes. The plan says which and
+ * split are stages of the run, and so is the far field's gather of the element itself) and
+ * the element carries no part of the frame's alpha; else after the passes. The plan says which and
  * why on a device, nothing on the CPU. The whole frames behind each case are
  * tests/gl/test_gl_frame.c's. */
 #include "planner/planner.h"
@@ -99,11 +99,11 @@ int main(void)
     f = egl;
     f.element_bright = 1;
     expect("the element's own highlights", element_plan(), &params, f, 1, 0, line);
-    /* The far field allowed gathers the element even where the frame's plan has none. */
+    /* The far field allowed gathers the element even where the frame's plan has none, in
+     * the run too. */
     params.far_field = DDOF_LAYER_AUTO;
-    snprintf(line, sizeof line, "%sthe far field gathers it, which the device does not\n",
-             after);
-    expect("the element's gather", element_plan(), &params, egl, 1, 0, line);
+    expect("the element's gather", element_plan(), &params, egl, 1, 1,
+           "layers: on egl, the element's composite included\n");
     params.far_field = DDOF_LAYER_OFF;
     /* With the highlight pass off nothing is drawn, so the device takes the element. */
     params.highlights = DDOF_LAYER_OFF;

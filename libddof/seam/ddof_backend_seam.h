@@ -133,6 +133,8 @@ typedef struct adi_layers_request {
     uint32_t fg_premultiplied;
     float fg_max_coc;         /* largest |CoC| where alpha > 0                               */
     adi_box fg_area;          /* where the element's blur can reach                          */
+    uint32_t fg_gather;       /* 1: the far field gathers the element's blur with the lens's
+                               * shape away from its own depth edges, before its composite    */
     uint32_t far_field;       /* 1: the far field over the layers' result, before the element
                                * (libddof/src/passes/far_field.h), from base.color            */
     uint32_t far_slices;      /* 1: with its depth slices where blurred surfaces meet         */
@@ -155,6 +157,7 @@ typedef struct adi_layers_report {
     uint32_t far_slices, far_levels;
     double seconds_silhouettes;
     uint64_t silhouette_pixels; /* mixed pixels split                                        */
+    uint32_t element_far_field; /* 1: the far field gathered some of the element's blur        */
 } adi_layers_report;
 
 /* ---- cards (ddof_render_cards, docs/cards.md) -------------------------------------------- */

@@ -272,10 +272,10 @@ static void frames(ddof_kernel kernel)
     free(coc);
 }
 
-/* The far field and the silhouettes (ddof_params.far_field, .silhouettes): on the CPU into the
- * device's one read-back, so a frame without an element is still 1 upload and 1 read-back and
- * matches the CPU; with an element (both go under it) the frame runs on the CPU's layers, and
- * still matches. */
+/* The far field and the silhouettes (ddof_params.far_field, .silhouettes): stages of the
+ * device's run (tests/gl/test_gl_far_field.c, test_gl_silhouettes.c for their cases), so a
+ * frame is 1 upload and 1 read-back and matches the CPU, with an element too (its blur
+ * gathered by the far field, then composited over them). */
 static void far_field_frames(ddof_kernel kernel)
 {
     const size_t n = (size_t)W * H * CH;
@@ -305,13 +305,11 @@ static void far_field_frames(ddof_kernel kernel)
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
     p.highlights = DDOF_LAYER_OFF;
-    /* The plan says where the layers ran and why (the planner decides): on the device, the
-     * far field and the silhouettes included, the element after them, since the far field
-     * gathers the element's blur too; a CPU context's plan says nothing. */
-    element_after_frame("far field + element", &p, color, coc, &fg,
-                        DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND, 3,
-                        "the far field gathers it, which the device does not");
-    /* One rising fraction over the device's run and the element's three diffusions after it. */
+    /* The far field, the silhouettes and the far field's gather of the element's blur are
+     * stages of the device's run, before the element's composite: one upload, one read-back. */
+    compare("far field + element", p, color, coc, &fg,
+            DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_SILHOUETTES | DDOF_EFFECT_FOREGROUND);
+    /* One rising fraction over the device's run. */
     float *out = alloc_f(n);
     progress_seen seen = {0};
     p.progress = see_progress;
@@ -322,12 +320,12 @@ static void far_field_frames(ddof_kernel kernel)
               seen.backwards, seen.last);
     p.progress = NULL;
     /* A sharp frame under the blurred element: the frame calls for no far field, but the
-     * element's CoC does, and its gather is the CPU's steps. The device once composited the
-     * element without it: GL vs CPU 0.070 (heat) and 0.0073 (disc-2x3), effects 5 against 69. */
+     * element's CoC does (the device once composited the element without it: GL vs CPU 0.070
+     * with heat, 0.0073 with disc-2x3, effects 5 against 69); the device gathers it too. */
     for (size_t i = 0; i < (size_t)W * H; i++)
         coc[i] = 0.5f;
-    element_after_frame("sharp frame + element", &p, color, coc, &fg, DDOF_EFFECT_FAR_FIELD, 3,
-                        NULL);
+    compare("sharp frame + element", p, color, coc, &fg,
+            DDOF_EFFECT_FAR_FIELD | DDOF_EFFECT_FOREGROUND);
     free(out);
     free(fg_color);
     free(fg_coc);
@@ -382,12 +380,12 @@ static void highlights(ddof_kernel kernel)
         if (lights)
             for (size_t i = 0; i < (size_t)W * H; i++)
                 color[i * CH + 3] = 1.0f;
-        /* Its alpha's part is a fourth diffusion of the element's; with the lights, the far
-         * field's gather of the element (on by default) is the first reason. */
+        /* Its alpha's part is a fourth diffusion of the element's; with the lights, the
+         * highlights are the reason. */
         if (lights)
             element_after_frame("near layer, highlights", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS, 3,
-                                "the far field gathers it, which the device does not");
+                                "the highlights are drawn under it or into it");
         else
             element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER, 4,

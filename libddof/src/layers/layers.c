@@ -424,7 +424,7 @@ static ddof_status gather_element(ddof_context *context, const adi_request *blur
 }
 
 /* What the element's blur does besides the diffusion, on the frame's settings: its own
- * highlights and the far field's gather. Neither runs inside a run_layers request. */
+ * highlights (never inside a run_layers request) and the far field's gather. */
 typedef struct element_extras {
     int highlights;  /* find the element's highlights (params.highlights not off) */
     float threshold; /* params.highlight_threshold                                */
@@ -687,8 +687,8 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
                                 .coc_channels = d->fg_coc_channels,
                                 .premultiplied = (int)d->fg_premultiplied,
                                 .max_coc = d->fg_max_coc};
-        const element_extras none = {0};
-        if ((status = element(context, &q, pixel_box_of(d->fg_area), &none, &st, &report)) !=
+        const element_extras extras = {.gather = (int)d->fg_gather};
+        if ((status = element(context, &q, pixel_box_of(d->fg_area), &extras, &st, &report)) !=
             DDOF_OK)
             return status;
     }
@@ -701,7 +701,9 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
                                .far_slices = far.slices,
                                .far_levels = far.levels,
                                .seconds_silhouettes = seconds_silhouettes,
-                               .silhouette_pixels = split.pixels};
+                               .silhouette_pixels = split.pixels,
+                               .element_far_field =
+                                   (report.effects & DDOF_EFFECT_FAR_FIELD) != 0};
     return DDOF_OK;
 }
 

@@ -47,6 +47,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.fg_max_coc = q->fg.max_coc;
         const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
         d.fg_area = seam_box(box_grow(q->fg.box, reach, r->width, r->height));
+        d.fg_gather = p->far_field != DDOF_LAYER_OFF;
     }
     d.far_field = (uint32_t)plan->far_field;
     d.far_slices = (uint32_t)plan->blurred_edges;
@@ -73,6 +74,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     report->effects |= DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
-                      (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u);
+                      (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u) |
+                      (a.element_far_field ? (uint32_t)DDOF_EFFECT_FAR_FIELD : 0u);
     return DDOF_OK;
 }

@@ -303,8 +303,6 @@ layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *pa
         after_because = "it carries the frame's alpha, which the device's frame does not hold";
     else if (plan->foreground && plan->silhouettes && !split)
         after_because = "the silhouettes go under it";
-    else if (plan->foreground && params->far_field != DDOF_LAYER_OFF)
-        after_because = "the far field gathers it, which the device does not";
     else if (plan->foreground && params->highlights != DDOF_LAYER_OFF &&
              (facts->highlights || facts->element_bright))
         after_because = "the highlights are drawn under it or into it";

@@ -83,11 +83,10 @@ typedef struct layers_placement {
  * table; the element inside that run, on either, unless something must come between the
  * layers and the element's composite or a request cannot ask for the element's part: the
  * highlights (the frame's, which go under the element, and the element's own, drawn into it),
- * the silhouettes when they are not in the run (under it; the far field is a stage of the
- * run), the far field's gather of the element itself
- * (whenever params allow the far field: the element's CoC may call for it where the frame's
- * does not), an element carrying part of the frame's alpha. Says which and why in the plan
- * when there is a device (the CPU's layers add no line). */
+ * the silhouettes when they are not in the run (under it; the far field, its gather of the
+ * element and otherwise the split are stages of the run), an element carrying part of the
+ * frame's alpha. Says which and why in the plan when there is a device (the CPU's layers add
+ * no line). */
 layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
                                          const layers_device_facts *facts);
 

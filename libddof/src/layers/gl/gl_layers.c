@@ -393,6 +393,24 @@ static ddof_status background(frame *f)
     return DDOF_OK;
 }
 
+/* layers.c's gather_element: the far field over the element's blur (BLUR) within its area,
+ * from the element before its blur (LAYER) and its CoC filled outwards (MAP_C), no slices. */
+static ddof_status gather_element(frame *f, adi_box area)
+{
+    const adi_request *r = &f->q->base;
+    const uint32_t aw = area.x1 - area.x0;
+    const gl_far_field_request far = {
+        .width = aw, .height = area.y1 - area.y0, .channels = 4,
+        .color = map_ref(f, GL_BUF_LAYER, aw, 4), .coc = map_ref(f, GL_BUF_MAP_C, aw, 1),
+        .out = f->device->buffers.name[GL_BUF_LAYER_BLUR], .in_focus_px = r->in_focus_px,
+        .pixel_aspect = r->pixel_aspect, .slices = 0};
+    gl_far_field_report found;
+    if (!gl_far_field(f->device, &far, &found, f->message, f->size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    f->report->element_far_field |= found.pixels > 0;
+    return DDOF_OK;
+}
+
 /* layers.c's foreground: the element's CoC filled outwards in two steps, its premultiplied
  * colour and alpha diffused with it, composited over. */
 static ddof_status foreground(frame *f)
@@ -425,12 +443,23 @@ static ddof_status foreground(frame *f)
     if ((status = diffuse(f, &spread)) != DDOF_OK)
         return status;
 
+    /* Its blur in place, or beside the element (BLUR) when the far field gathers from it. */
+    const gl_buffer_slot blurred = q->fg_gather ? GL_BUF_LAYER_BLUR : GL_BUF_LAYER;
+    if (q->fg_gather && !need(f, GL_BUF_LAYER_BLUR, pixels * 4))
+        return DDOF_ERROR_BACKEND_FAILED;
     gl_resident blur = derived(f, area, map_ref(f, GL_BUF_LAYER, aw, 4), 4,
-                               map_ref(f, GL_BUF_LAYER, aw, 4));
+                               map_ref(f, blurred, aw, 4));
     blur.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
     if ((status = diffuse(f, &blur)) != DDOF_OK)
         return status;
-    return simple_step(f, GL_PROG_LAYER_COMPOSITE, area) ? DDOF_OK : DDOF_ERROR_BACKEND_FAILED;
+    if (q->fg_gather && (status = gather_element(f, area)) != DDOF_OK)
+        return status;
+    GLuint prog = step_program(f, GL_PROG_LAYER_COMPOSITE, area);
+    if (!prog)
+        return DDOF_ERROR_BACKEND_FAILED;
+    gl_bind(&f->device->gl, 7, slot(f, blurred));
+    run_step(f, prog, area);
+    return DDOF_OK;
 }
 
 /* The silhouettes' request (gl_passes.h): from the upload's colour, CoC and matte. */
