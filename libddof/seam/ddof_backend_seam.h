@@ -110,6 +110,30 @@ typedef struct adi_box {
     uint32_t x0, y0, x1, y1;
 } adi_box;
 
+/* A highlight the highlight pass found (libddof/src/passes/highlights.h): a pixel, the signed
+ * CoC its light is drawn with, its colour above the threshold, and whether it is a part hidden
+ * by a sharp occluder (filled in: not taken out of the colour, its disc not renormalised). */
+typedef struct adi_highlight {
+    uint32_t x, y;
+    float coc;
+    float excess[3];
+    uint32_t hidden;
+} adi_highlight;
+
+/* A frame's highlights and the aperture they are drawn with (highlights.h's
+ * highlight_aperture; the pixel aspect is base's). */
+typedef struct adi_highlights {
+    const adi_highlight *items; /* sorted by row; as ddof_find_highlights leaves them          */
+    uint32_t count;             /* 0: no highlight pass                                        */
+    uint32_t coc_signed;
+    uint32_t blades;            /* 0..2: a disc; else a polygon turned by rotation_rad          */
+    double rotation_rad;
+    double catseye, centre_x, centre_y, half_width, half_height;
+    const double *image_sums;   /* an aperture image's summed-area table, (w + 1) x (h + 1),
+                                 * scaled to a largest texel of 1; NULL: none                  */
+    uint32_t image_width, image_height;
+} adi_highlights;
+
 /* A validated, planned layered frame (libddof/src/layers/layers.c's pipeline, docs/design.md
  * section 1): the midground diffusion of `base` (its CoC signed when params.coc_signed), then
  * what the plan switched on. The core has decided what runs and where the near spread and foreground
@@ -139,8 +163,12 @@ typedef struct adi_layers_request {
                                * (libddof/src/passes/far_field.h), from base.color            */
     uint32_t far_slices;      /* 1: with its depth slices where blurred surfaces meet         */
     uint32_t silhouettes;     /* 1: the silhouettes' split (libddof/src/passes/silhouettes.h):
-                               * base.color cleaned before the layers diffuse it, the split
+                               * the colour cleaned before the layers diffuse it, the split
                                * after the far field, before the element; 3 or 4 channels     */
+    adi_highlights highlights; /* taken out of base.color before the layers (and before the
+                               * silhouettes' clean), drawn into the result after the split
+                               * (before it, through the split's scratch, with an object
+                               * matte), before the element                                   */
     const float *matte;       /* the object matte's (id, coverage) pairs, matte_ranks a pixel,
                                * matte_stride floats a row; NULL: the shares from the colours  */
     size_t matte_stride;
@@ -156,6 +184,7 @@ typedef struct adi_layers_report {
     uint64_t far_layered_pixels;
     uint32_t far_slices, far_levels;
     double seconds_silhouettes;
+    double seconds_highlights;
     uint64_t silhouette_pixels; /* mixed pixels split                                        */
     uint32_t element_far_field; /* 1: the far field gathered some of the element's blur        */
 } adi_layers_report;
@@ -195,7 +224,7 @@ typedef struct adi_cards_request {
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 5
+#define DDOF_BACKEND_ABI 6
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */

@@ -46,6 +46,11 @@ typedef enum gl_buffer_slot {
     GL_BUF_SIL_CLEAN,   /* the silhouettes (gl_silhouettes.c): the colour diffused */
     GL_BUF_SIL_DELTA,   /* the split's changes                  */
     GL_BUF_SIL_COUNTS,  /* pixels cleaned, pixels split         */
+    GL_BUF_HL_BASE,     /* the highlights (gl_highlights.c): the colour without them */
+    GL_BUF_HL_LANDING,  /* a class's landing counts             */
+    GL_BUF_HL_WEIGHTS,  /* each highlight's weight              */
+    GL_BUF_HL_DIFF,     /* the discs' rows' differences          */
+    GL_BUF_HL_STATE,    /* running double sums                   */
     GL_BUF_COUNT
 } gl_buffer_slot;
 

@@ -104,6 +104,12 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_SIL_CLEAN] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_CLEAN 1\n"},
     [GL_PROG_SIL_DELTA] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_DELTA 1\n"},
     [GL_PROG_SIL_APPLY] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_APPLY 1\n"},
+    [GL_PROG_HL_COPY] = {"highlights.comp", 0, "#define STEP_COPY 1\n"},
+    [GL_PROG_HL_TAKE_OUT] = {"highlights.comp", 0, "#define STEP_TAKE_OUT 1\n"},
+    [GL_PROG_HL_LANDING] = {"highlights.comp", 0, "#define STEP_LANDING 1\n"},
+    [GL_PROG_HL_WEIGH] = {"highlights.comp", 0, "#define STEP_WEIGH 1\n"},
+    [GL_PROG_HL_SCATTER] = {"highlights.comp", 0, "#define STEP_SCATTER 1\n"},
+    [GL_PROG_HL_SUM] = {"highlights.comp", 0, "#define STEP_SUM 1\n"},
 };
 
 const char *gl_shader_text(const char *name)

@@ -62,6 +62,12 @@ typedef enum gl_program_id {
     GL_PROG_SIL_CLEAN,          /* the silhouettes (gl_silhouettes.c, silhouettes.comp) */
     GL_PROG_SIL_DELTA,
     GL_PROG_SIL_APPLY,
+    GL_PROG_HL_COPY,            /* the highlights (gl_highlights.c, highlights.comp) */
+    GL_PROG_HL_TAKE_OUT,
+    GL_PROG_HL_LANDING,
+    GL_PROG_HL_WEIGH,
+    GL_PROG_HL_SCATTER,
+    GL_PROG_HL_SUM,
     GL_PROG_COUNT
 } gl_program_id;
 

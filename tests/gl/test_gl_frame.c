@@ -333,11 +333,11 @@ static void far_field_frames(ddof_kernel kernel)
     free(coc);
 }
 
-/* HDR highlights (the highlight pass, ddof_params.highlights): taken out before the device runs
- * the frame and drawn on the CPU into its one read-back, so still 1 upload and 1 read-back.
- * With a foreground element as well (the discs go under it), or with highlights in the element
- * itself, the layers still run on the device and the element after the discs, its diffusions
- * one request at a time, and the frame still matches the CPU. */
+/* HDR highlights (the highlight pass, ddof_params.highlights): found on the host, taken out and
+ * drawn on the device (tests/gl/test_gl_highlights.c for the shapes), so 1 upload and 1
+ * read-back, with an element over them too. With highlights in the element itself (found in
+ * it and drawn into it by the CPU's steps) the layers still run on the device and the element
+ * after them, its diffusions one request at a time, and the frame still matches the CPU. */
 static void highlights(ddof_kernel kernel)
 {
     const size_t n = (size_t)W * H * CH;
@@ -362,6 +362,16 @@ static void highlights(ddof_kernel kernel)
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
     element_after_frame("highlights + element", &p, color, coc, &fg,
                         DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND, 3, NULL);
+    /* A dim element over the frame's highlights: they are drawn on the device before the
+     * element's composite, all in the one run. */
+    float *dim = alloc_f((size_t)W * H * 4);
+    for (size_t i = 0; i < (size_t)W * H * 4; i++)
+        dim[i] = (i % 4 == 3) ? fg_color[i] : 0.2f * fg_color[i];
+    ddof_foreground dim_fg = fg;
+    dim_fg.color.pixels = dim;
+    compare("highlights under an element", p, color, coc, &dim_fg,
+            DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND);
+    free(dim);
 
     /* The element's own highlights alone (the rest dimmed below the threshold): drawn into
      * the element by the CPU's steps, so the element again comes after the layers. */
@@ -381,11 +391,11 @@ static void highlights(ddof_kernel kernel)
             for (size_t i = 0; i < (size_t)W * H; i++)
                 color[i * CH + 3] = 1.0f;
         /* Its alpha's part is a fourth diffusion of the element's; with the lights, the
-         * highlights are the reason. */
+         * element's own highlights are the reason. */
         if (lights)
             element_after_frame("near layer, highlights", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS, 3,
-                                "the highlights are drawn under it or into it");
+                                "its own highlights are drawn into it");
         else
             element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER, 4,

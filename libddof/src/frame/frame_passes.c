@@ -1,8 +1,7 @@
 /* SPDX-License-Identifier: MIT */
-/* frame_passes.c - the passes that run on the CPU around a frame's layers, wherever the layers
- * run (frame_run.c orders them): the highlights found before the layers and drawn after them,
- * the silhouettes over the layers' result; and the plan line of the far field, which runs in
- * the layers' run. Each writes its plan line. */
+/* frame_passes.c - the passes' plan lines: the highlights, found before the layers (on the
+ * host: the list they are taken out and drawn by is the layers' run's input), and the far
+ * field and the silhouettes' split, from what the layers' run found. */
 #include "frame_passes.h"
 
 #include "passes/silhouettes.h"
@@ -21,14 +20,10 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
                       r->channels, r->channels == 1 ? "" : "s");
         return DDOF_OK;
     }
-    float *base = ddof_highlight_base_image(context, r);
-    if (!base)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the highlight pass's %ux%u image", r->width,
-                         r->height);
+    /* The layers' run takes them out of the colour and draws them (layers_dispatch.c). */
     ddof_status status =
         ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
-                             &q->aperture, 1, base, set);
+                             &q->aperture, 1, NULL, set);
     if (status != DDOF_OK)
         return status;
     char shape[48] = "discs";
@@ -57,21 +52,6 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
         ddof_plan_say(plan, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
                       (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
     return DDOF_OK;
-}
-
-/* Draws the highlights the pass took out into the result (before the foreground element,
- * which covers them), through `scratch` or the colour's buffer. */
-void ddof_pass_draw_highlights(ddof_context *context, const layers_request *q,
-                               const highlight_set *set, float *scratch,
-                               layers_report *report)
-{
-    if (!set->count)
-        return;
-    const double t0 = ddof_seconds();
-    ddof_scatter_highlights(context, &q->base, (int)q->params->coc_signed, &q->aperture, set,
-                            scratch ? scratch : ddof_highlight_base_image(context, &q->base));
-    report->effects |= DDOF_EFFECT_HIGHLIGHTS;
-    report->seconds_highlights += ddof_seconds() - t0;
 }
 
 /* The far field's plan line, from what the layers' run found (it runs there, over their
@@ -115,24 +95,4 @@ void ddof_say_silhouettes(const layers_request *q, frame_plan *plan, uint64_t pi
                       "silhouettes: off: no in-focus pixel meets a CoC >= %.3g px behind it",
                       (double)DDOF_SILHOUETTE_MIN_COC_PX);
     }
-}
-
-/* The mixed pixels of in-focus silhouettes (silhouettes.h), split in the result after the
- * highlights' discs (with an object matte; otherwise the split is a stage of the layers' run)
- * and before the foreground element covers it, estimated from the colour before its objects
- * were taken out of what the layers diffused (ddof_clean_silhouettes). */
-ddof_status ddof_pass_silhouettes(ddof_context *context, const layers_request *q, int pairs,
-                                  const float *color, size_t color_stride, frame_plan *plan,
-                                  layers_report *report)
-{
-    const double t0 = ddof_seconds();
-    silhouette_report split = {0};
-    const ddof_status status =
-        pairs ? ddof_split_silhouettes(context, &q->base, &q->matte, color, color_stride, &split)
-              : DDOF_OK;
-    if (status != DDOF_OK)
-        return status;
-    ddof_say_silhouettes(q, plan, split.pixels, report);
-    report->seconds_silhouettes += ddof_seconds() - t0;
-    return DDOF_OK;
 }

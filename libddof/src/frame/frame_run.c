@@ -157,15 +157,13 @@ static int element_is_bright(const layers_request *q)
 /* Where the layers run: what the planner needs to know, found here, and its decision (the
  * planner alone says whether the element's brightness matters). */
 static layers_placement place_layers(ddof_context *context, const layers_request *q,
-                                     frame_plan *plan, uint32_t frame_highlights)
+                                     frame_plan *plan)
 {
     const int takes = ddof_backend_runs_layers(context, &q->base);
     const layers_device_facts facts = {
         .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
         .carried_alpha = q->fg.carried_alpha != NULL,
-        .highlights = frame_highlights,
         .element_bright = plan->foreground && element_is_bright(q),
-        .matte = q->matte.ranks > 0,
     };
     return ddof_plan_layers_device(plan, q->params, &facts);
 }
@@ -183,37 +181,7 @@ static int shared_progress(void *user, float fraction)
     return s->progress(s->user, fraction * s->share);
 }
 
-/* The highlights' discs over the layers' result, and the silhouettes' split where it is not a
- * stage of the layers' run (`split`). The discs are drawn through the colour's buffer, the
- * last of its readers, so they come after the split (in the run): a disc then lands whole
- * behind a mixed pixel's object share. With an object matte the shares are the render's own,
- * and the split comes after the discs (drawn through the split's scratch, still free): a mixed
- * pixel's background share then shows the disc behind it and its object share hides it, as a
- * strand across a light does through a lens. The colours' guess of the share errs too often
- * for that: it would cut dark notches into the discs. */
-static ddof_status split_and_draw(ddof_context *context, const layers_request *q,
-                                  frame_plan *plan, int split, int pairs, const float *color,
-                                  size_t color_stride, const highlight_set *highlights,
-                                  layers_report *report)
-{
-    if (split && pairs && highlights->count && q->matte.ranks) {
-        float *scratch = ddof_silhouettes_scratch(context, &q->base);
-        if (!scratch)
-            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                             "could not allocate the silhouettes' %ux%u image", q->base.width,
-                             q->base.height);
-        ddof_pass_draw_highlights(context, q, highlights, scratch, report);
-        return ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan, report);
-    }
-    ddof_status status = DDOF_OK;
-    if (split && (status = ddof_pass_silhouettes(context, q, pairs, color, color_stride, plan,
-                                                 report)) != DDOF_OK)
-        return status;
-    ddof_pass_draw_highlights(context, q, highlights, NULL, report);
-    return DDOF_OK;
-}
-
-/* The planned frame's layers and the passes around them. Where the layers run is decided
+/* The planned frame's layers and the passes in their run. Where the layers run is decided
  * here, once, after the highlights are found (the layers' run takes the element only where
  * nothing comes between them and it needs none of the CPU's extra steps). */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
@@ -223,28 +191,23 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     memset(report, 0, sizeof *report);
     ddof_status status = DDOF_OK;
 
-    /* The highlight pass takes the highlights out of the colour every layer diffuses (on the
-     * CPU or on a device) and draws them into the result afterwards. */
+    /* The highlights are found here; the layers' run takes them out of the colour every layer
+     * diffuses (on the CPU or on a device) and draws them into the result. */
     highlight_set highlights = {0};
-    const float *color = r->color;
-    size_t color_stride = r->color_stride;
     if (plan->highlights) {
         const double t0 = ddof_seconds();
         if ((status = ddof_pass_find_highlights(context, q, &highlights, plan)) != DDOF_OK)
             return status;
-        if (highlights.count) {
-            color = ddof_highlight_base_image(context, r);
-            color_stride = (size_t)r->width * r->channels;
-        }
         report->seconds_highlights += ddof_seconds() - t0;
     }
 
     /* Diffusing in place overwrites the colour the background layer (on the CPU: the device
-     * reads its upload) and the far field still need (the highlight pass's base is a copy
-     * already). */
-    const layers_placement where = place_layers(context, q, plan, highlights.count);
+     * reads its upload), the far field and the silhouettes still need (the highlights'
+     * take-out makes a copy already). */
+    const layers_placement where = place_layers(context, q, plan);
+    layers_request layers_q = *q;
     if (((plan->background && !where.device) || plan->far_field || plan->silhouettes) &&
-        r->out == r->color && color == r->color) {
+        r->out == r->color && !highlights.count) {
         const size_t row = (size_t)r->width * r->channels;
         float *copy = ddof_scratch_get(context, DDOF_SCRATCH_LAYER_COLOR_COPY,
                                        row * r->height * sizeof(float));
@@ -254,26 +217,11 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
                              row * r->height * sizeof(float));
         for (uint32_t y = 0; y < r->height; y++)
             memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
-        color = copy;
-        color_stride = row;
+        layers_q.base.color = copy;
+        layers_q.base.color_stride = row;
     }
 
-    /* What the layers blur: the silhouettes' objects taken out (silhouettes.h), by the
-     * layers' run where the split is one of its stages, else here; `color` stays what the
-     * split reads afterwards. */
-    const float *diffused = color;
-    size_t diffused_stride = color_stride;
-    int pairs = 0;
-    const int split_here = plan->silhouettes && !where.split;
-    if (split_here &&
-        (status = ddof_clean_silhouettes(context, r, &q->matte, &diffused, &diffused_stride,
-                                         &pairs)) != DDOF_OK)
-        return status;
-
     layer_stages st = ddof_layer_stages(q, plan);
-    layers_request layers_q = *q;
-    layers_q.base.color = diffused;
-    layers_q.base.color_stride = diffused_stride;
     /* With the element left for later, the layers' run is the stages before it. */
     const uint32_t element_stages = where.element ? 0 : ddof_element_stages(q, plan);
     stage_share share = {r->progress, r->progress_user,
@@ -282,17 +230,14 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         layers_q.base.progress = shared_progress;
         layers_q.base.progress_user = &share;
     }
-    if ((status = ddof_run_layers(context, &layers_q, plan, where, max_near_coc, report)) !=
-        DDOF_OK)
+    if ((status = ddof_run_layers(context, &layers_q, plan, where, &highlights, max_near_coc,
+                                  report)) != DDOF_OK)
         return status;
     st.current = st.count - element_stages;
     if (plan->far_field)
         ddof_say_far_field(q, plan, report);
-    if (plan->silhouettes && where.split)
+    if (plan->silhouettes)
         ddof_say_silhouettes(q, plan, report->silhouette_pixels, report);
-    if ((status = split_and_draw(context, q, plan, split_here, pairs, color, color_stride,
-                                 &highlights, report)) != DDOF_OK)
-        return status;
     /* The element goes over all of it (unless the layers' run composited it already). */
     if (plan->foreground && !where.element)
         return ddof_run_foreground_on_cpu(context, q, &st, report);

@@ -625,27 +625,103 @@ static pixel_box pixel_box_of(adi_box b)
     return (pixel_box){b.x0, b.y0, b.x1, b.y1};
 }
 
+/* The colours of a request's passes: *split, what the silhouettes' split reads (the colour
+ * with the highlights taken out, into the highlight pass's base image), and base->color, what
+ * the layers diffuse (that, with the silhouettes' objects taken out too); *pairs: whether the
+ * frame has a silhouette pair. */
+static ddof_status pass_colors(ddof_context *context, const adi_layers_request *d,
+                               const object_matte *matte, adi_request *base, const float **split,
+                               size_t *split_stride, int *pairs, adi_layers_report *out)
+{
+    const adi_request *r = &d->base;
+    *base = *r;
+    *pairs = 0;
+    *split = r->color;
+    *split_stride = r->color_stride;
+    if (d->highlights.count) {
+        const double t0 = ddof_seconds();
+        float *taken = ddof_highlight_base_image(context, r);
+        if (!taken)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the highlight pass's %ux%u image", r->width,
+                             r->height);
+        ddof_take_out_highlights(context, r, d->highlights.items, d->highlights.count, taken);
+        base->color = taken;
+        base->color_stride = (size_t)r->width * r->channels;
+        out->seconds_highlights += ddof_seconds() - t0;
+    }
+    *split = base->color;
+    *split_stride = base->color_stride;
+    if (!d->silhouettes)
+        return DDOF_OK;
+    const double t0 = ddof_seconds();
+    const ddof_status status = ddof_clean_silhouettes(context, r, matte, &base->color,
+                                                      &base->color_stride, pairs);
+    out->seconds_silhouettes += ddof_seconds() - t0;
+    return status;
+}
+
+/* The silhouettes' split and the highlights' discs over the layers' result. The discs are
+ * drawn through the split's colour buffer, the last of its readers, so they come after the
+ * split: a disc then lands whole behind a mixed pixel's object share. With an object matte the
+ * shares are the render's own, and the split comes after the discs (drawn through the split's
+ * scratch, still free): a mixed pixel's background share then shows the disc behind it and its
+ * object share hides it, as a strand across a light does through a lens. The colours' guess of
+ * the share errs too often for that: it would cut dark notches into the discs. */
+static ddof_status split_and_draw(ddof_context *context, const adi_layers_request *d,
+                                  const object_matte *matte, const float *color,
+                                  size_t color_stride, int pairs, adi_layers_report *out)
+{
+    const adi_request *r = &d->base;
+    const adi_highlights *h = &d->highlights;
+    const int discs_first = pairs && h->count && matte->ranks;
+    silhouette_report split = {0};
+    double t0 = ddof_seconds();
+    if (discs_first) {
+        float *scratch = ddof_silhouettes_scratch(context, r);
+        if (!scratch)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate the silhouettes' %ux%u image", r->width,
+                             r->height);
+        ddof_draw_highlights(context, r, h, scratch);
+        out->seconds_highlights += ddof_seconds() - t0;
+        t0 = ddof_seconds();
+    }
+    if (pairs) {
+        const ddof_status status =
+            ddof_split_silhouettes(context, r, matte, color, color_stride, &split);
+        if (status != DDOF_OK)
+            return status;
+        out->silhouette_pixels = split.pixels;
+        out->seconds_silhouettes += ddof_seconds() - t0;
+    }
+    if (h->count && !discs_first) {
+        t0 = ddof_seconds();
+        ddof_draw_highlights(context, r, h, ddof_highlight_base_image(context, r));
+        out->seconds_highlights += ddof_seconds() - t0;
+    }
+    return DDOF_OK;
+}
+
 ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_request *d,
                                    adi_layers_report *out)
 {
     const adi_request *r = &d->base;
+    *out = (adi_layers_report){0};
     layers_report report = {0};
     layer_stages st = {r->progress, r->progress_user, 0,
                        layer_diffusions(d->background_levels) +
                            (d->fg_color ? element_diffusions(0) : 0u)};
     ddof_status status;
-    /* What the layers diffuse: with the silhouettes, their objects taken out. */
-    adi_request base = *r;
+    /* What the layers diffuse: the highlights and the silhouettes' objects taken out. */
     const object_matte matte = {d->matte, d->matte_stride, d->matte ? d->matte_ranks : 0u};
-    int pairs = 0;
-    double seconds_silhouettes = 0.0;
-    if (d->silhouettes) {
-        const double t0 = ddof_seconds();
-        if ((status = ddof_clean_silhouettes(context, r, &matte, &base.color, &base.color_stride,
-                                             &pairs)) != DDOF_OK)
-            return status;
-        seconds_silhouettes = ddof_seconds() - t0;
-    }
+    adi_request base;
+    const float *split_color;
+    size_t split_stride;
+    int pairs;
+    if ((status = pass_colors(context, d, &matte, &base, &split_color, &split_stride, &pairs,
+                              out)) != DDOF_OK)
+        return status;
     layers_request q = {.base = base};
     adi_request mid = base;
     const float *spread = NULL;
@@ -664,23 +740,16 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
                                  &report)) != DDOF_OK)
         return status;
     far_field_report far = {0};
-    double seconds_far_field = 0.0;
     if (d->far_field) {
         const double t0 = ddof_seconds();
         if ((status = ddof_far_field(context, r, base.color, base.color_stride,
                                      (int)d->far_slices, &far)) != DDOF_OK)
             return status;
-        seconds_far_field = ddof_seconds() - t0;
+        out->seconds_far_field = ddof_seconds() - t0;
     }
-    /* The split estimates each pixel's shares from the colour before the clean. */
-    silhouette_report split = {0};
-    if (pairs) {
-        const double t0 = ddof_seconds();
-        if ((status = ddof_split_silhouettes(context, r, &matte, r->color, r->color_stride,
-                                             &split)) != DDOF_OK)
-            return status;
-        seconds_silhouettes += ddof_seconds() - t0;
-    }
+    if ((status = split_and_draw(context, d, &matte, split_color, split_stride, pairs, out)) !=
+        DDOF_OK)
+        return status;
     if (d->fg_color) {
         q.fg = (layers_element){.color = d->fg_color, .color_stride = d->fg_color_stride,
                                 .coc = d->fg_coc, .coc_stride = d->fg_coc_stride,
@@ -692,18 +761,14 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
             DDOF_OK)
             return status;
     }
-    *out = (adi_layers_report){.adi = report.adi,
-                               .seconds_background = report.seconds_background,
-                               .seconds_foreground = report.seconds_foreground,
-                               .seconds_far_field = seconds_far_field,
-                               .far_pixels = far.pixels,
-                               .far_layered_pixels = far.layered_pixels,
-                               .far_slices = far.slices,
-                               .far_levels = far.levels,
-                               .seconds_silhouettes = seconds_silhouettes,
-                               .silhouette_pixels = split.pixels,
-                               .element_far_field =
-                                   (report.effects & DDOF_EFFECT_FAR_FIELD) != 0};
+    out->adi = report.adi;
+    out->seconds_background = report.seconds_background;
+    out->seconds_foreground = report.seconds_foreground;
+    out->far_pixels = far.pixels;
+    out->far_layered_pixels = far.layered_pixels;
+    out->far_slices = far.slices;
+    out->far_levels = far.levels;
+    out->element_far_field = (report.effects & DDOF_EFFECT_FAR_FIELD) != 0;
     return DDOF_OK;
 }
 

@@ -79,12 +79,14 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
 ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
                                        layer_stages *st, layers_report *report);
 
-/* Every layer of the plan as the seam's request (layers_dispatch.c), of q->base.color, on the
- * backend the planner chose (where.device: the context's device, else the CPU's table); the
- * plan's foreground element blurred and composited last in it where where.element says so,
- * else left for ddof_run_foreground_on_cpu. */
+/* Every layer and pass of the plan as the seam's request (layers_dispatch.c), of
+ * q->base.color with `highlights` (found by ddof_find_highlights without a base) taken out and
+ * drawn, on the backend the planner chose (where.device: the context's device, else the CPU's
+ * table); the plan's foreground element blurred and composited last in it where where.element
+ * says so, else left for ddof_run_foreground_on_cpu. */
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
-                            const frame_plan *plan, layers_placement where, float max_near_coc,
+                            const frame_plan *plan, layers_placement where,
+                            const highlight_set *highlights, float max_near_coc,
                             layers_report *report);
 
 #endif

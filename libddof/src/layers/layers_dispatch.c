@@ -1,6 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* layers_dispatch.c - a planned frame's layers handed whole to a backend as the seam's
- * run_layers request: the plan's switches and the areas the layers' steps use. */
+ * run_layers request: the plan's switches, the areas the layers' steps use and the passes'
+ * inputs (the highlights found, the object matte). */
 #include "layers.h"
 
 #include "backends/backend.h"
@@ -17,8 +18,22 @@ static adi_box seam_box(pixel_box b)
  * steps: the CPU's (layers.c) or the device's (gl/gl_layers.c: one upload, one read-back).
  * The background's area depends on the midground's largest CoC, so the backend grows its
  * edges itself. */
+/* The frame's highlights and aperture as the seam's. */
+static adi_highlights seam_highlights(const layers_request *q, const highlight_set *set)
+{
+    const highlight_aperture *a = &q->aperture;
+    return (adi_highlights){.items = set->items, .count = set->count,
+                            .coc_signed = q->params->coc_signed, .blades = a->blades,
+                            .rotation_rad = a->rotation_rad, .catseye = a->catseye,
+                            .centre_x = a->centre_x, .centre_y = a->centre_y,
+                            .half_width = a->half_width, .half_height = a->half_height,
+                            .image_sums = set->aperture_sums, .image_width = a->image_width,
+                            .image_height = a->image_height};
+}
+
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
-                            const frame_plan *plan, layers_placement where, float max_near_coc,
+                            const frame_plan *plan, layers_placement where,
+                            const highlight_set *highlights, float max_near_coc,
                             layers_report *report)
 {
     const adi_request *r = &q->base;
@@ -51,7 +66,9 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     }
     d.far_field = (uint32_t)plan->far_field;
     d.far_slices = (uint32_t)plan->blurred_edges;
-    if (where.split && r->channels >= 3) {
+    if (highlights->count)
+        d.highlights = seam_highlights(q, highlights);
+    if (plan->silhouettes && r->channels >= 3) {
         d.silhouettes = 1;
         d.matte = q->matte.ranks ? q->matte.pairs : NULL;
         d.matte_stride = q->matte.stride;
@@ -70,11 +87,13 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                                      .slices = a.far_slices,
                                      .levels = a.far_levels};
     report->seconds_silhouettes = a.seconds_silhouettes;
+    report->seconds_highlights += a.seconds_highlights;
     report->silhouette_pixels = a.silhouette_pixels;
     report->effects |= DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
                       (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u) |
-                      (a.element_far_field ? (uint32_t)DDOF_EFFECT_FAR_FIELD : 0u);
+                      (a.element_far_field ? (uint32_t)DDOF_EFFECT_FAR_FIELD : 0u) |
+                      (highlights->count ? (uint32_t)DDOF_EFFECT_HIGHLIGHTS : 0u);
     return DDOF_OK;
 }

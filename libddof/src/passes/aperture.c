@@ -7,17 +7,14 @@
 
 #include <math.h>
 
-/* The rim's reach beyond the shape's edge in the shape's axes (rows scaled by 1 / aspect): half
- * a pixel, which is more than half a unit vertically when rows are squeezed (aspect < 1). */
 static float rim_margin(float aspect)
 {
-    return aspect >= 1.0f ? 0.5f : 0.5f / aspect;
+    return ddof_highlight_rim_margin(aspect);
 }
 
-/* Rows of a disc above and below its centre (the pixel aspect stretches it vertically). */
 int aperture_half_height(const aperture_shape *s, const highlight *h)
 {
-    return (int)ceilf((radius_of(h) + rim_margin(s->aspect)) * s->aspect);
+    return ddof_highlight_half_height(radius_of(h), s->aspect);
 }
 
 aperture_shape aperture_shape_of(const highlight_aperture *aperture, const double *sums,
@@ -26,7 +23,7 @@ aperture_shape aperture_shape_of(const highlight_aperture *aperture, const doubl
     aperture_shape s = {.aspect = aspect};
     if (!aperture)
         return s;
-    if (aperture->image && sums) {
+    if (sums) { /* an aperture image's table: there is one only with an image */
         s.sums = sums;
         s.image_width = aperture->image_width;
         s.image_height = aperture->image_height;

@@ -29,10 +29,10 @@
 #define DDOF_HIGHLIGHTS_H
 
 #include "adi/adi.h"
+#include "ddof_highlight_rules.h"
 
 #include <math.h>
 
-#define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
 #define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel   */
 #define DDOF_HIGHLIGHT_SHARP_PX 2.0f   /* |CoC| below this: a sharp occluder          */
 
@@ -68,14 +68,12 @@ typedef struct highlight_aperture {
     uint32_t image_width, image_height;
 } highlight_aperture;
 
-typedef struct highlight {
-    uint32_t x, y;
-    float coc;       /* signed CoC its light is drawn with (highlights_find.c: highlight_coc) */
-    float excess[3]; /* colour above the threshold, taken out before the diffusion    */
-    uint32_t hidden; /* 1: a part hidden by a sharp occluder, filled in (highlights_find.c): its
-                        disc is not renormalised, the occluder keeps its share, as a lens'
-                        disc behind a bar loses the strip the bar covers               */
-} highlight;
+/* A highlight: the seam's adi_highlight (a pixel, the signed CoC its light is drawn with
+ * (highlights_find.c: highlight_coc), its colour above the threshold, taken out before the
+ * diffusion, and `hidden`: 1 for a part hidden by a sharp occluder, filled in (highlights_find.c),
+ * whose disc is not renormalised: the occluder keeps its share, as a lens' disc behind a bar
+ * loses the strip the bar covers). */
+typedef adi_highlight highlight;
 
 typedef struct highlight_set {
     highlight *items; /* sorted by row                                                */
@@ -104,12 +102,31 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
                                  int coc_signed, const highlight_aperture *aperture,
                                  int hidden_parts, float *base, highlight_set *set);
 
+/* ddof_find_highlights with base NULL finds the highlights without writing the base colour:
+ * a run_layers request takes them out itself (ddof_take_out_highlights, or on a device). */
+
+/* base = r's colour (width x height x channels floats, packed) with each found highlight's
+ * excess taken out (not the hidden parts', which the colour never held): what
+ * ddof_find_highlights writes into its base. */
+void ddof_take_out_highlights(ddof_context *context, const adi_request *r,
+                              const highlight *items, uint32_t count, float *base);
+
+/* The set ddof_find_highlights made from its items (their allocation holds the scatter's
+ * scratch after them), for ddof_scatter_highlights. */
+highlight_set ddof_highlight_set_of(const highlight *items, uint32_t count,
+                                    const double *aperture_sums);
+
 /* Adds each highlight's excess to r->out as its disc (aperture NULL) or the aperture's shape.
  * scratch: width x height x 3 floats (the base image of ddof_find_highlights may serve: it is
  * not needed any more). */
 void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int coc_signed,
                              const highlight_aperture *aperture, const highlight_set *set,
                              float *scratch);
+
+/* ddof_scatter_highlights of a run_layers request's highlights (ddof_find_highlights' items,
+ * whose allocation holds the scatter's scratch) with its aperture. */
+void ddof_draw_highlights(ddof_context *context, const adi_request *r, const adi_highlights *h,
+                          float *scratch);
 
 /* The image ddof_find_highlights writes its base colour into (the context's scratch, width x
  * height x channels floats), or NULL when it cannot be had. */

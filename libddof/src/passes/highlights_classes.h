@@ -6,25 +6,22 @@
 #define DDOF_HIGHLIGHTS_CLASSES_H
 
 #include "highlights.h"
+#include "ddof_highlight_rules.h"
 
 #include <math.h>
 
-#define SIZE_CLASSES 20 /* octaves of |CoC| from the minimum; the last one is open */
-#define NEAR_CLASS SIZE_CLASSES
+#define SIZE_CLASSES DDOF_HIGHLIGHT_SIZE_CLASSES
+#define NEAR_CLASS DDOF_HIGHLIGHT_NEAR_CLASS
 
 static inline int size_class(float coc, int coc_signed)
 {
-    if (coc_signed && coc < 0.0f)
-        return NEAR_CLASS;
-    const int k = (int)floorf(log2f(fabsf(coc) / DDOF_HIGHLIGHT_MIN_COC_PX));
-    return k < 0 ? 0 : k >= SIZE_CLASSES ? SIZE_CLASSES - 1 : k;
+    return ddof_highlight_size_class(coc, coc_signed);
 }
 
 /* The signed CoC a pixel needs to receive a class's light (NEAR_CLASS: any). */
 static inline float landing_threshold(int size)
 {
-    return size == NEAR_CLASS ? -INFINITY
-                              : 0.5f * DDOF_HIGHLIGHT_MIN_COC_PX * exp2f((float)size);
+    return ddof_highlight_landing_threshold(size);
 }
 
 static inline int lands(const adi_request *r, int coc_signed, float threshold, uint32_t x, uint32_t y)

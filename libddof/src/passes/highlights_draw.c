@@ -262,7 +262,7 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
         for (uint32_t i = 0; i < job.count; i++) {
             const highlight *h = &job.items[i];
             const int reach = aperture_half_height(&job.shape, h);
-            const int reach_x = (int)ceilf(radius_of(h) + 0.5f) + 1;
+            const int reach_x = ddof_highlight_reach_x(radius_of(h));
             job.reach_rows = reach > job.reach_rows ? reach : job.reach_rows;
             job.bx0 = (int)h->x - reach_x < job.bx0 ? (int)h->x - reach_x : job.bx0;
             job.bx1 = (int)h->x + reach_x + 1 > job.bx1 ? (int)h->x + reach_x + 1 : job.bx1;
@@ -278,4 +278,16 @@ void ddof_scatter_highlights(ddof_context *context, const adi_request *r, int co
         ddof_parallel_rows(context, job.count, weigh_items, &job);
         ddof_parallel_rows(context, rows, scatter_rows, &job);
     }
+}
+
+void ddof_draw_highlights(ddof_context *context, const adi_request *r, const adi_highlights *h,
+                          float *scratch)
+{
+    const highlight_aperture aperture = {
+        .blades = h->blades, .rotation_rad = h->rotation_rad, .catseye = h->catseye,
+        .centre_x = h->centre_x, .centre_y = h->centre_y, .half_width = h->half_width,
+        .half_height = h->half_height, .image_width = h->image_width,
+        .image_height = h->image_height};
+    const highlight_set set = ddof_highlight_set_of(h->items, h->count, h->image_sums);
+    ddof_scatter_highlights(context, r, (int)h->coc_signed, &aperture, &set, scratch);
 }

@@ -114,7 +114,58 @@ static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     }
 }
 
-/* Writes the chunk's highlights (in row order) and its rows of base. */
+/* Rows [y0, y1) of base: the colour's, less the excess of each of `items` (in row order, all
+ * on those rows) that is not a hidden part. */
+static void take_out_rows(const adi_request *r, const highlight *items, uint32_t count,
+                          uint32_t y0, uint32_t y1, float *base)
+{
+    const size_t row_floats = (size_t)r->width * r->channels;
+    for (uint32_t y = y0; y < y1; y++)
+        memcpy(base + (size_t)y * row_floats, r->color + (size_t)y * r->color_stride,
+               row_floats * sizeof *base);
+    for (uint32_t i = 0; i < count; i++) {
+        if (items[i].hidden)
+            continue;
+        float *px = base + (size_t)items[i].y * row_floats + (size_t)items[i].x * r->channels;
+        for (int c = 0; c < 3; c++)
+            px[c] -= items[i].excess[c];
+    }
+}
+
+typedef struct take_out_job {
+    const adi_request *r;
+    const highlight *items;
+    uint32_t count;
+    float *base;
+} take_out_job;
+
+static void take_out_chunk(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    const take_out_job *job = user;
+    /* The items on rows [y0, y1): they are in row order. */
+    uint32_t a = 0, b = job->count;
+    while (a < b) {
+        const uint32_t mid = a + (b - a) / 2;
+        if (job->items[mid].y < y0)
+            a = mid + 1;
+        else
+            b = mid;
+    }
+    uint32_t end = a;
+    while (end < job->count && job->items[end].y < y1)
+        end++;
+    take_out_rows(job->r, job->items + a, end - a, y0, y1, job->base);
+}
+
+void ddof_take_out_highlights(ddof_context *context, const adi_request *r,
+                              const highlight *items, uint32_t count, float *base)
+{
+    take_out_job job = {r, items, count, base};
+    ddof_parallel_rows(context, r->height, take_out_chunk, &job);
+}
+
+/* Writes the chunk's highlights (in row order) and, with a base, its rows of base. */
 static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     const find_job *job = user;
@@ -123,10 +174,8 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     highlight *item = job->items + job->offsets[chunk];
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = r->color + (size_t)y * r->color_stride;
-        float *out = job->base + (size_t)y * r->width * r->channels;
-        memcpy(out, row, (size_t)r->width * r->channels * sizeof *out);
         for (uint32_t x = 0; x < r->width; x++) {
-            float *px = out + (size_t)x * r->channels;
+            const float *px = row + (size_t)x * r->channels;
             float coc;
             const int k = highlight_class(job, px, x, y, &coc);
             if (k < (int)job->first_class)
@@ -134,13 +183,15 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             /* The part above the kept threshold, hue kept: px * (1 - t / L). */
             const float keep = kept / brightness(px);
             *item = (highlight){.x = x, .y = y, .coc = coc};
-            for (int c = 0; c < 3; c++) {
+            for (int c = 0; c < 3; c++)
                 item->excess[c] = px[c] * (1.0f - keep);
-                px[c] -= item->excess[c];
-            }
             item++;
         }
     }
+    if (!job->base)
+        return;
+    const highlight *first = job->items + job->offsets[chunk];
+    take_out_rows(r, first, (uint32_t)(item - first), y0, y1, job->base);
 }
 
 /* The aperture image's summed-area table, scaled so that its largest texel is 1: sums[j][i]
@@ -363,6 +414,17 @@ static highlight *highlight_memory(ddof_context *context, uint64_t count, size_t
                   "could not allocate the highlight pass's %llu highlights",
                   (unsigned long long)count);
     return items;
+}
+
+highlight_set ddof_highlight_set_of(const highlight *items, uint32_t count,
+                                    const double *aperture_sums)
+{
+    /* highlight_memory's layout; the scatter writes its sorted copy after the items. */
+    highlight *all = (highlight *)(uintptr_t)items;
+    float *weights = (float *)(void *)(all + 2 * (size_t)count);
+    return (highlight_set){.items = all, .count = count, .weights = weights,
+                           .landing = (uint32_t *)(weights + count),
+                           .aperture_sums = aperture_sums};
 }
 
 /* Adds the hidden parts of the set's `*kept` items (items: their allocation, which may move)

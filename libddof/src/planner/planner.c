@@ -296,24 +296,19 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
 layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
                                          const layers_device_facts *facts)
 {
-    /* The split goes after the highlights' discs only with a matte (frame_run.c). */
-    const int split = plan->silhouettes && !(facts->matte && facts->highlights);
     const char *after_because = NULL;
     if (plan->foreground && facts->carried_alpha)
         after_because = "it carries the frame's alpha, which the device's frame does not hold";
-    else if (plan->foreground && plan->silhouettes && !split)
-        after_because = "the silhouettes go under it";
-    else if (plan->foreground && params->highlights != DDOF_LAYER_OFF &&
-             (facts->highlights || facts->element_bright))
-        after_because = "the highlights are drawn under it or into it";
+    else if (plan->foreground && params->highlights != DDOF_LAYER_OFF && facts->element_bright)
+        after_because = "its own highlights are drawn into it";
     const int element = plan->foreground && !after_because;
     if (!facts->device) /* the CPU's layers: the plan says nothing of where they run */
-        return (layers_placement){0, element, split};
+        return (layers_placement){0, element};
     if (after_because)
         ddof_plan_say(plan, "layers: on %s; the element after the passes, by the CPU's steps: %s",
                       facts->device, after_because);
     else
         ddof_plan_say(plan, "layers: on %s%s", facts->device,
                       plan->foreground ? ", the element's composite included" : "");
-    return (layers_placement){1, element, split};
+    return (layers_placement){1, element};
 }

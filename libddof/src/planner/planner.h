@@ -62,9 +62,7 @@ typedef struct layers_device_facts {
                                * frames of this request (ddof_backend_runs_layers), else NULL */
     int carried_alpha;        /* the element carries part of the frame's alpha (a near layer
                                * split off a frame whose alpha is not 1 there)                 */
-    uint32_t highlights;      /* highlights found in the frame                                 */
     int element_bright;       /* the element holds a pixel the highlight pass would take      */
-    int matte;                /* the frame has an object matte (the silhouettes' shares)      */
 } layers_device_facts;
 
 /* Where a planned frame's layers run. The element is composited last, over every pass; a
@@ -74,19 +72,14 @@ typedef struct layers_placement {
     int device;  /* the layers on the context's device (its run_layers), else the CPU's      */
     int element; /* the element blurred and composited inside that run_layers; else after
                   * the passes, by the CPU's steps (its diffusions on the context's backend) */
-    int split;   /* the silhouettes' split inside that run, after the far field; else (with an
-                  * object matte and highlights: the discs are drawn before the split, through
-                  * its matte's shares) after the run, by the CPU's steps                   */
 } layers_placement;
 
 /* Decides the placement: on the device whenever facts->device names one, else on the CPU's
- * table; the element inside that run, on either, unless something must come between the
- * layers and the element's composite or a request cannot ask for the element's part: the
- * highlights (the frame's, which go under the element, and the element's own, drawn into it),
- * the silhouettes when they are not in the run (under it; the far field, its gather of the
- * element and otherwise the split are stages of the run), an element carrying part of the
- * frame's alpha. Says which and why in the plan when there is a device (the CPU's layers add
- * no line). */
+ * table; the element inside that run, on either, unless the run cannot do the element's part:
+ * its own highlights (found in it and drawn into it by the CPU's steps; the frame's highlights,
+ * the far field, its gather of the element and the silhouettes are all stages of the run, in
+ * order before the element), or the part of the frame's alpha a near layer carries. Says which
+ * and why in the plan when there is a device (the CPU's layers add no line). */
 layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
                                          const layers_device_facts *facts);
 

@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_layers.c - the seam's run_layers: ../layers.c's pipeline with every step on the device.
- * The colour, the CoC and the foreground element go up in one mapped write (FRAME, in the
- * caller's layouts), the result comes back in one mapped read (OUT), and in between each step
- * is the CPU's: the per-pixel steps are layers.comp, the cone dilation cone_dilate.comp, and
- * the diffusions gl_resident.c's on the device's maps, in the CPU's order and on the CPU's
- * areas (the crops are offsets into the maps), so that the device's frame differs from the
- * CPU's only by the diffusions' float rounding. */
+ * The colour, the CoC, the foreground element and an object matte go up in one mapped write
+ * (FRAME, in the caller's layouts), the result comes back in one mapped read (OUT), and in
+ * between each step is the CPU's: the per-pixel steps are layers.comp, the cone dilation
+ * cone_dilate.comp, the diffusions gl_resident.c's on the device's maps, the silhouettes'
+ * clean and split and the far field (its gather of the element too) the passes' GL code
+ * (gl_passes.h), in the CPU's order and on the CPU's areas (the crops are offsets into the
+ * maps), so that the device's frame differs from the CPU's only by float rounding. */
 #include "gl_layers.h"
 
 #include "gl_passes.h"
@@ -19,7 +20,17 @@
 /* ---- the frame's state -------------------------------------------------------------------- */
 
 /* The images of the one upload, each a section of FRAME. */
-enum { IN_COLOR, IN_COC, IN_FG, IN_FG_COC, IN_MATTE, IN_COUNT };
+enum {
+    IN_COLOR,
+    IN_COC,
+    IN_FG,
+    IN_FG_COC,
+    IN_MATTE,
+    IN_HL_ITEMS, /* the highlights, sorted into their classes (gl_highlights_prepare) */
+    IN_HL_SHAPE, /* the aperture they are drawn with                               */
+    IN_HL_SUMS,  /* an aperture image's table                                      */
+    IN_COUNT
+};
 
 typedef struct frame {
     ddof_device *device;
@@ -27,6 +38,7 @@ typedef struct frame {
     uint32_t w, h, c;
     uint64_t at[IN_COUNT], bytes[IN_COUNT]; /* each image's section of FRAME */
     adi_layers_report *report;
+    gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]; /* the highlights' classes       */
     uint32_t stage, stages;            /* progress: the diffusion running, of how many */
     char *message;
     size_t size;
@@ -52,16 +64,27 @@ static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride
                           f->at[in], f->bytes[in]};
 }
 
-/* What the layers diffuse, from frame pixel (x, y): the upload's colour, or with the
- * silhouettes its cleaned copy (SIL_CLEAN, width x channels floats a row). */
-static gl_image_ref diffused(const frame *f, uint32_t x, uint32_t y)
+/* The colour with the highlights taken out (HL_BASE, width x channels floats a row), or the
+ * upload's without them: what the silhouettes' split reads. */
+static gl_image_ref passes_color(const frame *f)
 {
     const adi_request *r = &f->q->base;
-    if (f->q->silhouettes)
-        return (gl_image_ref){f->device->buffers.name[GL_BUF_SIL_CLEAN], (y * f->w + x) * f->c,
-                              f->w * f->c, f->c, 0, 0};
-    return input(f, IN_COLOR, (uint32_t)(y * r->color_stride) + x * f->c, r->color_stride,
-                 f->c);
+    if (f->q->highlights.count)
+        return (gl_image_ref){f->device->buffers.name[GL_BUF_HL_BASE], 0, f->w * f->c, f->c, 0,
+                              0};
+    return input(f, IN_COLOR, 0, r->color_stride, f->c);
+}
+
+/* What the layers diffuse, from frame pixel (x, y): that colour, or with the silhouettes its
+ * cleaned copy (SIL_CLEAN, width x channels floats a row). */
+static gl_image_ref diffused(const frame *f, uint32_t x, uint32_t y)
+{
+    gl_image_ref ref = f->q->silhouettes
+                           ? (gl_image_ref){f->device->buffers.name[GL_BUF_SIL_CLEAN], 0,
+                                            f->w * f->c, f->c, 0, 0}
+                           : passes_color(f);
+    ref.offset += (uint32_t)(y * ref.stride) + x * f->c;
+    return ref;
 }
 
 static GLuint need(frame *f, gl_buffer_slot s, uint64_t floats)
@@ -76,10 +99,18 @@ static int upload(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc, q->matte};
+    const adi_highlights *hl = &q->highlights;
+    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc, q->matte,
+                                    NULL, NULL, hl->image_sums};
     uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
-                                 span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1), 0,
-                                 0, 0};
+                                 span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
+    if (hl->count) {
+        floats[IN_HL_ITEMS] = (uint64_t)hl->count * sizeof(adi_highlight) / sizeof(float);
+        floats[IN_HL_SHAPE] = sizeof(gl_highlight_shape) / sizeof(float);
+        if (hl->image_sums)
+            floats[IN_HL_SUMS] = (uint64_t)(hl->image_width + 1) * (hl->image_height + 1) *
+                                 (sizeof(double) / sizeof(float));
+    }
     if (q->silhouettes && q->matte && q->matte_ranks)
         floats[IN_MATTE] = span_floats(f->w, f->h, q->matte_stride, 2 * q->matte_ranks,
                                        2 * q->matte_ranks);
@@ -118,8 +149,13 @@ static int upload(frame *f)
     }
     f->device->uploads++;
     for (int i = 0; i < IN_COUNT; i++)
-        if (f->bytes[i])
+        if (f->bytes[i] && source[i])
             memcpy(mapped + f->at[i], source[i], f->bytes[i]);
+    if (hl->count) /* the list sorted straight into its section */
+        gl_highlights_prepare(hl, r->pixel_aspect, f->w, f->h,
+                              (adi_highlight *)(void *)(mapped + f->at[IN_HL_ITEMS]),
+                              (gl_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]),
+                              f->classes);
     if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
         snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
         return 0;
@@ -468,7 +504,7 @@ static gl_silhouettes_request silhouettes_request(const frame *f)
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
     gl_silhouettes_request s = {.width = f->w, .height = f->h, .channels = f->c,
-                                .color = input(f, IN_COLOR, 0, r->color_stride, f->c),
+                                .color = passes_color(f),
                                 .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels),
                                 .in_focus_px = r->in_focus_px};
     if (f->bytes[IN_MATTE]) {
@@ -492,6 +528,62 @@ static int split_silhouettes(frame *f)
     const gl_silhouettes_request s = silhouettes_request(f);
     return gl_split_silhouettes(f->device, &s, f->device->buffers.name[GL_BUF_OUT],
                                 &f->report->silhouette_pixels, f->message, f->size);
+}
+
+/* The highlights' request (gl_passes.h): from the upload's colour, CoC and sections. */
+static gl_highlights_request highlights_request(const frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    gl_highlights_request h = {.width = f->w, .height = f->h, .channels = f->c,
+                               .color = input(f, IN_COLOR, 0, r->color_stride, f->c),
+                               .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels),
+                               .items = input(f, IN_HL_ITEMS, 0, 0, 0),
+                               .shape = input(f, IN_HL_SHAPE, 0, 0, 0),
+                               .count = q->highlights.count,
+                               .coc_signed = q->highlights.coc_signed, .classes = f->classes};
+    if (f->bytes[IN_HL_SUMS])
+        h.sums = input(f, IN_HL_SUMS, 0, 0, 0);
+    return h;
+}
+
+/* The colour the passes read, with the highlights' excess taken out (HL_BASE). */
+static int take_out_highlights(frame *f)
+{
+    const gl_highlights_request h = highlights_request(f);
+    GLuint base = need(f, GL_BUF_HL_BASE, (uint64_t)f->w * f->h * f->c);
+    return base && gl_take_out_highlights(f->device, &h, base, f->message, f->size);
+}
+
+/* The highlights drawn into OUT. */
+static int draw_highlights(frame *f)
+{
+    const gl_highlights_request h = highlights_request(f);
+    const double t0 = gl_seconds();
+    const int ok = gl_draw_highlights(f->device, &h, f->device->buffers.name[GL_BUF_OUT],
+                                      f->message, f->size);
+    f->device->gl.Finish();
+    f->report->seconds_highlights += gl_seconds() - t0;
+    return ok;
+}
+
+/* The silhouettes' split and the highlights' discs over OUT, in layers.c's order: with an
+ * object matte the discs first. */
+static ddof_status split_and_draw(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const int discs_first = q->highlights.count && f->bytes[IN_MATTE];
+    if (discs_first && !draw_highlights(f))
+        return DDOF_ERROR_BACKEND_FAILED;
+    if (q->silhouettes) {
+        const double t0 = gl_seconds();
+        if (!split_silhouettes(f))
+            return DDOF_ERROR_BACKEND_FAILED;
+        f->report->seconds_silhouettes += gl_seconds() - t0;
+    }
+    if (q->highlights.count && !discs_first && !draw_highlights(f))
+        return DDOF_ERROR_BACKEND_FAILED;
+    return DDOF_OK;
 }
 
 /* The far field over OUT (gl_passes.h), from the colour the layers diffused. */
@@ -528,6 +620,10 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
         return DDOF_ERROR_BACKEND_FAILED;
     ddof_status status = DDOF_OK;
     double t0 = gl_seconds();
+    if (q->highlights.count && !take_out_highlights(&f))
+        return DDOF_ERROR_BACKEND_FAILED;
+    report->seconds_highlights = gl_seconds() - t0;
+    t0 = gl_seconds();
     if (q->silhouettes && !clean_silhouettes(&f))
         return DDOF_ERROR_BACKEND_FAILED;
     report->seconds_silhouettes = gl_seconds() - t0;
@@ -548,12 +644,8 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
         device->gl.Finish();
         report->seconds_far_field = gl_seconds() - t0;
     }
-    if (status == DDOF_OK && q->silhouettes) {
-        t0 = gl_seconds();
-        if (!split_silhouettes(&f))
-            status = DDOF_ERROR_BACKEND_FAILED;
-        report->seconds_silhouettes += gl_seconds() - t0;
-    }
+    if (status == DDOF_OK)
+        status = split_and_draw(&f);
     if (status == DDOF_OK && q->fg_color) {
         t0 = gl_seconds();
         status = foreground(&f);

@@ -1,11 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_passes.h - the passes on the device, on images that already lie in device buffers: the
  * cone dilation (gl_cone_dilate.c, cone_dilate.comp), the far field (gl_far_field.c,
- * far_field.comp) and the silhouettes' split (gl_silhouettes.c, silhouettes.comp). */
+ * far_field.comp), the silhouettes' split (gl_silhouettes.c, silhouettes.comp) and the
+ * highlights' take-out and discs (gl_highlights.c, highlights.comp). */
 #ifndef DDOF_GL_PASSES_H
 #define DDOF_GL_PASSES_H
 
 #include "gl_solve.h"
+
+#include "ddof_highlight_rules.h"
 
 /* ../cone_dilate.c on the map in `buffer`: the box at `base` (floats), rows `stride` apart,
  * both passes. 0 with a sentence in message on failure. */
@@ -56,5 +59,55 @@ int gl_clean_silhouettes(ddof_device *device, const gl_silhouettes_request *q, G
  * *pixels: the mixed pixels split (4 bytes read back). 0 with a sentence on failure. */
 int gl_split_silhouettes(ddof_device *device, const gl_silhouettes_request *q, GLuint out,
                          uint64_t *pixels, char *message, size_t message_size);
+
+/* ---- the highlights ---------------------------------------------------------------------- */
+
+/* The aperture as highlights.comp reads it (its Shape block, std430): aperture.c's
+ * aperture_shape. */
+typedef struct gl_highlight_shape {
+    double catseye, centre_x, centre_y, inv_half_width, inv_half_height;
+    float aspect, apothem;
+    uint32_t sides, image_width, image_height;
+    float normal[32];
+} gl_highlight_shape;
+
+/* A size class of highlights (highlights_draw.c): its place in the sorted list, where its
+ * light lands, and the box its shapes cover. */
+typedef struct gl_highlight_class {
+    uint32_t first, count;
+    float threshold;
+    int reach_rows, reach_x; /* its largest half height and half width */
+    int bx0, bx1, by0, by1;
+} gl_highlight_class;
+
+#define GL_HIGHLIGHT_CLASSES (DDOF_HIGHLIGHT_SIZE_CLASSES + 1)
+
+/* The highlights sorted into their classes (row order kept) into `items` (h->count of them),
+ * the aperture for pixel aspect `aspect` into `shape`, and the classes' table. */
+void gl_highlights_prepare(const adi_highlights *h, float aspect, uint32_t width,
+                           uint32_t height, adi_highlight *items, gl_highlight_shape *shape,
+                           gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]);
+
+/* A frame's highlights on the device: the upload's sections and what prepare made. */
+typedef struct gl_highlights_request {
+    uint32_t width, height, channels;
+    gl_image_ref color;  /* the colour they come out of: stride floats a row, channels a pixel */
+    gl_image_ref coc;    /* the frame's CoC: stride floats a row, step a pixel                */
+    gl_image_ref items;  /* the sorted highlights                                              */
+    gl_image_ref shape;  /* the gl_highlight_shape                                             */
+    gl_image_ref sums;   /* the aperture image's table (doubles); buffer 0: none              */
+    uint32_t count, coc_signed;
+    const gl_highlight_class *classes;
+} gl_highlights_request;
+
+/* The colour with the highlights' excess taken out into `base` (width x channels floats a
+ * row). 0 with a sentence in message on failure. */
+int gl_take_out_highlights(ddof_device *device, const gl_highlights_request *q, GLuint base,
+                           char *message, size_t message_size);
+
+/* The highlights drawn into `out` (width x channels floats a row). 0 with a sentence on
+ * failure. */
+int gl_draw_highlights(ddof_device *device, const gl_highlights_request *q, GLuint out,
+                       char *message, size_t message_size);
 
 #endif

@@ -1,0 +1,207 @@
+/* SPDX-License-Identifier: MIT */
+/* gl_highlights.c - the highlight pass's take-out and drawing on the device (gl_passes.h):
+ * ../highlights_find.c's base and ../highlights_draw.c's scatter, each a highlights.comp
+ * program. The list of highlights (found on the host) is sorted into its size classes here,
+ * into the frame's upload, with the aperture's shape; per class the device counts where its
+ * light lands, weighs each highlight, draws its rows' differences and sums them into the
+ * result, as the CPU does, so the host reads nothing back. */
+#include "gl_passes.h"
+
+#include <limits.h>
+#include <math.h>
+#include <stdio.h>
+#include <string.h>
+
+/* Steps of a line one invocation runs per dispatch (llvmpipe's loop limit), and the loop
+ * steps a highlight's row may cost in the scatter beyond its rim pixels. */
+#define SEGMENT_STEPS 4096u
+#define SCATTER_STEPS 16384u
+#define ROW_COST 64u
+#define WEIGH_ROWS 32u
+
+static float radius_of(const adi_highlight *h)
+{
+    return 0.5f * fabsf(h->coc);
+}
+
+/* aperture.c's aperture_shape_of, in highlights.comp's layout. */
+static gl_highlight_shape shape_of(const adi_highlights *h, float aspect)
+{
+    gl_highlight_shape s = {.aspect = aspect};
+    if (h->image_sums) {
+        s.image_width = h->image_width;
+        s.image_height = h->image_height;
+    }
+    if (h->catseye > 0.0 && h->half_width > 0.0 && h->half_height > 0.0) {
+        s.catseye = h->catseye;
+        s.centre_x = h->centre_x;
+        s.centre_y = h->centre_y;
+        s.inv_half_width = 1.0 / h->half_width;
+        s.inv_half_height = 1.0 / h->half_height;
+    }
+    if (h->blades < 3 || h->image_sums)
+        return s;
+    s.sides = h->blades;
+    const double step = 2.0 * 3.14159265358979323846 / s.sides;
+    for (uint32_t k = 0; k < s.sides; k++) {
+        s.normal[2 * k] = (float)cos(h->rotation_rad + step * k);
+        s.normal[2 * k + 1] = (float)sin(h->rotation_rad + step * k);
+    }
+    s.apothem = (float)cos(0.5 * step);
+    return s;
+}
+
+void gl_highlights_prepare(const adi_highlights *h, float aspect, uint32_t width,
+                           uint32_t height, adi_highlight *items, gl_highlight_shape *shape,
+                           gl_highlight_class classes[GL_HIGHLIGHT_CLASSES])
+{
+    *shape = shape_of(h, aspect);
+    /* highlights_draw.c's counting sort: by class, row order kept within each. */
+    uint32_t start[GL_HIGHLIGHT_CLASSES + 1] = {0};
+    for (uint32_t i = 0; i < h->count; i++)
+        start[ddof_highlight_size_class(h->items[i].coc, (int)h->coc_signed) + 1]++;
+    for (int k = 0; k < GL_HIGHLIGHT_CLASSES; k++)
+        start[k + 1] += start[k];
+    uint32_t at[GL_HIGHLIGHT_CLASSES];
+    memcpy(at, start, sizeof at);
+    for (uint32_t i = 0; i < h->count; i++)
+        items[at[ddof_highlight_size_class(h->items[i].coc, (int)h->coc_signed)]++] =
+            h->items[i];
+    for (int k = 0; k < GL_HIGHLIGHT_CLASSES; k++) {
+        gl_highlight_class *c = &classes[k];
+        *c = (gl_highlight_class){.first = start[k], .count = start[k + 1] - start[k],
+                                  .threshold = ddof_highlight_landing_threshold(k),
+                                  .bx0 = INT_MAX, .by0 = INT_MAX, .bx1 = INT_MIN,
+                                  .by1 = INT_MIN};
+        for (uint32_t i = c->first; i < c->first + c->count; i++) {
+            const adi_highlight *it = &items[i];
+            const int reach = ddof_highlight_half_height(radius_of(it), aspect);
+            const int reach_x = ddof_highlight_reach_x(radius_of(it));
+            c->reach_rows = reach > c->reach_rows ? reach : c->reach_rows;
+            c->reach_x = reach_x > c->reach_x ? reach_x : c->reach_x;
+            c->bx0 = (int)it->x - reach_x < c->bx0 ? (int)it->x - reach_x : c->bx0;
+            c->bx1 = (int)it->x + reach_x + 1 > c->bx1 ? (int)it->x + reach_x + 1 : c->bx1;
+            c->by0 = (int)it->y - reach < c->by0 ? (int)it->y - reach : c->by0;
+            c->by1 = (int)it->y + reach + 1 > c->by1 ? (int)it->y + reach + 1 : c->by1;
+        }
+        c->bx0 = c->bx0 < 0 ? 0 : c->bx0;
+        c->by0 = c->by0 < 0 ? 0 : c->by0;
+        c->bx1 = c->bx1 > (int)width ? (int)width : c->bx1;
+        c->by1 = c->by1 > (int)height ? (int)height : c->by1;
+    }
+}
+
+/* A highlights.comp step with its bindings and the uniforms every step shares; 0 on failure. */
+static GLuint step(ddof_device *device, gl_program_id id, const gl_highlights_request *q,
+                   GLuint out, GLuint base, char *message, size_t size)
+{
+    const gl_functions *gl = &device->gl;
+    GLuint prog = gl_programs_get(gl, &device->programs, id, message, size);
+    if (!prog)
+        return 0;
+    const gl_buffers *b = &device->buffers;
+    const GLuint dummy = b->name[GL_BUF_DUMMY];
+    gl_bind_ref(gl, 0, &q->coc, dummy);
+    gl_bind_ref(gl, 1, &q->color, dummy);
+    gl_bind(gl, 2, out ? out : dummy);
+    gl_bind(gl, 3, base ? base : dummy);
+    gl_bind_ref(gl, 4, &q->items, dummy);
+    gl_bind_ref(gl, 5, &q->shape, dummy);
+    gl_bind_ref(gl, 6, &q->sums, dummy);
+    static const gl_buffer_slot rest[4] = {GL_BUF_HL_LANDING, GL_BUF_HL_WEIGHTS, GL_BUF_HL_DIFF,
+                                           GL_BUF_HL_STATE};
+    for (GLuint i = 0; i < 4; i++)
+        gl_bind(gl, 7 + i, b->name[rest[i]] ? b->name[rest[i]] : dummy);
+    gl_uniform_u(gl, prog, "u_width", q->width);
+    gl_uniform_u(gl, prog, "u_height", q->height);
+    gl_uniform_u(gl, prog, "u_channels", q->channels);
+    gl_uniform_ref(gl, prog, "u_coc", &q->coc);
+    gl_uniform_ref(gl, prog, "u_color", &q->color);
+    gl_uniform_u(gl, prog, "u_coc_signed", q->coc_signed);
+    gl->UseProgram(prog);
+    return prog;
+}
+
+int gl_take_out_highlights(ddof_device *device, const gl_highlights_request *q, GLuint base,
+                           char *message, size_t size)
+{
+    const gl_functions *gl = &device->gl;
+    if (!gl_need(device, GL_BUF_DUMMY, 16, message, size) ||
+        !step(device, GL_PROG_HL_COPY, q, 0, base, message, size))
+        return 0;
+    gl_dispatch(gl, (uint64_t)q->width * q->height, 64);
+    GLuint prog = step(device, GL_PROG_HL_TAKE_OUT, q, 0, base, message, size);
+    if (!prog)
+        return 0;
+    gl_uniform_u(gl, prog, "u_count", q->count);
+    gl_dispatch(gl, q->count, 64);
+    return 1;
+}
+
+/* A class's uniforms on a step. */
+static void class_uniforms(const gl_functions *gl, GLuint prog, const gl_highlight_class *c)
+{
+    gl_uniform_u(gl, prog, "u_first", c->first);
+    gl_uniform_u(gl, prog, "u_count", c->count);
+    gl_uniform_f(gl, prog, "u_threshold", c->threshold);
+    static const char *const names[5] = {"u_reach_rows", "u_bx0", "u_bx1", "u_by0", "u_by1"};
+    const int values[5] = {c->reach_rows, c->bx0, c->bx1, c->by0, c->by1};
+    for (int i = 0; i < 5; i++)
+        gl->ProgramUniform1i(prog, gl->GetUniformLocation(prog, names[i]), values[i]);
+}
+
+/* One step over `lines` invocations, `steps` of its loop in dispatches of `per` steps. */
+static void run_segments(const gl_functions *gl, GLuint prog, uint64_t lines, uint32_t steps,
+                         uint32_t per)
+{
+    for (uint32_t first = 0; first < steps; first += per) {
+        gl_uniform_u(gl, prog, "u_seg_first", first);
+        gl_uniform_u(gl, prog, "u_seg_count", steps - first < per ? steps - first : per);
+        gl_dispatch(gl, lines, 64);
+    }
+}
+
+/* highlights_draw.c's class: the landing counts, the weights, the differences, their sums. */
+static int draw_class(ddof_device *device, const gl_highlights_request *q, GLuint out,
+                      const gl_highlight_class *c, char *message, size_t size)
+{
+    const gl_functions *gl = &device->gl;
+    const uint32_t rows = (uint32_t)(c->by1 - c->by0), columns = (uint32_t)(c->bx1 - c->bx0);
+    const uint64_t state = (uint64_t)rows * 3 > c->count ? (uint64_t)rows * 3 : c->count;
+    if (!gl_need(device, GL_BUF_HL_LANDING, (uint64_t)(columns + 1) * rows * 4, message, size) ||
+        !gl_need(device, GL_BUF_HL_STATE, state * sizeof(double), message, size))
+        return 0;
+    static const gl_program_id steps[4] = {GL_PROG_HL_LANDING, GL_PROG_HL_WEIGH,
+                                           GL_PROG_HL_SCATTER, GL_PROG_HL_SUM};
+    /* A highlight costs its rim pixels and its row's walk in the scatter. */
+    const uint32_t per_item = 2u * (uint32_t)c->reach_x + ROW_COST;
+    const uint32_t items_per = SCATTER_STEPS / per_item ? SCATTER_STEPS / per_item : 1u;
+    const uint32_t rows_per = WEIGH_ROWS;
+    for (int i = 0; i < 4; i++) {
+        GLuint prog = step(device, steps[i], q, out, 0, message, size);
+        if (!prog)
+            return 0;
+        class_uniforms(gl, prog, c);
+        if (steps[i] == GL_PROG_HL_WEIGH)
+            run_segments(gl, prog, c->count, 2u * (uint32_t)c->reach_rows + 1u, rows_per);
+        else if (steps[i] == GL_PROG_HL_SCATTER)
+            run_segments(gl, prog, rows, c->count, items_per);
+        else
+            run_segments(gl, prog, rows, columns, SEGMENT_STEPS);
+    }
+    return 1;
+}
+
+int gl_draw_highlights(ddof_device *device, const gl_highlights_request *q, GLuint out,
+                       char *message, size_t size)
+{
+    const uint64_t pixels = (uint64_t)q->width * q->height;
+    if (!gl_need(device, GL_BUF_DUMMY, 16, message, size) ||
+        !gl_need(device, GL_BUF_HL_WEIGHTS, (uint64_t)q->count * sizeof(float), message, size) ||
+        !gl_need(device, GL_BUF_HL_DIFF, pixels * 3 * sizeof(float), message, size))
+        return 0;
+    for (int k = 0; k < GL_HIGHLIGHT_CLASSES; k++)
+        if (q->classes[k].count && !draw_class(device, q, out, &q->classes[k], message, size))
+            return 0;
+    return 1;
+}
