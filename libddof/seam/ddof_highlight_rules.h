@@ -8,6 +8,7 @@
 #define DDOF_HIGHLIGHT_RULES_H
 
 #include <math.h>
+#include <stdint.h>
 
 #define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
 #define DDOF_HIGHLIGHT_SIZE_CLASSES 20 /* octaves of |CoC| from the minimum; the last one open */
@@ -48,6 +49,53 @@ static inline int ddof_highlight_half_height(float radius, float aspect)
 static inline int ddof_highlight_reach_x(float radius)
 {
     return (int)ceilf(radius + 0.5f) + 1;
+}
+
+/* The aperture a highlight is drawn with (libddof/src/passes/aperture.h), in the layout the
+ * device reads (std430, the doubles first): a disc, or a regular polygon inscribed in it whose
+ * edge normals (x, y) point at rotation + 2 pi k / sides (Cycles' polygon), or an aperture
+ * image's size; the cat's eye's frame; rows stretched by `aspect`. */
+typedef struct ddof_highlight_shape {
+    double catseye; /* 0: no clip */
+    double centre_x, centre_y, inv_half_width, inv_half_height;
+    float aspect, apothem;
+    uint32_t sides;                     /* 0: a disc, or the image           */
+    uint32_t image_width, image_height; /* 0: no aperture image              */
+    float normal[2 * 16];
+} ddof_highlight_shape;
+
+/* The shape of an aperture of `blades` (0..2: a disc) turned by rotation_rad, with the cat's
+ * eye `catseye` (0: off) about a frame of centre and half sizes, or an aperture image of the
+ * given size (image: 1), for rows stretched by `aspect`. */
+static inline ddof_highlight_shape ddof_highlight_shape_of(uint32_t blades, double rotation_rad,
+                                                           double catseye, double centre_x,
+                                                           double centre_y, double half_width,
+                                                           double half_height, int image,
+                                                           uint32_t image_width,
+                                                           uint32_t image_height, float aspect)
+{
+    ddof_highlight_shape s = {.aspect = aspect};
+    if (image) {
+        s.image_width = image_width;
+        s.image_height = image_height;
+    }
+    if (catseye > 0.0 && half_width > 0.0 && half_height > 0.0) {
+        s.catseye = catseye;
+        s.centre_x = centre_x;
+        s.centre_y = centre_y;
+        s.inv_half_width = 1.0 / half_width;
+        s.inv_half_height = 1.0 / half_height;
+    }
+    if (blades < 3 || image)
+        return s;
+    s.sides = blades;
+    const double step = 2.0 * 3.14159265358979323846 / s.sides;
+    for (uint32_t k = 0; k < s.sides; k++) {
+        s.normal[2 * k] = (float)cos(rotation_rad + step * k);
+        s.normal[2 * k + 1] = (float)sin(rotation_rad + step * k);
+    }
+    s.apothem = (float)cos(0.5 * step);
+    return s;
 }
 
 #endif

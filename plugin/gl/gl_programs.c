@@ -42,6 +42,13 @@ typedef struct program_recipe {
     const char *defines;
 } program_recipe;
 
+/* The programs of a kernel whose steps share one source, each step its STEP_ define. */
+#define STEP(id, kernel, defines, step) [id] = {kernel, 0, defines "#define STEP_" #step " 1\n"}
+#define LAYER_STEP(s) STEP(GL_PROG_LAYER_##s, "layers.comp", "", s)
+#define FAR_STEP(s) STEP(GL_PROG_FAR_##s, "far_field.comp", FAR_DEFINES, s)
+#define SILHOUETTE_STEP(s) STEP(GL_PROG_SIL_##s, "silhouettes.comp", SILHOUETTE_DEFINES, s)
+#define HIGHLIGHT_STEP(s) STEP(GL_PROG_HL_##s, "highlights.comp", "", s)
+
 static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_PACK] = {"pack.comp", 0, ""},
     [GL_PROG_UNPACK] = {"unpack.comp", 0, ""},
@@ -76,40 +83,16 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_LENS_THOMAS] = {"lens_thomas.comp", PART_LINE, LENS_DEFINES},
     [GL_PROG_RANGE] = {"range.comp", 0, ""},
     [GL_PROG_CONE_DILATE] = {"cone_dilate.comp", 0, ""},
-    [GL_PROG_LAYER_NEAR_MAP] = {"layers.comp", 0, "#define STEP_NEAR_MAP 1\n"},
-    [GL_PROG_LAYER_SPREAD] = {"layers.comp", 0, "#define STEP_SPREAD 1\n"},
-    [GL_PROG_LAYER_MATTE] = {"layers.comp", 0, "#define STEP_MATTE 1\n"},
-    [GL_PROG_LAYER_INSULATOR] = {"layers.comp", 0, "#define STEP_INSULATOR 1\n"},
-    [GL_PROG_LAYER_BLEND] = {"layers.comp", 0, "#define STEP_BLEND 1\n"},
-    [GL_PROG_LAYER_FG_PREPARE] = {"layers.comp", 0, "#define STEP_FG_PREPARE 1\n"},
-    [GL_PROG_LAYER_HOLDS_VALUE] = {"layers.comp", 0, "#define STEP_HOLDS_VALUE 1\n"},
-    [GL_PROG_LAYER_COMPOSITE] = {"layers.comp", 0, "#define STEP_COMPOSITE 1\n"},
-    [GL_PROG_FAR_SEED] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SEED 1\n"},
-    [GL_PROG_FAR_WEIGHT] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_WEIGHT 1\n"},
-    [GL_PROG_FAR_PAIRS_RANGE] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_PAIRS_RANGE 1\n"},
-    [GL_PROG_FAR_PAIRS_RUNS] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_PAIRS_RUNS 1\n"},
-    [GL_PROG_FAR_SLICE_INDEX] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_INDEX 1\n"},
-    [GL_PROG_FAR_SLICE_MEAN] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_MEAN 1\n"},
-    [GL_PROG_FAR_SLICE_IMAGE] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_IMAGE 1\n"},
-    [GL_PROG_FAR_SLICE_BOX] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_BOX 1\n"},
-    [GL_PROG_FAR_SLICE_RADII] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICE_RADII 1\n"},
-    [GL_PROG_FAR_SLICES_BLEND] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SLICES_BLEND 1\n"},
-    [GL_PROG_FAR_DOWNSAMPLE] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_DOWNSAMPLE 1\n"},
-    [GL_PROG_FAR_PREFIX] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_PREFIX 1\n"},
-    [GL_PROG_FAR_EDGE_ROWS] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_EDGE_ROWS 1\n"},
-    [GL_PROG_FAR_EDGE_SIDES] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_EDGE_SIDES 1\n"},
-    [GL_PROG_FAR_MARK] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_MARK 1\n"},
-    [GL_PROG_FAR_SAMPLES] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_SAMPLES 1\n"},
-    [GL_PROG_FAR_GATHER] = {"far_field.comp", 0, FAR_DEFINES "#define STEP_GATHER 1\n"},
-    [GL_PROG_SIL_CLEAN] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_CLEAN 1\n"},
-    [GL_PROG_SIL_DELTA] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_DELTA 1\n"},
-    [GL_PROG_SIL_APPLY] = {"silhouettes.comp", 0, SILHOUETTE_DEFINES "#define STEP_APPLY 1\n"},
-    [GL_PROG_HL_COPY] = {"highlights.comp", 0, "#define STEP_COPY 1\n"},
-    [GL_PROG_HL_TAKE_OUT] = {"highlights.comp", 0, "#define STEP_TAKE_OUT 1\n"},
-    [GL_PROG_HL_LANDING] = {"highlights.comp", 0, "#define STEP_LANDING 1\n"},
-    [GL_PROG_HL_WEIGH] = {"highlights.comp", 0, "#define STEP_WEIGH 1\n"},
-    [GL_PROG_HL_SCATTER] = {"highlights.comp", 0, "#define STEP_SCATTER 1\n"},
-    [GL_PROG_HL_SUM] = {"highlights.comp", 0, "#define STEP_SUM 1\n"},
+    LAYER_STEP(NEAR_MAP), LAYER_STEP(SPREAD), LAYER_STEP(MATTE), LAYER_STEP(INSULATOR),
+    LAYER_STEP(BLEND), LAYER_STEP(FG_PREPARE), LAYER_STEP(HOLDS_VALUE), LAYER_STEP(COMPOSITE),
+    FAR_STEP(SEED), FAR_STEP(WEIGHT), FAR_STEP(PAIRS_RANGE), FAR_STEP(PAIRS_RUNS),
+    FAR_STEP(SLICE_INDEX), FAR_STEP(SLICE_MEAN), FAR_STEP(SLICE_IMAGE), FAR_STEP(SLICE_BOX),
+    FAR_STEP(SLICE_RADII), FAR_STEP(SLICES_BLEND), FAR_STEP(DOWNSAMPLE), FAR_STEP(PREFIX),
+    FAR_STEP(EDGE_ROWS), FAR_STEP(EDGE_SIDES), FAR_STEP(MARK), FAR_STEP(SAMPLES),
+    FAR_STEP(GATHER),
+    SILHOUETTE_STEP(CLEAN), SILHOUETTE_STEP(DELTA), SILHOUETTE_STEP(APPLY),
+    HIGHLIGHT_STEP(COPY), HIGHLIGHT_STEP(TAKE_OUT), HIGHLIGHT_STEP(LANDING),
+    HIGHLIGHT_STEP(WEIGH), HIGHLIGHT_STEP(SCATTER), HIGHLIGHT_STEP(SUM),
 };
 
 const char *gl_shader_text(const char *name)

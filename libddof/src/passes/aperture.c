@@ -23,27 +23,25 @@ aperture_shape aperture_shape_of(const highlight_aperture *aperture, const doubl
     aperture_shape s = {.aspect = aspect};
     if (!aperture)
         return s;
-    if (sums) { /* an aperture image's table: there is one only with an image */
-        s.sums = sums;
-        s.image_width = aperture->image_width;
-        s.image_height = aperture->image_height;
+    /* A table exists only with an aperture image. */
+    const ddof_highlight_shape d = ddof_highlight_shape_of(
+        aperture->blades, aperture->rotation_rad, aperture->catseye, aperture->centre_x,
+        aperture->centre_y, aperture->half_width, aperture->half_height, sums != NULL,
+        aperture->image_width, aperture->image_height, aspect);
+    s.sums = sums;
+    s.image_width = d.image_width;
+    s.image_height = d.image_height;
+    s.catseye = d.catseye;
+    s.centre_x = d.centre_x;
+    s.centre_y = d.centre_y;
+    s.inv_half_width = d.inv_half_width;
+    s.inv_half_height = d.inv_half_height;
+    s.sides = d.sides;
+    for (uint32_t k = 0; k < d.sides; k++) {
+        s.normal[k][0] = d.normal[2 * k];
+        s.normal[k][1] = d.normal[2 * k + 1];
     }
-    if (aperture->catseye > 0.0 && aperture->half_width > 0.0 && aperture->half_height > 0.0) {
-        s.catseye = aperture->catseye;
-        s.centre_x = aperture->centre_x;
-        s.centre_y = aperture->centre_y;
-        s.inv_half_width = 1.0 / aperture->half_width;
-        s.inv_half_height = 1.0 / aperture->half_height;
-    }
-    if (aperture->blades < 3 || s.sums)
-        return s;
-    s.sides = aperture->blades;
-    const double step = 2.0 * 3.14159265358979323846 / s.sides;
-    for (uint32_t k = 0; k < s.sides; k++) {
-        s.normal[k][0] = (float)cos(aperture->rotation_rad + step * k);
-        s.normal[k][1] = (float)sin(aperture->rotation_rad + step * k);
-    }
-    s.apothem = (float)cos(0.5 * step);
+    s.apothem = d.apothem;
     return s;
 }
 

@@ -39,6 +39,8 @@ typedef struct frame {
     uint64_t at[IN_COUNT], bytes[IN_COUNT]; /* each image's section of FRAME */
     adi_layers_report *report;
     gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]; /* the highlights' classes       */
+    gl_silhouettes_request silhouettes; /* the passes' requests, on the upload's sections */
+    gl_highlights_request highlights;
     uint32_t stage, stages;            /* progress: the diffusion running, of how many */
     char *message;
     size_t size;
@@ -106,7 +108,7 @@ static int upload(frame *f)
                                  span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
     if (hl->count) {
         floats[IN_HL_ITEMS] = (uint64_t)hl->count * sizeof(adi_highlight) / sizeof(float);
-        floats[IN_HL_SHAPE] = sizeof(gl_highlight_shape) / sizeof(float);
+        floats[IN_HL_SHAPE] = sizeof(ddof_highlight_shape) / sizeof(float);
         if (hl->image_sums)
             floats[IN_HL_SUMS] = (uint64_t)(hl->image_width + 1) * (hl->image_height + 1) *
                                  (sizeof(double) / sizeof(float));
@@ -154,7 +156,7 @@ static int upload(frame *f)
     if (hl->count) /* the list sorted straight into its section */
         gl_highlights_prepare(hl, r->pixel_aspect, f->w, f->h,
                               (adi_highlight *)(void *)(mapped + f->at[IN_HL_ITEMS]),
-                              (gl_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]),
+                              (ddof_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]),
                               f->classes);
     if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
         snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
@@ -498,70 +500,62 @@ static ddof_status foreground(frame *f)
     return DDOF_OK;
 }
 
-/* The silhouettes' request (gl_passes.h): from the upload's colour, CoC and matte. */
-static gl_silhouettes_request silhouettes_request(const frame *f)
+/* The passes' requests (gl_passes.h) on the upload's sections: the silhouettes' from the colour
+ * the passes read, the CoC and the matte; the highlights' from the colour, the CoC and their
+ * list, shape and aperture image. */
+static void describe_passes(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
-    gl_silhouettes_request s = {.width = f->w, .height = f->h, .channels = f->c,
-                                .color = passes_color(f),
-                                .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels),
-                                .in_focus_px = r->in_focus_px};
+    const gl_image_ref coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels);
+    f->silhouettes = (gl_silhouettes_request){.width = f->w, .height = f->h, .channels = f->c,
+                                              .color = passes_color(f), .coc = coc,
+                                              .in_focus_px = r->in_focus_px};
     if (f->bytes[IN_MATTE]) {
-        s.matte = input(f, IN_MATTE, 0, q->matte_stride, 2 * q->matte_ranks);
-        s.ranks = q->matte_ranks;
+        f->silhouettes.matte = input(f, IN_MATTE, 0, q->matte_stride, 2 * q->matte_ranks);
+        f->silhouettes.ranks = q->matte_ranks;
     }
-    return s;
+    f->highlights = (gl_highlights_request){
+        .width = f->w, .height = f->h, .channels = f->c,
+        .color = input(f, IN_COLOR, 0, r->color_stride, f->c), .coc = coc,
+        .items = input(f, IN_HL_ITEMS, 0, 0, 0), .shape = input(f, IN_HL_SHAPE, 0, 0, 0),
+        .count = q->highlights.count, .coc_signed = q->highlights.coc_signed,
+        .classes = f->classes};
+    if (f->bytes[IN_HL_SUMS])
+        f->highlights.sums = input(f, IN_HL_SUMS, 0, 0, 0);
 }
 
-/* The colour the layers diffuse, with the silhouettes' objects taken out (SIL_CLEAN). */
-static int clean_silhouettes(frame *f)
-{
-    const gl_silhouettes_request s = silhouettes_request(f);
-    GLuint cleaned = need(f, GL_BUF_SIL_CLEAN, (uint64_t)f->w * f->h * f->c);
-    return cleaned && gl_clean_silhouettes(f->device, &s, cleaned, f->message, f->size);
-}
-
-/* The silhouettes' split of OUT. */
-static int split_silhouettes(frame *f)
-{
-    const gl_silhouettes_request s = silhouettes_request(f);
-    return gl_split_silhouettes(f->device, &s, f->device->buffers.name[GL_BUF_OUT],
-                                &f->report->silhouette_pixels, f->message, f->size);
-}
-
-/* The highlights' request (gl_passes.h): from the upload's colour, CoC and sections. */
-static gl_highlights_request highlights_request(const frame *f)
+/* The colour the passes read, with the highlights' excess taken out (HL_BASE), then the
+ * colour the layers diffuse, with the silhouettes' objects taken out too (SIL_CLEAN); the
+ * passes' requests once those buffers exist. */
+static int take_out(frame *f)
 {
     const adi_layers_request *q = f->q;
-    const adi_request *r = &q->base;
-    gl_highlights_request h = {.width = f->w, .height = f->h, .channels = f->c,
-                               .color = input(f, IN_COLOR, 0, r->color_stride, f->c),
-                               .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels),
-                               .items = input(f, IN_HL_ITEMS, 0, 0, 0),
-                               .shape = input(f, IN_HL_SHAPE, 0, 0, 0),
-                               .count = q->highlights.count,
-                               .coc_signed = q->highlights.coc_signed, .classes = f->classes};
-    if (f->bytes[IN_HL_SUMS])
-        h.sums = input(f, IN_HL_SUMS, 0, 0, 0);
-    return h;
-}
-
-/* The colour the passes read, with the highlights' excess taken out (HL_BASE). */
-static int take_out_highlights(frame *f)
-{
-    const gl_highlights_request h = highlights_request(f);
-    GLuint base = need(f, GL_BUF_HL_BASE, (uint64_t)f->w * f->h * f->c);
-    return base && gl_take_out_highlights(f->device, &h, base, f->message, f->size);
+    const uint64_t floats = (uint64_t)f->w * f->h * f->c;
+    const GLuint base = q->highlights.count ? need(f, GL_BUF_HL_BASE, floats) : 1;
+    const GLuint cleaned = q->silhouettes ? need(f, GL_BUF_SIL_CLEAN, floats) : 1;
+    if (!base || !cleaned)
+        return 0;
+    describe_passes(f);
+    double t0 = gl_seconds();
+    if (q->highlights.count &&
+        !gl_take_out_highlights(f->device, &f->highlights, base, f->message, f->size))
+        return 0;
+    f->report->seconds_highlights += gl_seconds() - t0;
+    t0 = gl_seconds();
+    if (q->silhouettes &&
+        !gl_clean_silhouettes(f->device, &f->silhouettes, cleaned, f->message, f->size))
+        return 0;
+    f->report->seconds_silhouettes += gl_seconds() - t0;
+    return 1;
 }
 
 /* The highlights drawn into OUT. */
 static int draw_highlights(frame *f)
 {
-    const gl_highlights_request h = highlights_request(f);
     const double t0 = gl_seconds();
-    const int ok = gl_draw_highlights(f->device, &h, f->device->buffers.name[GL_BUF_OUT],
-                                      f->message, f->size);
+    const int ok = gl_draw_highlights(f->device, &f->highlights,
+                                      f->device->buffers.name[GL_BUF_OUT], f->message, f->size);
     f->device->gl.Finish();
     f->report->seconds_highlights += gl_seconds() - t0;
     return ok;
@@ -577,7 +571,9 @@ static ddof_status split_and_draw(frame *f)
         return DDOF_ERROR_BACKEND_FAILED;
     if (q->silhouettes) {
         const double t0 = gl_seconds();
-        if (!split_silhouettes(f))
+        if (!gl_split_silhouettes(f->device, &f->silhouettes,
+                                  f->device->buffers.name[GL_BUF_OUT],
+                                  &f->report->silhouette_pixels, f->message, f->size))
             return DDOF_ERROR_BACKEND_FAILED;
         f->report->seconds_silhouettes += gl_seconds() - t0;
     }
@@ -619,15 +615,9 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
         !need(&f, GL_BUF_OUT, (uint64_t)f.w * f.h * f.c))
         return DDOF_ERROR_BACKEND_FAILED;
     ddof_status status = DDOF_OK;
+    if (!take_out(&f))
+        return DDOF_ERROR_BACKEND_FAILED;
     double t0 = gl_seconds();
-    if (q->highlights.count && !take_out_highlights(&f))
-        return DDOF_ERROR_BACKEND_FAILED;
-    report->seconds_highlights = gl_seconds() - t0;
-    t0 = gl_seconds();
-    if (q->silhouettes && !clean_silhouettes(&f))
-        return DDOF_ERROR_BACKEND_FAILED;
-    report->seconds_silhouettes = gl_seconds() - t0;
-    t0 = gl_seconds();
     if (q->near_spread && !near_spread(&f))
         return DDOF_ERROR_BACKEND_FAILED;
     report->seconds_foreground += gl_seconds() - t0;

@@ -24,38 +24,14 @@ static float radius_of(const adi_highlight *h)
     return 0.5f * fabsf(h->coc);
 }
 
-/* aperture.c's aperture_shape_of, in highlights.comp's layout. */
-static gl_highlight_shape shape_of(const adi_highlights *h, float aspect)
-{
-    gl_highlight_shape s = {.aspect = aspect};
-    if (h->image_sums) {
-        s.image_width = h->image_width;
-        s.image_height = h->image_height;
-    }
-    if (h->catseye > 0.0 && h->half_width > 0.0 && h->half_height > 0.0) {
-        s.catseye = h->catseye;
-        s.centre_x = h->centre_x;
-        s.centre_y = h->centre_y;
-        s.inv_half_width = 1.0 / h->half_width;
-        s.inv_half_height = 1.0 / h->half_height;
-    }
-    if (h->blades < 3 || h->image_sums)
-        return s;
-    s.sides = h->blades;
-    const double step = 2.0 * 3.14159265358979323846 / s.sides;
-    for (uint32_t k = 0; k < s.sides; k++) {
-        s.normal[2 * k] = (float)cos(h->rotation_rad + step * k);
-        s.normal[2 * k + 1] = (float)sin(h->rotation_rad + step * k);
-    }
-    s.apothem = (float)cos(0.5 * step);
-    return s;
-}
-
 void gl_highlights_prepare(const adi_highlights *h, float aspect, uint32_t width,
-                           uint32_t height, adi_highlight *items, gl_highlight_shape *shape,
+                           uint32_t height, adi_highlight *items, ddof_highlight_shape *shape,
                            gl_highlight_class classes[GL_HIGHLIGHT_CLASSES])
 {
-    *shape = shape_of(h, aspect);
+    *shape = ddof_highlight_shape_of(h->blades, h->rotation_rad, h->catseye, h->centre_x,
+                                     h->centre_y, h->half_width, h->half_height,
+                                     h->image_sums != NULL, h->image_width, h->image_height,
+                                     aspect);
     /* highlights_draw.c's counting sort: by class, row order kept within each. */
     uint32_t start[GL_HIGHLIGHT_CLASSES + 1] = {0};
     for (uint32_t i = 0; i < h->count; i++)

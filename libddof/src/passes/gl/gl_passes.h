@@ -62,15 +62,6 @@ int gl_split_silhouettes(ddof_device *device, const gl_silhouettes_request *q, G
 
 /* ---- the highlights ---------------------------------------------------------------------- */
 
-/* The aperture as highlights.comp reads it (its Shape block, std430): aperture.c's
- * aperture_shape. */
-typedef struct gl_highlight_shape {
-    double catseye, centre_x, centre_y, inv_half_width, inv_half_height;
-    float aspect, apothem;
-    uint32_t sides, image_width, image_height;
-    float normal[32];
-} gl_highlight_shape;
-
 /* A size class of highlights (highlights_draw.c): its place in the sorted list, where its
  * light lands, and the box its shapes cover. */
 typedef struct gl_highlight_class {
@@ -85,7 +76,7 @@ typedef struct gl_highlight_class {
 /* The highlights sorted into their classes (row order kept) into `items` (h->count of them),
  * the aperture for pixel aspect `aspect` into `shape`, and the classes' table. */
 void gl_highlights_prepare(const adi_highlights *h, float aspect, uint32_t width,
-                           uint32_t height, adi_highlight *items, gl_highlight_shape *shape,
+                           uint32_t height, adi_highlight *items, ddof_highlight_shape *shape,
                            gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]);
 
 /* A frame's highlights on the device: the upload's sections and what prepare made. */
@@ -94,7 +85,7 @@ typedef struct gl_highlights_request {
     gl_image_ref color;  /* the colour they come out of: stride floats a row, channels a pixel */
     gl_image_ref coc;    /* the frame's CoC: stride floats a row, step a pixel                */
     gl_image_ref items;  /* the sorted highlights                                              */
-    gl_image_ref shape;  /* the gl_highlight_shape                                             */
+    gl_image_ref shape;  /* the ddof_highlight_shape                                           */
     gl_image_ref sums;   /* the aperture image's table (doubles); buffer 0: none              */
     uint32_t count, coc_signed;
     const gl_highlight_class *classes;

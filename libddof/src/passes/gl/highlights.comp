@@ -25,7 +25,7 @@ layout(std430, binding = 1) readonly buffer ColorIn { float color_in[]; };
 layout(std430, binding = 2) buffer Out { float out_px[]; };
 layout(std430, binding = 3) buffer Base { float base[]; };
 layout(std430, binding = 4) readonly buffer Items { Highlight items[]; }; // by class, then row
-layout(std430, binding = 5) readonly buffer Shape {
+layout(std430, binding = 5) readonly buffer Shape { // ddof_highlight_rules.h's ddof_highlight_shape
     double catseye;           // 0: no cat's eye
     double centre_x;
     double centre_y;
