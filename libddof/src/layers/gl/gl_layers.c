@@ -1,12 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_layers.c - the seam's run_layers: ../layers.c's pipeline with every step on the device.
- * The colour, the CoC, the foreground element and an object matte go up in one mapped write
- * (FRAME, in the caller's layouts), the result comes back in one mapped read (OUT), and in
- * between each step is the CPU's: the per-pixel steps are layers.comp, the cone dilation
- * cone_dilate.comp, the diffusions gl_resident.c's on the device's maps, the silhouettes'
- * clean and split and the far field (its gather of the element too) the passes' GL code
- * (gl_passes.h), in the CPU's order and on the CPU's areas (the crops are offsets into the
- * maps), so that the device's frame differs from the CPU's only by float rounding. */
+ * The colour, the CoC, the foreground element, an object matte and the highlights' list go up
+ * in one mapped write (FRAME, in the caller's layouts), the result comes back in one mapped
+ * read (OUT), and in between each step is the CPU's: the per-pixel steps are layers.comp, the
+ * cone dilation cone_dilate.comp, the diffusions gl_resident.c's on the device's maps, the
+ * highlights' take-out and discs, the silhouettes' clean and split and the far field (its
+ * gather of the element too) the passes' GL code (gl_passes.h), in the CPU's order and on the
+ * CPU's areas (the crops are offsets into the maps), so that the device's frame differs from
+ * the CPU's only by float rounding. */
 #include "gl_layers.h"
 
 #include "gl_passes.h"
