@@ -1,9 +1,10 @@
 /* SPDX-License-Identifier: MIT */
 /* frame_run.c - one frame's run, for every call that renders one (ddof_render_frame,
  * ddof_depth_of_field, ddof_diffuse_layers, ddof_diffuse): from a validated request with its
- * CoC, the plan (planner.c), the near layer's split, the layers as one run_layers request on
- * the backend the planner chose (the CPU's table or the context's device), the passes around
- * them (frame_passes.c), the element's composite, and the stats. */
+ * CoC, the plan (planner.c), the near layer's split, the highlights found, the layers and
+ * their passes as one run_layers request on the backend the planner chose (the CPU's table
+ * or the context's device), the passes' plan lines (frame_passes.c), the element's composite
+ * where the request could not take it, and the stats. */
 #include "frame_run.h"
 #include "ddof_output_struct.h"
 
@@ -182,8 +183,8 @@ static int shared_progress(void *user, float fraction)
 }
 
 /* The planned frame's layers and the passes in their run. Where the layers run is decided
- * here, once, after the highlights are found (the layers' run takes the element only where
- * nothing comes between them and it needs none of the CPU's extra steps). */
+ * here, once, after the highlights are found (the layers' run takes the element unless it
+ * needs the CPU's extra steps: its own highlights, a carried alpha). */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
                                frame_plan *plan, float max_near_coc, layers_report *report)
 {
