@@ -11,6 +11,7 @@
 
 #include <math.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 /* far_field.comp's table: the counts, the levels' offsets, the cuts' difference array. */
@@ -257,15 +258,23 @@ static int choose_cuts(far_run *f, float *cuts)
     const float lo = from_ordered(range[1]), hi = from_ordered(range[2]);
     float width;
     const uint32_t bins = ddof_far_bins(lo, hi, &width);
-    static const GLuint zeros[FAR_MAX_BINS + 2];
-    GLuint words[FAR_MAX_BINS + 2];
-    int64_t runs[FAR_MAX_BINS + 2];
+    /* The counters as the device keeps them, and as ddof_far_take_cut reads them (on the
+     * heap: 48 KB would be a large share of a host thread's stack). */
+    int64_t *runs = malloc((size_t)(bins + 2) * (sizeof(int64_t) + sizeof(GLuint)));
+    if (!runs) {
+        snprintf(f->message, f->size, "out of memory for the depth slices' %u counters", bins);
+        return -1;
+    }
+    GLuint *words = (GLuint *)(void *)(runs + bins + 2);
     uint32_t n = 0;
     while (n < FAR_LAYERS_MAX_SLICES - 1) {
-        table_write(f, TABLE_RUNS, bins + 2, zeros);
+        memset(words, 0, (size_t)(bins + 2) * sizeof *words);
+        table_write(f, TABLE_RUNS, bins + 2, words);
         GLuint prog = step(f, GL_PROG_FAR_PAIRS_RUNS);
-        if (!prog)
+        if (!prog) {
+            free(runs);
             return -1;
+        }
         gl_uniform_f(gl, prog, "u_lo", lo);
         gl_uniform_f(gl, prog, "u_bin_width", width);
         gl_uniform_u(gl, prog, "u_bins", bins);
@@ -282,6 +291,7 @@ static int choose_cuts(far_run *f, float *cuts)
             break;
         n = more;
     }
+    free(runs);
     return (int)n;
 }
 
