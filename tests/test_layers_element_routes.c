@@ -2,9 +2,9 @@
 /* test_layers_element_routes.c - the two routes of a foreground element on the CPU give the
  * same bits: inside the CPU table's run_layers request (ddof_run_layers_on_cpu, what the
  * planner picks where nothing comes between the layers and the element) and after the layers
- * by the CPU's steps (ddof_run_foreground_on_cpu, where something does), without the
- * element's own highlights (never inside a request) and with and without the far field's
- * gather of its blur (the request's fg_gather). The planner moves an element between the
+ * by the CPU's steps (ddof_run_foreground_on_cpu, where something does), with and without
+ * the element's own highlights (the request's fg_highlights) and the far field's gather of its
+ * blur (fg_gather). The planner moves an element between the
  * routes by what the frame holds, so an output must not depend on which it took. With the heat
  * kernel and disc-2x2, a background level and the near spread on, in 1 and 2 threads. */
 #include "frame/call_checks.h"
@@ -17,7 +17,7 @@
 enum { W = 96, H = 64, CH = 4 };
 
 /* Far background with in-focus bars and a near disc (signed CoC), and a soft element disc. */
-static void scene(float *color, float *coc, float *fg, float *fg_coc)
+static void scene(float *color, float *coc, float *fg, float *fg_coc, int lights)
 {
     test_rng rng = {11};
     fill_uniform(color, (size_t)W * H * CH, &rng, 0.05, 0.9);
@@ -40,22 +40,27 @@ static void scene(float *color, float *coc, float *fg, float *fg_coc)
             px[3] = a;
             fg_coc[(size_t)y * W + x] = 14.0f;
         }
+    if (lights) /* two lights in the element: its own highlights */
+        for (int k = 0; k < 2; k++) {
+            float *px = fg + ((size_t)(22 + 4 * k) * W + 28 + 3 * k) * 4;
+            px[0] = px[1] = px[2] = 40.0f;
+        }
 }
 
-static void routes(ddof_context *ctx, ddof_kernel kernel, int gather)
+static void routes(ddof_context *ctx, ddof_kernel kernel, int gather, int lights)
 {
     const size_t n = (size_t)W * H * CH;
     float *color = alloc_f(n), *coc = alloc_f((size_t)W * H);
     float *fg = alloc_f((size_t)W * H * 4), *fg_coc = alloc_f((size_t)W * H);
     float *inside = alloc_f(n), *after = alloc_f(n), *layers_only = alloc_f(n);
-    scene(color, coc, fg, fg_coc);
+    scene(color, coc, fg, fg_coc, lights);
 
     ddof_params p;
     ddof_params_init(&p);
     p.solver = DDOF_SOLVER_THOMAS;
     p.kernel = kernel;
     p.coc_signed = 1;
-    p.highlights = DDOF_LAYER_OFF;
+    p.highlights = lights ? DDOF_LAYER_ON : DDOF_LAYER_OFF;
     p.far_field = gather ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
     adi_request r = {.color = color, .color_stride = (size_t)W * CH, .coc = coc,
                      .coc_stride = W, .coc_channels = 1, .width = W, .height = H,
@@ -77,9 +82,16 @@ static void routes(ddof_context *ctx, ddof_kernel kernel, int gather)
     q.fg = (layers_element){.color = fg, .color_stride = (size_t)W * 4, .coc = fg_coc,
                             .coc_stride = W, .coc_channels = 1, .premultiplied = 1,
                             .box = {0, 0, W, H}, .max_coc = 14.0f};
+    /* The element's own highlights, found once, for both routes. */
+    highlight_set found = {0};
+    if (lights)
+        CHECK_EQ_INT(ddof_find_element_highlights(ctx, &q, &found), DDOF_OK);
+    CHECK_MSG((found.count > 0) == lights, "%s: %u of the element's highlights",
+              ddof_kernel_name(kernel), found.count);
+    const adi_highlights fg_lights = ddof_request_highlights(&q, &found, 0);
     layer_stages st = {0};
     layers_report report = {0};
-    CHECK_EQ_INT(ddof_run_foreground_on_cpu(ctx, &q, &st, &report), DDOF_OK);
+    CHECK_EQ_INT(ddof_run_foreground_on_cpu(ctx, &q, &fg_lights, &st, &report), DDOF_OK);
 
     /* The element inside the request, over the area ddof_run_foreground_on_cpu used. */
     d.base.out = inside;
@@ -92,17 +104,21 @@ static void routes(ddof_context *ctx, ddof_kernel kernel, int gather)
     d.fg_max_coc = 14.0f;
     d.fg_area = (adi_box){0, 0, W, H};
     d.fg_gather = (uint32_t)gather;
+    d.fg_highlights = fg_lights;
     CHECK_EQ_INT(ddof_run_layers_on_cpu(ctx, &d, &a), DDOF_OK);
-    CHECK_EQ_INT(a.element_far_field, (report.effects & DDOF_EFFECT_FAR_FIELD) != 0);
-    CHECK_EQ_INT(a.element_far_field, gather);
+    const uint32_t extra = (uint32_t)DDOF_EFFECT_FAR_FIELD | (uint32_t)DDOF_EFFECT_HIGHLIGHTS;
+    CHECK_EQ_INT(a.element_effects, report.effects & extra);
+    CHECK_EQ_INT(a.element_effects, (gather ? (uint32_t)DDOF_EFFECT_FAR_FIELD : 0u) |
+                                        (lights ? (uint32_t)DDOF_EFFECT_HIGHLIGHTS : 0u));
 
     size_t differ = 0, changed = 0;
     for (size_t i = 0; i < n; i++) {
         differ += memcmp(&inside[i], &after[i], sizeof(float)) != 0;
         changed += inside[i] != layers_only[i];
     }
-    printf("%s%s: %zu of %zu values differ between the routes; the element changed %zu\n",
-           ddof_kernel_name(kernel), gather ? ", gathered" : "", differ, n, changed);
+    printf("%s%s%s: %zu of %zu values differ between the routes; the element changed %zu\n",
+           ddof_kernel_name(kernel), gather ? ", gathered" : "", lights ? ", its lights" : "",
+           differ, n, changed);
     CHECK_MSG(differ == 0, "%s: %zu values differ", ddof_kernel_name(kernel), differ);
     CHECK_MSG(changed > (size_t)W * H / 20, "%s: the element changed only %zu values",
               ddof_kernel_name(kernel), changed);
@@ -119,10 +135,11 @@ int main(void)
 {
     for (uint32_t threads = 1; threads <= 2; threads++) {
         ddof_context *ctx = make_context(threads);
-        for (int gather = 0; gather < 2; gather++) {
-            routes(ctx, DDOF_KERNEL_HEAT, gather);
-            routes(ctx, DDOF_KERNEL_DISC_2X2, gather);
-        }
+        for (int gather = 0; gather < 2; gather++)
+            for (int lights = 0; lights < 2; lights++) {
+                routes(ctx, DDOF_KERNEL_HEAT, gather, lights);
+                routes(ctx, DDOF_KERNEL_DISC_2X2, gather, lights);
+            }
         ddof_context_free(ctx);
     }
     return test_report("test_layers_element_routes");

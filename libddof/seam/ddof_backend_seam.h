@@ -159,6 +159,8 @@ typedef struct adi_layers_request {
     adi_box fg_area;          /* where the element's blur can reach                          */
     uint32_t fg_gather;       /* 1: the far field gathers the element's blur with the lens's
                                * shape away from its own depth edges, before its composite    */
+    adi_highlights fg_highlights; /* the element's own, in fg_area's coordinates: taken out
+                               * of its premultiplied colour, drawn into its blur             */
     uint32_t far_field;       /* 1: the far field over the layers' result, before the element
                                * (libddof/src/passes/far_field.h), from base.color            */
     uint32_t far_slices;      /* 1: with its depth slices where blurred surfaces meet         */
@@ -186,7 +188,8 @@ typedef struct adi_layers_report {
     double seconds_silhouettes;
     double seconds_highlights;
     uint64_t silhouette_pixels; /* mixed pixels split                                        */
-    uint32_t element_far_field; /* 1: the far field gathered some of the element's blur        */
+    uint32_t element_effects;   /* DDOF_EFFECT_FAR_FIELD, _HIGHLIGHTS: what the far field's
+                                 * gather and the element's own highlights added to it        */
 } adi_layers_report;
 
 /* ---- cards (ddof_render_cards, docs/cards.md) -------------------------------------------- */

@@ -32,6 +32,7 @@ typedef enum gl_buffer_slot {
     GL_BUF_SPREAD,
     GL_BUF_LAYER,
     GL_BUF_LAYER_BLUR, /* the element's blur, beside it for the far field's gather */
+    GL_BUF_FG_BASE,    /* the element without its own highlights */
     GL_BUF_CHECK,     /* a host texture's first bad pixel     */
     GL_BUF_FAR_RADIUS,  /* the far field (gl_far_field.c): its maps */
     GL_BUF_FAR_WEIGHT,

@@ -335,9 +335,9 @@ static void far_field_frames(ddof_kernel kernel)
 
 /* HDR highlights (the highlight pass, ddof_params.highlights): found on the host, taken out and
  * drawn on the device (tests/gl/test_gl_highlights.c for the shapes), so 1 upload and 1
- * read-back, with an element over them too. With highlights in the element itself (found in
- * it and drawn into it by the CPU's steps) the layers still run on the device and the element
- * after them, its diffusions one request at a time, and the frame still matches the CPU. */
+ * read-back, with an element over them too, and with highlights in the element itself (taken
+ * out of it and drawn into its blur). Only the alpha a near layer carries keeps the element
+ * after the layers, its diffusions one request at a time. */
 static void highlights(ddof_kernel kernel)
 {
     const size_t n = (size_t)W * H * CH;
@@ -360,8 +360,8 @@ static void highlights(ddof_kernel kernel)
     ddof_foreground_init(&fg);
     fg.color = (ddof_image_in){fg_color, W, H, 4, 0};
     fg.coc = (ddof_image_in){fg_coc, W, H, 1, 0};
-    element_after_frame("highlights + element", &p, color, coc, &fg,
-                        DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND, 3, NULL);
+    compare("highlights + element", p, color, coc, &fg,
+            DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND);
     /* A dim element over the frame's highlights: they are drawn on the device before the
      * element's composite, all in the one run. */
     float *dim = alloc_f((size_t)W * H * 4);
@@ -373,12 +373,12 @@ static void highlights(ddof_kernel kernel)
             DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND);
     free(dim);
 
-    /* The element's own highlights alone (the rest dimmed below the threshold): drawn into
-     * the element by the CPU's steps, so the element again comes after the layers. */
+    /* The element's own highlights alone (the rest dimmed below the threshold): taken out of
+     * it and drawn into its blur on the device too. */
     for (size_t i = 0; i < n; i++)
         color[i] *= 0.1f;
-    element_after_frame("element's highlights", &p, color, coc, &fg, DDOF_EFFECT_HIGHLIGHTS, 3,
-                        NULL);
+    compare("element's highlights", p, color, coc, &fg,
+            DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND);
 
     /* The near layer of a frame whose alpha is not 1 under the near field: the element carries
      * its part of the alpha channel, a fifth channel the device's frame does not have, so it
@@ -390,12 +390,11 @@ static void highlights(ddof_kernel kernel)
         if (lights)
             for (size_t i = 0; i < (size_t)W * H; i++)
                 color[i * CH + 3] = 1.0f;
-        /* Its alpha's part is a fourth diffusion of the element's; with the lights, the
-         * element's own highlights are the reason. */
+        /* Its alpha's part is a fourth diffusion of the element's; with alpha 1 and the
+         * lights, the near layer and its own highlights are all the device's. */
         if (lights)
-            element_after_frame("near layer, highlights", &p, color, coc, NULL,
-                                DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS, 3,
-                                "its own highlights are drawn into it");
+            compare("near layer, highlights", p, color, coc, NULL,
+                    DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS);
         else
             element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER, 4,

@@ -23,7 +23,7 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
     /* The layers' run takes them out of the colour and draws them (layers_dispatch.c). */
     ddof_status status =
         ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
-                             &q->aperture, 1, NULL, set);
+                             &q->aperture, HIGHLIGHTS_OF_FRAME, NULL, set);
     if (status != DDOF_OK)
         return status;
     char shape[48] = "discs";

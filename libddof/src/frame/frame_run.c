@@ -134,29 +134,7 @@ ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
 
 /* ---- where the layers run ---------------------------------------------------------------- */
 
-/* Whether the foreground element holds a pixel the highlight pass would take (bright enough,
- * covered, blurred enough): only then does it need the CPU's pass. */
-static int element_is_bright(const layers_request *q)
-{
-    const float threshold = q->params->highlight_threshold;
-    for (uint32_t y = q->fg.box.y0; y < q->fg.box.y1; y++) {
-        const float *fg = q->fg.color + (size_t)y * q->fg.color_stride;
-        const float *coc = q->fg.coc + (size_t)y * q->fg.coc_stride;
-        for (uint32_t x = q->fg.box.x0; x < q->fg.box.x1; x++) {
-            const float *px = fg + (size_t)x * 4;
-            /* foreground_rows' premultiplication */
-            const float scale = q->fg.premultiplied ? 1.0f : ddof_minf(1.0f, px[3]);
-            if (px[3] > 0.0f && ddof_is_highlight(ddof_highlight_brightness(px) * scale,
-                                                  coc[(size_t)x * q->fg.coc_channels],
-                                                  threshold))
-                return 1;
-        }
-    }
-    return 0;
-}
-
-/* Where the layers run: what the planner needs to know, found here, and its decision (the
- * planner alone says whether the element's brightness matters). */
+/* Where the layers run: what the planner needs to know, found here, and its decision. */
 static layers_placement place_layers(ddof_context *context, const layers_request *q,
                                      frame_plan *plan)
 {
@@ -164,9 +142,8 @@ static layers_placement place_layers(ddof_context *context, const layers_request
     const layers_device_facts facts = {
         .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
         .carried_alpha = q->fg.carried_alpha != NULL,
-        .element_bright = plan->foreground && element_is_bright(q),
     };
-    return ddof_plan_layers_device(plan, q->params, &facts);
+    return ddof_plan_layers_device(plan, &facts);
 }
 
 /* The caller's progress for a layers' run that is the first `share` of the frame's stages. */
@@ -184,7 +161,7 @@ static int shared_progress(void *user, float fraction)
 
 /* The planned frame's layers and the passes in their run. Where the layers run is decided
  * here, once, after the highlights are found (the layers' run takes the element unless it
- * needs the CPU's extra steps: its own highlights, a carried alpha). */
+ * carries part of the frame's alpha). */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
                                frame_plan *plan, float max_near_coc, layers_report *report)
 {
@@ -192,15 +169,18 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     memset(report, 0, sizeof *report);
     ddof_status status = DDOF_OK;
 
-    /* The highlights are found here; the layers' run takes them out of the colour every layer
-     * diffuses (on the CPU or on a device) and draws them into the result. */
-    highlight_set highlights = {0};
-    if (plan->highlights) {
-        const double t0 = ddof_seconds();
-        if ((status = ddof_pass_find_highlights(context, q, &highlights, plan)) != DDOF_OK)
-            return status;
-        report->seconds_highlights += ddof_seconds() - t0;
-    }
+    /* The highlights are found here, the frame's and the element's own; the layers' run takes
+     * them out of the colours (on the CPU or on a device) and draws them into the results. */
+    highlight_set highlights = {0}, element_lights = {0};
+    const double t0 = ddof_seconds();
+    if (plan->highlights &&
+        (status = ddof_pass_find_highlights(context, q, &highlights, plan)) != DDOF_OK)
+        return status;
+    if (plan->foreground && q->params->highlights != DDOF_LAYER_OFF &&
+        (status = ddof_find_element_highlights(context, q, &element_lights)) != DDOF_OK)
+        return status;
+    report->seconds_highlights += ddof_seconds() - t0;
+    const adi_highlights fg_lights = ddof_request_highlights(q, &element_lights, 0);
 
     /* Diffusing in place overwrites the colour the background layer (on the CPU: the device
      * reads its upload), the far field and the silhouettes still need (the highlights'
@@ -231,8 +211,8 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         layers_q.base.progress = shared_progress;
         layers_q.base.progress_user = &share;
     }
-    if ((status = ddof_run_layers(context, &layers_q, plan, where, &highlights, max_near_coc,
-                                  report)) != DDOF_OK)
+    if ((status = ddof_run_layers(context, &layers_q, plan, where, &highlights, &fg_lights,
+                                  max_near_coc, report)) != DDOF_OK)
         return status;
     st.current = st.count - element_stages;
     if (plan->far_field)
@@ -241,7 +221,7 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         ddof_say_silhouettes(q, plan, report->silhouette_pixels, report);
     /* The element goes over all of it (unless the layers' run composited it already). */
     if (plan->foreground && !where.element)
-        return ddof_run_foreground_on_cpu(context, q, &st, report);
+        return ddof_run_foreground_on_cpu(context, q, &fg_lights, &st, report);
     return DDOF_OK;
 }
 

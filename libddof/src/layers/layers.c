@@ -424,11 +424,10 @@ static ddof_status gather_element(ddof_context *context, const adi_request *blur
 }
 
 /* What the element's blur does besides the diffusion, on the frame's settings: its own
- * highlights (never inside a run_layers request) and the far field's gather. */
+ * highlights (found by ddof_find_element_highlights) and the far field's gather. */
 typedef struct element_extras {
-    int highlights;  /* find the element's highlights (params.highlights not off) */
-    float threshold; /* params.highlight_threshold                                */
-    int gather;      /* the far field gathers its blur (params.far_field not off)  */
+    const adi_highlights *lights; /* taken out of it, drawn into its blur; NULL: none     */
+    int gather;                   /* the far field gathers its blur (far_field not off) */
 } element_extras;
 
 static ddof_status foreground(ddof_context *context, const layers_request *q,
@@ -448,24 +447,19 @@ static ddof_status foreground(ddof_context *context, const layers_request *q,
 
     /* The element's own highlights (a near light is usually in it): taken out of its
      * premultiplied colour here, drawn into it after its blur. */
-    highlight_set lights = {0};
+    const adi_highlights *lights = extras->lights && extras->lights->count ? extras->lights
+                                                                           : NULL;
     const float *element = premultiplied;
-    if (extras->highlights) {
+    if (lights) {
         const double t0 = ddof_seconds();
-        adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
-        er.coc = q->fg.coc;
-        er.coc_stride = q->fg.coc_stride;
-        er.coc_channels = q->fg.coc_channels;
+        const adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
         float *base = ddof_highlight_base_image(context, &er);
         if (!base)
             return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
                              "could not allocate the highlight pass's %ux%u image", r->width,
                              r->height);
-        if ((status = ddof_find_highlights(context, &er, extras->threshold, 0,
-                                           &q->aperture, 0, base, &lights)) != DDOF_OK)
-            return status;
-        if (lights.count)
-            element = base;
+        ddof_take_out_highlights(context, &er, lights->items, lights->count, base);
+        element = base;
         report->seconds_highlights += ddof_seconds() - t0;
     }
 
@@ -510,13 +504,12 @@ static ddof_status foreground(ddof_context *context, const layers_request *q,
         return status;
     if (gather && (status = gather_element(context, &blur, report)) != DDOF_OK)
         return status;
-    if (lights.count) {
+    if (lights) {
         /* Light added to the element's colour, over whatever lies behind it; it lands where
          * the element's spread CoC reaches (|CoC| at least half the disc's: the element's
          * blur, never the sharp pixels beside it). */
         const double t0 = ddof_seconds();
-        ddof_scatter_highlights(context, &blur, 0, &q->aperture, &lights,
-                                ddof_highlight_base_image(context, &blur));
+        ddof_draw_highlights(context, &blur, lights, ddof_highlight_base_image(context, &blur));
         report->effects |= DDOF_EFFECT_HIGHLIGHTS;
         report->seconds_highlights += ddof_seconds() - t0;
     }
@@ -756,7 +749,8 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
                                 .coc_channels = d->fg_coc_channels,
                                 .premultiplied = (int)d->fg_premultiplied,
                                 .max_coc = d->fg_max_coc};
-        const element_extras extras = {.gather = (int)d->fg_gather};
+        const element_extras extras = {.lights = &d->fg_highlights,
+                                       .gather = (int)d->fg_gather};
         if ((status = element(context, &q, pixel_box_of(d->fg_area), &extras, &st, &report)) !=
             DDOF_OK)
             return status;
@@ -768,20 +762,59 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
     out->far_layered_pixels = far.layered_pixels;
     out->far_slices = far.slices;
     out->far_levels = far.levels;
-    out->element_far_field = (report.effects & DDOF_EFFECT_FAR_FIELD) != 0;
+    out->element_effects =
+        report.effects & ((uint32_t)DDOF_EFFECT_FAR_FIELD | (uint32_t)DDOF_EFFECT_HIGHLIGHTS);
     return DDOF_OK;
 }
 
-ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
-                                       layer_stages *st, layers_report *report)
+pixel_box ddof_element_area(const layers_request *q)
 {
     const adi_request *r = &q->base;
-    const ddof_params *p = q->params;
-    const element_extras extras = {.highlights = p->highlights != DDOF_LAYER_OFF,
-                                   .threshold = p->highlight_threshold,
-                                   .gather = p->far_field != DDOF_LAYER_OFF};
     /* The element's blur reaches no further than its largest CoC carries. */
     const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
-    return element(context, q, box_grow(q->fg.box, reach, r->width, r->height), &extras, st,
-                   report);
+    return box_grow(q->fg.box, reach, r->width, r->height);
+}
+
+ddof_status ddof_find_element_highlights(ddof_context *context, const layers_request *q,
+                                         highlight_set *set)
+{
+    memset(set, 0, sizeof *set);
+    const layers_request sub = crop(q, ddof_element_area(q));
+    const adi_request *r = &sub.base;
+    const size_t pixels = (size_t)r->width * r->height;
+    ddof_status status = DDOF_OK;
+    float *premultiplied = scratch(context, DDOF_SCRATCH_LAYER_COLOR, pixels * 4, &status);
+    float *coc_abs = scratch(context, DDOF_SCRATCH_LAYER_COC_ABS, pixels, &status);
+    if (status != DDOF_OK)
+        return status;
+    pixel_job job = {.q = &sub, .a = premultiplied, .b = coc_abs};
+    ddof_parallel_rows(context, r->height, foreground_rows, &job);
+    adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
+    er.coc = sub.fg.coc;
+    er.coc_stride = sub.fg.coc_stride;
+    er.coc_channels = sub.fg.coc_channels;
+    return ddof_find_highlights(context, &er, q->params->highlight_threshold, 0, &q->aperture,
+                                HIGHLIGHTS_OF_ELEMENT, NULL, set);
+}
+
+adi_highlights ddof_request_highlights(const layers_request *q, const highlight_set *set,
+                                       int coc_signed)
+{
+    const highlight_aperture *a = &q->aperture;
+    return (adi_highlights){.items = set->items, .count = set->count,
+                            .coc_signed = (uint32_t)coc_signed, .blades = a->blades,
+                            .rotation_rad = a->rotation_rad, .catseye = a->catseye,
+                            .centre_x = a->centre_x, .centre_y = a->centre_y,
+                            .half_width = a->half_width, .half_height = a->half_height,
+                            .image_sums = set->aperture_sums, .image_width = a->image_width,
+                            .image_height = a->image_height};
+}
+
+ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
+                                       const adi_highlights *lights, layer_stages *st,
+                                       layers_report *report)
+{
+    const element_extras extras = {.lights = lights,
+                                   .gather = q->params->far_field != DDOF_LAYER_OFF};
+    return element(context, q, ddof_element_area(q), &extras, st, report);
 }

@@ -73,20 +73,34 @@ uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan);
 ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_request *request,
                                    adi_layers_report *report);
 
-/* The foreground element blurred and composited over q->base.out by the CPU's steps, with
- * what a request cannot ask for: its own highlights and the far field's gather (q->params),
- * and the part of the frame's alpha it may carry. */
+/* Where the foreground element's blur can reach: its box grown by its largest CoC's reach. */
+pixel_box ddof_element_area(const layers_request *q);
+
+/* The element's own highlights over its area (in the area's coordinates), found in its
+ * premultiplied colour (DDOF_SCRATCH_ELEMENT_HIGHLIGHTS, without a base). */
+ddof_status ddof_find_element_highlights(ddof_context *context, const layers_request *q,
+                                         highlight_set *set);
+
+/* A set of highlights as a run_layers request carries it, with q's aperture. */
+adi_highlights ddof_request_highlights(const layers_request *q, const highlight_set *set,
+                                       int coc_signed);
+
+/* The foreground element blurred and composited over q->base.out by the CPU's steps, with its
+ * own highlights (`lights`, from ddof_find_element_highlights; may be NULL), the far field's
+ * gather (q->params) and the part of the frame's alpha it may carry: what a request cannot
+ * carry. */
 ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
-                                       layer_stages *st, layers_report *report);
+                                       const adi_highlights *lights, layer_stages *st,
+                                       layers_report *report);
 
 /* Every layer and pass of the plan as the seam's request (layers_dispatch.c), of
  * q->base.color with `highlights` (found by ddof_find_highlights without a base) taken out and
- * drawn, on the backend the planner chose (where.device: the context's device, else the CPU's
+ * drawn, and the element's own `fg_lights` (NULL: none) in its blur, on the backend the planner chose (where.device: the context's device, else the CPU's
  * table); the plan's foreground element blurred and composited last in it where where.element
  * says so, else left for ddof_run_foreground_on_cpu. */
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, layers_placement where,
-                            const highlight_set *highlights, float max_near_coc,
-                            layers_report *report);
+                            const highlight_set *highlights, const adi_highlights *fg_lights,
+                            float max_near_coc, layers_report *report);
 
 #endif

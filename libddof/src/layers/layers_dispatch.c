@@ -18,23 +18,10 @@ static adi_box seam_box(pixel_box b)
  * steps: the CPU's (layers.c) or the device's (gl/gl_layers.c: one upload, one read-back).
  * The background's area depends on the midground's largest CoC, so the backend grows its
  * edges itself. */
-/* The frame's highlights and aperture as the seam's. */
-static adi_highlights seam_highlights(const layers_request *q, const highlight_set *set)
-{
-    const highlight_aperture *a = &q->aperture;
-    return (adi_highlights){.items = set->items, .count = set->count,
-                            .coc_signed = q->params->coc_signed, .blades = a->blades,
-                            .rotation_rad = a->rotation_rad, .catseye = a->catseye,
-                            .centre_x = a->centre_x, .centre_y = a->centre_y,
-                            .half_width = a->half_width, .half_height = a->half_height,
-                            .image_sums = set->aperture_sums, .image_width = a->image_width,
-                            .image_height = a->image_height};
-}
-
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, layers_placement where,
-                            const highlight_set *highlights, float max_near_coc,
-                            layers_report *report)
+                            const highlight_set *highlights, const adi_highlights *fg_lights,
+                            float max_near_coc, layers_report *report)
 {
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
@@ -60,14 +47,15 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.fg_coc_channels = q->fg.coc_channels;
         d.fg_premultiplied = (uint32_t)q->fg.premultiplied;
         d.fg_max_coc = q->fg.max_coc;
-        const uint32_t reach = ddof_kernel_reach_px(r->disc, r->beta_scale, q->fg.max_coc);
-        d.fg_area = seam_box(box_grow(q->fg.box, reach, r->width, r->height));
+        d.fg_area = seam_box(ddof_element_area(q));
         d.fg_gather = p->far_field != DDOF_LAYER_OFF;
+        if (fg_lights)
+            d.fg_highlights = *fg_lights;
     }
     d.far_field = (uint32_t)plan->far_field;
     d.far_slices = (uint32_t)plan->blurred_edges;
     if (highlights->count)
-        d.highlights = seam_highlights(q, highlights);
+        d.highlights = ddof_request_highlights(q, highlights, (int)p->coc_signed);
     if (plan->silhouettes && r->channels >= 3) {
         d.silhouettes = 1;
         d.matte = q->matte.ranks ? q->matte.pairs : NULL;
@@ -93,7 +81,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
                       (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u) |
-                      (a.element_far_field ? (uint32_t)DDOF_EFFECT_FAR_FIELD : 0u) |
+                      a.element_effects |
                       (highlights->count ? (uint32_t)DDOF_EFFECT_HIGHLIGHTS : 0u);
     return DDOF_OK;
 }

@@ -94,13 +94,18 @@ typedef struct highlight_set {
  * pixels whose largest colour channel exceeds `threshold` and whose |CoC| >= the minimum,
  * and writes `base` (width x height x channels floats, packed) = the colour with their excess
  * taken out. set->count 0: none (base is then not written). Memory from the context.
- * `hidden_parts` 1: where a sharp occluder (|CoC| < DDOF_HIGHLIGHT_SHARP_PX) at most a far
+ * The frame's (owner): where a sharp occluder (|CoC| < DDOF_HIGHLIGHT_SHARP_PX) at most a far
  * highlight's radius wide cuts it, the occluder's pixels get the hidden part, filled across
  * the occluder from the highlight's visible pixels, as extra highlights (within the budget);
  * their discs land, like any far disc, only around the occluder. */
+/* Whose highlights a search finds: the frame's (hidden parts added; in
+ * DDOF_SCRATCH_HIGHLIGHTS) or a foreground element's (none hidden; in
+ * DDOF_SCRATCH_ELEMENT_HIGHLIGHTS), so that both sets live through the layers' run. */
+typedef enum highlight_owner { HIGHLIGHTS_OF_ELEMENT = 0, HIGHLIGHTS_OF_FRAME = 1 } highlight_owner;
+
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
                                  int coc_signed, const highlight_aperture *aperture,
-                                 int hidden_parts, float *base, highlight_set *set);
+                                 highlight_owner owner, float *base, highlight_set *set);
 
 /* ddof_find_highlights with base NULL finds the highlights without writing the base colour:
  * a run_layers request takes them out itself (ddof_take_out_highlights, or on a device). */

@@ -404,9 +404,10 @@ static uint32_t merge_entries(const hidden_entry *e, size_t count, float aspect,
 /* Memory for `count` highlights as a set holds them: the list twice (found, then sorted into
  * size classes), their weights, and the per-row landing counts of one size class at a time
  * (landing_bytes). NULL, with the error recorded, when there is none. */
-static highlight *highlight_memory(ddof_context *context, uint64_t count, size_t landing_bytes)
+static highlight *highlight_memory(ddof_context *context, int slot, uint64_t count,
+                                   size_t landing_bytes)
 {
-    highlight *items = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHTS,
+    highlight *items = ddof_scratch_get(context, slot,
                                         2 * (size_t)count * sizeof *items +
                                             (size_t)count * sizeof(float) + landing_bytes);
     if (!items)
@@ -457,7 +458,7 @@ static ddof_status add_hidden_parts(ddof_context *context, find_job *job, size_t
         return DDOF_OK;
     memcpy(copy, *items, visible * sizeof *copy);
     const uint64_t total = (uint64_t)visible + n;
-    highlight *all = highlight_memory(context, total, landing_bytes);
+    highlight *all = highlight_memory(context, DDOF_SCRATCH_HIGHLIGHTS, total, landing_bytes);
     if (!all)
         return DDOF_ERROR_OUT_OF_MEMORY;
     /* Both lists are in row order and never share a pixel (a sharp pixel is no highlight). */
@@ -475,7 +476,7 @@ static ddof_status add_hidden_parts(ddof_context *context, find_job *job, size_t
 
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
                                  int coc_signed, const highlight_aperture *aperture,
-                                 int hidden_parts, float *base, highlight_set *set)
+                                 highlight_owner owner, float *base, highlight_set *set)
 {
     memset(set, 0, sizeof *set);
     set->threshold = threshold;
@@ -529,13 +530,17 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
             at += counts[c].count[k];
     }
     const size_t landing_bytes = (size_t)(r->width + 1) * r->height * sizeof(uint32_t);
-    highlight *items = highlight_memory(context, kept, landing_bytes);
+    highlight *items = highlight_memory(context,
+                                        owner == HIGHLIGHTS_OF_FRAME
+                                            ? DDOF_SCRATCH_HIGHLIGHTS
+                                            : DDOF_SCRATCH_ELEMENT_HIGHLIGHTS,
+                                        kept, landing_bytes);
     if (!items)
         return DDOF_ERROR_OUT_OF_MEMORY;
     job.items = items;
     ddof_parallel_rows(context, r->height, fill_rows, &job);
     uint32_t hidden = 0;
-    if (hidden_parts) {
+    if (owner == HIGHLIGHTS_OF_FRAME) {
         const ddof_status status = add_hidden_parts(context, &job, landing_bytes, budget,
                                                     &items, &kept, &kept_cost, &hidden);
         if (status != DDOF_OK)

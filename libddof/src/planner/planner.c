@@ -293,14 +293,11 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
         plan->silhouettes = 1;
 }
 
-layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
-                                         const layers_device_facts *facts)
+layers_placement ddof_plan_layers_device(frame_plan *plan, const layers_device_facts *facts)
 {
     const char *after_because = NULL;
     if (plan->foreground && facts->carried_alpha)
         after_because = "it carries the frame's alpha, which the device's frame does not hold";
-    else if (plan->foreground && params->highlights != DDOF_LAYER_OFF && facts->element_bright)
-        after_because = "its own highlights are drawn into it";
     const int element = plan->foreground && !after_because;
     if (!facts->device) /* the CPU's layers: the plan says nothing of where they run */
         return (layers_placement){0, element};

@@ -62,7 +62,6 @@ typedef struct layers_device_facts {
                                * frames of this request (ddof_backend_runs_layers), else NULL */
     int carried_alpha;        /* the element carries part of the frame's alpha (a near layer
                                * split off a frame whose alpha is not 1 there)                 */
-    int element_bright;       /* the element holds a pixel the highlight pass would take      */
 } layers_device_facts;
 
 /* Where a planned frame's layers run. The element is composited last, over every pass; a
@@ -75,12 +74,10 @@ typedef struct layers_placement {
 } layers_placement;
 
 /* Decides the placement: on the device whenever facts->device names one, else on the CPU's
- * table; the element inside that run, on either, unless the run cannot do the element's part:
- * its own highlights (found in it and drawn into it by the CPU's steps; the frame's highlights,
- * the far field, its gather of the element and the silhouettes are all stages of the run, in
- * order before the element), or the part of the frame's alpha a near layer carries. Says which
- * and why in the plan when there is a device (the CPU's layers add no line). */
-layers_placement ddof_plan_layers_device(frame_plan *plan, const ddof_params *params,
-                                         const layers_device_facts *facts);
+ * table; the element inside that run, on either, unless it carries part of the frame's alpha
+ * (a fifth channel the run does not hold: the highlights, the far field, its gather of the
+ * element and the silhouettes are all stages of the run, in order before the element). Says
+ * which and why in the plan when there is a device (the CPU's layers add no line). */
+layers_placement ddof_plan_layers_device(frame_plan *plan, const layers_device_facts *facts);
 
 #endif

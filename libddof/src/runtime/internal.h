@@ -34,6 +34,7 @@ enum {
     DDOF_SCRATCH_FOREGROUND_COC, /* the foreground element's CoC, computed by the frame call */
     DDOF_SCRATCH_HIGHLIGHT_COUNTS, /* highlights_find.c: per-chunk counts                    */
     DDOF_SCRATCH_HIGHLIGHTS,       /* highlights_find.c: the highlights found                 */
+    DDOF_SCRATCH_ELEMENT_HIGHLIGHTS, /* highlights_find.c: those of a foreground element      */
     /* One image, three uses in frame_run.c's order: the colour with the highlights taken out
      * (read by the layers and the passes), then the scratch the frame's discs are drawn
      * through (the last reader of that colour; with an object matte the split reads it after

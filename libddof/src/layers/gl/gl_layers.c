@@ -30,6 +30,9 @@ enum {
     IN_HL_ITEMS, /* the highlights, sorted into their classes (gl_highlights_prepare) */
     IN_HL_SHAPE, /* the aperture they are drawn with                               */
     IN_HL_SUMS,  /* an aperture image's table                                      */
+    IN_FG_HL_ITEMS, /* the element's own highlights, their aperture and its table   */
+    IN_FG_HL_SHAPE,
+    IN_FG_HL_SUMS,
     IN_COUNT
 };
 
@@ -40,6 +43,7 @@ typedef struct frame {
     uint64_t at[IN_COUNT], bytes[IN_COUNT]; /* each image's section of FRAME */
     adi_layers_report *report;
     gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]; /* the highlights' classes       */
+    gl_highlight_class fg_classes[GL_HIGHLIGHT_CLASSES]; /* the element's own          */
     gl_silhouettes_request silhouettes; /* the passes' requests, on the upload's sections */
     gl_highlights_request highlights;
     uint32_t stage, stages;            /* progress: the diffusion running, of how many */
@@ -95,6 +99,19 @@ static GLuint need(frame *f, gl_buffer_slot s, uint64_t floats)
     return gl_need(f->device, s, floats * sizeof(float), f->message, f->size);
 }
 
+/* The floats of a highlight list's three sections: the items, the aperture's shape and its
+ * image's table (none without highlights). */
+static void highlight_sections(const adi_highlights *h, uint64_t floats[3])
+{
+    if (!h->count)
+        return;
+    floats[0] = (uint64_t)h->count * sizeof(adi_highlight) / sizeof(float);
+    floats[1] = sizeof(ddof_highlight_shape) / sizeof(float);
+    if (h->image_sums)
+        floats[2] = (uint64_t)(h->image_width + 1) * (h->image_height + 1) *
+                    (sizeof(double) / sizeof(float));
+}
+
 /* The one upload: every image the frame reads, each as it lies, into its section of FRAME
  * (sections start at the renderer's binding alignment and are bound one at a time, so each
  * must fit the storage-block limit, not the whole). */
@@ -103,17 +120,15 @@ static int upload(frame *f)
     const adi_layers_request *q = f->q;
     const adi_request *r = &q->base;
     const adi_highlights *hl = &q->highlights;
+    const adi_highlights *fg_hl = &q->fg_highlights;
     const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc, q->matte,
-                                    NULL, NULL, hl->image_sums};
+                                    NULL, NULL, hl->image_sums, NULL, NULL,
+                                    fg_hl->image_sums};
     uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
                                  span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
-    if (hl->count) {
-        floats[IN_HL_ITEMS] = (uint64_t)hl->count * sizeof(adi_highlight) / sizeof(float);
-        floats[IN_HL_SHAPE] = sizeof(ddof_highlight_shape) / sizeof(float);
-        if (hl->image_sums)
-            floats[IN_HL_SUMS] = (uint64_t)(hl->image_width + 1) * (hl->image_height + 1) *
-                                 (sizeof(double) / sizeof(float));
-    }
+    highlight_sections(hl, floats + IN_HL_ITEMS);
+    if (q->fg_color)
+        highlight_sections(fg_hl, floats + IN_FG_HL_ITEMS);
     if (q->silhouettes && q->matte && q->matte_ranks)
         floats[IN_MATTE] = span_floats(f->w, f->h, q->matte_stride, 2 * q->matte_ranks,
                                        2 * q->matte_ranks);
@@ -154,11 +169,18 @@ static int upload(frame *f)
     for (int i = 0; i < IN_COUNT; i++)
         if (f->bytes[i] && source[i])
             memcpy(mapped + f->at[i], source[i], f->bytes[i]);
-    if (hl->count) /* the list sorted straight into its section */
+    /* The lists sorted straight into their sections. */
+    if (f->bytes[IN_HL_ITEMS])
         gl_highlights_prepare(hl, r->pixel_aspect, f->w, f->h,
                               (adi_highlight *)(void *)(mapped + f->at[IN_HL_ITEMS]),
                               (ddof_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]),
                               f->classes);
+    if (f->bytes[IN_FG_HL_ITEMS])
+        gl_highlights_prepare(fg_hl, r->pixel_aspect, q->fg_area.x1 - q->fg_area.x0,
+                              q->fg_area.y1 - q->fg_area.y0,
+                              (adi_highlight *)(void *)(mapped + f->at[IN_FG_HL_ITEMS]),
+                              (ddof_highlight_shape *)(void *)(mapped + f->at[IN_FG_HL_SHAPE]),
+                              f->fg_classes);
     if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
         snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
         return 0;
@@ -432,37 +454,63 @@ static ddof_status background(frame *f)
     return DDOF_OK;
 }
 
-/* layers.c's gather_element: the far field over the element's blur (BLUR) within its area,
- * from the element before its blur (LAYER) and its CoC filled outwards (MAP_C), no slices. */
-static ddof_status gather_element(frame *f, adi_box area)
+/* layers.c's gather_element: the far field over the element's blur (`blurred`) within its
+ * area, from the element before its blur (`sharp`) and its CoC filled outwards (MAP_C), no
+ * slices. */
+static ddof_status gather_element(frame *f, adi_box area, gl_buffer_slot sharp,
+                                  gl_buffer_slot blurred)
 {
     const adi_request *r = &f->q->base;
     const uint32_t aw = area.x1 - area.x0;
     const gl_far_field_request far = {
         .width = aw, .height = area.y1 - area.y0, .channels = 4,
-        .color = map_ref(f, GL_BUF_LAYER, aw, 4), .coc = map_ref(f, GL_BUF_MAP_C, aw, 1),
-        .out = f->device->buffers.name[GL_BUF_LAYER_BLUR], .in_focus_px = r->in_focus_px,
+        .color = map_ref(f, sharp, aw, 4), .coc = map_ref(f, GL_BUF_MAP_C, aw, 1),
+        .out = f->device->buffers.name[blurred], .in_focus_px = r->in_focus_px,
         .pixel_aspect = r->pixel_aspect, .slices = 0};
     gl_far_field_report found;
     if (!gl_far_field(f->device, &far, &found, f->message, f->size))
         return DDOF_ERROR_BACKEND_FAILED;
-    f->report->element_far_field |= found.pixels > 0;
+    if (found.pixels)
+        f->report->element_effects |= DDOF_EFFECT_FAR_FIELD;
     return DDOF_OK;
 }
 
+/* The element's own highlights' request over its area: taken out of LAYER, drawn with the
+ * CoC filled outwards (MAP_C, unsigned). */
+static gl_highlights_request element_lights(const frame *f, adi_box area)
+{
+    const uint32_t aw = area.x1 - area.x0;
+    gl_highlights_request h = {
+        .width = aw, .height = area.y1 - area.y0, .channels = 4,
+        .color = map_ref(f, GL_BUF_LAYER, aw, 4), .coc = map_ref(f, GL_BUF_MAP_C, aw, 1),
+        .items = input(f, IN_FG_HL_ITEMS, 0, 0, 0), .shape = input(f, IN_FG_HL_SHAPE, 0, 0, 0),
+        .count = f->q->fg_highlights.count, .coc_signed = 0, .classes = f->fg_classes};
+    if (f->bytes[IN_FG_HL_SUMS])
+        h.sums = input(f, IN_FG_HL_SUMS, 0, 0, 0);
+    return h;
+}
+
 /* layers.c's foreground: the element's CoC filled outwards in two steps, its premultiplied
- * colour and alpha diffused with it, composited over. */
+ * colour and alpha diffused with it (its own highlights taken out first and drawn into its
+ * blur after, the far field's gather between), composited over. */
 static ddof_status foreground(frame *f)
 {
     const adi_layers_request *q = f->q;
     const adi_box area = q->fg_area;
     const uint32_t aw = area.x1 - area.x0;
     const uint64_t pixels = (uint64_t)aw * (area.y1 - area.y0);
+    const int lights = q->fg_highlights.count > 0;
     if (!need(f, GL_BUF_LAYER, pixels * 4) || !need(f, GL_BUF_MAP_B, pixels) ||
-        !need(f, GL_BUF_MAP_C, pixels))
+        !need(f, GL_BUF_MAP_C, pixels) || (lights && !need(f, GL_BUF_FG_BASE, pixels * 4)))
         return DDOF_ERROR_BACKEND_FAILED;
     if (!simple_step(f, GL_PROG_LAYER_FG_PREPARE, area))
         return DDOF_ERROR_BACKEND_FAILED;
+    if (lights) {
+        const gl_highlights_request h = element_lights(f, area);
+        if (!gl_take_out_highlights(f->device, &h, slot(f, GL_BUF_FG_BASE), f->message,
+                                    f->size))
+            return DDOF_ERROR_BACKEND_FAILED;
+    }
 
     gl_resident fill = derived(f, area, map_ref(f, GL_BUF_MAP_B, aw, 1), 1,
                                map_ref(f, GL_BUF_MAP_C, aw, 1));
@@ -482,17 +530,24 @@ static ddof_status foreground(frame *f)
     if ((status = diffuse(f, &spread)) != DDOF_OK)
         return status;
 
-    /* Its blur in place, or beside the element (BLUR) when the far field gathers from it. */
-    const gl_buffer_slot blurred = q->fg_gather ? GL_BUF_LAYER_BLUR : GL_BUF_LAYER;
-    if (q->fg_gather && !need(f, GL_BUF_LAYER_BLUR, pixels * 4))
+    /* Its blur: from the element without its highlights (FG_BASE) into LAYER, or in place, or
+     * beside the element (BLUR) when the far field gathers from it. */
+    const gl_buffer_slot sharp = lights ? GL_BUF_FG_BASE : GL_BUF_LAYER;
+    const gl_buffer_slot blurred = lights || !q->fg_gather ? GL_BUF_LAYER : GL_BUF_LAYER_BLUR;
+    if (blurred == GL_BUF_LAYER_BLUR && !need(f, GL_BUF_LAYER_BLUR, pixels * 4))
         return DDOF_ERROR_BACKEND_FAILED;
-    gl_resident blur = derived(f, area, map_ref(f, GL_BUF_LAYER, aw, 4), 4,
-                               map_ref(f, blurred, aw, 4));
+    gl_resident blur = derived(f, area, map_ref(f, sharp, aw, 4), 4, map_ref(f, blurred, aw, 4));
     blur.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
     if ((status = diffuse(f, &blur)) != DDOF_OK)
         return status;
-    if (q->fg_gather && (status = gather_element(f, area)) != DDOF_OK)
+    if (q->fg_gather && (status = gather_element(f, area, sharp, blurred)) != DDOF_OK)
         return status;
+    if (lights) {
+        const gl_highlights_request h = element_lights(f, area);
+        if (!gl_draw_highlights(f->device, &h, slot(f, blurred), f->message, f->size))
+            return DDOF_ERROR_BACKEND_FAILED;
+        f->report->element_effects |= DDOF_EFFECT_HIGHLIGHTS;
+    }
     GLuint prog = step_program(f, GL_PROG_LAYER_COMPOSITE, area);
     if (!prog)
         return DDOF_ERROR_BACKEND_FAILED;
