@@ -245,12 +245,9 @@ static void foreground_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk
         const float *coc = q->fg.coc + (size_t)y * q->fg.coc_stride;
         for (uint32_t x = 0; x < w; x++) {
             float *p = j->a + ((size_t)y * w + x) * 4;
-            const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, fg[x * 4 + 3]));
-            const float scale = q->fg.premultiplied ? 1.0f : alpha;
-            for (int c = 0; c < 3; c++)
-                p[c] = alpha > 0.0f ? fg[x * 4 + c] * scale : 0.0f;
-            p[3] = alpha;
-            j->b[(size_t)y * w + x] = alpha > 0.0f ? fabsf(coc[(size_t)x * q->fg.coc_channels]) : 0.0f;
+            ddof_element_pixel(fg + (size_t)x * 4, q->fg.premultiplied, p);
+            j->b[(size_t)y * w + x] =
+                p[3] > 0.0f ? fabsf(coc[(size_t)x * q->fg.coc_channels]) : 0.0f;
         }
     }
 }
@@ -779,22 +776,16 @@ ddof_status ddof_find_element_highlights(ddof_context *context, const layers_req
                                          highlight_set *set)
 {
     memset(set, 0, sizeof *set);
+    /* The element as given, read as its steps premultiply it (no copy of it here). */
     const layers_request sub = crop(q, ddof_element_area(q));
-    const adi_request *r = &sub.base;
-    const size_t pixels = (size_t)r->width * r->height;
-    ddof_status status = DDOF_OK;
-    float *premultiplied = scratch(context, DDOF_SCRATCH_LAYER_COLOR, pixels * 4, &status);
-    float *coc_abs = scratch(context, DDOF_SCRATCH_LAYER_COC_ABS, pixels, &status);
-    if (status != DDOF_OK)
-        return status;
-    pixel_job job = {.q = &sub, .a = premultiplied, .b = coc_abs};
-    ddof_parallel_rows(context, r->height, foreground_rows, &job);
-    adi_request er = derived(r, premultiplied, (size_t)r->width * 4, 4, premultiplied);
+    adi_request er = derived(&sub.base, sub.fg.color, sub.fg.color_stride, 4, NULL);
     er.coc = sub.fg.coc;
     er.coc_stride = sub.fg.coc_stride;
     er.coc_channels = sub.fg.coc_channels;
     return ddof_find_highlights(context, &er, q->params->highlight_threshold, 0, &q->aperture,
-                                HIGHLIGHTS_OF_ELEMENT, NULL, set);
+                                sub.fg.premultiplied ? HIGHLIGHTS_OF_ELEMENT
+                                                     : HIGHLIGHTS_OF_STRAIGHT_ELEMENT,
+                                NULL, set);
 }
 
 adi_highlights ddof_request_highlights(const layers_request *q, const highlight_set *set,

@@ -99,9 +99,26 @@ typedef struct highlight_set {
  * the occluder from the highlight's visible pixels, as extra highlights (within the budget);
  * their discs land, like any far disc, only around the occluder. */
 /* Whose highlights a search finds: the frame's (hidden parts added; in
- * DDOF_SCRATCH_HIGHLIGHTS) or a foreground element's (none hidden; in
- * DDOF_SCRATCH_ELEMENT_HIGHLIGHTS), so that both sets live through the layers' run. */
-typedef enum highlight_owner { HIGHLIGHTS_OF_ELEMENT = 0, HIGHLIGHTS_OF_FRAME = 1 } highlight_owner;
+ * DDOF_SCRATCH_HIGHLIGHTS) or a foreground element's, read as its steps premultiply it
+ * (ddof_element_pixel; none hidden; in DDOF_SCRATCH_ELEMENT_HIGHLIGHTS), so that both sets
+ * live through the layers' run. */
+typedef enum highlight_owner {
+    HIGHLIGHTS_OF_ELEMENT = 0,          /* r->color: the element as given, premultiplied    */
+    HIGHLIGHTS_OF_FRAME = 1,
+    HIGHLIGHTS_OF_STRAIGHT_ELEMENT = 2, /* the element as given, its colour not premultiplied */
+} highlight_owner;
+
+/* A foreground element's pixel as its steps see it: alpha clamped to [0, 1], the colour
+ * multiplied by it unless premultiplied, 0 where alpha is not positive (whatever the colour
+ * holds there). */
+static inline void ddof_element_pixel(const float *fg, int premultiplied, float out[4])
+{
+    const float alpha = ddof_minf(1.0f, ddof_maxf(0.0f, fg[3]));
+    const float scale = premultiplied ? 1.0f : alpha;
+    for (int c = 0; c < 3; c++)
+        out[c] = alpha > 0.0f ? fg[c] * scale : 0.0f;
+    out[3] = alpha;
+}
 
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
                                  int coc_signed, const highlight_aperture *aperture,

@@ -31,7 +31,18 @@ typedef struct find_job {
     uint32_t *offsets;     /* per chunk: where its highlights go      */
     highlight *items;
     float *base;
+    highlight_owner owner;
 } find_job;
+
+/* Pixel px as the search sees it: the frame's as it is, an element's premultiplied as its
+ * steps premultiply it (into `tmp`). */
+static const float *seen(const find_job *job, const float *px, float tmp[4])
+{
+    if (job->owner == HIGHLIGHTS_OF_FRAME)
+        return px;
+    ddof_element_pixel(px, job->owner == HIGHLIGHTS_OF_ELEMENT, tmp);
+    return tmp;
+}
 
 static float brightness(const float *px)
 {
@@ -104,8 +115,9 @@ static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = r->color + (size_t)y * r->color_stride;
         for (uint32_t x = 0; x < r->width; x++) {
-            float coc;
-            const int k = highlight_class(job, row + (size_t)x * r->channels, x, y, &coc);
+            float coc, tmp[4];
+            const int k =
+                highlight_class(job, seen(job, row + (size_t)x * r->channels, tmp), x, y, &coc);
             if (k >= 0) {
                 c->count[k]++;
                 c->cost[k] += disc_cost(coc, r->pixel_aspect, job->area_cost);
@@ -175,8 +187,8 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = r->color + (size_t)y * r->color_stride;
         for (uint32_t x = 0; x < r->width; x++) {
-            const float *px = row + (size_t)x * r->channels;
-            float coc;
+            float coc, tmp[4];
+            const float *px = seen(job, row + (size_t)x * r->channels, tmp);
             const int k = highlight_class(job, px, x, y, &coc);
             if (k < (int)job->first_class)
                 continue;
@@ -493,7 +505,8 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
                          "could not allocate the highlight pass's counts");
     find_job job = {.r = r, .threshold = threshold, .coc_signed = coc_signed,
                     .area_cost = image, .counts = counts,
-                    .offsets = (uint32_t *)(counts + chunks), .base = base};
+                    .offsets = (uint32_t *)(counts + chunks), .base = base,
+                    .owner = owner};
     ddof_parallel_rows(context, r->height, count_rows, &job);
 
     /* The brightest classes that fit the budget. */
