@@ -5,9 +5,9 @@
  * the frame, builds the layers and issues one diffusion request at a time. A backend decides
  * *how* to run one request; a backend with run_layers (ABI 3) takes the whole planned layered
  * frame instead and runs every layer's steps itself (the GL plugin: on the device, with one
- * upload and one read-back). The CPU is a table of the same shape inside the core
+ * upload and one read-back). The CPU is a whole table of the same shape inside the core
  * (libddof/src/cpu/backend_cpu.c: its run_layers is the core's layers.c, each diffusion
- * through the dispatch); the GL backends live in the plugin library libddof_gl (plugin/gl,
+ * through the dispatch, its render_cards the core's cards_draw.c); the GL backends live in the plugin library libddof_gl (plugin/gl,
  * with each part's GL code from libddof/src/PART/gl), which the core loads with
  * dlopen(RTLD_LOCAL) and asks for one table through the symbol DDOF_BACKEND_ENTRY_SYMBOL. The two libraries can be
  * mixed up on disk, so the table carries an ABI number and its size, both checked before use.
@@ -194,40 +194,53 @@ typedef struct adi_layers_report {
 
 /* ---- cards (ddof_render_cards, docs/cards.md) -------------------------------------------- */
 
-/* One card as the device draws it, prepared by the core: its expanded screen polygon (pixels,
- * x right, y down, counter-clockwise), its plane and uv map, and its texture's summed-area
- * table in two float parts: `table_hi` holds each sum rounded to a multiple of a power of two
- * chosen so that every value and every difference of four stays exact in float, `table_lo`
- * the rest (small), so a box's sum from the four corners is exact in float arithmetic. */
+/* One card as a backend draws it, prepared by the core: its expanded screen polygon (pixels,
+ * x right, y down, counter-clockwise) and bounds, its plane and uv map, and its texture's
+ * summed-area table in the form the backend asks for (adi_cards_request.card's `parts`):
+ *  - ADI_CARD_TABLE: the sums in double, with the count of texels not wholly zero beside them
+ *    (the CPU's form: a disc over empty texels is skipped from 4 reads of the counts);
+ *  - ADI_CARD_SPLIT_TABLE: the sums in two float parts, `table_hi` each sum rounded to a
+ *    multiple of a power of two chosen so that every value and every difference of four stays
+ *    exact in float, `table_lo` the rest (small), so that a box's sum from the four corners is
+ *    exact in float arithmetic (a GL device's form).
+ * With no part asked for, the geometry alone (a backend that skips a card wholly hidden by
+ * nearer ones does not pay for its table). */
+enum { ADI_CARD_TABLE = 1u, ADI_CARD_SPLIT_TABLE = 2u };
+
 typedef struct adi_card {
     uint32_t vertex_count;
-    float expanded[DDOF_CARD_MAX_VERTICES][2];
+    double expanded[DDOF_CARD_MAX_VERTICES][2];
+    double box[4];                             /* the expanded polygon's x0, y0, x1, y1   */
     double normal[3], origin[3], e1[3], e2[3]; /* unit normal, centroid, the plane's axes */
     double uv_affine[2][3];                    /* u, v = a0 + a1 s + a2 q, s, q along e1, e2 */
-    const float *table_hi, *table_lo;          /* (tw + 1) x (th + 1) RGBA, row j: rows < j */
-    uint32_t tw, th;
+    uint32_t tw, th;                           /* the texture's size, texels              */
+    /* ADI_CARD_TABLE: (tw + 1) x (th + 1), row j: the texels of rows < j, columns < i */
+    const double *table_sum;          /* RGBA                                              */
+    const uint32_t *table_count;      /* of those, the texels not wholly zero              */
+    const float *table_hi, *table_lo; /* ADI_CARD_SPLIT_TABLE: RGBA, as table_sum          */
 } adi_card;
 
 /* A frame of cards: drawn near to far, each under what is there (out += (1 - out.a) card). */
 typedef struct adi_cards_request {
     uint32_t width, height;
-    float *out;          /* premultiplied RGBA, row 0 at the top */
+    float *out;          /* premultiplied RGBA, row 0 at the top; the backend writes it whole */
     size_t out_stride;   /* floats */
     /* the view (libddof/src/cards/cards.h's cards_view) */
     double ray_a, ray_bx, ray_c, ray_by, k_px, focus_m, aspect;
     float max_radius_px, min_radius_px;
     uint32_t strips;
-    float line[65], mid[64], slice[64]; /* strip edges, middles, unit-disc areas */
+    double line[65], mid[64], slice[64]; /* strip edges, middles, unit-disc areas */
     uint32_t card_count;
-    /* Fills card i (0: the nearest); what it points to stays valid until the next call. */
-    ddof_status (*card)(void *user, uint32_t i, adi_card *card);
+    /* Fills card i (0: the nearest) with the parts asked for (ADI_CARD_*); what it points to
+     * stays valid until the next call. */
+    ddof_status (*card)(void *user, uint32_t i, uint32_t parts, adi_card *card);
     void *user;
 } adi_cards_request;
 
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 6
+#define DDOF_BACKEND_ABI 7
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */
@@ -238,6 +251,10 @@ typedef struct ddof_device_info {
     char renderer[128];     /* GL_RENDERER + GL_VERSION                      */
 } ddof_device_info;
 
+/* A backend: every backend fills every entry (the CPU's included, whose device is the context
+ * and which opens none), so the core never asks which backend it runs on, only what the
+ * context's device takes (supports, supports_disc, supports_cards); what it does not take the
+ * CPU's table runs. A table with an entry missing is refused when the plugin is loaded. */
 typedef struct ddof_backend_table {
     uint32_t abi;           /* DDOF_BACKEND_ABI                               */
     uint32_t table_size;    /* sizeof(ddof_backend_table)                     */
@@ -245,7 +262,8 @@ typedef struct ddof_backend_table {
     /* Opens a device of `kind` (EGL, OSMESA or HOST_GL; never CPU or AUTO). `require_hardware`
      * (EGL only): fail unless a GPU is found, so AUTO does not pick software GL. On failure
      * returns NULL and writes a sentence into message. Must not leave any GL context current
-     * (except HOST_GL, which never changes what is current). */
+     * (except HOST_GL, which never changes what is current). The CPU's: NULL and a sentence
+     * (the core never asks it: its device is the context, held from the context's creation). */
     ddof_device *(*open)(ddof_backend_kind kind, int require_hardware, char *message,
                          size_t message_size);
     void (*close)(ddof_device *device);
@@ -263,27 +281,27 @@ typedef struct ddof_backend_table {
     ddof_status (*run)(ddof_device *device, const adi_request *request, adi_report *report,
                        char *message, size_t message_size);
 
-    /* Appended fields: a table whose table_size ends before a field lacks it.
-     * Whether run() takes requests with `disc` set (DDOF_SOLVER_THOMAS, float). */
+    /* Whether run() takes requests with `disc` set (DDOF_SOLVER_THOMAS, float). */
     int (*supports_disc)(const ddof_device *device);
 
-    /* ABI 3. The whole layered frame on the device (one upload of the images, one read-back
-     * of the result), with run()'s contract: the same answer as the CPU table's (the core's
-     * layers.c) within float rounding, out untouched on failure unless cancelled. NULL: the
-     * CPU's table runs the layers, one run() per diffusion. */
+    /* The whole layered frame (on a GL device: one upload of the images, one read-back of
+     * the result), with run()'s contract: the same answer as the CPU table's (the core's
+     * layers.c) within float rounding, out untouched on failure unless cancelled. */
     ddof_status (*run_layers)(ddof_device *device, const adi_layers_request *request,
                               adi_layers_report *report, char *message, size_t message_size);
 
-    /* Cards on the device (the patent's path: a vertex shader places the expanded polygon,
+    /* Whether render_cards() draws on this device (a device on the host's own context does
+     * not: drawing sets a framebuffer, blending, the viewport and texture units that the
+     * host's renderer owns); where it does not, the CPU's table draws. */
+    int (*supports_cards)(const ddof_device *device);
+
+    /* Cards (on a GL device the patent's path: a vertex shader places the expanded polygon,
      * the rasteriser covers its pixels, a fragment shader averages the texture over each
-     * pixel's disc, blending composites). Each card's table is uploaded once. The same image
-     * as the core's within float rounding; out untouched on failure. NULL: the core draws. */
+     * pixel's disc, blending composites; each card's table is uploaded once). The same image
+     * as the CPU table's within float rounding; out untouched on failure. */
     ddof_status (*render_cards)(ddof_device *device, const adi_cards_request *request,
                                 char *message, size_t message_size);
 } ddof_backend_table;
-
-/* The smallest table of this ABI: the fields up to run(). */
-#define DDOF_BACKEND_TABLE_MIN_SIZE offsetof(ddof_backend_table, supports_disc)
 
 /* The plugin's one exported function. */
 typedef const ddof_backend_table *(*ddof_backend_entry_fn)(void);

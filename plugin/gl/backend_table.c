@@ -1,9 +1,9 @@
 /* SPDX-License-Identifier: MIT */
-/* backend_table.c - the plugin's one exported symbol: the table libddof/src/backend.c loads
- * (open, close, describe, supports, run, supports_disc, run_layers, render_cards), and run()
- * itself: upload, ADI (heat or disc kernel), read back, with the device's context current only
- * for the call; run_layers and render_cards the same bracket around gl_layers.c and
- * gl_cards.c. */
+/* backend_table.c - the plugin's one exported symbol: the table libddof/src/backends/backend.c loads
+ * (open, close, describe, supports, run, supports_disc, run_layers, supports_cards,
+ * render_cards), and run() itself: upload, ADI (heat or disc kernel), read back, with the
+ * device's context current only for the call; run_layers and render_cards the same bracket
+ * around gl_layers.c and gl_cards.c. */
 #include "gl_adi.h"
 #include "gl_cards.h"
 #include "gl_io.h"
@@ -157,6 +157,13 @@ static ddof_status table_run_layers(ddof_device *device, const adi_layers_reques
     return end_call(device, &q->base, status, &report->adi, message, size);
 }
 
+/* Not on the host's own context: drawing sets a framebuffer, blending, the viewport and
+ * texture units that the host's renderer owns (the CPU's table draws there). */
+static int table_supports_cards(const ddof_device *device)
+{
+    return device->kind != DDOF_BACKEND_HOST_GL;
+}
+
 /* The cards (gl_cards.c), bracketed as run() is. */
 static ddof_status table_render_cards(ddof_device *device, const adi_cards_request *q,
                                       char *message, size_t size)
@@ -171,7 +178,8 @@ static ddof_status table_render_cards(ddof_device *device, const adi_cards_reque
 
 static const ddof_backend_table table = {
     DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
-    table_supports, table_run, table_supports_disc, table_run_layers, table_render_cards,
+    table_supports, table_run, table_supports_disc, table_run_layers, table_supports_cards,
+    table_render_cards,
 };
 
 DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);

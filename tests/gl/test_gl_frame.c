@@ -398,8 +398,8 @@ static void highlights(ddof_kernel kernel)
         else
             element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
                                 DDOF_EFFECT_NEAR_LAYER, 4,
-                                "it carries the frame's alpha, which the device's frame does "
-                                "not hold");
+                                "it carries the frame's alpha, which the layers' run does not "
+                                "hold");
     }
     free(fg_color);
     free(fg_coc);

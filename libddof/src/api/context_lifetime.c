@@ -70,8 +70,8 @@ ddof_status ddof_context_create(const ddof_context_options *options, ddof_contex
     ddof_context *context = ddof_alloc(&allocator, sizeof *context);
     if (!context)
         return DDOF_ERROR_OUT_OF_MEMORY;
-    *context = (ddof_context){.allocator = allocator, .thread_count = 1,
-                              .backend = {.kind = DDOF_BACKEND_CPU}, .cpu = &ddof_cpu_backend};
+    *context = (ddof_context){.allocator = allocator, .thread_count = 1, .cpu = &ddof_cpu_backend};
+    ddof_backend_start(context);
     atomic_init(&context->in_use, 0);
 
     uint32_t threads = options->thread_count ? options->thread_count : online_cores();

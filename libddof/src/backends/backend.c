@@ -1,6 +1,8 @@
 /* SPDX-License-Identifier: MIT */
 /* backend.c - choosing where the diffusion runs: the CPU's table (the context's), or a GL
- * device from the plugin library, loaded at run time so that libddof itself never links GL. */
+ * device from the plugin library, loaded at run time so that libddof itself never links GL.
+ * Both are whole tables (ddof_backend_seam.h); the context's backend is always one of them
+ * with its device (the CPU's: the context), and what it does not take runs on the CPU's. */
 #define _GNU_SOURCE /* dladdr */
 #include "backend.h"
 #include "ddof_output_struct.h"
@@ -45,6 +47,12 @@ static void own_directory(char *dir, size_t size)
     dir[n] = '\0';
 }
 
+int ddof_backend_table_whole(const ddof_backend_table *t)
+{
+    return t->open && t->close && t->describe && t->supports && t->run && t->supports_disc &&
+           t->run_layers && t->supports_cards && t->render_cards;
+}
+
 /* dlopen()s the plugin and returns its table, or NULL with a sentence in message. */
 static void *load_plugin(const char *plugin_path, const ddof_backend_table **table,
                          char *message, size_t size)
@@ -77,7 +85,7 @@ static void *load_plugin(const char *plugin_path, const ddof_backend_table **tab
     void *symbol = dlsym(handle, DDOF_BACKEND_ENTRY_SYMBOL);
     memcpy(&entry, &symbol, sizeof entry); /* ISO C has no object-to-function cast */
     const ddof_backend_table *t = symbol ? entry() : NULL;
-    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size < DDOF_BACKEND_TABLE_MIN_SIZE) {
+    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size != sizeof *t || !ddof_backend_table_whole(t)) {
         snprintf(message, size,
                  "the GL plugin found is not built for this libddof (backend ABI %u, wanted %u)",
                  t ? t->abi : 0u, DDOF_BACKEND_ABI);
@@ -86,6 +94,18 @@ static void *load_plugin(const char *plugin_path, const ddof_backend_table **tab
     }
     *table = t;
     return handle;
+}
+
+/* The CPU as the context's backend: its table, the context its device. */
+static ddof_backend_state cpu_state(ddof_context *context)
+{
+    return (ddof_backend_state){.kind = DDOF_BACKEND_CPU, .table = context->cpu,
+                                .device = (ddof_device *)context};
+}
+
+void ddof_backend_start(ddof_context *context)
+{
+    context->backend = cpu_state(context);
 }
 
 static void drop_device(ddof_backend_state *b)
@@ -110,9 +130,10 @@ static ddof_status set_backend(ddof_context *context, ddof_backend_kind kind,
     if ((unsigned)kind >= DDOF_BACKEND_COUNT_)
         return ddof_fail(context, DDOF_ERROR_BAD_PARAMETER, "unknown backend %d", (int)kind);
 
-    ddof_backend_state next = {.kind = DDOF_BACKEND_CPU};
+    ddof_backend_state next = cpu_state(context);
     if (kind != DDOF_BACKEND_CPU) {
         char why[512] = "";
+        next = (ddof_backend_state){.kind = DDOF_BACKEND_CPU};
         next.plugin = load_plugin(plugin_path, &next.table, why, sizeof why);
         if (next.plugin) {
             const ddof_backend_kind open_kind = kind == DDOF_BACKEND_AUTO ? DDOF_BACKEND_EGL : kind;
@@ -126,6 +147,7 @@ static ddof_status set_backend(ddof_context *context, ddof_backend_kind kind,
             if (kind != DDOF_BACKEND_AUTO)
                 return ddof_fail(context, DDOF_ERROR_BACKEND_UNAVAILABLE, "backend %s: %s",
                                  ddof_backend_name(kind), why);
+            next = cpu_state(context);
             snprintf(next.note, sizeof next.note, "auto: the CPU, because %.200s", why);
         } else if (kind == DDOF_BACKEND_AUTO) {
             snprintf(next.note, sizeof next.note, "auto: a GPU was found through EGL");
@@ -142,22 +164,14 @@ ddof_status ddof_context_set_backend(ddof_context *context, ddof_backend_kind ki
     DDOF_EXCLUSIVE_CALL(context, set_backend(context, kind, plugin_path));
 }
 
-/* The table's supports_disc, or 0 where it ends before it. */
-static int table_runs_disc(const ddof_backend_table *t, const ddof_device *device)
-{
-    return t->table_size >= offsetof(ddof_backend_table, supports_disc) + sizeof t->supports_disc &&
-           t->supports_disc && t->supports_disc(device);
-}
-
-/* The backend a request runs on, and its device: the context's loaded device where it takes
- * the request, else the CPU (whose device is the context), which also runs the double
- * reference on every backend and a disc kernel a device does not run. */
+/* The backend a request runs on, and its device: the context's backend where it takes the
+ * request, else the CPU (whose device is the context), which also runs the double reference
+ * on every backend and a disc kernel a device does not run. */
 static const ddof_backend_table *runner(const ddof_context *context, ddof_solver solver,
                                         int disc, ddof_device **device)
 {
     const ddof_backend_state *b = &context->backend;
-    if (b->device && solver != DDOF_SOLVER_REFERENCE_F64 &&
-        (!disc || table_runs_disc(b->table, b->device))) {
+    if (solver != DDOF_SOLVER_REFERENCE_F64 && (!disc || b->table->supports_disc(b->device))) {
         *device = b->device;
         return b->table;
     }
@@ -184,7 +198,7 @@ static int runs_disc(const ddof_context *context, ddof_solver solver)
         return 1;
     ddof_device *device;
     const ddof_backend_table *t = runner(context, solver, 0, &device);
-    return solver == DDOF_SOLVER_THOMAS && table_runs_disc(t, device);
+    return solver == DDOF_SOLVER_THOMAS && t->supports_disc(device);
 }
 
 const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_solver solver,
@@ -215,11 +229,8 @@ ddof_status ddof_context_backend_info(const ddof_context *context, ddof_backend_
     const ddof_backend_state *b = &context->backend;
     ddof_backend_info full = {.struct_size = sizeof full, .kind = b->kind};
     snprintf(full.note, sizeof full.note, "%s", b->note);
-    ddof_device *device;
-    const ddof_backend_table *t =
-        runner(context, DDOF_SOLVER_THOMAS, 0, &device); /* the context's own backend */
     ddof_device_info d = {0};
-    t->describe(device, &d);
+    b->table->describe(b->device, &d);
     full.hardware = d.hardware;
     snprintf(full.renderer, sizeof full.renderer, "%s", d.renderer);
     ddof_write_output_struct(info, &full, sizeof full);
@@ -238,41 +249,30 @@ ddof_status ddof_run_adi(ddof_context *context, const adi_request *request, adi_
 
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *r)
 {
-    const ddof_backend_state *b = &context->backend;
-    const ddof_backend_table *t = b->table;
-    return b->device && r->solver != DDOF_SOLVER_REFERENCE_F64 && r->coc &&
-           t->table_size >= offsetof(ddof_backend_table, run_layers) + sizeof t->run_layers &&
-           t->run_layers && (!r->disc || table_runs_disc(t, b->device));
+    ddof_device *device;
+    return r->coc && runner(context, r->solver, r->disc != NULL, &device) == context->backend.table;
 }
 
-ddof_status ddof_backend_run_layers(ddof_context *context, int on_device,
+ddof_status ddof_backend_run_layers(ddof_context *context, int on_backend,
                                     const adi_layers_request *request,
                                     adi_layers_report *report)
 {
-    ddof_backend_state *b = &context->backend;
-    const ddof_backend_table *t = on_device ? b->table : context->cpu;
-    ddof_device *device = on_device ? b->device : (ddof_device *)context;
+    const ddof_backend_state *b = &context->backend;
+    const ddof_backend_table *t = on_backend ? b->table : context->cpu;
+    ddof_device *device = on_backend ? b->device : (ddof_device *)context;
     char why[512] = "";
     memset(report, 0, sizeof *report);
     const ddof_status status = t->run_layers(device, request, report, why, sizeof why);
     return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
 }
 
-/* Not on the host's own context (HOST_GL): drawing sets a framebuffer, blending, the viewport
- * and texture units that the host's renderer owns; the CPU draws there. */
-int ddof_backend_runs_cards(const ddof_context *context)
+ddof_status ddof_backend_render_cards(ddof_context *context, const adi_cards_request *request)
 {
     const ddof_backend_state *b = &context->backend;
-    const ddof_backend_table *t = b->table;
-    return b->device && b->kind != DDOF_BACKEND_HOST_GL &&
-           t->table_size >= offsetof(ddof_backend_table, render_cards) + sizeof t->render_cards &&
-           t->render_cards;
-}
-
-ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_request *request)
-{
-    ddof_backend_state *b = &context->backend;
+    const int here = b->table->supports_cards(b->device);
+    const ddof_backend_table *t = here ? b->table : context->cpu;
+    ddof_device *device = here ? b->device : (ddof_device *)context;
     char why[512] = "";
-    const ddof_status status = b->table->render_cards(b->device, request, why, sizeof why);
+    const ddof_status status = t->render_cards(device, request, why, sizeof why);
     return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
 }

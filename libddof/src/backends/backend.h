@@ -25,20 +25,26 @@ const disc_kernel *ddof_backend_disc_kernel(const ddof_context *context, ddof_so
 ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solver,
                                         ddof_precision precision);
 
-/* Whether the context's device runs whole layered frames (run_layers) for this request: a
- * device whose table has the entry, a solver it runs, the disc kernel only where it runs it. */
+/* Whether the context's backend runs this request's whole layered frame (run_layers): a
+ * solver it runs, the disc kernel only where it runs it, a CoC image; else the CPU's table. */
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
 
-/* The whole layered frame on the context's device (on_device: where the planner put it, which
- * ddof_backend_runs_layers allowed), else on the CPU's table; a failure is recorded in the
- * context. */
-ddof_status ddof_backend_run_layers(ddof_context *context, int on_device,
+/* The whole layered frame on the context's backend (on_backend: where the planner put it,
+ * which ddof_backend_runs_layers allowed), else on the CPU's table; a failure is recorded in
+ * the context. */
+ddof_status ddof_backend_run_layers(ddof_context *context, int on_backend,
                                     const adi_layers_request *request,
                                     adi_layers_report *report);
 
-/* Whether the context's device draws cards (ddof_render_cards), and the call. */
-int ddof_backend_runs_cards(const ddof_context *context);
-ddof_status ddof_run_cards_on_device(ddof_context *context, const adi_cards_request *request);
+/* The cards (ddof_render_cards) on the context's backend where its device draws them, else
+ * on the CPU's table; a failure is recorded in the context. */
+ddof_status ddof_backend_render_cards(ddof_context *context, const adi_cards_request *request);
+
+/* Whether every entry of t is filled (a loaded table with one missing is refused). */
+int ddof_backend_table_whole(const ddof_backend_table *t);
+
+/* The CPU as the new context's backend (context creation). */
+void ddof_backend_start(ddof_context *context);
 
 /* Releases the loaded plugin and device (context teardown). */
 void ddof_backend_release(ddof_context *context);

@@ -107,31 +107,8 @@ static ddof_status render_cards(ddof_context *context, const ddof_cards_params *
     }
     if (status == DDOF_OK)
         status = cards_order(context, setups, card_count, order);
-    if (status == DDOF_OK && ddof_backend_runs_cards(context)) {
-        status = cards_render_on_device(context, &view, &p, setups, order, card_count, out,
-                                        out_stride);
-    } else if (status == DDOF_OK) {
-        for (uint32_t y = 0; y < out->height; y++)
-            memset(out->pixels + (size_t)y * out_stride, 0, (size_t)out->width * 4 * sizeof(float));
-        /* Near to far, each card under the nearer ones (cards_draw.c); one table allocation
-         * serves every card. */
-        card_table table = {0};
-        cards_coverage coverage = {NULL, (out->width + CARDS_TILE - 1) / CARDS_TILE,
-                                   (out->height + CARDS_TILE - 1) / CARDS_TILE};
-        const size_t tiles = (size_t)coverage.tiles_x * coverage.tiles_y;
-        coverage.opaque = card_count ? ddof_alloc(&context->allocator, tiles) : NULL;
-        if (card_count && !coverage.opaque)
-            status = ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "no memory for %zu tiles",
-                               tiles);
-        else if (coverage.opaque)
-            memset(coverage.opaque, 0, tiles);
-        for (uint32_t i = card_count; status == DDOF_OK && i-- > 0;)
-            if (setups[order[i]].visible)
-                status = cards_draw(context, &view, &p, &setups[order[i]], &table, &coverage,
-                                    out->pixels, out_stride);
-        cards_table_free(context, &table);
-        ddof_free(&context->allocator, coverage.opaque);
-    }
+    if (status == DDOF_OK)
+        status = cards_render(context, &view, &p, setups, order, card_count, out, out_stride);
     ddof_free(&context->allocator, setups);
     ddof_free(&context->allocator, order);
     return status;

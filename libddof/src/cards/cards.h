@@ -8,6 +8,7 @@
 #ifndef DDOF_EXPERIMENTAL
 #define DDOF_EXPERIMENTAL
 #endif
+#include "ddof_backend_seam.h"
 #include "runtime/internal.h"
 
 #define CARDS_MAX_STRIPS 64u    /* ddof_cards_params.strips at most */
@@ -67,26 +68,17 @@ typedef struct card_table {
 ddof_status cards_table_build(ddof_context *context, const card_setup *c, card_table *t);
 void cards_table_free(ddof_context *context, card_table *t);
 
-/* Which CARDS_TILE x CARDS_TILE tiles of the image are known to be opaque: found so while a
- * card's pixels are checked (a pixel only grows more opaque as cards go under it), then
- * skipped by every card behind. 0 or 1 per tile, row-major. */
-#define CARDS_TILE 16u
-typedef struct cards_coverage {
-    unsigned char *opaque;
-    uint32_t tiles_x, tiles_y;
-} cards_coverage;
+/* The visible cards of `order` (far to near) drawn into out by the context's backend, or by
+ * the CPU's where its device does not draw them (cards_request.c: the seam's request). */
+ddof_status cards_render(ddof_context *context, const cards_view *view,
+                         const ddof_cards_params *params, const card_setup *setups,
+                         const uint32_t *order, uint32_t count, const ddof_image *out,
+                         size_t out_stride);
 
-/* Draws card `s` under `out` (premultiplied RGBA, stride in floats), using `table`. */
-ddof_status cards_draw(ddof_context *context, const cards_view *view,
-                       const ddof_cards_params *params, const card_setup *s,
-                       card_table *table, cards_coverage *coverage, float *out,
-                       size_t out_stride);
+/* The CPU table's render_cards (cards_draw.c): the request's cards drawn into its out, which
+ * it writes whole; a failure is recorded in the context. */
+ddof_status ddof_draw_cards_on_cpu(ddof_context *context, const adi_cards_request *request);
 
-/* The visible cards of `order` (far to near) drawn by the context's GL device
- * (cards_device.c) into out, which the device writes whole. */
-ddof_status cards_render_on_device(ddof_context *context, const cards_view *view,
-                                   const ddof_cards_params *params, const card_setup *setups,
-                                   const uint32_t *order, uint32_t count, const ddof_image *out,
-                                   size_t out_stride);
+#define CARDS_PI 3.14159265358979323846
 
 #endif

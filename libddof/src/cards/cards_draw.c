@@ -12,31 +12,34 @@
 #include <math.h>
 #include <string.h>
 
-#define CARDS_PI 3.14159265358979323846
 #define CARDS_MIN_RADIUS_PX 0.5 /* an in-focus pixel averages its own footprint */
 /* Pixels are taken in blocks CARDS_BLOCK wide across the chunk's rows: the table rows that
  * neighbouring discs read then stay in the core's cache (row by row, a wide card's discs
  * sweep more table than the cache holds before the next pixel row reads it again). */
 #define CARDS_BLOCK 64u
 
+/* Which CARDS_TILE x CARDS_TILE tiles of the image are known to be opaque: found so while a
+ * card's pixels are checked (a pixel only grows more opaque as cards go under it), then
+ * skipped by every card behind. 0 or 1 per tile, row-major. */
+#define CARDS_TILE 16u
+typedef struct cards_coverage {
+    unsigned char *opaque;
+    uint32_t tiles_x, tiles_y;
+} cards_coverage;
+
+/* One card drawn: the request (its view, strips and out) and the card (its table read once
+ * the card is known to show). */
 typedef struct draw_job {
-    const cards_view *view;
-    const card_setup *card;
-    const card_table *table;
+    const adi_cards_request *view;
+    const adi_card *card;
     const cards_coverage *coverage;
-    uint32_t strips;
-    double slice[CARDS_MAX_STRIPS];   /* unit-disc area of each strip (sums to pi) */
-    double line[CARDS_MAX_STRIPS + 1]; /* strip edges on the unit disc: -1 + 2 k / strips */
-    double mid[CARDS_MAX_STRIPS];      /* strip middles */
     uint32_t x0, x1, y0;
-    float *out;
-    size_t out_stride;
 } draw_job;
 
-static DDOF_ALWAYS_INLINE int inside_expanded(const card_setup *c, double x, double y)
+static DDOF_ALWAYS_INLINE int inside_expanded(const adi_card *c, double x, double y)
 {
-    for (uint32_t k = 0; k < c->n; k++) {
-        const double *a = c->expanded[k], *b = c->expanded[(k + 1) % c->n];
+    for (uint32_t k = 0; k < c->vertex_count; k++) {
+        const double *a = c->expanded[k], *b = c->expanded[(k + 1) % c->vertex_count];
         if ((b[0] - a[0]) * (y - a[1]) - (b[1] - a[1]) * (x - a[0]) < 0.0)
             return 0;
     }
@@ -69,14 +72,14 @@ static DDOF_ALWAYS_INLINE int finite_value(double v)
 static DDOF_ALWAYS_INLINE void pixel_discs_of(const draw_job *job, double y, const double *xs,
                                               uint32_t count, pixel_discs *d)
 {
-    const cards_view *v = job->view;
-    const card_setup *c = job->card;
+    const adi_cards_request *v = job->view;
+    const adi_card *c = job->card;
     const double *nr = c->normal, *o = c->origin, *e1 = c->e1, *e2 = c->e2;
     const double *mu = c->uv_affine[0], *mv = c->uv_affine[1];
     const double n_o = nr[0] * o[0] + nr[1] * o[1] + nr[2] * o[2];
     const double e1_o = o[0] * e1[0] + o[1] * e1[1] + o[2] * e1[2];
     const double e2_o = o[0] * e2[0] + o[1] * e2[1] + o[2] * e2[2];
-    const double dy = v->ray_by - v->ray_c * y, tw = job->table->tw, th = job->table->th;
+    const double dy = v->ray_by - v->ray_c * y, tw = c->tw, th = c->th;
     const double aspect = v->aspect, focus_over_n_o = v->focus_m / n_o;
     for (uint32_t i = 0; i < count; i++) {
         const double dx = v->ray_a * xs[i] + v->ray_bx;
@@ -145,7 +148,7 @@ static DDOF_ALWAYS_INLINE void add_row_span(const double *r, uint32_t ia, double
 /* Whether the texture is wholly zero over the texels the box [x0, x1] x [y0, y1] touches: the
  * count table, 4 reads. The strips' rectangles lie in the disc's bounding box (each is as wide
  * as its slice's mean chord, centred on the slice's mean centre), so such a disc averages 0. */
-static DDOF_ALWAYS_INLINE int texture_empty(const card_table *t, double x0, double x1,
+static DDOF_ALWAYS_INLINE int texture_empty(const adi_card *t, double x0, double x1,
                                             double y0, double y1)
 {
     const double tw = t->tw, th = t->th;
@@ -158,37 +161,38 @@ static DDOF_ALWAYS_INLINE int texture_empty(const card_table *t, double x0, doub
     if (i0 >= i1 || j0 >= j1)
         return 1;
     const size_t row = (size_t)t->tw + 1;
-    const uint32_t *c = t->count;
+    const uint32_t *c = t->table_count;
     return c[j1 * row + i1] - c[j1 * row + i0] - c[j0 * row + i1] + c[j0 * row + i0] == 0;
 }
 
 /* The texture's average over pixel i's disc (pixel_discs), premultiplied RGBA; 0 where its
- * texture is empty. `strips` is job->strips, passed so that the default's loops are unrolled
+ * texture is empty. `strips` is the request's, passed so that the default's loops are unrolled
  * at compile time. */
 static DDOF_ALWAYS_INLINE int disc_average(const draw_job *job, uint32_t strips,
                                            const pixel_discs *d, uint32_t i, double avg[4])
 {
     const double tex0 = d->tex0[i], tex1 = d->tex1[i], reach_y = d->reach_y[i];
-    if (texture_empty(job->table, tex0 - d->reach_x[i], tex0 + d->reach_x[i], tex1 - reach_y,
+    if (texture_empty(job->card, tex0 - d->reach_x[i], tex0 + d->reach_x[i], tex1 - reach_y,
                       tex1 + reach_y))
         return 0;
     const double shear_reach = d->shear[i] * reach_y, half_width = d->half_width[i] * strips;
-    const card_table *t = job->table;
+    const adi_card *t = job->card;
     const size_t row = (size_t)(t->tw + 1) * 4;
     /* The strips' edges: strip k lies between lines k and k + 1. */
     uint32_t line_cell[CARDS_MAX_STRIPS + 1];
     double line_frac[CARDS_MAX_STRIPS + 1];
     for (uint32_t k = 0; k <= strips; k++)
-        table_at(tex1 + reach_y * job->line[k], t->th, &line_cell[k], &line_frac[k]);
+        table_at(tex1 + reach_y * job->view->line[k], t->th, &line_cell[k], &line_frac[k]);
     double total[4] = {0, 0, 0, 0};
     for (uint32_t k = 0; k < strips; k++) {
-        const double xc = tex0 + shear_reach * job->mid[k];
-        const double half = half_width * job->slice[k];
+        const double xc = tex0 + shear_reach * job->view->mid[k];
+        const double half = half_width * job->view->slice[k];
         uint32_t ia, ib;
         double fa, fb;
         table_at(xc - half, t->tw, &ia, &fa);
         table_at(xc + half, t->tw, &ib, &fb);
-        const double *lo = t->sum + line_cell[k] * row, *hi = t->sum + line_cell[k + 1] * row;
+        const double *lo = t->table_sum + line_cell[k] * row;
+        const double *hi = t->table_sum + line_cell[k + 1] * row;
         add_row_span(hi, ia, fa, ib, fb, 1.0 - line_frac[k + 1], total);
         add_row_span(hi + row, ia, fa, ib, fb, line_frac[k + 1], total);
         add_row_span(lo, ia, fa, ib, fb, line_frac[k] - 1.0, total);
@@ -216,10 +220,10 @@ static DDOF_ALWAYS_INLINE int tile_opaque(const cards_coverage *c, uint32_t x, u
  * each one). */
 static void row_span(const draw_job *job, double y, uint32_t *first, uint32_t *end)
 {
-    const card_setup *c = job->card;
+    const adi_card *c = job->card;
     double lo = job->x0, hi = job->x1; /* pixel indices: x = i + 0.5 */
-    for (uint32_t k = 0; k < c->n; k++) {
-        const double *a = c->expanded[k], *b = c->expanded[(k + 1) % c->n];
+    for (uint32_t k = 0; k < c->vertex_count; k++) {
+        const double *a = c->expanded[k], *b = c->expanded[(k + 1) % c->vertex_count];
         /* (b0 - a0)(y - a1) - (b1 - a1)(x - a0) >= 0 */
         const double q = b[1] - a[1], p = (b[0] - a[0]) * (y - a[1]) + q * a[0];
         if (q > 0.0)
@@ -261,7 +265,7 @@ DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, ui
     for (uint32_t bx = lo; bx < hi; bx += CARDS_BLOCK)
         for (uint32_t r = r0; r < r1; r++) {
             const uint32_t y = job->y0 + r;
-            float *row = job->out + (size_t)y * job->out_stride;
+            float *row = job->view->out + (size_t)y * job->view->out_stride;
             const uint32_t x0 = first[r - r0] > bx ? first[r - r0] : bx;
             const uint32_t x1 = end[r - r0] < bx + CARDS_BLOCK ? end[r - r0] : bx + CARDS_BLOCK;
             /* the pixels still open, then their discs together */
@@ -285,9 +289,9 @@ DDOF_MULTIVERSION static void draw_rows(void *user, uint32_t r0, uint32_t r1, ui
                 float *px = row + (size_t)open[i] * 4;
                 double avg[4];
                 if (!discs.valid[i] ||
-                    !(job->strips == CARDS_DEFAULT_STRIPS
+                    !(job->view->strips == CARDS_DEFAULT_STRIPS
                           ? disc_average(job, CARDS_DEFAULT_STRIPS, &discs, i, avg)
-                          : disc_average(job, job->strips, &discs, i, avg)))
+                          : disc_average(job, job->view->strips, &discs, i, avg)))
                     continue;
                 const double keep = 1.0 - px[3];
                 for (int ch = 0; ch < 4; ch++)
@@ -305,7 +309,7 @@ DDOF_MULTIVERSION static int tile_scan(const draw_job *job, uint32_t tx, uint32_
     const uint32_t y1 = y0 + CARDS_TILE < height ? y0 + CARDS_TILE : height;
     int open = 0;
     for (uint32_t y = y0; y < y1; y++) {
-        const float *row = job->out + (size_t)y * job->out_stride;
+        const float *row = job->view->out + (size_t)y * job->view->out_stride;
         for (uint32_t x = x0; x < x1; x++)
             open |= row[(size_t)x * 4 + 3] < CARDS_OPAQUE;
     }
@@ -330,7 +334,7 @@ static int spans_opaque(const draw_job *job, cards_coverage *coverage, uint32_t 
             const uint32_t ya = ty * CARDS_TILE > job->y0 ? ty * CARDS_TILE : job->y0;
             const uint32_t yb = (ty + 1) * CARDS_TILE < y1 ? (ty + 1) * CARDS_TILE : y1;
             for (uint32_t y = ya; y < yb; y++) {
-                const float *row = job->out + (size_t)y * job->out_stride;
+                const float *row = job->view->out + (size_t)y * job->view->out_stride;
                 uint32_t first, end;
                 row_span(job, y + 0.5, &first, &end);
                 first = first > tx * CARDS_TILE ? first : tx * CARDS_TILE;
@@ -343,33 +347,46 @@ static int spans_opaque(const draw_job *job, cards_coverage *coverage, uint32_t 
     return 1;
 }
 
-static double unit_disc_below(double t) /* area of the unit disc's part below height t */
+/* Card i of the request drawn under what is there (its table built only if it shows). */
+static ddof_status draw_card(ddof_context *context, const adi_cards_request *r, uint32_t i,
+                             cards_coverage *coverage)
 {
-    return t * sqrt(fmax(0.0, 1.0 - t * t)) + asin(t) + 0.5 * CARDS_PI;
-}
-
-ddof_status cards_draw(ddof_context *context, const cards_view *view,
-                       const ddof_cards_params *params, const card_setup *s, card_table *table,
-                       cards_coverage *coverage, float *out, size_t out_stride)
-{
-    draw_job job = {.view = view, .card = s, .table = table, .coverage = coverage,
-                    .strips = params->strips, .out = out, .out_stride = out_stride};
+    adi_card card;
+    ddof_status status = r->card(r->user, i, 0, &card);
+    if (status != DDOF_OK)
+        return status;
+    draw_job job = {.view = r, .card = &card, .coverage = coverage};
     /* The card's box on the frame, each end clamped to it before it becomes an index. */
-    const double w = (double)view->width, h = (double)view->height;
-    job.x0 = (uint32_t)fmin(w, fmax(0.0, floor(s->box[0])));
-    job.y0 = (uint32_t)fmin(h, fmax(0.0, floor(s->box[1])));
-    job.x1 = (uint32_t)fmin(w, fmax(0.0, ceil(s->box[2])));
-    const uint32_t y1 = (uint32_t)fmin(h, fmax(0.0, ceil(s->box[3])));
+    const double w = (double)r->width, h = (double)r->height;
+    job.x0 = (uint32_t)fmin(w, fmax(0.0, floor(card.box[0])));
+    job.y0 = (uint32_t)fmin(h, fmax(0.0, floor(card.box[1])));
+    job.x1 = (uint32_t)fmin(w, fmax(0.0, ceil(card.box[2])));
+    const uint32_t y1 = (uint32_t)fmin(h, fmax(0.0, ceil(card.box[3])));
     if (job.x0 >= job.x1 || job.y0 >= y1 || spans_opaque(&job, coverage, y1))
         return DDOF_OK;
-    for (uint32_t k = 0; k <= job.strips; k++)
-        job.line[k] = -1.0 + 2.0 * k / job.strips;
-    for (uint32_t k = 0; k < job.strips; k++) {
-        job.mid[k] = -1.0 + (2.0 * k + 1.0) / job.strips;
-        job.slice[k] = unit_disc_below(job.line[k + 1]) - unit_disc_below(job.line[k]);
-    }
-    ddof_status status = cards_table_build(context, s, table);
+    status = r->card(r->user, i, ADI_CARD_TABLE, &card);
     if (status == DDOF_OK)
         ddof_parallel_rows(context, y1 - job.y0, draw_rows, &job);
+    return status;
+}
+
+ddof_status ddof_draw_cards_on_cpu(ddof_context *context, const adi_cards_request *r)
+{
+    for (uint32_t y = 0; y < r->height; y++)
+        memset(r->out + (size_t)y * r->out_stride, 0, (size_t)r->width * 4 * sizeof(float));
+    /* Near to far, each card under the nearer ones. */
+    cards_coverage coverage = {NULL, (r->width + CARDS_TILE - 1) / CARDS_TILE,
+                               (r->height + CARDS_TILE - 1) / CARDS_TILE};
+    if (!r->card_count)
+        return DDOF_OK;
+    const size_t tiles = (size_t)coverage.tiles_x * coverage.tiles_y;
+    coverage.opaque = ddof_alloc(&context->allocator, tiles);
+    if (!coverage.opaque)
+        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "no memory for %zu tiles", tiles);
+    memset(coverage.opaque, 0, tiles);
+    ddof_status status = DDOF_OK;
+    for (uint32_t i = 0; status == DDOF_OK && i < r->card_count; i++)
+        status = draw_card(context, r, i, &coverage);
+    ddof_free(&context->allocator, coverage.opaque);
     return status;
 }

@@ -1,11 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* backend_cpu.c - the CPU as a backend: the core's solvers and layers behind the seam's table,
- * as the GL plugin's are, so that backends/backend.c has one dispatch for both. Its device is
- * the context itself (its threads and scratch); it opens nothing. It runs the double
- * references too, on every backend: those are the core's measure of the others. */
+ * as the GL plugin's are, every entry filled, so that backends/backend.c has one dispatch for
+ * both. Its device is the context itself (its threads and scratch); it opens nothing. It runs
+ * the double references too, on every backend: those are the core's measure of the others;
+ * and it draws the cards where the context's device does not. */
 #include "backend_cpu.h"
 
 #include "adi/adi.h"
+#include "cards/cards.h"
 #include "layers/layers.h"
 
 #include <stdio.h>
@@ -13,6 +15,21 @@
 static ddof_context *context_of(const ddof_device *device)
 {
     return (ddof_context *)device;
+}
+
+/* The context is the CPU's device, held from its creation (backend.c): nothing to open. */
+static ddof_device *cpu_open(ddof_backend_kind kind, int require_hardware, char *message,
+                             size_t message_size)
+{
+    (void)kind;
+    (void)require_hardware;
+    snprintf(message, message_size, "the CPU opens no device: its device is the context");
+    return NULL;
+}
+
+static void cpu_close(ddof_device *device)
+{
+    (void)device; /* the context, freed by ddof_context_free */
 }
 
 static void cpu_describe(const ddof_device *device, ddof_device_info *info)
@@ -63,15 +80,31 @@ static ddof_status cpu_run_layers(ddof_device *device, const adi_layers_request 
     return ddof_run_layers_on_cpu(context_of(device), request, report);
 }
 
+static int cpu_supports_cards(const ddof_device *device)
+{
+    (void)device;
+    return 1;
+}
+
+/* The core's drawing (cards_draw.c); failures are recorded in the context. */
+static ddof_status cpu_render_cards(ddof_device *device, const adi_cards_request *request,
+                                    char *message, size_t message_size)
+{
+    (void)message;
+    (void)message_size;
+    return ddof_draw_cards_on_cpu(context_of(device), request);
+}
+
 const ddof_backend_table ddof_cpu_backend = {
     .abi = DDOF_BACKEND_ABI,
     .table_size = sizeof(ddof_backend_table),
-    .open = NULL, /* the context is its device */
-    .close = NULL,
+    .open = cpu_open,
+    .close = cpu_close,
     .describe = cpu_describe,
     .supports = cpu_supports,
     .run = cpu_run,
     .supports_disc = cpu_supports_disc,
     .run_layers = cpu_run_layers,
-    .render_cards = NULL, /* the core draws the cards itself (cards_draw.c) */
+    .supports_cards = cpu_supports_cards,
+    .render_cards = cpu_render_cards,
 };

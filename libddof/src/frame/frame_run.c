@@ -112,21 +112,15 @@ static void copy_frame(ddof_context *context, const adi_request *r, adi_report *
 }
 
 ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
-                                   const ddof_params *p, float max_coc, ddof_stats *stats,
-                                   double t_start, double seconds_coc)
+                                   const ddof_params *p, ddof_stats *stats, double t_start,
+                                   double seconds_coc)
 {
     if (p->method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, r, (int)p->coc_signed, stats, t_start, seconds_coc);
     adi_report report;
-    /* On a device the call stays there (it is the backend's frame to run, and it reports
-     * what it ran); its CoC is cut to the threshold by ddof_run_adi. */
-    if (all_in_focus(max_coc, p) && !context->backend.device) {
-        copy_frame(context, r, &report, max_coc);
-    } else {
-        ddof_status status = ddof_run_adi(context, r, &report);
-        if (status != DDOF_OK)
-            return status;
-    }
+    ddof_status status = ddof_run_adi(context, r, &report);
+    if (status != DDOF_OK)
+        return status;
     ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
     write_stats(stats, &full);
     return DDOF_OK;
@@ -138,9 +132,9 @@ ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
 static layers_placement place_layers(ddof_context *context, const layers_request *q,
                                      frame_plan *plan)
 {
-    const int takes = ddof_backend_runs_layers(context, &q->base);
     const layers_device_facts facts = {
-        .device = takes ? ddof_backend_name(context->backend.kind) : NULL,
+        .backend = ddof_backend_name(context->backend.kind),
+        .takes = ddof_backend_runs_layers(context, &q->base),
         .carried_alpha = q->fg.carried_alpha != NULL,
     };
     return ddof_plan_layers_device(plan, &facts);
@@ -182,25 +176,8 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     report->seconds_highlights += ddof_seconds() - t0;
     const adi_highlights fg_lights = ddof_request_highlights(q, &element_lights, 0);
 
-    /* Diffusing in place overwrites the colour the background layer (on the CPU: the device
-     * reads its upload), the far field and the silhouettes still need (the highlights'
-     * take-out makes a copy already). */
     const layers_placement where = place_layers(context, q, plan);
     layers_request layers_q = *q;
-    if (((plan->background && !where.device) || plan->far_field || plan->silhouettes) &&
-        r->out == r->color && !highlights.count) {
-        const size_t row = (size_t)r->width * r->channels;
-        float *copy = ddof_scratch_get(context, DDOF_SCRATCH_LAYER_COLOR_COPY,
-                                       row * r->height * sizeof(float));
-        if (!copy)
-            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                             "could not allocate %zu bytes for a layer",
-                             row * r->height * sizeof(float));
-        for (uint32_t y = 0; y < r->height; y++)
-            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
-        layers_q.base.color = copy;
-        layers_q.base.color_stride = row;
-    }
 
     layer_stages st = ddof_layer_stages(q, plan);
     /* With the element left for later, the layers' run is the stages before it. */

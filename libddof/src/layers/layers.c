@@ -639,6 +639,20 @@ static ddof_status pass_colors(ddof_context *context, const adi_layers_request *
         base->color = taken;
         base->color_stride = (size_t)r->width * r->channels;
         out->seconds_highlights += ddof_seconds() - t0;
+    } else if (r->out == r->color && (d->background_levels || d->far_field || d->silhouettes)) {
+        /* Diffusing in place overwrites the colour the background layer, the far field and
+         * the silhouettes still read (the highlights' take-out above is a copy already). */
+        const size_t row = (size_t)r->width * r->channels;
+        float *copy = ddof_scratch_get(context, DDOF_SCRATCH_LAYER_COLOR_COPY,
+                                       row * r->height * sizeof(float));
+        if (!copy)
+            return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                             "could not allocate %zu bytes for a layer",
+                             row * r->height * sizeof(float));
+        for (uint32_t y = 0; y < r->height; y++)
+            memcpy(copy + y * row, r->color + (size_t)y * r->color_stride, row * sizeof(float));
+        base->color = copy;
+        base->color_stride = row;
     }
     *split = base->color;
     *split_stride = base->color_stride;

@@ -63,7 +63,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.matte_ranks = q->matte.ranks;
     }
     adi_layers_report a = {0};
-    const ddof_status status = ddof_backend_run_layers(context, where.device, &d, &a);
+    const ddof_status status = ddof_backend_run_layers(context, where.on_backend, &d, &a);
     if (status != DDOF_OK)
         return status;
     report->adi = a.adi;

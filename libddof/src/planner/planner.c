@@ -297,15 +297,21 @@ layers_placement ddof_plan_layers_device(frame_plan *plan, const layers_device_f
 {
     const char *after_because = NULL;
     if (plan->foreground && facts->carried_alpha)
-        after_because = "it carries the frame's alpha, which the device's frame does not hold";
+        after_because = "it carries the frame's alpha, which the layers' run does not hold";
     const int element = plan->foreground && !after_because;
-    if (!facts->device) /* the CPU's layers: the plan says nothing of where they run */
-        return (layers_placement){0, element};
+    /* A CPU context had no choice to make: no line, which leaves ddof_stats.plan's 512 bytes
+     * to the lines of the passes. */
+    if (strcmp(facts->backend, "cpu") == 0)
+        return (layers_placement){facts->takes, element};
+    const char *where = facts->takes ? facts->backend : "cpu";
+    char why[96] = "";
+    if (!facts->takes)
+        snprintf(why, sizeof why, " (the %s device does not take this request)", facts->backend);
     if (after_because)
-        ddof_plan_say(plan, "layers: on %s; the element after the passes, by the CPU's steps: %s",
-                      facts->device, after_because);
+        ddof_plan_say(plan, "layers: on %s%s; the element after the passes, by the CPU's steps: %s",
+                      where, why, after_because);
     else
-        ddof_plan_say(plan, "layers: on %s%s", facts->device,
+        ddof_plan_say(plan, "layers: on %s%s%s", where, why,
                       plan->foreground ? ", the element's composite included" : "");
-    return (layers_placement){1, element};
+    return (layers_placement){facts->takes, element};
 }

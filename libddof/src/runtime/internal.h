@@ -55,7 +55,7 @@ enum {
     DDOF_SCRATCH_SILHOUETTES,      /* silhouettes.c: the mixed pixels' changes           */
     DDOF_SCRATCH_SILHOUETTE_COLOR, /* silhouettes.c: the colour with their objects out   */
     DDOF_SCRATCH_ELEMENT_EDGES,    /* element_edges.c: the CoC before the strands' fix    */
-    DDOF_SCRATCH_LAYER_COLOR_COPY, /* frame_run.c: the input, when diffusing in place     */
+    DDOF_SCRATCH_LAYER_COLOR_COPY, /* layers.c: the input, when diffusing in place        */
     DDOF_SCRATCH_LAYER_COLOR,      /* layers.c: background B or foreground F              */
     DDOF_SCRATCH_ELEMENT_SHARP,    /* layers.c: the element before its blur, to gather    */
     DDOF_SCRATCH_LAYER_MATTE,      /* layers.c: the matte, or the element's carried alpha */

@@ -3,7 +3,7 @@
 // pixel's ray meets the card's plane (depth and texel position perspective-correct, with their
 // derivatives), the Cycles CoC of that depth gives the disc, mapped into texels as an ellipse
 // and cut into `strips` rectangles of the slices' exact areas, each integrated from the
-// summed-area table. The table comes in two parts (libddof/src/cards/cards_device.c): `table_hi`
+// summed-area table. The table comes in two parts (libddof/src/cards/cards_request.c): `table_hi`
 // holds multiples of a power of two that stay exact in float through a box's four corners,
 // `table_lo` the small rest, so an integer box's sum is exact; a rectangle's partly covered
 // first and last columns and rows are single-column and single-row boxes weighted by the

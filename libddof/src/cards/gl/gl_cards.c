@@ -52,9 +52,16 @@ static void frame_uniforms(const gl_functions *gl, GLuint p, const adi_cards_req
                          (float)r->aspect, 0.0f);
     gl->ProgramUniform2f(p, at(gl, p, "radius_limits"), r->min_radius_px, r->max_radius_px);
     gl->ProgramUniform1i(p, at(gl, p, "strips"), (GLint)r->strips);
-    gl->ProgramUniform1fv(p, at(gl, p, "line"), (GLsizei)r->strips + 1, r->line);
-    gl->ProgramUniform1fv(p, at(gl, p, "mid"), (GLsizei)r->strips, r->mid);
-    gl->ProgramUniform1fv(p, at(gl, p, "slice"), (GLsizei)r->strips, r->slice);
+    float line[65], mid[64], slice[64]; /* the shader's strips are float */
+    for (uint32_t k = 0; k <= r->strips; k++)
+        line[k] = (float)r->line[k];
+    for (uint32_t k = 0; k < r->strips; k++) {
+        mid[k] = (float)r->mid[k];
+        slice[k] = (float)r->slice[k];
+    }
+    gl->ProgramUniform1fv(p, at(gl, p, "line"), (GLsizei)r->strips + 1, line);
+    gl->ProgramUniform1fv(p, at(gl, p, "mid"), (GLsizei)r->strips, mid);
+    gl->ProgramUniform1fv(p, at(gl, p, "slice"), (GLsizei)r->strips, slice);
 }
 
 static void vec3_uniform(const gl_functions *gl, GLuint p, const char *name, const double *v)
@@ -80,9 +87,14 @@ static void draw_card(const gl_functions *gl, GLuint p, const GLuint textures[2]
     vec3_uniform(gl, p, "map_u", c->uv_affine[0]);
     vec3_uniform(gl, p, "map_v", c->uv_affine[1]);
     gl->ProgramUniform2i(p, at(gl, p, "table_size"), (GLint)c->tw, (GLint)c->th);
+    float expanded[DDOF_CARD_MAX_VERTICES][2]; /* vertex positions are float */
+    for (uint32_t k = 0; k < c->vertex_count; k++) {
+        expanded[k][0] = (float)c->expanded[k][0];
+        expanded[k][1] = (float)c->expanded[k][1];
+    }
     gl->BindBuffer(GL_ARRAY_BUFFER, vbo);
     gl->BufferData(GL_ARRAY_BUFFER, (GLsizeiptr)(c->vertex_count * 2 * sizeof(float)),
-                   c->expanded, GL_STREAM_DRAW);
+                   expanded, GL_STREAM_DRAW);
     gl->VertexAttribPointer(0, 2, GL_FLOAT, GL_FALSE, 0, NULL);
     gl->EnableVertexAttribArray(0);
     gl->DrawArrays(GL_TRIANGLE_FAN, 0, (GLsizei)c->vertex_count);
@@ -159,7 +171,7 @@ ddof_status gl_cards_render(ddof_device *device, const adi_cards_request *r, cha
     gl->BlendFunc(GL_ONE_MINUS_DST_ALPHA, GL_ONE);
     for (uint32_t i = 0; status == DDOF_OK && i < r->card_count; i++) {
         adi_card card;
-        status = r->card(r->user, i, &card);
+        status = r->card(r->user, i, ADI_CARD_SPLIT_TABLE, &card);
         if (status != DDOF_OK)
             break;
         if ((int64_t)card.tw + 1 > max_size || (int64_t)card.th + 1 > max_size) {

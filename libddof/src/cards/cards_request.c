@@ -1,11 +1,12 @@
 /* SPDX-License-Identifier: MIT */
-/* cards_device.c - ddof_render_cards on a GL device (ddof_backend_seam.h's render_cards): the
- * visible cards near to far, each card's summed-area table built by the core (cards_table.c)
- * when the device asks for it, then split into the two float parts the device reads: a part
- * rounded to a multiple of a power of two small enough that every value, and every sum or
- * difference of four, is exact in float, and the small rest. A box's sum from its four corners
- * is then exact on the device, which a plain float table is not (a 512x512 texture's sums
- * reach 2^18, where a float's step is 1/32). */
+/* cards_request.c - the seam's cards request (ddof_backend_seam.h's adi_cards_request): the
+ * visible cards near to far, each card's geometry, and its summed-area table built by the core
+ * (cards_table.c) only when the backend asks for it, in the form it asks for: in double with
+ * its counts (the CPU's), or split into the two float parts a GL device reads: a part rounded
+ * to a multiple of a power of two small enough that every value, and every sum or difference
+ * of four, is exact in float, and the small rest. A box's sum from its four corners is then
+ * exact on the device, which a plain float table is not (a 512x512 texture's sums reach 2^18,
+ * where a float's step is 1/32). */
 #include "cards.h"
 
 #include "backends/backend.h"
@@ -14,17 +15,17 @@
 #include <math.h>
 #include <string.h>
 
-typedef struct device_cards {
+typedef struct request_cards {
     ddof_context *context;
     const card_setup *setups;
     const uint32_t *list; /* the visible cards, near to far */
     card_table table;
     float *hi, *lo;
     size_t capacity; /* floats in hi and in lo */
-} device_cards;
+} request_cards;
 
 /* The table of card c as hi + lo (see the file's comment). */
-static void split_table(device_cards *d, size_t values)
+static void split_table(request_cards *d, size_t values)
 {
     double largest = 0.0;
     for (size_t k = 0; k < values; k++)
@@ -40,13 +41,32 @@ static void split_table(device_cards *d, size_t values)
     }
 }
 
-static ddof_status next_card(void *user, uint32_t i, adi_card *out)
+static ddof_status next_card(void *user, uint32_t i, uint32_t parts, adi_card *out)
 {
-    device_cards *d = user;
+    request_cards *d = user;
     const card_setup *c = &d->setups[d->list[i]];
+    memset(out, 0, sizeof *out);
+    out->vertex_count = c->n;
+    memcpy(out->expanded, c->expanded, sizeof out->expanded);
+    memcpy(out->box, c->box, sizeof out->box);
+    memcpy(out->normal, c->normal, sizeof out->normal);
+    memcpy(out->origin, c->origin, sizeof out->origin);
+    memcpy(out->e1, c->e1, sizeof out->e1);
+    memcpy(out->e2, c->e2, sizeof out->e2);
+    memcpy(out->uv_affine, c->uv_affine, sizeof out->uv_affine);
+    out->tw = c->texture.width;
+    out->th = c->texture.height;
+    if (!(parts & (ADI_CARD_TABLE | ADI_CARD_SPLIT_TABLE)))
+        return DDOF_OK;
     ddof_status status = cards_table_build(d->context, c, &d->table);
     if (status != DDOF_OK)
         return status;
+    if (parts & ADI_CARD_TABLE) {
+        out->table_sum = d->table.sum;
+        out->table_count = d->table.count;
+    }
+    if (!(parts & ADI_CARD_SPLIT_TABLE))
+        return DDOF_OK;
     const size_t values = (size_t)(d->table.tw + 1) * (d->table.th + 1) * 4;
     if (values > d->capacity) {
         ddof_free(&d->context->allocator, d->hi);
@@ -59,33 +79,20 @@ static ddof_status next_card(void *user, uint32_t i, adi_card *out)
                              "no memory for card %u's device table", c->index);
     }
     split_table(d, values);
-    memset(out, 0, sizeof *out);
-    out->vertex_count = c->n;
-    for (uint32_t k = 0; k < c->n; k++) {
-        out->expanded[k][0] = (float)c->expanded[k][0];
-        out->expanded[k][1] = (float)c->expanded[k][1];
-    }
-    memcpy(out->normal, c->normal, sizeof out->normal);
-    memcpy(out->origin, c->origin, sizeof out->origin);
-    memcpy(out->e1, c->e1, sizeof out->e1);
-    memcpy(out->e2, c->e2, sizeof out->e2);
-    memcpy(out->uv_affine, c->uv_affine, sizeof out->uv_affine);
     out->table_hi = d->hi;
     out->table_lo = d->lo;
-    out->tw = d->table.tw;
-    out->th = d->table.th;
     return DDOF_OK;
 }
 
 static double unit_disc_below(double t) /* area of the unit disc's part below height t */
 {
-    return t * sqrt(fmax(0.0, 1.0 - t * t)) + asin(t) + 0.5 * 3.14159265358979323846;
+    return t * sqrt(fmax(0.0, 1.0 - t * t)) + asin(t) + 0.5 * CARDS_PI;
 }
 
-ddof_status cards_render_on_device(ddof_context *context, const cards_view *view,
-                                   const ddof_cards_params *params, const card_setup *setups,
-                                   const uint32_t *order, uint32_t count, const ddof_image *out,
-                                   size_t out_stride)
+ddof_status cards_render(ddof_context *context, const cards_view *view,
+                         const ddof_cards_params *params, const card_setup *setups,
+                         const uint32_t *order, uint32_t count, const ddof_image *out,
+                         size_t out_stride)
 {
     uint32_t *list = count ? ddof_alloc(&context->allocator, count * sizeof *list) : NULL;
     if (count && !list)
@@ -102,15 +109,14 @@ ddof_status cards_render_on_device(ddof_context *context, const cards_view *view
         .max_radius_px = 0.5f * DDOF_MAX_COC_PX, .min_radius_px = 0.5f,
         .strips = params->strips, .card_count = visible, .card = next_card};
     for (uint32_t k = 0; k <= params->strips; k++)
-        r.line[k] = (float)(-1.0 + 2.0 * k / params->strips);
+        r.line[k] = -1.0 + 2.0 * k / params->strips;
     for (uint32_t k = 0; k < params->strips; k++) {
-        r.mid[k] = (float)(-1.0 + (2.0 * k + 1.0) / params->strips);
-        r.slice[k] = (float)(unit_disc_below(-1.0 + 2.0 * (k + 1) / params->strips) -
-                             unit_disc_below(-1.0 + 2.0 * k / params->strips));
+        r.mid[k] = -1.0 + (2.0 * k + 1.0) / params->strips;
+        r.slice[k] = unit_disc_below(r.line[k + 1]) - unit_disc_below(r.line[k]);
     }
-    device_cards d = {.context = context, .setups = setups, .list = list};
+    request_cards d = {.context = context, .setups = setups, .list = list};
     r.user = &d;
-    ddof_status status = ddof_run_cards_on_device(context, &r);
+    ddof_status status = ddof_backend_render_cards(context, &r);
     cards_table_free(context, &d.table);
     ddof_free(&context->allocator, d.hi);
     ddof_free(&context->allocator, d.lo);
