@@ -37,7 +37,7 @@ int main(void)
 {
     const layers_device_facts egl = {.backend = "egl", .takes = 1};
     const layers_device_facts cpu = {.backend = "cpu", .takes = 1};
-    const char *inside = "layers: on egl, the element's composite included\n";
+    const char *inside = "layers: on egl\n"; /* the element inside the run goes unsaid */
     const char *after = "; the element after the passes, by the CPU's steps: it carries the "
                         "frame's alpha, which the layers' run does not hold\n";
     char line[256];
@@ -55,8 +55,7 @@ int main(void)
     layers_device_facts refused = egl;
     refused.takes = 0;
     expect("not taken", plan, refused, 0, 1,
-           "layers: on cpu (the egl device does not take this request), the element's "
-           "composite included\n");
+           "layers: on cpu (the egl device does not take this request)\n");
 
     frame_plan none = element_plan();
     none.foreground = 0;

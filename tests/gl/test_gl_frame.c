@@ -150,6 +150,27 @@ static float *midground_alone(ddof_params p, const float *color, const float *co
     return mid;
 }
 
+/* The device's plan is the CPU's with one short line, where the layers ran (the element inside
+ * the run goes unsaid), so the passes' lines after it keep their room in the plan's 512 bytes;
+ * plans cut at that length are compared up to the cut. */
+static void expect_plan_line(const char *name, const ddof_stats *sg, const ddof_stats *sc)
+{
+    char where[64], without[sizeof sg->plan];
+    snprintf(where, sizeof where, "layers: on %s\n", gl_name);
+    const char *at = strstr(sg->plan, where);
+    CHECK_MSG(at != NULL, "%s: the device's plan \"%s\"", name, sg->plan);
+    if (!at)
+        return;
+    snprintf(without, sizeof without, "%.*s%s", (int)(at - sg->plan), sg->plan, at + strlen(where));
+    const char *cut = "(the plan goes on)";
+    if (strstr(sg->plan, cut) || strstr(sc->plan, cut))
+        CHECK_MSG(strncmp(without, sc->plan, (size_t)(at - sg->plan)) == 0,
+                  "%s: the device's plan \"%s\", the CPU's \"%s\"", name, sg->plan, sc->plan);
+    else
+        CHECK_MSG(strcmp(without, sc->plan) == 0, "%s: the device's plan \"%s\", the CPU's \"%s\"",
+                  name, sg->plan, sc->plan);
+}
+
 static void compare(const char *name, ddof_params p, const float *color, const float *coc,
                     const ddof_foreground *fg, uint32_t expect_effects)
 {
@@ -179,6 +200,7 @@ static void compare(const char *name, ddof_params p, const float *color, const f
     CHECK_EQ_INT(sc.device_readbacks, 0);
     CHECK_MSG(sg.device_uploads == expect_uploads() && sg.device_readbacks == expect_readbacks(),
               "%s: %u uploads and %u read-backs", name, sg.device_uploads, sg.device_readbacks);
+    expect_plan_line(name, &sg, &sc);
     if (expect_effects == DDOF_EFFECT_MIDGROUND) {
         /* The one diffusion through ddof_diffuse (the seam's run()): one upload too. */
         sg = stats_init();
@@ -478,8 +500,7 @@ static void layouts(uint32_t ch, int with_element)
         CHECK_EQ_INT(st.device_uploads, 1);
         CHECK_EQ_INT(st.device_readbacks, 1);
         char where[96];
-        snprintf(where, sizeof where, "layers: on %s%s", gl_name,
-                 with_element ? ", the element's composite included" : "\n");
+        snprintf(where, sizeof where, "layers: on %s\n", gl_name);
         CHECK_MSG(strstr(st.plan, where) != NULL, "layouts: %s", st.plan);
         free(in);
         free(out);

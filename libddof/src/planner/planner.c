@@ -299,19 +299,19 @@ layers_placement ddof_plan_layers_device(frame_plan *plan, const layers_device_f
     if (plan->foreground && facts->carried_alpha)
         after_because = "it carries the frame's alpha, which the layers' run does not hold";
     const int element = plan->foreground && !after_because;
-    /* A CPU context had no choice to make: no line, which leaves ddof_stats.plan's 512 bytes
-     * to the lines of the passes. */
+    /* A CPU context had no choice to make: no line. The line is short (the element inside the
+     * run goes without saying; only its exception is spelled out), so that the passes' lines
+     * after it keep their room in ddof_stats.plan's 512 bytes. */
     if (strcmp(facts->backend, "cpu") == 0)
         return (layers_placement){facts->takes, element};
-    const char *where = facts->takes ? facts->backend : "cpu";
     char why[96] = "";
     if (!facts->takes)
         snprintf(why, sizeof why, " (the %s device does not take this request)", facts->backend);
+    const char *where = facts->takes ? facts->backend : "cpu";
     if (after_because)
         ddof_plan_say(plan, "layers: on %s%s; the element after the passes, by the CPU's steps: %s",
                       where, why, after_because);
     else
-        ddof_plan_say(plan, "layers: on %s%s%s", where, why,
-                      plan->foreground ? ", the element's composite included" : "");
+        ddof_plan_say(plan, "layers: on %s%s", where, why);
     return (layers_placement){facts->takes, element};
 }
