@@ -2,9 +2,9 @@
 /* test_layers_element_routes.c - the two routes of a foreground element on the CPU give the
  * same bits: inside the CPU table's run_layers request (ddof_run_layers_on_cpu, what the
  * planner picks where nothing comes between the layers and the element) and after the layers
- * by the CPU's steps (ddof_run_foreground_on_cpu, where something does), with and without
- * the element's own highlights (the request's fg_highlights) and the far field's gather of its
- * blur (fg_gather). The planner moves an element between the
+ * by the CPU's steps (ddof_run_foreground_on_cpu, where something does), with and without the
+ * element's own highlights (found by the run inside, by the caller for the steps after) and
+ * the far field's gather of its blur (fg_gather). The planner moves an element between the
  * routes by what the frame holds, so an output must not depend on which it took. With the heat
  * kernel and disc-2x2, a background level and the near spread on, in 1 and 2 threads. */
 #include "frame/call_checks.h"
@@ -82,13 +82,17 @@ static void routes(ddof_context *ctx, ddof_kernel kernel, int gather, int lights
     q.fg = (layers_element){.color = fg, .color_stride = (size_t)W * 4, .coc = fg_coc,
                             .coc_stride = W, .coc_channels = 1, .premultiplied = 1,
                             .box = {0, 0, W, H}, .max_coc = 14.0f};
-    /* The element's own highlights, found once, for both routes. */
+    /* The element's own highlights: found here for the CPU's steps, by the run inside it. */
     highlight_set found = {0};
     if (lights)
-        CHECK_EQ_INT(ddof_find_element_highlights(ctx, &q, &found), DDOF_OK);
+        CHECK_EQ_INT(ddof_find_element_highlights(ctx, &q, (pixel_box){0, 0, W, H},
+                                                  p.highlight_threshold, NULL, &found),
+                     DDOF_OK);
     CHECK_MSG((found.count > 0) == lights, "%s: %u of the element's highlights",
               ddof_kernel_name(kernel), found.count);
-    const adi_highlights fg_lights = ddof_request_highlights(&q, &found, 0);
+    adi_highlights fg_lights = ddof_request_highlights(&q, lights, 0, NULL);
+    fg_lights.items = found.items;
+    fg_lights.count = found.count;
     layer_stages st = {0};
     layers_report report = {0};
     CHECK_EQ_INT(ddof_run_foreground_on_cpu(ctx, &q, &fg_lights, &st, &report), DDOF_OK);
@@ -104,7 +108,7 @@ static void routes(ddof_context *ctx, ddof_kernel kernel, int gather, int lights
     d.fg_max_coc = 14.0f;
     d.fg_area = (adi_box){0, 0, W, H};
     d.fg_gather = (uint32_t)gather;
-    d.fg_highlights = fg_lights;
+    d.fg_highlights = ddof_request_highlights(&q, lights, 0, NULL);
     CHECK_EQ_INT(ddof_run_layers_on_cpu(ctx, &d, &a), DDOF_OK);
     const uint32_t extra = (uint32_t)DDOF_EFFECT_FAR_FIELD | (uint32_t)DDOF_EFFECT_HIGHLIGHTS;
     CHECK_EQ_INT(a.element_effects, report.effects & extra);

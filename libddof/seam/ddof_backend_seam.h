@@ -121,10 +121,16 @@ typedef struct adi_highlight {
 } adi_highlight;
 
 /* A frame's highlights and the aperture they are drawn with (highlights.h's
- * highlight_aperture; the pixel aspect is base's). */
+ * highlight_aperture; the pixel aspect is base's). The run finds them itself, the first of
+ * its stages (highlights_find.c's rules: a brightness over `threshold`, raised in quarter
+ * octaves until their discs fit the budget): the frame's in its colour, with the parts sharp
+ * occluders hide; the element's (fg_highlights) in its area, read as its steps premultiply
+ * it. */
 typedef struct adi_highlights {
-    const adi_highlight *items; /* sorted by row; as ddof_find_highlights leaves them          */
-    uint32_t count;             /* 0: no highlight pass                                        */
+    uint32_t find;              /* 1: the run finds and draws them; 0: no highlight pass      */
+    float threshold;            /* ddof_params.highlight_threshold                            */
+    const adi_highlight *items; /* what the CPU's steps found, sorted by row (a request: NULL) */
+    uint32_t count;
     uint32_t coc_signed;
     uint32_t blades;            /* 0..2: a disc; else a polygon turned by rotation_rad          */
     double rotation_rad;
@@ -190,6 +196,11 @@ typedef struct adi_layers_report {
     uint64_t silhouette_pixels; /* mixed pixels split                                        */
     uint32_t element_effects;   /* DDOF_EFFECT_FAR_FIELD, _HIGHLIGHTS: what the far field's
                                  * gather and the element's own highlights added to it        */
+    /* The frame's highlights as the run found them (highlights.h's highlight_set): drawn (of
+     * them, hidden parts), the threshold applied, their discs' cost, none for the budget. */
+    uint32_t highlights_count, highlights_hidden, highlights_over_budget;
+    float highlights_threshold;
+    uint64_t highlights_cost;
 } adi_layers_report;
 
 /* ---- cards (ddof_render_cards, docs/cards.md) -------------------------------------------- */
@@ -240,7 +251,7 @@ typedef struct adi_cards_request {
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 7
+#define DDOF_BACKEND_ABI 8
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */

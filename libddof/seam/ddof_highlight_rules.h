@@ -11,6 +11,85 @@
 #include <stdint.h>
 
 #define DDOF_HIGHLIGHT_MIN_COC_PX 4.0f /* below this a disc and a blob look the same */
+#define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel     */
+#define DDOF_HIGHLIGHT_SHARP_PX 2.0f   /* |CoC| below this: a sharp occluder            */
+
+/* Brightness classes, a quarter octave each: a highlight of brightness L is in class
+ * floor(4 log2(L / threshold)), so raising the threshold by 2^(k/4) drops the classes below k. */
+#define DDOF_HIGHLIGHT_CLASSES_PER_OCTAVE 4
+#define DDOF_HIGHLIGHT_CLASSES 128
+
+/* The rows of a chunk whose disc costs are summed apart before the chunks' sums are added, in
+ * that order (the CPU's row chunks, DDOF_ROWS_PER_CHUNK): a device that sums in the same
+ * order arrives at the same budget. */
+#define DDOF_HIGHLIGHT_CHUNK_ROWS 16u
+
+/* The brightness class of a highlight of brightness l (> threshold). Over a tiny threshold
+ * l / threshold overflows to +inf: the top class, decided before any conversion to int
+ * (undefined for inf; libFuzzer found it under UBSan). Non-decreasing in l, so a device finds
+ * the same class by comparing l with the class bounds this gives (the device's log2 is not the
+ * host's). */
+static inline int ddof_highlight_brightness_class(float l, float threshold)
+{
+    const float octaves = DDOF_HIGHLIGHT_CLASSES_PER_OCTAVE * log2f(l / threshold);
+    if (!(octaves < (float)DDOF_HIGHLIGHT_CLASSES))
+        return DDOF_HIGHLIGHT_CLASSES - 1;
+    const int k = (int)floorf(octaves);
+    return k < 0 ? 0 : k;
+}
+
+/* The threshold that keeps the classes from `first` up. */
+static inline float ddof_highlight_kept_threshold(float threshold, uint32_t first)
+{
+    return threshold * exp2f((float)first / DDOF_HIGHLIGHT_CLASSES_PER_OCTAVE);
+}
+
+/* What drawing a disc of this CoC costs, in pixel operations: its rows, and its rim pixels
+ * (about twice its circumference) for the weights and the scatter; an aperture image's every
+ * pixel (`area`). */
+static inline double ddof_highlight_disc_cost(float coc, float aspect, int area)
+{
+    const double r = 0.5 * fabs((double)coc) + 0.5;
+    if (area)
+        return 2.0 * (2.0 * r + 1.0) * (2.0 * r * (double)aspect + 1.0);
+    return 2.0 * r * (double)aspect + 1.0 + 4.0 * 3.14159265358979 * r;
+}
+
+/* The budget's choice from the classes' counts and costs: the brightest classes whose discs
+ * together cost at most `budget`. None: `over_budget` when some were found (the threshold is
+ * then that of the brightest class, which alone is over the budget). */
+typedef struct ddof_highlight_choice {
+    uint32_t first;     /* the first class kept (DDOF_HIGHLIGHT_CLASSES: none)  */
+    uint64_t kept;      /* highlights kept                                      */
+    double kept_cost;
+    int over_budget;
+    float threshold;    /* the threshold applied                                */
+} ddof_highlight_choice;
+
+static inline ddof_highlight_choice ddof_highlight_choose(const uint64_t *count,
+                                                          const double *cost, double budget,
+                                                          float threshold)
+{
+    ddof_highlight_choice c = {DDOF_HIGHLIGHT_CLASSES, 0, 0.0, 0, threshold};
+    int first = DDOF_HIGHLIGHT_CLASSES;
+    while (first > 0 && c.kept_cost + cost[first - 1] <= budget) {
+        first--;
+        c.kept_cost += cost[first];
+        c.kept += count[first];
+    }
+    if (c.kept == 0) {
+        for (int k = DDOF_HIGHLIGHT_CLASSES - 1; k >= 0 && !c.over_budget; k--)
+            if (count[k]) {
+                c.over_budget = 1;
+                c.threshold = ddof_highlight_kept_threshold(threshold, (uint32_t)k);
+            }
+        c.kept_cost = 0.0;
+        return c;
+    }
+    c.first = (uint32_t)first;
+    c.threshold = ddof_highlight_kept_threshold(threshold, c.first);
+    return c;
+}
 #define DDOF_HIGHLIGHT_SIZE_CLASSES 20 /* octaves of |CoC| from the minimum; the last one open */
 #define DDOF_HIGHLIGHT_NEAR_CLASS DDOF_HIGHLIGHT_SIZE_CLASSES
 

@@ -52,6 +52,18 @@ typedef enum gl_buffer_slot {
     GL_BUF_HL_WEIGHTS,  /* each highlight's weight              */
     GL_BUF_HL_DIFF,     /* the discs' rows' differences          */
     GL_BUF_HL_STATE,    /* running double sums                   */
+    GL_BUF_HL_ITEMS,    /* the frame's highlights by size class (gl_highlights_find.c) */
+    GL_BUF_HL_FG_ITEMS, /* the element's own                     */
+    GL_BUF_HLF_BOUNDS,  /* the find: the class bounds' tables    */
+    GL_BUF_HLF_COUNTS,  /* per chunk and class counts, offsets   */
+    GL_BUF_HLF_COSTS,   /* per chunk and class costs (double)    */
+    GL_BUF_HLF_FOUND,   /* the items in row order                */
+    GL_BUF_HLF_PIXELS,  /* the hidden parts' marks and numbers   */
+    GL_BUF_HLF_SCAN,    /* block sums                            */
+    GL_BUF_HLF_MERGED,  /* the hidden parts, merged per pixel    */
+    GL_BUF_HLF_KEPT,    /* those the budget keeps                */
+    GL_BUF_HLF_ALL,     /* both lists in row order               */
+    GL_BUF_HLF_CLASSES, /* the size classes' counts and boxes    */
     GL_BUF_COUNT
 } gl_buffer_slot;
 

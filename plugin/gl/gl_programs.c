@@ -7,6 +7,7 @@
 
 #include "ddof_backend_seam.h"
 #include "ddof_far_rules.h"
+#include "ddof_highlight_rules.h"
 #include "ddof_silhouette_rules.h"
 
 #include "gl_shader_sources.h"
@@ -36,6 +37,15 @@ enum { PART_LINE = 1, PART_PYRAMID = 2 };
     "#define DDOF_THIN_OBJECT_SHARE " GL_STRING(DDOF_THIN_OBJECT_SHARE) "\n"                \
     "#define DDOF_THIN_NEIGHBOUR_SHARE " GL_STRING(DDOF_THIN_NEIGHBOUR_SHARE) "\n"
 
+/* The highlights' find (ddof_highlight_rules.h). */
+#define FIND_DEFINES                                                                         \
+    "#define DDOF_HIGHLIGHT_CLASSES " GL_STRING(DDOF_HIGHLIGHT_CLASSES) "\n"                  \
+    "#define DDOF_HIGHLIGHT_SIZE_CLASSES " GL_STRING(DDOF_HIGHLIGHT_SIZE_CLASSES) "\n"        \
+    "#define DDOF_HIGHLIGHT_MIN_COC_PX " GL_STRING(DDOF_HIGHLIGHT_MIN_COC_PX) "\n"            \
+    "#define DDOF_HIGHLIGHT_SHARP_PX " GL_STRING(DDOF_HIGHLIGHT_SHARP_PX) "\n"                \
+    "#define DDOF_ROWS_PER_CHUNK " GL_STRING(DDOF_HIGHLIGHT_CHUNK_ROWS) "\n"                  \
+    "#define DDOF_MAX_DIMENSION " GL_STRING(DDOF_MAX_DIMENSION) "\n"
+
 typedef struct program_recipe {
     const char *kernel;
     unsigned parts;
@@ -48,6 +58,7 @@ typedef struct program_recipe {
 #define FAR_STEP(s) STEP(GL_PROG_FAR_##s, "far_field.comp", FAR_DEFINES, s)
 #define SILHOUETTE_STEP(s) STEP(GL_PROG_SIL_##s, "silhouettes.comp", SILHOUETTE_DEFINES, s)
 #define HIGHLIGHT_STEP(s) STEP(GL_PROG_HL_##s, "highlights.comp", "", s)
+#define FIND_STEP(s) STEP(GL_PROG_HLF_##s, "highlights_find.comp", FIND_DEFINES, s)
 
 static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_PACK] = {"pack.comp", 0, ""},
@@ -93,6 +104,10 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     SILHOUETTE_STEP(CLEAN), SILHOUETTE_STEP(DELTA), SILHOUETTE_STEP(APPLY),
     HIGHLIGHT_STEP(COPY), HIGHLIGHT_STEP(TAKE_OUT), HIGHLIGHT_STEP(LANDING),
     HIGHLIGHT_STEP(WEIGH), HIGHLIGHT_STEP(SCATTER), HIGHLIGHT_STEP(SUM),
+    FIND_STEP(COUNT), FIND_STEP(TOTALS), FIND_STEP(OFFSETS), FIND_STEP(FILL), FIND_STEP(CLEAR),
+    FIND_STEP(MARK), FIND_STEP(SCAN_BLOCKS), FIND_STEP(SCAN_TOP), FIND_STEP(SCAN_NUMBER),
+    FIND_STEP(GATHER), FIND_STEP(SPEND), FIND_STEP(MERGE), FIND_STEP(SORT_COUNT),
+    FIND_STEP(SORT_TOP), FIND_STEP(SORT_FIRST), FIND_STEP(SORT_PLACE), FIND_STEP(SORT_BOXES),
 };
 
 const char *gl_shader_text(const char *name)

@@ -68,6 +68,23 @@ typedef enum gl_program_id {
     GL_PROG_HL_WEIGH,
     GL_PROG_HL_SCATTER,
     GL_PROG_HL_SUM,
+    GL_PROG_HLF_COUNT,          /* finding them (gl_highlights_find.c, highlights_find.comp) */
+    GL_PROG_HLF_TOTALS,
+    GL_PROG_HLF_OFFSETS,
+    GL_PROG_HLF_FILL,
+    GL_PROG_HLF_CLEAR,
+    GL_PROG_HLF_MARK,
+    GL_PROG_HLF_SCAN_BLOCKS,
+    GL_PROG_HLF_SCAN_TOP,
+    GL_PROG_HLF_SCAN_NUMBER,
+    GL_PROG_HLF_GATHER,
+    GL_PROG_HLF_SPEND,
+    GL_PROG_HLF_MERGE,
+    GL_PROG_HLF_SORT_COUNT,
+    GL_PROG_HLF_SORT_TOP,
+    GL_PROG_HLF_SORT_FIRST,
+    GL_PROG_HLF_SORT_PLACE,
+    GL_PROG_HLF_SORT_BOXES,
     GL_PROG_COUNT
 } gl_program_id;
 

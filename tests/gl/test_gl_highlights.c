@@ -6,9 +6,11 @@
  * discs, a rotated pentagon, a hexagon with an anamorphic ratio, an aperture image, with the
  * cat's eye; a large disc (its weights over several dispatches), a class of 600 lights (its
  * rows over several), rows of 5000 pixels (their sums over several). Each must match the CPU
- * within the frames' tolerance (relative to the light's size), say the same highlights line,
- * and stay on the device: one upload, one read-back, and neither the colour without the
- * highlights nor the discs' differences on the host (channels + 3 floats a pixel).
+ * within the frames' tolerance (relative to the light's size), say the same highlights line
+ * (found on the device: the same counts, threshold, hidden parts and cost), and stay on the
+ * device: one upload, one read-back, and neither the colour without the highlights nor the
+ * discs' differences on the host (channels + 3 floats a pixel); a frame with the pass holds
+ * no more host scratch than one without (no list on the host).
  * Usage: test_gl_highlights osmesa|egl */
 #include "gl_test.h"
 #include "test_util.h"
@@ -114,11 +116,59 @@ static void compare(const char *name, const ddof_camera *cam, uint32_t w, uint32
     free(got);
 }
 
+/* The host scratch of one frame on a fresh GL context, with the highlight pass on or off. */
+static uint64_t fresh_host_bytes(ddof_backend_kind kind, const float *color, const float *coc,
+                                 uint32_t w, uint32_t h, int lights, ddof_stats *st)
+{
+    ddof_context *ctx = gl_context_for(kind);
+    float *out = alloc_f((size_t)w * h * 4);
+    ddof_params p;
+    ddof_params_init(&p);
+    p.coc_signed = 1;
+    p.highlights = lights ? DDOF_LAYER_ON : DDOF_LAYER_OFF;
+    p.far_field = DDOF_LAYER_OFF;
+    p.near_layer = DDOF_LAYER_OFF;
+    ddof_camera cam;
+    ddof_camera_init(&cam);
+    ddof_frame f;
+    ddof_frame_init(&f);
+    f.color = (ddof_image_in){color, w, h, 4, 0};
+    f.coc = (ddof_image_in){coc, w, h, 1, 0};
+    f.camera = &cam;
+    *st = stats_init();
+    CHECK_EQ_INT(ddof_render_frame(ctx, &p, &f, &(ddof_image){out, w, h, 4, 0}, st), DDOF_OK);
+    free(out);
+    ddof_context_free(ctx);
+    return st->host_bytes;
+}
+
+/* The pass is found, taken out and drawn on the device: a frame with it holds no more host
+ * scratch than one without (the host once held the list, its weights and landing counts). */
+static void no_host_scratch(ddof_backend_kind kind)
+{
+    enum { W = 160, H = 120 };
+    float *color = alloc_f((size_t)W * H * 4), *coc = alloc_f((size_t)W * H);
+    scene(color, coc, W, H, 40, 0);
+    ddof_stats on, off;
+    const uint64_t with = fresh_host_bytes(kind, color, coc, W, H, 1, &on);
+    const uint64_t without = fresh_host_bytes(kind, color, coc, W, H, 0, &off);
+    if (verbose_test())
+        printf("  host scratch with the pass %llu, without %llu\n", (unsigned long long)with,
+               (unsigned long long)without);
+    CHECK_MSG(on.effects & DDOF_EFFECT_HIGHLIGHTS, "no highlights: %s", on.plan);
+    CHECK_MSG(with == without, "host scratch %llu with the pass, %llu without",
+              (unsigned long long)with, (unsigned long long)without);
+    free(color);
+    free(coc);
+}
+
 int main(int argc, char **argv)
 {
-    gl = gl_context_for(backend_from_name(argc > 1 ? argv[1] : NULL));
+    const ddof_backend_kind kind = backend_from_name(argc > 1 ? argv[1] : NULL);
+    gl = gl_context_for(kind);
     if (!gl)
         return GL_TEST_SKIP;
+    no_host_scratch(kind);
     cpu = make_context(0);
     ddof_camera cam;
     ddof_camera_init(&cam);

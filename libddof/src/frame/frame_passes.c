@@ -1,31 +1,25 @@
 /* SPDX-License-Identifier: MIT */
-/* frame_passes.c - the passes' plan lines: the highlights, found before the layers (on the
- * host: the list they are taken out and drawn by is the layers' run's input), and the far
- * field and the silhouettes' split, from what the layers' run found. */
+/* frame_passes.c - the passes' plan lines: the highlights, the far field and the silhouettes'
+ * split, from what the layers' run found (each is a stage of that run). */
 #include "frame_passes.h"
 
 #include "passes/silhouettes.h"
 
 #include <stdio.h>
 
-/* Finds the frame's highlights (colour with 3 or 4 channels) into `set` and the base colour,
- * and says in the plan what it found. */
-ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_request *q,
-                                      highlight_set *set, frame_plan *plan)
+int ddof_pass_highlights_can_run(const layers_request *q, frame_plan *plan)
+{
+    const uint32_t channels = q->base.channels;
+    if (channels >= 3)
+        return 1;
+    ddof_plan_say(plan, "highlights: off: %u colour channel%s (the pass needs RGB)", channels,
+                  channels == 1 ? "" : "s");
+    return 0;
+}
+
+void ddof_say_highlights(const layers_request *q, frame_plan *plan, const highlight_set *set)
 {
     const adi_request *r = &q->base;
-    const ddof_params *p = q->params;
-    if (r->channels < 3) {
-        ddof_plan_say(plan, "highlights: off: %u colour channel%s (the pass needs RGB)",
-                      r->channels, r->channels == 1 ? "" : "s");
-        return DDOF_OK;
-    }
-    /* The layers' run takes them out of the colour and draws them (layers_dispatch.c). */
-    ddof_status status =
-        ddof_find_highlights(context, r, p->highlight_threshold, (int)p->coc_signed,
-                             &q->aperture, HIGHLIGHTS_OF_FRAME, NULL, set);
-    if (status != DDOF_OK)
-        return status;
     char shape[48] = "discs";
     if (q->aperture.image)
         snprintf(shape, sizeof shape, "the %ux%u aperture image", q->aperture.image_width,
@@ -50,8 +44,7 @@ ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_reques
                       (double)DDOF_HIGHLIGHT_BUDGET);
     else
         ddof_plan_say(plan, "highlights: off: no pixel brighter than %.3g with CoC >= %.3g px",
-                      (double)p->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
-    return DDOF_OK;
+                      (double)q->params->highlight_threshold, (double)DDOF_HIGHLIGHT_MIN_COC_PX);
 }
 
 /* The far field's plan line, from what the layers' run found (it runs there, over their

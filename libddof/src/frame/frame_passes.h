@@ -1,15 +1,17 @@
 /* SPDX-License-Identifier: MIT */
-/* frame_passes.h - the highlights found before a frame's layers, and the passes' plan lines
- * (frame_passes.c): each says what it found, and adds its effect to the report. */
+/* frame_passes.h - the passes' plan lines (frame_passes.c): each says what the layers' run
+ * found, and adds its effect to the report. */
 #ifndef DDOF_FRAME_PASSES_H
 #define DDOF_FRAME_PASSES_H
 
 #include "layers/layers.h"
 
-/* Finds the frame's highlights (colour with 3 or 4 channels) into `set`: the layers' run
- * takes them out of the colour and draws them. */
-ddof_status ddof_pass_find_highlights(ddof_context *context, const layers_request *q,
-                                      highlight_set *set, frame_plan *plan);
+/* Whether the planned highlight pass can run on q's colour (3 or 4 channels); else says why
+ * not in the plan. */
+int ddof_pass_highlights_can_run(const layers_request *q, frame_plan *plan);
+
+/* The highlights' plan line, from what the layers' run found (`set`'s figures). */
+void ddof_say_highlights(const layers_request *q, frame_plan *plan, const highlight_set *set);
 
 /* The far field's plan line and effect, from what the layers' run found (the far field is a
  * stage of that run, on the backend that runs it). */

@@ -154,8 +154,8 @@ static int shared_progress(void *user, float fraction)
 }
 
 /* The planned frame's layers and the passes in their run. Where the layers run is decided
- * here, once, after the highlights are found (the layers' run takes the element unless it
- * carries part of the frame's alpha). */
+ * here, once (the layers' run takes the element unless it carries part of the frame's
+ * alpha). */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
                                frame_plan *plan, float max_near_coc, layers_report *report)
 {
@@ -163,18 +163,15 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     memset(report, 0, sizeof *report);
     ddof_status status = DDOF_OK;
 
-    /* The highlights are found here, the frame's and the element's own; the layers' run takes
-     * them out of the colours (on the CPU or on a device) and draws them into the results. */
-    highlight_set highlights = {0}, element_lights = {0};
-    const double t0 = ddof_seconds();
-    if (plan->highlights &&
-        (status = ddof_pass_find_highlights(context, q, &highlights, plan)) != DDOF_OK)
-        return status;
-    if (plan->foreground && q->params->highlights != DDOF_LAYER_OFF &&
-        (status = ddof_find_element_highlights(context, q, &element_lights)) != DDOF_OK)
-        return status;
-    report->seconds_highlights += ddof_seconds() - t0;
-    const adi_highlights fg_lights = ddof_request_highlights(q, &element_lights, 0);
+    /* The layers' run finds the highlights, the frame's and the element's own, takes them out
+     * of the colours and draws them into the results; an aperture image's table is built once
+     * here for it. */
+    const int find = plan->highlights && ddof_pass_highlights_can_run(q, plan);
+    const int element_lights = plan->foreground && q->params->highlights != DDOF_LAYER_OFF;
+    const double *sums = NULL;
+    if ((find || element_lights) && q->aperture.image &&
+        !(sums = ddof_aperture_sums(context, &q->aperture)))
+        return DDOF_ERROR_OUT_OF_MEMORY;
 
     const layers_placement where = place_layers(context, q, plan);
     layers_request layers_q = *q;
@@ -188,18 +185,31 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
         layers_q.base.progress = shared_progress;
         layers_q.base.progress_user = &share;
     }
-    if ((status = ddof_run_layers(context, &layers_q, plan, where, &highlights, &fg_lights,
-                                  max_near_coc, report)) != DDOF_OK)
+    if ((status = ddof_run_layers(context, &layers_q, plan, where, find, sums, max_near_coc,
+                                  report)) != DDOF_OK)
         return status;
     st.current = st.count - element_stages;
+    if (find)
+        ddof_say_highlights(q, plan, &report->highlights);
     if (plan->far_field)
         ddof_say_far_field(q, plan, report);
     if (plan->silhouettes)
         ddof_say_silhouettes(q, plan, report->silhouette_pixels, report);
-    /* The element goes over all of it (unless the layers' run composited it already). */
-    if (plan->foreground && !where.element)
-        return ddof_run_foreground_on_cpu(context, q, &fg_lights, &st, report);
-    return DDOF_OK;
+    /* The element goes over all of it (unless the layers' run composited it already), its own
+     * highlights found for its steps here. */
+    if (!plan->foreground || where.element)
+        return DDOF_OK;
+    highlight_set found = {0};
+    const double t0 = ddof_seconds();
+    if (element_lights && (status = ddof_find_element_highlights(
+                               context, q, ddof_element_area(q), q->params->highlight_threshold,
+                               sums, &found)) != DDOF_OK)
+        return status;
+    report->seconds_highlights += ddof_seconds() - t0;
+    adi_highlights lights = ddof_request_highlights(q, element_lights, 0, sums);
+    lights.items = found.items;
+    lights.count = found.count;
+    return ddof_run_foreground_on_cpu(context, q, &lights, &st, report);
 }
 
 /* ---- the frame ---------------------------------------------------------------------------- */

@@ -707,16 +707,58 @@ static ddof_status split_and_draw(ddof_context *context, const adi_layers_reques
     return DDOF_OK;
 }
 
-ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_request *d,
+/* The run's first stage: the highlights it draws found, the frame's and the element's own,
+ * into `found` (the request with their lists). */
+static ddof_status find_highlights(ddof_context *context, const adi_layers_request *d,
+                                   adi_layers_request *found, adi_layers_report *out)
+{
+    *found = *d;
+    const double t0 = ddof_seconds();
+    ddof_status status = DDOF_OK;
+    if (d->highlights.find) {
+        highlight_set set;
+        status = ddof_find_highlights(context, &d->base, d->highlights.threshold,
+                                      (int)d->highlights.coc_signed, d->highlights.image_sums,
+                                      HIGHLIGHTS_OF_FRAME, NULL, &set);
+        found->highlights.items = set.items;
+        found->highlights.count = set.count;
+        out->highlights_count = set.count;
+        out->highlights_hidden = set.hidden;
+        out->highlights_over_budget = (uint32_t)set.over_budget;
+        out->highlights_threshold = set.threshold;
+        out->highlights_cost = set.cost;
+    }
+    if (status == DDOF_OK && d->fg_color && d->fg_highlights.find) {
+        const layers_request q = {
+            .base = d->base,
+            .fg = {.color = d->fg_color, .color_stride = d->fg_color_stride, .coc = d->fg_coc,
+                   .coc_stride = d->fg_coc_stride, .coc_channels = d->fg_coc_channels,
+                   .premultiplied = (int)d->fg_premultiplied}};
+        highlight_set set;
+        status = ddof_find_element_highlights(context, &q, pixel_box_of(d->fg_area),
+                                              d->fg_highlights.threshold,
+                                              d->fg_highlights.image_sums, &set);
+        found->fg_highlights.items = set.items;
+        found->fg_highlights.count = set.count;
+    }
+    out->seconds_highlights += ddof_seconds() - t0;
+    return status;
+}
+
+ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_request *request,
                                    adi_layers_report *out)
 {
-    const adi_request *r = &d->base;
     *out = (adi_layers_report){0};
+    adi_layers_request found;
+    ddof_status status = find_highlights(context, request, &found, out);
+    if (status != DDOF_OK)
+        return status;
+    const adi_layers_request *d = &found;
+    const adi_request *r = &d->base;
     layers_report report = {0};
     layer_stages st = {r->progress, r->progress_user, 0,
                        layer_diffusions(d->background_levels) +
                            (d->fg_color ? element_diffusions(0) : 0u)};
-    ddof_status status;
     /* What the layers diffuse: the highlights and the silhouettes' objects taken out. */
     const object_matte matte = {d->matte, d->matte_stride, d->matte ? d->matte_ranks : 0u};
     adi_request base;
@@ -787,31 +829,33 @@ pixel_box ddof_element_area(const layers_request *q)
 }
 
 ddof_status ddof_find_element_highlights(ddof_context *context, const layers_request *q,
-                                         highlight_set *set)
+                                         pixel_box area, float threshold,
+                                         const double *aperture_sums, highlight_set *set)
 {
     memset(set, 0, sizeof *set);
     /* The element as given, read as its steps premultiply it (no copy of it here). */
-    const layers_request sub = crop(q, ddof_element_area(q));
+    const layers_request sub = crop(q, area);
     adi_request er = derived(&sub.base, sub.fg.color, sub.fg.color_stride, 4, NULL);
     er.coc = sub.fg.coc;
     er.coc_stride = sub.fg.coc_stride;
     er.coc_channels = sub.fg.coc_channels;
-    return ddof_find_highlights(context, &er, q->params->highlight_threshold, 0, &q->aperture,
+    return ddof_find_highlights(context, &er, threshold, 0, aperture_sums,
                                 sub.fg.premultiplied ? HIGHLIGHTS_OF_ELEMENT
                                                      : HIGHLIGHTS_OF_STRAIGHT_ELEMENT,
                                 NULL, set);
 }
 
-adi_highlights ddof_request_highlights(const layers_request *q, const highlight_set *set,
-                                       int coc_signed)
+adi_highlights ddof_request_highlights(const layers_request *q, int find, int coc_signed,
+                                       const double *aperture_sums)
 {
     const highlight_aperture *a = &q->aperture;
-    return (adi_highlights){.items = set->items, .count = set->count,
+    return (adi_highlights){.find = (uint32_t)find,
+                            .threshold = q->params->highlight_threshold,
                             .coc_signed = (uint32_t)coc_signed, .blades = a->blades,
                             .rotation_rad = a->rotation_rad, .catseye = a->catseye,
                             .centre_x = a->centre_x, .centre_y = a->centre_y,
                             .half_width = a->half_width, .half_height = a->half_height,
-                            .image_sums = set->aperture_sums, .image_width = a->image_width,
+                            .image_sums = aperture_sums, .image_width = a->image_width,
                             .image_height = a->image_height};
 }
 

@@ -51,6 +51,7 @@ typedef struct layers_report {
     double seconds_silhouettes;
     far_field_report far;      /* what the far field found (in the layers' run)        */
     uint64_t silhouette_pixels; /* the mixed pixels the silhouettes' split changed      */
+    highlight_set highlights;  /* what the run's find found (its figures; no items)     */
 } layers_report;
 
 /* The frame's diffusions counted, so that the caller's progress sees one rising fraction. */
@@ -76,31 +77,35 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
 /* Where the foreground element's blur can reach: its box grown by its largest CoC's reach. */
 pixel_box ddof_element_area(const layers_request *q);
 
-/* The element's own highlights over its area (in the area's coordinates), found in its
- * premultiplied colour (DDOF_SCRATCH_ELEMENT_HIGHLIGHTS, without a base). */
+/* The element's own highlights over its area `area` (in the area's coordinates), found in
+ * its colour as its steps premultiply it (DDOF_SCRATCH_ELEMENT_HIGHLIGHTS, without a base),
+ * brighter than `threshold`; aperture_sums: ddof_aperture_sums' table or NULL. */
 ddof_status ddof_find_element_highlights(ddof_context *context, const layers_request *q,
-                                         highlight_set *set);
+                                         pixel_box area, float threshold,
+                                         const double *aperture_sums, highlight_set *set);
 
-/* A set of highlights as a run_layers request carries it, with q's aperture. */
-adi_highlights ddof_request_highlights(const layers_request *q, const highlight_set *set,
-                                       int coc_signed);
+/* The highlight pass as a run_layers request carries it: found in the run when `find`, with
+ * q's aperture (its image's table: aperture_sums, or NULL). */
+adi_highlights ddof_request_highlights(const layers_request *q, int find, int coc_signed,
+                                       const double *aperture_sums);
 
 /* The foreground element blurred and composited over q->base.out by the CPU's steps, with its
- * own highlights (`lights`, from ddof_find_element_highlights; may be NULL), the far field's
- * gather (q->params) and the part of the frame's alpha it may carry: what a request cannot
- * carry. */
+ * own highlights (`lights`, found by ddof_find_element_highlights and set as the request
+ * carries them; may be NULL), the far field's gather (q->params) and the part of the frame's
+ * alpha it may carry: what a request cannot carry. */
 ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
                                        const adi_highlights *lights, layer_stages *st,
                                        layers_report *report);
 
-/* Every layer and pass of the plan as the seam's request (layers_dispatch.c), of
- * q->base.color with `highlights` (found by ddof_find_highlights without a base) taken out and
- * drawn, and the element's own `fg_lights` (NULL: none) in its blur, on the backend the planner chose (where.device: the context's device, else the CPU's
- * table); the plan's foreground element blurred and composited last in it where where.element
- * says so, else left for ddof_run_foreground_on_cpu. */
+/* Every layer and pass of the plan as the seam's request (layers_dispatch.c), on the backend
+ * the planner chose (where.on_backend: the context's backend, else the CPU's table): the
+ * highlights found in the run (`find_highlights`), taken out of q->base.color and drawn, the
+ * plan's foreground element blurred and composited last where where.element says so (its own
+ * highlights found in it unless the highlights are off), else left for
+ * ddof_run_foreground_on_cpu; aperture_sums: the aperture image's table, or NULL. */
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, layers_placement where,
-                            const highlight_set *highlights, const adi_highlights *fg_lights,
+                            int find_highlights, const double *aperture_sums,
                             float max_near_coc, layers_report *report);
 
 #endif

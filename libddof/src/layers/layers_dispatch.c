@@ -1,7 +1,7 @@
 /* SPDX-License-Identifier: MIT */
 /* layers_dispatch.c - a planned frame's layers handed whole to a backend as the seam's
  * run_layers request: the plan's switches, the areas the layers' steps use and the passes'
- * inputs (the highlights found, the object matte). */
+ * inputs (the highlights' threshold and aperture, the object matte). */
 #include "layers.h"
 
 #include "backends/backend.h"
@@ -20,7 +20,7 @@ static adi_box seam_box(pixel_box b)
  * edges itself. */
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
                             const frame_plan *plan, layers_placement where,
-                            const highlight_set *highlights, const adi_highlights *fg_lights,
+                            int find_highlights, const double *aperture_sums,
                             float max_near_coc, layers_report *report)
 {
     const adi_request *r = &q->base;
@@ -49,13 +49,13 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.fg_max_coc = q->fg.max_coc;
         d.fg_area = seam_box(ddof_element_area(q));
         d.fg_gather = p->far_field != DDOF_LAYER_OFF;
-        if (fg_lights)
-            d.fg_highlights = *fg_lights;
+        d.fg_highlights = ddof_request_highlights(q, p->highlights != DDOF_LAYER_OFF, 0,
+                                                  aperture_sums);
     }
     d.far_field = (uint32_t)plan->far_field;
     d.far_slices = (uint32_t)plan->blurred_edges;
-    if (highlights->count)
-        d.highlights = ddof_request_highlights(q, highlights, (int)p->coc_signed);
+    d.highlights = ddof_request_highlights(q, find_highlights, (int)p->coc_signed,
+                                           aperture_sums);
     if (plan->silhouettes && r->channels >= 3) {
         d.silhouettes = 1;
         d.matte = q->matte.ranks ? q->matte.pairs : NULL;
@@ -77,11 +77,16 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     report->seconds_silhouettes = a.seconds_silhouettes;
     report->seconds_highlights += a.seconds_highlights;
     report->silhouette_pixels = a.silhouette_pixels;
+    report->highlights = (highlight_set){.count = a.highlights_count,
+                                         .threshold = a.highlights_threshold,
+                                         .cost = a.highlights_cost,
+                                         .over_budget = (int)a.highlights_over_budget,
+                                         .hidden = a.highlights_hidden};
     report->effects |= DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
                       (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u) |
                       a.element_effects |
-                      (highlights->count ? (uint32_t)DDOF_EFFECT_HIGHLIGHTS : 0u);
+                      (a.highlights_count ? (uint32_t)DDOF_EFFECT_HIGHLIGHTS : 0u);
     return DDOF_OK;
 }

@@ -33,9 +33,6 @@
 
 #include <math.h>
 
-#define DDOF_HIGHLIGHT_BUDGET 8.0f     /* disc rows and rim pixels per frame pixel   */
-#define DDOF_HIGHLIGHT_SHARP_PX 2.0f   /* |CoC| below this: a sharp occluder          */
-
 /* A pixel's brightness for the pass: its largest colour channel (colour is checked finite
  * before any pass runs, so a plain compare does; fmaxf is a library call that orders NaNs, and
  * the pass's count takes it for nine neighbours of every candidate pixel). */
@@ -91,7 +88,8 @@ typedef struct highlight_set {
 
 /* Finds the highlights of r (colour with 3 or 4 channels, its signed or unsigned CoC), a
  * highlight costing its rows and rim, or its area with an aperture image (aperture may be NULL):
- * pixels whose largest colour channel exceeds `threshold` and whose |CoC| >= the minimum,
+ * pixels whose largest colour channel exceeds `threshold` and whose |CoC| >= the minimum
+ * (aperture_sums: the aperture image's table from ddof_aperture_sums, or NULL),
  * and writes `base` (width x height x channels floats, packed) = the colour with their excess
  * taken out. set->count 0: none (base is then not written). Memory from the context.
  * The frame's (owner): where a sharp occluder (|CoC| < DDOF_HIGHLIGHT_SHARP_PX) at most a far
@@ -121,8 +119,14 @@ static inline void ddof_element_pixel(const float *fg, int premultiplied, float 
 }
 
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
-                                 int coc_signed, const highlight_aperture *aperture,
+                                 int coc_signed, const double *aperture_sums,
                                  highlight_owner owner, float *base, highlight_set *set);
+
+/* The aperture image's summed-area table, scaled so that its largest texel is 1: sums[j][i]
+ * holds the texels of rows < j and columns < i ((w + 1) x (h + 1), the context's scratch);
+ * NULL without an image (aperture->image NULL) or without memory (the error recorded). The
+ * finds and draws of a frame take it (aperture_sums; NULL: none). */
+const double *ddof_aperture_sums(ddof_context *context, const highlight_aperture *aperture);
 
 /* ddof_find_highlights with base NULL finds the highlights without writing the base colour:
  * a run_layers request takes them out itself (ddof_take_out_highlights, or on a device). */

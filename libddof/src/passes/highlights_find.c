@@ -11,10 +11,10 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Brightness classes, a quarter octave each: a highlight of brightness L is in class
- * floor(4 log2(L / threshold)), so raising the threshold by 2^(k/4) drops the classes below k. */
-#define CLASSES_PER_OCTAVE 4
-#define CLASSES 128
+#define CLASSES DDOF_HIGHLIGHT_CLASSES
+
+_Static_assert(DDOF_HIGHLIGHT_CHUNK_ROWS == DDOF_ROWS_PER_CHUNK,
+               "a device's find sums the costs in the CPU's row chunks");
 
 typedef struct class_count {
     uint32_t count[CLASSES];
@@ -74,15 +74,9 @@ static float highlight_coc(const adi_request *r, uint32_t x, uint32_t y)
     return adi_request_coc(r, bx, by);
 }
 
-/* What drawing a disc of this CoC costs, in pixel operations: its rows, and its rim pixels
- * (about twice its circumference) for the weights and the scatter; an aperture image's every
- * pixel (`area`). */
 static double disc_cost(float coc, float aspect, int area)
 {
-    const double r = 0.5 * fabs((double)coc) + 0.5;
-    if (area)
-        return 2.0 * (2.0 * r + 1.0) * (2.0 * r * (double)aspect + 1.0);
-    return 2.0 * r * (double)aspect + 1.0 + 4.0 * 3.14159265358979 * r;
+    return ddof_highlight_disc_cost(coc, aspect, area);
 }
 
 /* The class of pixel (x, y) of colour px, or -1 when it is no highlight; *coc gets the CoC its
@@ -97,13 +91,7 @@ static int highlight_class(const find_job *job, const float *px, uint32_t x, uin
     *coc = highlight_coc(job->r, x, y);
     if (!(fabsf(*coc) >= DDOF_HIGHLIGHT_MIN_COC_PX))
         return -1;
-    /* Over a tiny threshold l / threshold overflows to +inf: the top class, decided before
-     * any conversion to int (undefined for inf; libFuzzer found it under UBSan). */
-    const float octaves = CLASSES_PER_OCTAVE * log2f(l / job->threshold);
-    if (!(octaves < (float)CLASSES))
-        return CLASSES - 1;
-    const int k = (int)floorf(octaves);
-    return k < 0 ? 0 : k;
+    return ddof_highlight_brightness_class(l, job->threshold);
 }
 
 static void count_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
@@ -182,7 +170,7 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     const find_job *job = user;
     const adi_request *r = job->r;
-    const float kept = job->threshold * exp2f((float)job->first_class / CLASSES_PER_OCTAVE);
+    const float kept = ddof_highlight_kept_threshold(job->threshold, job->first_class);
     highlight *item = job->items + job->offsets[chunk];
     for (uint32_t y = y0; y < y1; y++) {
         const float *row = r->color + (size_t)y * r->color_stride;
@@ -206,15 +194,17 @@ static void fill_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     take_out_rows(r, first, (uint32_t)(item - first), y0, y1, job->base);
 }
 
-/* The aperture image's summed-area table, scaled so that its largest texel is 1: sums[j][i]
- * holds the texels of rows < j and columns < i. */
-static const double *aperture_sums(ddof_context *context, const highlight_aperture *a)
+const double *ddof_aperture_sums(ddof_context *context, const highlight_aperture *a)
 {
+    if (!a->image)
+        return NULL;
     const uint32_t w = a->image_width, h = a->image_height;
     double *sums = ddof_scratch_get(context, DDOF_SCRATCH_APERTURE_SUMS,
                                     (size_t)(w + 1) * (h + 1) * sizeof *sums);
-    if (!sums)
+    if (!sums) {
+        ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "could not allocate the aperture image's table");
         return NULL;
+    }
     float peak = 0.0f;
     for (uint32_t i = 0; i < w * h; i++)
         peak = ddof_maxf(peak, a->image[i]);
@@ -274,7 +264,7 @@ static int kept_highlight(const find_job *job, uint32_t x, uint32_t y, float exc
         return 0;
     /* fill_rows' split, on the same values */
     const float keep =
-        job->threshold * exp2f((float)job->first_class / CLASSES_PER_OCTAVE) / brightness(px);
+        ddof_highlight_kept_threshold(job->threshold, job->first_class) / brightness(px);
     for (int c = 0; c < 3; c++)
         excess[c] = px[c] * (1.0f - keep);
     return 1;
@@ -487,16 +477,12 @@ static ddof_status add_hidden_parts(ddof_context *context, find_job *job, size_t
 }
 
 ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, float threshold,
-                                 int coc_signed, const highlight_aperture *aperture,
-                                 highlight_owner owner, float *base, highlight_set *set)
+                                 int coc_signed, const double *sums, highlight_owner owner,
+                                 float *base, highlight_set *set)
 {
     memset(set, 0, sizeof *set);
     set->threshold = threshold;
-    const int image = aperture && aperture->image;
-    const double *sums = image ? aperture_sums(context, aperture) : NULL;
-    if (image && !sums)
-        return ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
-                         "could not allocate the aperture image's table");
+    const int image = sums != NULL;
     const uint32_t chunks = ddof_row_chunks(r->height);
     class_count *counts = ddof_scratch_get(context, DDOF_SCRATCH_HIGHLIGHT_COUNTS,
                                            chunks * (sizeof *counts + sizeof(uint32_t)));
@@ -518,22 +504,13 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
             count[k] += counts[c].count[k];
         }
     const double budget = DDOF_HIGHLIGHT_BUDGET * (double)r->width * r->height;
-    double kept_cost = 0.0;
-    uint64_t kept = 0;
-    int first = CLASSES;
-    while (first > 0 && kept_cost + cost[first - 1] <= budget) {
-        first--;
-        kept_cost += cost[first];
-        kept += count[first];
-    }
+    const ddof_highlight_choice choice = ddof_highlight_choose(count, cost, budget, threshold);
+    double kept_cost = choice.kept_cost;
+    uint64_t kept = choice.kept;
+    const int first = (int)choice.first;
     if (kept == 0) {
-        /* None fits: say so when there were some (the threshold is then that of the
-         * brightest class, which alone is over the budget). */
-        for (int k = CLASSES - 1; k >= 0 && !set->over_budget; k--)
-            if (count[k]) {
-                set->over_budget = 1;
-                set->threshold = threshold * exp2f((float)k / CLASSES_PER_OCTAVE);
-            }
+        set->over_budget = choice.over_budget;
+        set->threshold = choice.threshold;
         return DDOF_OK;
     }
     job.first_class = (uint32_t)first;
@@ -559,8 +536,7 @@ ddof_status ddof_find_highlights(ddof_context *context, const adi_request *r, fl
         if (status != DDOF_OK)
             return status;
     }
-    *set = (highlight_set){items, (uint32_t)kept,
-                           threshold * exp2f((float)first / CLASSES_PER_OCTAVE),
+    *set = (highlight_set){items, (uint32_t)kept, choice.threshold,
                            (uint64_t)kept_cost, 0, (float *)(items + 2 * kept),
                            (uint32_t *)((float *)(items + 2 * kept) + kept), sums, hidden};
     return DDOF_OK;

@@ -1,13 +1,13 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_layers.c - the seam's run_layers: ../layers.c's pipeline with every step on the device.
- * The colour, the CoC, the foreground element, an object matte and the highlights' list go up
- * in one mapped write (FRAME, in the caller's layouts), the result comes back in one mapped
+ * The colour, the CoC, the foreground element, an object matte and the highlights' aperture go
+ * up in one mapped write (FRAME, in the caller's layouts), the result comes back in one mapped
  * read (OUT), and in between each step is the CPU's: the per-pixel steps are layers.comp, the
  * cone dilation cone_dilate.comp, the diffusions gl_resident.c's on the device's maps, the
- * highlights' take-out and discs, the silhouettes' clean and split and the far field (its
- * gather of the element too) the passes' GL code (gl_passes.h), in the CPU's order and on the
- * CPU's areas (the crops are offsets into the maps), so that the device's frame differs from
- * the CPU's only by float rounding. */
+ * highlights' find, take-out and discs, the silhouettes' clean and split and the far field
+ * (its gather of the element too) the passes' GL code (gl_passes.h), in the CPU's order and on
+ * the CPU's areas (the crops are offsets into the maps), so that the device's frame differs
+ * from the CPU's only by float rounding. */
 #include "gl_layers.h"
 
 #include "gl_passes.h"
@@ -27,11 +27,9 @@ enum {
     IN_FG,
     IN_FG_COC,
     IN_MATTE,
-    IN_HL_ITEMS, /* the highlights, sorted into their classes (gl_highlights_prepare) */
-    IN_HL_SHAPE, /* the aperture they are drawn with                               */
-    IN_HL_SUMS,  /* an aperture image's table                                      */
-    IN_FG_HL_ITEMS, /* the element's own highlights, their aperture and its table   */
-    IN_FG_HL_SHAPE,
+    IN_HL_SHAPE, /* the aperture the highlights are drawn with */
+    IN_HL_SUMS,  /* an aperture image's table                  */
+    IN_FG_HL_SHAPE, /* the element's own highlights' aperture and its table */
     IN_FG_HL_SUMS,
     IN_COUNT
 };
@@ -42,8 +40,7 @@ typedef struct frame {
     uint32_t w, h, c;
     uint64_t at[IN_COUNT], bytes[IN_COUNT]; /* each image's section of FRAME */
     adi_layers_report *report;
-    gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]; /* the highlights' classes       */
-    gl_highlight_class fg_classes[GL_HIGHLIGHT_CLASSES]; /* the element's own          */
+    gl_found lights, fg_lights;         /* the highlights found, the element's own      */
     gl_silhouettes_request silhouettes; /* the passes' requests, on the upload's sections */
     gl_highlights_request highlights;
     uint32_t stage, stages;            /* progress: the diffusion running, of how many */
@@ -76,7 +73,7 @@ static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride
 static gl_image_ref passes_color(const frame *f)
 {
     const adi_request *r = &f->q->base;
-    if (f->q->highlights.count)
+    if (f->lights.count)
         return (gl_image_ref){f->device->buffers.name[GL_BUF_HL_BASE], 0, f->w * f->c, f->c, 0,
                               0};
     return input(f, IN_COLOR, 0, r->color_stride, f->c);
@@ -99,16 +96,15 @@ static GLuint need(frame *f, gl_buffer_slot s, uint64_t floats)
     return gl_need(f->device, s, floats * sizeof(float), f->message, f->size);
 }
 
-/* The floats of a highlight list's three sections: the items, the aperture's shape and its
- * image's table (none without highlights). */
-static void highlight_sections(const adi_highlights *h, uint64_t floats[3])
+/* The floats of a highlight pass's two sections: the aperture's shape and its image's table
+ * (none without the pass). */
+static void highlight_sections(const adi_highlights *h, uint64_t floats[2])
 {
-    if (!h->count)
+    if (!h->find)
         return;
-    floats[0] = (uint64_t)h->count * sizeof(adi_highlight) / sizeof(float);
-    floats[1] = sizeof(ddof_highlight_shape) / sizeof(float);
+    floats[0] = sizeof(ddof_highlight_shape) / sizeof(float);
     if (h->image_sums)
-        floats[2] = (uint64_t)(h->image_width + 1) * (h->image_height + 1) *
+        floats[1] = (uint64_t)(h->image_width + 1) * (h->image_height + 1) *
                     (sizeof(double) / sizeof(float));
 }
 
@@ -122,13 +118,12 @@ static int upload(frame *f)
     const adi_highlights *hl = &q->highlights;
     const adi_highlights *fg_hl = &q->fg_highlights;
     const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc, q->matte,
-                                    NULL, NULL, hl->image_sums, NULL, NULL,
-                                    fg_hl->image_sums};
+                                    NULL, hl->image_sums, NULL, fg_hl->image_sums};
     uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
                                  span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
-    highlight_sections(hl, floats + IN_HL_ITEMS);
+    highlight_sections(hl, floats + IN_HL_SHAPE);
     if (q->fg_color)
-        highlight_sections(fg_hl, floats + IN_FG_HL_ITEMS);
+        highlight_sections(fg_hl, floats + IN_FG_HL_SHAPE);
     if (q->silhouettes && q->matte && q->matte_ranks)
         floats[IN_MATTE] = span_floats(f->w, f->h, q->matte_stride, 2 * q->matte_ranks,
                                        2 * q->matte_ranks);
@@ -169,18 +164,13 @@ static int upload(frame *f)
     for (int i = 0; i < IN_COUNT; i++)
         if (f->bytes[i] && source[i])
             memcpy(mapped + f->at[i], source[i], f->bytes[i]);
-    /* The lists sorted straight into their sections. */
-    if (f->bytes[IN_HL_ITEMS])
-        gl_highlights_prepare(hl, r->pixel_aspect, f->w, f->h,
-                              (adi_highlight *)(void *)(mapped + f->at[IN_HL_ITEMS]),
-                              (ddof_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]),
-                              f->classes);
-    if (f->bytes[IN_FG_HL_ITEMS])
-        gl_highlights_prepare(fg_hl, r->pixel_aspect, q->fg_area.x1 - q->fg_area.x0,
-                              q->fg_area.y1 - q->fg_area.y0,
-                              (adi_highlight *)(void *)(mapped + f->at[IN_FG_HL_ITEMS]),
-                              (ddof_highlight_shape *)(void *)(mapped + f->at[IN_FG_HL_SHAPE]),
-                              f->fg_classes);
+    /* The apertures' shapes (the lists are found on the device). */
+    if (f->bytes[IN_HL_SHAPE])
+        *(ddof_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]) =
+            gl_highlight_shape(hl, r->pixel_aspect);
+    if (f->bytes[IN_FG_HL_SHAPE])
+        *(ddof_highlight_shape *)(void *)(mapped + f->at[IN_FG_HL_SHAPE]) =
+            gl_highlight_shape(fg_hl, r->pixel_aspect);
     if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
         snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
         return 0;
@@ -483,8 +473,8 @@ static gl_highlights_request element_lights(const frame *f, adi_box area)
     gl_highlights_request h = {
         .width = aw, .height = area.y1 - area.y0, .channels = 4,
         .color = map_ref(f, GL_BUF_LAYER, aw, 4), .coc = map_ref(f, GL_BUF_MAP_C, aw, 1),
-        .items = input(f, IN_FG_HL_ITEMS, 0, 0, 0), .shape = input(f, IN_FG_HL_SHAPE, 0, 0, 0),
-        .count = f->q->fg_highlights.count, .coc_signed = 0, .classes = f->fg_classes};
+        .items = map_ref(f, GL_BUF_HL_FG_ITEMS, 0, 0), .shape = input(f, IN_FG_HL_SHAPE, 0, 0, 0),
+        .count = f->fg_lights.count, .coc_signed = 0, .classes = f->fg_lights.classes};
     if (f->bytes[IN_FG_HL_SUMS])
         h.sums = input(f, IN_FG_HL_SUMS, 0, 0, 0);
     return h;
@@ -499,7 +489,7 @@ static ddof_status foreground(frame *f)
     const adi_box area = q->fg_area;
     const uint32_t aw = area.x1 - area.x0;
     const uint64_t pixels = (uint64_t)aw * (area.y1 - area.y0);
-    const int lights = q->fg_highlights.count > 0;
+    const int lights = f->fg_lights.count > 0;
     if (!need(f, GL_BUF_LAYER, pixels * 4) || !need(f, GL_BUF_MAP_B, pixels) ||
         !need(f, GL_BUF_MAP_C, pixels) || (lights && !need(f, GL_BUF_FG_BASE, pixels * 4)))
         return DDOF_ERROR_BACKEND_FAILED;
@@ -574,11 +564,55 @@ static void describe_passes(frame *f)
     f->highlights = (gl_highlights_request){
         .width = f->w, .height = f->h, .channels = f->c,
         .color = input(f, IN_COLOR, 0, r->color_stride, f->c), .coc = coc,
-        .items = input(f, IN_HL_ITEMS, 0, 0, 0), .shape = input(f, IN_HL_SHAPE, 0, 0, 0),
-        .count = q->highlights.count, .coc_signed = q->highlights.coc_signed,
-        .classes = f->classes};
+        .items = map_ref(f, GL_BUF_HL_ITEMS, 0, 0), .shape = input(f, IN_HL_SHAPE, 0, 0, 0),
+        .count = f->lights.count, .coc_signed = q->highlights.coc_signed,
+        .classes = f->lights.classes};
     if (f->bytes[IN_HL_SUMS])
         f->highlights.sums = input(f, IN_HL_SUMS, 0, 0, 0);
+}
+
+/* The run's first stage: the highlights found on the device, the frame's in the uploaded
+ * colour and the element's own in its area (gl_highlights_find.c); the host reads counts. */
+static int find_highlights(frame *f)
+{
+    const adi_layers_request *q = f->q;
+    const adi_request *r = &q->base;
+    const double t0 = gl_seconds();
+    if (q->highlights.find) {
+        const gl_find_request find = {
+            .width = f->w, .height = f->h,
+            .color = input(f, IN_COLOR, 0, r->color_stride, f->c),
+            .coc = input(f, IN_COC, 0, r->coc_stride, r->coc_channels), .owner = 1,
+            .coc_signed = q->highlights.coc_signed, .area = q->highlights.image_sums != NULL,
+            .threshold = q->highlights.threshold, .aspect = r->pixel_aspect,
+            .sorted = GL_BUF_HL_ITEMS};
+        if (!gl_find_highlights(f->device, &find, &f->lights, f->message, f->size))
+            return 0;
+        adi_layers_report *report = f->report;
+        report->highlights_count = f->lights.count;
+        report->highlights_hidden = f->lights.hidden;
+        report->highlights_over_budget = f->lights.over_budget;
+        report->highlights_threshold = f->lights.threshold;
+        report->highlights_cost = f->lights.cost;
+    }
+    if (q->fg_color && q->fg_highlights.find) {
+        const adi_box a = q->fg_area;
+        const gl_find_request find = {
+            .width = a.x1 - a.x0, .height = a.y1 - a.y0,
+            .color = input(f, IN_FG, (uint32_t)(a.y0 * q->fg_color_stride + a.x0 * 4),
+                           q->fg_color_stride, 4),
+            .coc = input(f, IN_FG_COC,
+                         (uint32_t)(a.y0 * q->fg_coc_stride + a.x0 * q->fg_coc_channels),
+                         q->fg_coc_stride, q->fg_coc_channels),
+            .owner = q->fg_premultiplied ? 0u : 2u, .coc_signed = 0,
+            .area = q->fg_highlights.image_sums != NULL,
+            .threshold = q->fg_highlights.threshold, .aspect = r->pixel_aspect,
+            .sorted = GL_BUF_HL_FG_ITEMS};
+        if (!gl_find_highlights(f->device, &find, &f->fg_lights, f->message, f->size))
+            return 0;
+    }
+    f->report->seconds_highlights += gl_seconds() - t0;
+    return 1;
 }
 
 /* The colour the passes read, with the highlights' excess taken out (HL_BASE), then the
@@ -588,13 +622,13 @@ static int take_out(frame *f)
 {
     const adi_layers_request *q = f->q;
     const uint64_t floats = (uint64_t)f->w * f->h * f->c;
-    const GLuint base = q->highlights.count ? need(f, GL_BUF_HL_BASE, floats) : 1;
+    const GLuint base = f->lights.count ? need(f, GL_BUF_HL_BASE, floats) : 1;
     const GLuint cleaned = q->silhouettes ? need(f, GL_BUF_SIL_CLEAN, floats) : 1;
     if (!base || !cleaned)
         return 0;
     describe_passes(f);
     double t0 = gl_seconds();
-    if (q->highlights.count &&
+    if (f->lights.count &&
         !gl_take_out_highlights(f->device, &f->highlights, base, f->message, f->size))
         return 0;
     f->report->seconds_highlights += gl_seconds() - t0;
@@ -622,7 +656,7 @@ static int draw_highlights(frame *f)
 static ddof_status split_and_draw(frame *f)
 {
     const adi_layers_request *q = f->q;
-    const int discs_first = q->highlights.count && f->bytes[IN_MATTE];
+    const int discs_first = f->lights.count && f->bytes[IN_MATTE];
     if (discs_first && !draw_highlights(f))
         return DDOF_ERROR_BACKEND_FAILED;
     if (q->silhouettes) {
@@ -633,7 +667,7 @@ static ddof_status split_and_draw(frame *f)
             return DDOF_ERROR_BACKEND_FAILED;
         f->report->seconds_silhouettes += gl_seconds() - t0;
     }
-    if (q->highlights.count && !discs_first && !draw_highlights(f))
+    if (f->lights.count && !discs_first && !draw_highlights(f))
         return DDOF_ERROR_BACKEND_FAILED;
     return DDOF_OK;
 }
@@ -671,7 +705,7 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
         !need(&f, GL_BUF_OUT, (uint64_t)f.w * f.h * f.c))
         return DDOF_ERROR_BACKEND_FAILED;
     ddof_status status = DDOF_OK;
-    if (!take_out(&f))
+    if (!find_highlights(&f) || !take_out(&f))
         return DDOF_ERROR_BACKEND_FAILED;
     double t0 = gl_seconds();
     if (q->near_spread && !near_spread(&f))

@@ -1,16 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /* gl_highlights.c - the highlight pass's take-out and drawing on the device (gl_passes.h):
  * ../highlights_find.c's base and ../highlights_draw.c's scatter, each a highlights.comp
- * program. The list of highlights (found on the host) is sorted into its size classes here,
- * into the frame's upload, with the aperture's shape; per class the device counts where its
- * light lands, weighs each highlight, draws its rows' differences and sums them into the
- * result, as the CPU does, so the host reads nothing back. */
+ * program, over the list gl_highlights_find.c found and sorted into its size classes on the
+ * device; per class the device counts where its light lands, weighs each highlight, draws its
+ * rows' differences and sums them into the result, as the CPU does, so the host reads nothing
+ * back. */
 #include "gl_passes.h"
 
-#include <limits.h>
 #include <math.h>
 #include <stdio.h>
-#include <string.h>
 
 /* Steps of a line one invocation runs per dispatch (llvmpipe's loop limit), and the loop
  * steps a highlight's row may cost in the scatter beyond its rim pixels. */
@@ -19,52 +17,12 @@
 #define ROW_COST 64u
 #define WEIGH_ROWS 32u
 
-static float radius_of(const adi_highlight *h)
+ddof_highlight_shape gl_highlight_shape(const adi_highlights *h, float aspect)
 {
-    return 0.5f * fabsf(h->coc);
-}
-
-void gl_highlights_prepare(const adi_highlights *h, float aspect, uint32_t width,
-                           uint32_t height, adi_highlight *items, ddof_highlight_shape *shape,
-                           gl_highlight_class classes[GL_HIGHLIGHT_CLASSES])
-{
-    *shape = ddof_highlight_shape_of(h->blades, h->rotation_rad, h->catseye, h->centre_x,
-                                     h->centre_y, h->half_width, h->half_height,
-                                     h->image_sums != NULL, h->image_width, h->image_height,
-                                     aspect);
-    /* highlights_draw.c's counting sort: by class, row order kept within each. */
-    uint32_t start[GL_HIGHLIGHT_CLASSES + 1] = {0};
-    for (uint32_t i = 0; i < h->count; i++)
-        start[ddof_highlight_size_class(h->items[i].coc, (int)h->coc_signed) + 1]++;
-    for (int k = 0; k < GL_HIGHLIGHT_CLASSES; k++)
-        start[k + 1] += start[k];
-    uint32_t at[GL_HIGHLIGHT_CLASSES];
-    memcpy(at, start, sizeof at);
-    for (uint32_t i = 0; i < h->count; i++)
-        items[at[ddof_highlight_size_class(h->items[i].coc, (int)h->coc_signed)]++] =
-            h->items[i];
-    for (int k = 0; k < GL_HIGHLIGHT_CLASSES; k++) {
-        gl_highlight_class *c = &classes[k];
-        *c = (gl_highlight_class){.first = start[k], .count = start[k + 1] - start[k],
-                                  .threshold = ddof_highlight_landing_threshold(k),
-                                  .bx0 = INT_MAX, .by0 = INT_MAX, .bx1 = INT_MIN,
-                                  .by1 = INT_MIN};
-        for (uint32_t i = c->first; i < c->first + c->count; i++) {
-            const adi_highlight *it = &items[i];
-            const int reach = ddof_highlight_half_height(radius_of(it), aspect);
-            const int reach_x = ddof_highlight_reach_x(radius_of(it));
-            c->reach_rows = reach > c->reach_rows ? reach : c->reach_rows;
-            c->reach_x = reach_x > c->reach_x ? reach_x : c->reach_x;
-            c->bx0 = (int)it->x - reach_x < c->bx0 ? (int)it->x - reach_x : c->bx0;
-            c->bx1 = (int)it->x + reach_x + 1 > c->bx1 ? (int)it->x + reach_x + 1 : c->bx1;
-            c->by0 = (int)it->y - reach < c->by0 ? (int)it->y - reach : c->by0;
-            c->by1 = (int)it->y + reach + 1 > c->by1 ? (int)it->y + reach + 1 : c->by1;
-        }
-        c->bx0 = c->bx0 < 0 ? 0 : c->bx0;
-        c->by0 = c->by0 < 0 ? 0 : c->by0;
-        c->bx1 = c->bx1 > (int)width ? (int)width : c->bx1;
-        c->by1 = c->by1 > (int)height ? (int)height : c->by1;
-    }
+    return ddof_highlight_shape_of(h->blades, h->rotation_rad, h->catseye, h->centre_x,
+                                   h->centre_y, h->half_width, h->half_height,
+                                   h->image_sums != NULL, h->image_width, h->image_height,
+                                   aspect);
 }
 
 /* A highlights.comp step with its bindings and the uniforms every step shares; 0 on failure. */

@@ -73,18 +73,42 @@ typedef struct gl_highlight_class {
 
 #define GL_HIGHLIGHT_CLASSES (DDOF_HIGHLIGHT_SIZE_CLASSES + 1)
 
-/* The highlights sorted into their classes (row order kept) into `items` (h->count of them),
- * the aperture for pixel aspect `aspect` into `shape`, and the classes' table. */
-void gl_highlights_prepare(const adi_highlights *h, float aspect, uint32_t width,
-                           uint32_t height, adi_highlight *items, ddof_highlight_shape *shape,
-                           gl_highlight_class classes[GL_HIGHLIGHT_CLASSES]);
+/* The aperture the highlights are drawn with, for pixel aspect `aspect`. */
+ddof_highlight_shape gl_highlight_shape(const adi_highlights *h, float aspect);
 
-/* A frame's highlights on the device: the upload's sections and what prepare made. */
+/* Finding a frame's or an element's highlights on the device (gl_highlights_find.c,
+ * ../highlights_find.c's rules). */
+typedef struct gl_find_request {
+    uint32_t width, height;
+    gl_image_ref color;  /* its colour: stride floats a row, step (3 or 4) a pixel          */
+    gl_image_ref coc;    /* its CoC: stride floats a row, step a pixel                      */
+    uint32_t owner;      /* highlights.h's highlight_owner: 1 the frame (the hidden parts
+                          * too), 0 an element premultiplied, 2 an element straight          */
+    uint32_t coc_signed, area; /* area: an aperture image (a highlight costs its area)     */
+    float threshold, aspect;
+    gl_buffer_slot sorted; /* where the items go, by size class                           */
+} gl_find_request;
+
+/* What it found (highlights.h's highlight_set's figures) and the classes' table. */
+typedef struct gl_found {
+    uint32_t count, hidden, over_budget;
+    float threshold;
+    uint64_t cost;
+    gl_highlight_class classes[GL_HIGHLIGHT_CLASSES];
+} gl_found;
+
+/* Finds them: the host reads only counts (the classes' totals, which the budget chooses from
+ * on the host with the CPU's rule; the entries and the parts kept; the classes' table). 0 with
+ * a sentence in message on failure. */
+int gl_find_highlights(ddof_device *device, const gl_find_request *q, gl_found *found,
+                       char *message, size_t message_size);
+
+/* A frame's highlights on the device: the upload's sections and what the find made. */
 typedef struct gl_highlights_request {
     uint32_t width, height, channels;
     gl_image_ref color;  /* the colour they come out of: stride floats a row, channels a pixel */
     gl_image_ref coc;    /* the frame's CoC: stride floats a row, step a pixel                */
-    gl_image_ref items;  /* the sorted highlights                                              */
+    gl_image_ref items;  /* the highlights by size class (gl_find_highlights)                  */
     gl_image_ref shape;  /* the ddof_highlight_shape                                           */
     gl_image_ref sums;   /* the aperture image's table (doubles); buffer 0: none              */
     uint32_t count, coc_signed;
