@@ -2,9 +2,9 @@
 /* test_planner_device.c - where a planned frame's layers run (ddof_plan_layers_device): on the
  * context's backend whenever it takes the frame, else on the CPU's table; the foreground
  * element composited inside that run, on either, unless it carries part of the frame's alpha
- * (the far field, its gather of the element, the silhouettes and the frame's and the
- * element's own highlights are stages of the run, before the element); else after the
- * passes. The plan says which and why where the context has a device. The whole frames behind each case are
+ * (the far field, its gather of the element, the silhouettes and the frame's and the element's
+ * own highlights are stages of the run, before the element); else after the passes. The plan
+ * says which and why where the context has a device. The whole frames behind each case are
  * tests/gl/test_gl_frame.c's. */
 #include "planner/planner.h"
 #include "test_util.h"

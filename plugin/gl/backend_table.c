@@ -1,6 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* backend_table.c - the plugin's one exported symbol: the table libddof/src/backends/backend.c loads
- * (open, close, describe, supports, run, supports_disc, run_layers, supports_cards,
+/* backend_table.c - the plugin's one exported symbol: the table libddof/src/backends/backend.c
+ * loads (open, close, describe, supports, run, supports_disc, run_layers, supports_cards,
  * render_cards), and run() itself: upload, ADI (heat or disc kernel), read back, with the
  * device's context current only for the call; run_layers and render_cards the same bracket
  * around gl_layers.c and gl_cards.c. */

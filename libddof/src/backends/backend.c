@@ -85,7 +85,8 @@ static void *load_plugin(const char *plugin_path, const ddof_backend_table **tab
     void *symbol = dlsym(handle, DDOF_BACKEND_ENTRY_SYMBOL);
     memcpy(&entry, &symbol, sizeof entry); /* ISO C has no object-to-function cast */
     const ddof_backend_table *t = symbol ? entry() : NULL;
-    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size != sizeof *t || !ddof_backend_table_whole(t)) {
+    if (!t || t->abi != DDOF_BACKEND_ABI || t->table_size != sizeof *t ||
+        !ddof_backend_table_whole(t)) {
         snprintf(message, size,
                  "the GL plugin found is not built for this libddof (backend ABI %u, wanted %u)",
                  t ? t->abi : 0u, DDOF_BACKEND_ABI);

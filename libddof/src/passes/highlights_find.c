@@ -202,7 +202,8 @@ const double *ddof_aperture_sums(ddof_context *context, const highlight_aperture
     double *sums = ddof_scratch_get(context, DDOF_SCRATCH_APERTURE_SUMS,
                                     (size_t)(w + 1) * (h + 1) * sizeof *sums);
     if (!sums) {
-        ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY, "could not allocate the aperture image's table");
+        ddof_fail(context, DDOF_ERROR_OUT_OF_MEMORY,
+                  "could not allocate the aperture image's table");
         return NULL;
     }
     float peak = 0.0f;
