@@ -78,6 +78,11 @@ typedef struct adi_request {
      * cut) conducts as 0: the pixel is in focus (params.in_focus_threshold_px). A device
      * applies it as the CPU does (the GL plugin: pack.comp). */
     float in_focus_px;
+    /* 1: the caller measured `coc` (its largest |CoC|: known_max_coc) and every pixel is in
+     * focus, so the output is the input: the CPU copies it without a pass over the lines (a
+     * device may run it as any frame). 0 (what a zeroed request holds): not known. */
+    uint32_t all_in_focus;
+    float known_max_coc;
 } adi_request;
 
 /* The signed CoC of pixel (x, y) of a request: the one rule for reading `coc` (its first

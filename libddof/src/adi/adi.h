@@ -8,6 +8,11 @@
 
 #include <math.h>
 
+/* A request with nothing out of focus (largest |CoC| max_coc): its colour copied to its out,
+ * every line counted as skipped, as a run would have (in_focus_copy.c). */
+void ddof_adi_copy_in_focus(ddof_context *context, const adi_request *r, adi_report *report,
+                            float max_coc);
+
 /* The float solvers (Thomas, CR, PCR, Jacobi), multi-threaded. */
 ddof_status ddof_adi_run(ddof_context *context, const adi_request *request, adi_report *report);
 

@@ -55,6 +55,10 @@ static ddof_status cpu_run(ddof_device *device, const adi_request *request, adi_
     (void)message;
     (void)message_size;
     ddof_context *context = context_of(device);
+    if (request->all_in_focus && request->coc) {
+        ddof_adi_copy_in_focus(context, request, report, request->known_max_coc);
+        return DDOF_OK;
+    }
     if (request->solver == DDOF_SOLVER_REFERENCE_F64)
         return request->disc ? ddof_lens_reference(context, request, report)
                              : ddof_adi_reference(context, request, report);

@@ -43,7 +43,8 @@ static ddof_status diffuse(ddof_context *context, const ddof_params *params,
     ddof_status status = prepare(context, params, color, coc, out, stats, &p, &r, &max_coc);
     if (status != DDOF_OK)
         return status;
-    return ddof_run_one_diffusion(context, &r, &p, stats, t_start, ddof_seconds() - t_start);
+    return ddof_run_one_diffusion(context, &r, &p, max_coc, stats, t_start,
+                                  ddof_seconds() - t_start);
 }
 
 ddof_status ddof_diffuse(ddof_context *context, const ddof_params *params,

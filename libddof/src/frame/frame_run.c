@@ -11,7 +11,6 @@
 #include "backends/backend.h"
 #include "frame_passes.h"
 #include "passes/near_layer.h"
-#include "runtime/parallel_rows.h"
 #include "passes/preview_cod4.h"
 #include "passes/silhouettes.h"
 
@@ -96,29 +95,18 @@ static ddof_status run_preview(ddof_context *context, const adi_request *r, int 
     return DDOF_OK;
 }
 
-/* Nothing out of focus: the output is the input, on every backend (no device is involved). */
-static void copy_frame(ddof_context *context, const adi_request *r, adi_report *report,
-                       float max_coc)
-{
-    ddof_parallel_copy(context, r->color, r->color_stride, r->out, r->out_stride,
-                       (size_t)r->width * r->channels, r->height);
-    /* Every line skipped, counted as the run would have: a disc kernel per component. */
-    const uint64_t passes = r->disc ? r->disc->components : 1u;
-    *report = (adi_report){.threads = context->thread_count,
-                           .lines_skipped = ((uint64_t)r->width + r->height) * passes,
-                           .max_coc = max_coc};
-    if (r->progress)
-        r->progress(r->progress_user, 1.0f);
-}
-
 ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
-                                   const ddof_params *p, ddof_stats *stats, double t_start,
-                                   double seconds_coc)
+                                   const ddof_params *p, float max_coc, ddof_stats *stats,
+                                   double t_start, double seconds_coc)
 {
     if (p->method == DDOF_METHOD_COD4_PREVIEW)
         return run_preview(context, r, (int)p->coc_signed, stats, t_start, seconds_coc);
+    /* The backend's frame to run: the CPU copies one in focus, a device runs it as any. */
+    adi_request one = *r;
+    one.all_in_focus = (uint32_t)all_in_focus(max_coc, p);
+    one.known_max_coc = max_coc;
     adi_report report;
-    ddof_status status = ddof_run_adi(context, r, &report);
+    ddof_status status = ddof_run_adi(context, &one, &report);
     if (status != DDOF_OK)
         return status;
     ddof_stats full = stats_from(context, &report, r, t_start, seconds_coc);
@@ -281,7 +269,8 @@ ddof_status ddof_run_frame(ddof_context *context, frame_request *frame, ddof_sta
     layers_report report = {.adi = {.threads = context->thread_count,
                                     .lines_skipped = (uint64_t)r->width + r->height}};
     if (plan.copy_only) {
-        copy_frame(context, r, &report.adi, analysis.max_coc);
+        /* Nothing out of focus: the output is the input, on every backend. */
+        ddof_adi_copy_in_focus(context, r, &report.adi, analysis.max_coc);
     } else {
         q->fg.color = fg_visible ? q->fg.color : NULL;
         q->background_box = analysis.background_box;

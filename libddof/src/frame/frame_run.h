@@ -23,9 +23,9 @@ typedef struct frame_request {
 ddof_status ddof_run_frame(ddof_context *context, frame_request *frame, ddof_stats *stats);
 
 /* One diffusion of a validated request, unplanned (ddof_diffuse), on the context's backend
- * (which skips every line of a frame in focus), or the CoD4 preview. */
+ * (told when the request is in focus: max_coc, its largest |CoC|), or the CoD4 preview. */
 ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
-                                   const ddof_params *p, ddof_stats *stats, double t_start,
-                                   double seconds_coc);
+                                   const ddof_params *p, float max_coc, ddof_stats *stats,
+                                   double t_start, double seconds_coc);
 
 #endif
