@@ -120,17 +120,18 @@ static GLuint step(find_run *f, gl_program_id id, gl_buffer_slot all)
     return prog;
 }
 
-/* `steps` of a step's loop over `invocations`, `per` a dispatch. */
+/* `steps` of a step's loop over `invocations`, `per` a dispatch; at least one dispatch, whose
+ * first segment sets the step's running state even when there are no steps. */
 static void segments(const gl_functions *gl, GLuint prog, uint64_t invocations, uint32_t steps,
                      uint32_t per)
 {
-    for (uint32_t first = 0; first == 0 || first < steps; first += per) {
+    uint32_t first = 0;
+    do {
         gl_uniform_u(gl, prog, "u_seg_first", first);
         gl_uniform_u(gl, prog, "u_seg_count", steps - first < per ? steps - first : per);
         gl_dispatch(gl, invocations, 64);
-        if (steps == 0)
-            break;
-    }
+        first += per;
+    } while (first < steps);
 }
 
 /* `count` words of a buffer from word `first` (a few bytes: counts, never an image). */
