@@ -166,6 +166,7 @@ class Library:
                 fn = getattr(dll, name)
                 fn.restype, fn.argtypes = restype, argtypes
         self.has_matte = same_minor and hasattr(dll, "ddof_render_frame_with_matte")
+        self.has_last_plan = same_minor and hasattr(dll, "ddof_context_last_plan")
         self.has_focus_map = same_minor and hasattr(dll, "ddof_focus_map") and \
             hasattr(dll, "ddof_focus_map_legend")
 
@@ -534,7 +535,10 @@ class Session:
         info = self._info
         result = {name: getattr(stats, name) for name, _ in abi.Stats._fields_
                   if name not in ("struct_size", "plan")}
-        result["plan"] = stats.plan.decode("utf-8", "replace")
+        # The whole plan where the library keeps it; Stats.plan is cut at 512 bytes.
+        plan = self._dll.ddof_context_last_plan(self._ctx) if self.library.has_last_plan \
+            else stats.plan
+        result["plan"] = plan.decode("utf-8", "replace")
         result["solver_name"] = self.library.solver_name(stats.solver)
         result["effect_names"] = [name for bit, name in abi.EFFECT_NAMES if stats.effects & bit]
         result["method_name"] = {v: k for k, v in abi.METHODS.items()}.get(stats.method, "?")

@@ -337,6 +337,8 @@ EXPERIMENTAL_PROTOTYPES = {
     "ddof_focus_map_legend": (_enum, [c_ctx, ctypes.POINTER(Camera), ctypes.c_uint32,
                                       ctypes.c_uint32, ctypes.POINTER(ctypes.c_uint8),
                                       ctypes.c_size_t]),
+    # the last call's plan, whole (Stats.plan is cut at 512 bytes)
+    "ddof_context_last_plan": (ctypes.c_char_p, [c_ctx]),
 }
 
 # ddof_render_frame_with_matte: the most (id, coverage) ranks a matte may hold per pixel.

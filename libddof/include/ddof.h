@@ -1031,6 +1031,19 @@ DDOF_API ddof_status ddof_focus_map_legend(ddof_context *context, const ddof_cam
                                            uint32_t width, uint32_t height, uint8_t *rgb,
                                            size_t rgb_size);
 
+/* ------------------------------------------------------------------------------------------ */
+/* The whole plan                                                                               */
+
+/* The room a whole plan can take, its terminating 0 included. */
+#define DDOF_PLAN_MAX_BYTES 2048u
+
+/* The plan of the context's last call, whole: ddof_stats.plan's lines, none cut (a frame with
+ * every pass on and its device's line outgrows that field's 512 bytes, which then ends with
+ * "(the plan goes on)"). "" when the last call made no plan (it failed before planning, or
+ * plans nothing: ddof_diffuse, the cards); never NULL. Valid until the next call on the
+ * context. The `ddof` command's plan lines and the Blender add-on's report are this text. */
+DDOF_API const char *ddof_context_last_plan(const ddof_context *context);
+
 DDOF_ASSERT_32_BITS(ddof_backend_kind);
 DDOF_ASSERT_32_BITS(ddof_cards_expansion);
 

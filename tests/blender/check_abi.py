@@ -211,6 +211,9 @@ def main():
                         % (spread(right), spread(right_in)))
     if "midground: on" not in stats["plan"] or stats["substeps"] != 2:
         failures.append("unexpected stats %r" % stats)
+    # The plan comes whole from the context (ddof_context_last_plan), not cut at 512 bytes.
+    if not lib.has_last_plan:
+        failures.append("the binding does not read the whole plan (ddof_context_last_plan)")
     # depth_of_field(preset=...) is the preset's parameters, with params overriding them.
     final = lib.preset_params("final")
     fields = {name: getattr(final, name) for name, _ in abi.Params._fields_

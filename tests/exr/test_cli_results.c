@@ -552,6 +552,60 @@ static int case_focus_map(void)
     return test_finish("test_cli focus_map");
 }
 
+/* A frame with every pass on says more than ddof_stats.plan's 512 bytes: the command prints
+ * and writes the whole plan (ddof_context_last_plan), the passes' lines said last included. */
+static int case_whole_plan(void)
+{
+    enum { PW = 64, PH = 48 };
+    static const char *const names[4] = {"R", "G", "B", "coc"};
+    const exrio_pixel_type types[4] = {EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT, EXRIO_FLOAT};
+    static float planes[4][PW * PH];
+    const void *cplanes[4] = {planes[0], planes[1], planes[2], planes[3]};
+    const exrio_box box = test_box(0, 0, PW, PH);
+    const char *in = test_path(dir, "plan.exr"), *json = test_path(dir, "plan.json");
+    /* Two blurred backgrounds with bright points, an in-focus bar, a near disc over its end
+     * (tests/test_last_plan.c's frame). */
+    for (int y = 0; y < PH; y++)
+        for (int x = 0; x < PW; x++) {
+            const int i = y * PW + x;
+            const float dx = (float)x - 26.0f, dy = (float)y - 36.0f;
+            for (int c = 0; c < 3; c++)
+                planes[c][i] = 0.2f + 0.3f * (float)((i * (c + 5)) % 11) / 10.0f;
+            if ((x * 7 + y * 3) % 23 == 0)
+                planes[0][i] = 30.0f;
+            planes[3][i] = dx * dx + dy * dy < 64.0f          ? -20.0f
+                           : x >= 20 && x < 28 && y >= 6 && y < 42 ? 0.0f
+                           : y < PH / 2                          ? 20.0f
+                                                                 : 9.0f;
+        }
+    CHECK(test_write_exr(in, &box, NULL, 4, names, types, cplanes, EXRIO_COMPRESSION_NONE) == 0);
+    CHECK(ddof(in, "-o", test_path(dir, "plan_out.exr"), "--coc-channel", "coc", "--coc-signed",
+               "--aperture-blades", "5", "--highlights", "on", "--far-field", "on",
+               "--blurred-edges", "on", "--silhouettes", "on", "--backend", "cpu", "-v",
+               "--stats", json, NULL) == 0);
+    CHECK(out_contains("plan: highlights: on: ") && out_contains("plan: far field: on: ") &&
+          out_contains("plan: silhouettes: on: "));
+    CHECK(!out_contains("the plan goes on"));
+    char *text = test_read_file(json, NULL);
+    cJSON *root = text ? cJSON_Parse(text) : NULL;
+    const cJSON *frame = cJSON_GetArrayItem(cJSON_GetObjectItem(root, "frames"), 0);
+    const cJSON *plan = cJSON_GetObjectItem(cJSON_GetObjectItem(frame, "simulated"), "plan");
+    size_t bytes = 0;
+    int silhouettes = 0;
+    const cJSON *line;
+    cJSON_ArrayForEach(line, plan)
+    {
+        bytes += strlen(line->valuestring) + 1;
+        silhouettes |= strncmp(line->valuestring, "silhouettes: on: ", 17) == 0;
+    }
+    CHECK_MSG(bytes >= sizeof ((ddof_stats *)0)->plan && silhouettes,
+              "the stats file's plan: %zu bytes, silhouettes' line %s", bytes,
+              silhouettes ? "there" : "missing");
+    cJSON_Delete(root);
+    free(text);
+    return test_finish("test_cli whole_plan");
+}
+
 int main(int argc, char **argv)
 {
     static const cli_case cases[] = {
@@ -559,6 +613,7 @@ int main(int argc, char **argv)
         {"values", case_values},
         {"window", case_window},
         {"focus_map", case_focus_map},
+        {"whole_plan", case_whole_plan},
     };
     return cli_test_main(argc, argv, "test_cli_results", cases, sizeof cases / sizeof cases[0]);
 }

@@ -72,6 +72,14 @@ static ddof_stats stats_from(const ddof_context *context, const adi_report *repo
 
 /* ---- running ------------------------------------------------------------------------------ */
 
+/* The plan into the stats, cut to their room, and whole into the context
+ * (ddof_context_last_plan). */
+static void keep_plan(ddof_context *context, const frame_plan *plan, ddof_stats *full)
+{
+    ddof_plan_copy_text(plan, full->plan, sizeof full->plan);
+    ddof_plan_copy_text(plan, context->last_plan, sizeof context->last_plan);
+}
+
 /* The CoD4 preview instead of the diffusion. */
 static ddof_status run_preview(ddof_context *context, const adi_request *r, int coc_signed,
                                ddof_stats *stats, double t_start, double seconds_coc)
@@ -88,9 +96,10 @@ static ddof_status run_preview(ddof_context *context, const adi_request *r, int 
     full.effects = 0;
     frame_plan plan = {0};
     ddof_plan_say(&plan, "preview: the CoD4 post-process (GPU Gems 3 ch. 28)");
-    ddof_plan_copy_text(&plan, full.plan, sizeof full.plan);
+    keep_plan(context, &plan, &full);
     /* The preview's plan is its one line, unterminated. */
     full.plan[strcspn(full.plan, "\n")] = '\0';
+    context->last_plan[strcspn(context->last_plan, "\n")] = '\0';
     write_stats(stats, &full);
     return DDOF_OK;
 }
@@ -292,7 +301,7 @@ ddof_status ddof_run_frame(ddof_context *context, frame_request *frame, ddof_sta
     full.seconds_silhouettes = report.seconds_silhouettes;
     if (plan.near_layer)
         full.effects |= DDOF_EFFECT_NEAR_LAYER;
-    ddof_plan_copy_text(&plan, full.plan, sizeof full.plan);
+    keep_plan(context, &plan, &full);
     write_stats(stats, &full);
     return DDOF_OK;
 }

@@ -17,7 +17,7 @@ typedef struct coc_analysis {
     pixel_box near_box;       /* where the near-field pixels are (CoC < 0)                  */
 } coc_analysis;
 
-#define DDOF_PLAN_TEXT_SIZE 2048
+#define DDOF_PLAN_TEXT_SIZE DDOF_PLAN_MAX_BYTES /* ddof_context_last_plan holds one whole */
 
 typedef struct frame_plan {
     int copy_only;     /* nothing out of focus and no foreground: output = input       */

@@ -1,5 +1,6 @@
 /* SPDX-License-Identifier: MIT */
-/* errors.c - status strings and the context's last-error message. */
+/* errors.c - status strings, and the context's last error and last plan (each call on the
+ * context starts without them). */
 #include "internal.h"
 
 #include <stdio.h>
@@ -43,13 +44,20 @@ ddof_status ddof_fail(ddof_context *context, ddof_status status, const char *for
     return status;
 }
 
-void ddof_clear_error(ddof_context *context)
+void ddof_start_call(ddof_context *context)
 {
-    if (context)
+    if (context) {
         context->last_error[0] = '\0';
+        context->last_plan[0] = '\0';
+    }
 }
 
 const char *ddof_context_last_error(const ddof_context *context)
 {
     return context ? context->last_error : "no context";
+}
+
+const char *ddof_context_last_plan(const ddof_context *context)
+{
+    return context ? context->last_plan : "";
 }

@@ -94,6 +94,7 @@ struct ddof_context {
     uint32_t thread_count;  /* workers + the caller                                    */
     ddof_scratch scratch[DDOF_SCRATCH_COUNT];
     char last_error[256];
+    char last_plan[DDOF_PLAN_MAX_BYTES]; /* ddof_context_last_plan                        */
     atomic_int in_use;      /* 1 while a call runs on the context (ddof_context_enter)     */
 };
 
@@ -105,15 +106,15 @@ void ddof_context_leave(ddof_context *context);
 
 /* The body of a public call that takes a context, made exclusive: NULL is
  * DDOF_ERROR_NULL_POINTER, a context in use DDOF_ERROR_CONTEXT_BUSY (its last error left to
- * the call running on it). A call that enters starts with no last error, so that the message
- * a caller reads is always its own call's. */
+ * the call running on it). A call that enters starts with no last error and no plan, so that
+ * the message and the plan a caller reads are always its own call's. */
 #define DDOF_EXCLUSIVE_CALL(context, call)                                                      \
     do {                                                                                        \
         if (!(context))                                                                         \
             return DDOF_ERROR_NULL_POINTER;                                                     \
         if (!ddof_context_enter(context))                                                       \
             return DDOF_ERROR_CONTEXT_BUSY;                                                     \
-        ddof_clear_error(context);                                                              \
+        ddof_start_call(context);                                                               \
         const ddof_status exclusive_status_ = (call);                                           \
         ddof_context_leave(context);                                                            \
         return exclusive_status_;                                                               \
@@ -126,7 +127,8 @@ void *ddof_scratch_get(ddof_context *context, int slot, size_t size);
 /* Records a message for ddof_context_last_error() and returns `status` (for `return fail(...)`). */
 ddof_status ddof_fail(ddof_context *context, ddof_status status, const char *format, ...)
     DDOF_PRINTF(3, 4);
-void ddof_clear_error(ddof_context *context);
+/* A call on the context begins: no last error, no plan (DDOF_EXCLUSIVE_CALL). */
+void ddof_start_call(ddof_context *context);
 
 /* 1 when the bytes of a caller's struct beyond the library's own size (`known`) up to its
  * struct_size are all zero (or there are none): a newer caller's fields at their defaults. */

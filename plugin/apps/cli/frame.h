@@ -53,6 +53,8 @@ typedef struct frame_result {
     char matte_name[256];         /* the object matte used ("" none), e.g. ViewLayer.CryptoObject */
     int matte_ranks;              /* its (id, coverage) ranks per pixel */
     ddof_stats stats;             /* from the library */
+    char plan[DDOF_PLAN_MAX_BYTES]; /* its plan, whole (ddof_context_last_plan; stats.plan is
+                                     * cut at 512 bytes)                                       */
     ddof_backend_info backend;    /* the context's backend: what runs, its renderer, AUTO's note */
     double seconds_read;          /* open + decode (+ depth file) */
     double seconds_coc;           /* our CoC stage when separate (curve, --write-coc) */

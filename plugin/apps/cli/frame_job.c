@@ -174,6 +174,7 @@ static int compute(ddof_context *context, const frame_setup *setup, const frame_
                                           &result->stats);
     result->seconds_dof = cli_now() - t;
     result->seconds_coc = result->stats.seconds_coc;
+    snprintf(result->plan, sizeof result->plan, "%s", ddof_context_last_plan(context));
     if (status != DDOF_OK)
         return library_failed(result, context, "depth of field", status);
     return 0;

@@ -122,10 +122,9 @@ static void report(shared_queue *q, int index)
         stats_backend_line(r, backend, sizeof backend);
         snprintf(line, sizeof line, "%s  %s\n", prefix, backend);
         progress_print(q->bar, stdout, line);
-        if (r->stats.plan[0]) {
-            char copy[sizeof r->stats.plan + 1], *plan_line, *save = NULL;
-            memcpy(copy, r->stats.plan, sizeof r->stats.plan);
-            copy[sizeof r->stats.plan] = '\0';
+        if (r->plan[0]) {
+            char copy[sizeof r->plan], *plan_line, *save = NULL;
+            memcpy(copy, r->plan, sizeof r->plan);
             for (plan_line = strtok_r(copy, "\n", &save); plan_line;
                  plan_line = strtok_r(NULL, "\n", &save)) {
                 snprintf(line, sizeof line, "%s  plan: %s\n", prefix, plan_line);

@@ -264,15 +264,14 @@ static cJSON *frame_json(const frame_paths *p, const frame_result *r)
             /* The planner's decisions, one per effect: "background: on: ...". */
             cJSON *effect_flags = cJSON_CreateObject();
             cJSON *plan = cJSON_CreateArray();
-            char copy[sizeof r->stats.plan + 1];
+            char copy[sizeof r->plan];
             char *line, *save = NULL;
             size_t k;
             for (k = 0; k < sizeof effects / sizeof effects[0]; k++)
                 cJSON_AddBoolToObject(effect_flags, effects[k].key,
                                       (r->stats.effects & effects[k].bit) != 0);
             cJSON_AddItemToObject(s, "effects", effect_flags);
-            memcpy(copy, r->stats.plan, sizeof r->stats.plan);
-            copy[sizeof r->stats.plan] = '\0';
+            memcpy(copy, r->plan, sizeof r->plan);
             for (line = strtok_r(copy, "\n", &save); line; line = strtok_r(NULL, "\n", &save))
                 cJSON_AddItemToArray(plan, cJSON_CreateString(line));
             cJSON_AddItemToObject(s, "plan", plan);
