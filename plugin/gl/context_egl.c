@@ -19,6 +19,7 @@
 #include <EGL/egl.h>
 #include <EGL/eglext.h>
 #include <GL/glcorearb.h>
+#include <stdarg.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -173,40 +174,30 @@ static gl_context *egl_create(int require_hardware, char *message, size_t size)
         snprintf(message, size, "out of memory");
         return NULL;
     }
-    if (!load_api(library, &c->egl)) {
-        snprintf(message, size, "libEGL lacks EGL 1.4 entry points");
-        free(c);
-        return NULL;
-    }
+    if (!load_api(library, &c->egl))
+        return gl_context_fail(c, message, size, "libEGL lacks EGL 1.4 entry points");
     const egl_api *egl = &c->egl;
     const char *client = egl->QueryString(EGL_NO_DISPLAY, EGL_EXTENSIONS);
     int devices = 0;
     int found = has_extension(client, "EGL_EXT_device_enumeration") &&
                 pick_hardware(egl, &c->display, &c->context, &devices);
-    if (!found && require_hardware) {
-        snprintf(message, size, "EGL found no GPU (%d device%s, all software)", devices,
-                 devices == 1 ? "" : "s");
-        free(c);
-        return NULL;
-    }
+    if (!found && require_hardware)
+        return gl_context_fail(c, message, size, "EGL found no GPU (%d device%s, all software)",
+                               devices, devices == 1 ? "" : "s");
     if (!found) {
         if (!has_extension(client, "EGL_MESA_platform_surfaceless") ||
-            !egl->GetPlatformDisplayEXT) {
-            snprintf(message, size, "EGL has neither a GPU device nor Mesa's surfaceless "
-                                    "platform");
-            free(c);
-            return NULL;
-        }
+            !egl->GetPlatformDisplayEXT)
+            return gl_context_fail(c, message, size,
+                                   "EGL has neither a GPU device nor Mesa's surfaceless "
+                                   "platform");
         c->display = egl->GetPlatformDisplayEXT(EGL_PLATFORM_SURFACELESS_MESA,
                                                 EGL_DEFAULT_DISPLAY, NULL);
         c->context = c->display != EGL_NO_DISPLAY ? core_context(egl, c->display)
                                                   : EGL_NO_CONTEXT;
-        if (c->context == EGL_NO_CONTEXT) {
-            snprintf(message, size, "EGL (surfaceless) could not create a GL 4.5 core "
-                                    "context (EGL error 0x%x)", (unsigned)egl->GetError());
-            free(c);
-            return NULL;
-        }
+        if (c->context == EGL_NO_CONTEXT)
+            return gl_context_fail(c, message, size,
+                                   "EGL (surfaceless) could not create a GL 4.5 core context "
+                                   "(EGL error 0x%x)", (unsigned)egl->GetError());
     }
     c->base.ops = &gl_context_egl;
     return &c->base;
@@ -258,6 +249,17 @@ static void egl_destroy(gl_context *context)
 
 const gl_context_ops gl_context_egl = {"egl", egl_create, egl_make_current, egl_release,
                                        egl_get_proc, egl_destroy};
+
+gl_context *gl_context_fail(void *partial, char *message, size_t message_size,
+                            const char *format, ...)
+{
+    va_list args;
+    va_start(args, format);
+    vsnprintf(message, message_size, format, args);
+    va_end(args);
+    free(partial);
+    return NULL;
+}
 
 int gl_renderer_is_software(const char *renderer)
 {

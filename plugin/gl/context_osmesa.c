@@ -43,12 +43,10 @@ static gl_context *osmesa_create(int require_hardware, char *message, size_t siz
     c->make_current = (osmesa_make_current_fn)gl_library_symbol(library, "OSMesaMakeCurrent");
     c->destroy = (osmesa_destroy_fn)gl_library_symbol(library, "OSMesaDestroyContext");
     c->get_proc = (osmesa_get_proc_fn)gl_library_symbol(library, "OSMesaGetProcAddress");
-    if (!create || !c->make_current || !c->destroy || !c->get_proc) {
-        snprintf(message, size, "libOSMesa lacks OSMesaCreateContextAttribs (Mesa 11.2 or "
-                                "later is needed for a core profile)");
-        free(c);
-        return NULL;
-    }
+    if (!create || !c->make_current || !c->destroy || !c->get_proc)
+        return gl_context_fail(c, message, size,
+                               "libOSMesa lacks OSMesaCreateContextAttribs (Mesa 11.2 or later "
+                               "is needed for a core profile)");
     const int attribs[] = {OSMESA_FORMAT, OSMESA_RGBA,
                            OSMESA_DEPTH_BITS, 0,
                            OSMESA_STENCIL_BITS, 0,
@@ -58,11 +56,8 @@ static gl_context *osmesa_create(int require_hardware, char *message, size_t siz
                            OSMESA_CONTEXT_MINOR_VERSION, 5,
                            0};
     c->context = create(attribs, NULL);
-    if (!c->context) {
-        snprintf(message, size, "OSMesa could not create a GL 4.5 core context");
-        free(c);
-        return NULL;
-    }
+    if (!c->context)
+        return gl_context_fail(c, message, size, "OSMesa could not create a GL 4.5 core context");
     c->base.ops = &gl_context_osmesa;
     return &c->base;
 }

@@ -36,6 +36,18 @@ extern const gl_context_ops gl_context_egl;
 extern const gl_context_ops gl_context_osmesa;
 extern const gl_context_ops gl_context_host;
 
+#if defined(__GNUC__)
+#  define GL_CONTEXT_PRINTF __attribute__((format(printf, 4, 5)))
+#else
+#  define GL_CONTEXT_PRINTF
+#endif
+
+/* A create that failed half way: frees `partial` (the backend's context, calloc()ed, nothing
+ * in it to release yet), writes the sentence to message and returns NULL for create to return.
+ */
+gl_context *gl_context_fail(void *partial, char *message, size_t message_size,
+                            const char *format, ...) GL_CONTEXT_PRINTF;
+
 /* Whether a GL_RENDERER string names a software rasteriser (llvmpipe, softpipe, swrast). */
 int gl_renderer_is_software(const char *renderer);
 

@@ -42,6 +42,15 @@ static int inspect(ddof_device *d, char *message, size_t size)
     return 1;
 }
 
+/* Destroys the device's context and frees the device: close's last step, and a failed open's
+ * once the context exists. NULL, for open to return. */
+static ddof_device *device_destroy(ddof_device *d)
+{
+    d->context->ops->destroy(d->context);
+    free(d);
+    return NULL;
+}
+
 ddof_device *gl_device_open(ddof_backend_kind kind, int require_hardware, char *message,
                             size_t size)
 {
@@ -63,18 +72,11 @@ ddof_device *gl_device_open(ddof_backend_kind kind, int require_hardware, char *
     }
     if (!ops->make_current(d->context)) {
         snprintf(message, size, "the %s context could not be made current", ops->name);
-        ops->destroy(d->context);
-        free(d);
-        return NULL;
+        return device_destroy(d);
     }
     int ok = gl_functions_load(&d->gl, d->context, message, size) && inspect(d, message, size);
     ops->release(d->context);
-    if (!ok) {
-        ops->destroy(d->context);
-        free(d);
-        return NULL;
-    }
-    return d;
+    return ok ? d : device_destroy(d);
 }
 
 void gl_device_close(ddof_device *d)
@@ -89,8 +91,7 @@ void gl_device_close(ddof_device *d)
         gl_buffers_free(&d->gl, &d->buffers);
         d->context->ops->release(d->context);
     }
-    d->context->ops->destroy(d->context);
-    free(d);
+    device_destroy(d);
 }
 
 int gl_device_begin(ddof_device *d, char *message, size_t size)

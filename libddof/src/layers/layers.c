@@ -110,6 +110,15 @@ static void use_maps(adi_request *r, const float *coc, const float *gamma)
 
 /* ---- per-pixel steps ---------------------------------------------------------------------- */
 
+/* The maps made from the CoC alone, one pass of coc_map_rows each. */
+typedef enum coc_map {
+    NEAR_COC,   /* a = the near-field CoC D0 (|CoC| where CoC < 0, else 0)                 */
+    SPREAD_COC, /* a = max(|CoC|, the dilated near CoC in a)                               */
+    INSULATORS  /* proximity = INSULATOR on in-focus pixels (|CoC| below the matte's ramp
+                 * start t0), else 0; the cone dilation of slope 1 then makes it
+                 * INSULATOR - distance                                                   */
+} coc_map;
+
 typedef struct pixel_job {
     const layers_request *q;
     float *a, *b;      /* maps (w floats a row) or colour (w * channels) */
@@ -121,23 +130,15 @@ typedef struct pixel_job {
     float *capacity;     /* background heat capacity                      */
     pixel_box blend;     /* the background is blended in here only        */
     float *proximity;    /* background: INSULATOR - distance to the nearest in-focus pixel */
+    coc_map map;         /* coc_map_rows: the one it writes                                 */
 } pixel_job;
 
-/* a = the near-field CoC D0 (|CoC| where CoC < 0, else 0). */
-static void near_map_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
-{
-    (void)chunk;
-    const pixel_job *j = user;
-    const adi_request *r = &j->q->base;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = 0; x < r->width; x++) {
-            const float c = adi_request_coc(r, x, y);
-            j->a[(size_t)y * r->width + x] = c < 0.0f ? -c : 0.0f;
-        }
-}
+/* The cone height of an in-focus pixel in the proximity map: proximity = INSULATOR - the
+ * distance to the nearest one (px), exact in float to 1/8 px, beyond any image's diagonal. */
+#define INSULATOR 1048576.0f
 
-/* a = max(|CoC|, the dilated near CoC in a). */
-static void spread_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+/* The map j->map, from each pixel's CoC. */
+static void coc_map_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const pixel_job *j = user;
@@ -145,7 +146,12 @@ static void spread_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
     for (uint32_t y = y0; y < y1; y++)
         for (uint32_t x = 0; x < r->width; x++) {
             const size_t i = (size_t)y * r->width + x;
-            j->a[i] = ddof_maxf(fabsf(adi_request_coc(r, x, y)), j->a[i]);
+            const float c = adi_request_coc(r, x, y);
+            switch (j->map) {
+            case NEAR_COC: j->a[i] = c < 0.0f ? -c : 0.0f; break;
+            case SPREAD_COC: j->a[i] = ddof_maxf(fabsf(c), j->a[i]); break;
+            case INSULATORS: j->proximity[i] = fabsf(c) < j->t0 ? INSULATOR : 0.0f; break;
+            }
         }
 }
 
@@ -167,23 +173,6 @@ static void matte_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
             j->capacity[i] = j->a[i] > 0.0f ? 1.0f : 0.0f;
             j->b[i] = fabsf(c);
         }
-}
-
-/* The cone height of an in-focus pixel in the proximity map: proximity = INSULATOR - the
- * distance to the nearest one (px), exact in float to 1/8 px, beyond any image's diagonal. */
-#define INSULATOR 1048576.0f
-
-/* proximity = INSULATOR on in-focus pixels (|CoC| below the matte's ramp start), else 0; the
- * cone dilation of slope 1 then makes it INSULATOR - distance. */
-static void insulator_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
-{
-    (void)chunk;
-    const pixel_job *j = user;
-    const adi_request *r = &j->q->base;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = 0; x < r->width; x++)
-            j->proximity[(size_t)y * r->width + x] =
-                fabsf(adi_request_coc(r, x, y)) < j->t0 ? INSULATOR : 0.0f;
 }
 
 /* How much the background may replace the midground at a pixel of CoC c whose nearest
@@ -343,12 +332,13 @@ static ddof_status near_spread(ddof_context *context, const layers_request *q, p
     float *d = scratch(context, DDOF_SCRATCH_NEAR_SPREAD, pixels, &status);
     if (status != DDOF_OK)
         return status;
-    pixel_job job = {.q = q, .a = d};
-    ddof_parallel_rows(context, r->height, near_map_rows, &job);
+    pixel_job job = {.q = q, .a = d, .map = NEAR_COC};
+    ddof_parallel_rows(context, r->height, coc_map_rows, &job);
     if (!box_is_empty(b))
         ddof_cone_dilate(d + (size_t)b.y0 * r->width + b.x0, b.x1 - b.x0, b.y1 - b.y0, r->width,
                          DDOF_NEAR_SPREAD_SLOPE);
-    ddof_parallel_rows(context, r->height, spread_rows, &job);
+    job.map = SPREAD_COC;
+    ddof_parallel_rows(context, r->height, coc_map_rows, &job);
     *spread_coc = d;
     return DDOF_OK;
 }
@@ -393,7 +383,8 @@ static ddof_status background_level(ddof_context *context, const layers_request 
     /* The filled CoC is spent: its buffer becomes the proximity map. */
     job.b = layer;
     job.proximity = filled;
-    ddof_parallel_rows(context, r->height, insulator_rows, &job);
+    job.map = INSULATORS;
+    ddof_parallel_rows(context, r->height, coc_map_rows, &job);
     ddof_cone_dilate(filled, r->width, r->height, r->width, 1.0f);
     ddof_parallel_rows(context, r->height, blend_background_rows, &job);
     return DDOF_OK;

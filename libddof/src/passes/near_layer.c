@@ -180,35 +180,30 @@ static float fetch(const split_job *j, uint32_t l, uint32_t x, uint32_t y, float
     return lv->weight[i];
 }
 
-/* Level from + 1 from level from: each pixel the weighted mean of its (up to 4) children. */
-static void pull_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+/* Pixel (x, y) of level from + 1 from level from: the weighted mean of its (up to 4)
+ * children. */
+static void pull_pixel(const split_job *j, const level *fine, const level *coarse, uint32_t x,
+                       uint32_t y)
 {
-    (void)chunk;
-    const split_job *j = user;
-    const level *fine = &j->p->levels[j->from];
-    const level *coarse = &j->p->levels[j->from + 1];
     const uint32_t n = j->p->values;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = 0; x < coarse->width; x++) {
-            float sum[MAX_VALUES] = {0}, v[MAX_VALUES];
-            float total = 0.0f;
-            for (uint32_t dy = 0; dy < 2; dy++)
-                for (uint32_t dx = 0; dx < 2; dx++) {
-                    const uint32_t fx = 2 * x + dx, fy = 2 * y + dy;
-                    if (fx >= fine->width || fy >= fine->height)
-                        continue;
-                    const float w = fetch(j, j->from, fx, fy, v);
-                    if (w <= 0.0f)
-                        continue;
-                    total += w;
-                    for (uint32_t k = 0; k < n; k++)
-                        sum[k] += w * v[k];
-                }
-            const size_t i = (size_t)y * coarse->width + x;
+    float sum[MAX_VALUES] = {0}, v[MAX_VALUES];
+    float total = 0.0f;
+    for (uint32_t dy = 0; dy < 2; dy++)
+        for (uint32_t dx = 0; dx < 2; dx++) {
+            const uint32_t fx = 2 * x + dx, fy = 2 * y + dy;
+            if (fx >= fine->width || fy >= fine->height)
+                continue;
+            const float w = fetch(j, j->from, fx, fy, v);
+            if (w <= 0.0f)
+                continue;
+            total += w;
             for (uint32_t k = 0; k < n; k++)
-                coarse->values[i * n + k] = total > 0.0f ? sum[k] / total : 0.0f;
-            coarse->weight[i] = ddof_minf(1.0f, total);
+                sum[k] += w * v[k];
         }
+    const size_t i = (size_t)y * coarse->width + x;
+    for (uint32_t k = 0; k < n; k++)
+        coarse->values[i * n + k] = total > 0.0f ? sum[k] / total : 0.0f;
+    coarse->weight[i] = ddof_minf(1.0f, total);
 }
 
 /* The coarse level's values at fine pixel (x, y), bilinearly (pixel centres aligned). */
@@ -233,27 +228,50 @@ static void upsample(const level *coarse, uint32_t n, uint32_t x, uint32_t y, fl
     }
 }
 
-/* Level `from` (>= 1) takes what its weight leaves from level from + 1; its weight becomes 1. */
+/* Pixel (x, y) of level `from` (>= 1) takes what its weight leaves from level from + 1; its
+ * weight becomes 1. */
+static void push_pixel(const split_job *j, const level *fine, const level *coarse, uint32_t x,
+                       uint32_t y)
+{
+    const uint32_t n = j->p->values;
+    const size_t i = (size_t)y * fine->width + x;
+    const float w = fine->weight[i];
+    if (w >= 1.0f)
+        return;
+    float up[MAX_VALUES];
+    upsample(coarse, n, x, y, up);
+    float *v = fine->values + i * n;
+    for (uint32_t k = 0; k < n; k++)
+        v[k] = w * v[k] + (1.0f - w) * up[k];
+    fine->weight[i] = 1.0f;
+}
+
+typedef void (*level_pixel)(const split_job *j, const level *fine, const level *coarse,
+                            uint32_t x, uint32_t y);
+
+/* Rows y0..y1 of the level a pull or a push writes (the coarse one, or the fine one), each
+ * pixel by `pixel`: the two passes between levels from and from + 1 walk them alike. */
+static void level_rows(const split_job *j, uint32_t y0, uint32_t y1, int writes_coarse,
+                       level_pixel pixel)
+{
+    const level *fine = &j->p->levels[j->from];
+    const level *coarse = &j->p->levels[j->from + 1];
+    const uint32_t width = writes_coarse ? coarse->width : fine->width;
+    for (uint32_t y = y0; y < y1; y++)
+        for (uint32_t x = 0; x < width; x++)
+            pixel(j, fine, coarse, x, y);
+}
+
+static void pull_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
+{
+    (void)chunk;
+    level_rows(user, y0, y1, 1, pull_pixel);
+}
+
 static void push_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
-    const split_job *j = user;
-    const level *fine = &j->p->levels[j->from];
-    const level *coarse = &j->p->levels[j->from + 1];
-    const uint32_t n = j->p->values;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = 0; x < fine->width; x++) {
-            const size_t i = (size_t)y * fine->width + x;
-            const float w = fine->weight[i];
-            if (w >= 1.0f)
-                continue;
-            float up[MAX_VALUES];
-            upsample(coarse, n, x, y, up);
-            float *v = fine->values + i * n;
-            for (uint32_t k = 0; k < n; k++)
-                v[k] = w * v[k] + (1.0f - w) * up[k];
-            fine->weight[i] = 1.0f;
-        }
+    level_rows(user, y0, y1, 0, push_pixel);
 }
 
 static int is_source(const split_job *j, uint32_t x, uint32_t y)

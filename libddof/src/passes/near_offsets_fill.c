@@ -88,6 +88,13 @@ static void box_line(const float *in, float *out, uint32_t n, size_t stride, uin
     }
 }
 
+/* Map m of j->box: the level's size apart, MAX_BOX_MAPS of them and as many after for the box
+ * sums' first pass. */
+static float *box_map(const offsets_job *j, uint32_t m)
+{
+    return j->box + (size_t)m * j->wl * j->hl;
+}
+
 /* Box sums of radius j->radius over the level (clipped at its edges), of the first
  * j->box_maps maps of j->box, in place: along the rows into the maps after them, then along
  * the columns back. */
@@ -95,22 +102,19 @@ static void box_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
-    const size_t n = (size_t)j->wl * j->hl;
     for (uint32_t m = 0; m < j->box_maps; m++)
         for (uint32_t y = y0; y < y1; y++)
-            box_line(j->box + m * n + (size_t)y * j->wl,
-                     j->box + (MAX_BOX_MAPS + m) * n + (size_t)y * j->wl, j->wl, 1, j->radius);
+            box_line(box_map(j, m) + (size_t)y * j->wl,
+                     box_map(j, MAX_BOX_MAPS + m) + (size_t)y * j->wl, j->wl, 1, j->radius);
 }
 
 static void box_columns(void *user, uint32_t x0, uint32_t x1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
-    const size_t n = (size_t)j->wl * j->hl;
     for (uint32_t m = 0; m < j->box_maps; m++)
         for (uint32_t x = x0; x < x1; x++)
-            box_line(j->box + (MAX_BOX_MAPS + m) * n + x, j->box + m * n + x, j->hl, j->wl,
-                     j->radius);
+            box_line(box_map(j, MAX_BOX_MAPS + m) + x, box_map(j, m) + x, j->hl, j->wl, j->radius);
 }
 
 static void box_sums(ddof_context *context, offsets_job *j, uint32_t maps, uint32_t radius)
@@ -123,12 +127,12 @@ static void box_sums(ddof_context *context, offsets_job *j, uint32_t maps, uint3
 
 /* ---- 3. scores ---------------------------------------------------------------------------- */
 
-/* Whether block (x, y) moved by the current candidate's offset lands on a known block of the
- * level, which is then *t. */
-static int lands_on_known(const offsets_job *j, uint32_t x, uint32_t y, size_t *t)
+/* Whether block b moved by the current candidate's offset lands on a known block of the level,
+ * which is then *t. */
+static int lands_on_known(const offsets_job *j, size_t b, size_t *t)
 {
     const offset d = j->level[j->current];
-    const int64_t tx = (int64_t)x + d.dx, ty = (int64_t)y + d.dy;
+    const int64_t tx = (int64_t)(b % j->wl) + d.dx, ty = (int64_t)(b / j->wl) + d.dy;
     if (tx < 0 || ty < 0 || tx >= j->wl || ty >= j->hl)
         return 0;
     *t = (size_t)ty * j->wl + (size_t)tx;
@@ -139,15 +143,12 @@ static void candidate_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
-    const size_t n = (size_t)j->wl * j->hl;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = 0; x < j->wl; x++) {
-            const size_t b = (size_t)y * j->wl + x;
-            size_t t = 0;
-            const int used = j->band[b] > 0.0f && lands_on_known(j, x, y, &t);
-            j->box[b] = used ? offsets_sq_distance3(j->mean + b * 3, j->mean + t * 3) : 0.0f;
-            j->box[n + b] = (float)used;
-        }
+    for (size_t b = (size_t)y0 * j->wl; b < (size_t)y1 * j->wl; b++) {
+        size_t t = 0;
+        const int used = j->band[b] > 0.0f && lands_on_known(j, b, &t);
+        j->box[b] = used ? offsets_sq_distance3(j->mean + b * 3, j->mean + t * 3) : 0.0f;
+        box_map(j, 1)[b] = (float)used;
+    }
 }
 
 /* Keeps the candidate among each hole block's KEPT best (its copy must land on sources). */
@@ -155,26 +156,23 @@ static void keep_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
-    const size_t n = (size_t)j->wl * j->hl;
-    for (uint32_t y = y0; y < y1; y++)
-        for (uint32_t x = 0; x < j->wl; x++) {
-            const size_t b = (size_t)y * j->wl + x;
-            size_t t;
-            if (j->hole[b] <= 0.0f || !(j->box[n + b] > MIN_BAND_SAMPLES) ||
-                !lands_on_known(j, x, y, &t))
-                continue;
-            const float cost = j->box[b] / j->box[n + b];
-            float *tc = j->top_cost + b * KEPT, *ti = j->top_index + b * KEPT;
-            if (!(cost < tc[KEPT - 1]))
-                continue; /* NaN (an overflow) included */
-            uint32_t k = KEPT - 1;
-            for (; k > 0 && cost < tc[k - 1]; k--) {
-                tc[k] = tc[k - 1];
-                ti[k] = ti[k - 1];
-            }
-            tc[k] = cost;
-            ti[k] = (float)j->current;
+    for (size_t b = (size_t)y0 * j->wl; b < (size_t)y1 * j->wl; b++) {
+        size_t t;
+        const float samples = box_map(j, 1)[b];
+        if (j->hole[b] <= 0.0f || !(samples > MIN_BAND_SAMPLES) || !lands_on_known(j, b, &t))
+            continue;
+        const float cost = j->box[b] / samples;
+        float *tc = j->top_cost + b * KEPT, *ti = j->top_index + b * KEPT;
+        if (!(cost < tc[KEPT - 1]))
+            continue; /* NaN (an overflow) included */
+        uint32_t k = KEPT - 1;
+        for (; k > 0 && cost < tc[k - 1]; k--) {
+            tc[k] = tc[k - 1];
+            ti[k] = ti[k - 1];
         }
+        tc[k] = cost;
+        ti[k] = (float)j->current;
+    }
 }
 
 /* The maps of the band's colour variance: band, band x mean, band x mean^2. */
@@ -182,14 +180,13 @@ static void variance_maps_rows(void *user, uint32_t y0, uint32_t y1, uint32_t ch
 {
     (void)chunk;
     const offsets_job *j = user;
-    const size_t n = (size_t)j->wl * j->hl;
     for (size_t b = (size_t)y0 * j->wl; b < (size_t)y1 * j->wl; b++) {
         const float w = j->band[b];
         j->box[b] = w;
         for (uint32_t k = 0; k < 3; k++) {
             const float m = j->mean[b * 3 + k];
-            j->box[(1 + k) * n + b] = w * m;
-            j->box[(4 + k) * n + b] = w * m * m;
+            box_map(j, 1 + k)[b] = w * m;
+            box_map(j, 4 + k)[b] = w * m * m;
         }
     }
 }
@@ -198,14 +195,13 @@ static void variance_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 {
     (void)chunk;
     const offsets_job *j = user;
-    const size_t n = (size_t)j->wl * j->hl;
     for (size_t b = (size_t)y0 * j->wl; b < (size_t)y1 * j->wl; b++) {
         const double count = j->box[b];
         double v = 0.0;
         if (count > MIN_BAND_SAMPLES)
             for (uint32_t k = 0; k < 3; k++) {
-                const double m = j->box[(1 + k) * n + b] / count;
-                v += j->box[(4 + k) * n + b] / count - m * m;
+                const double m = box_map(j, 1 + k)[b] / count;
+                v += box_map(j, 4 + k)[b] / count - m * m;
             }
         j->variance[b] = (float)(v > 0.0 ? v : 0.0);
         for (uint32_t k = 0; k < KEPT; k++) {
