@@ -182,11 +182,45 @@ typedef struct adi_layers_request {
                                * silhouettes' clean), drawn into the result after the split
                                * (before it, through the split's scratch, with an object
                                * matte), before the element                                   */
+    uint32_t near_resident;   /* 1: base's colour and CoC and the element are the images a
+                               * split_near left on the device (each ADI_ON_DEVICE)           */
     const float *matte;       /* the object matte's (id, coverage) pairs, matte_ranks a pixel,
                                * matte_stride floats a row; NULL: the shares from the colours  */
     size_t matte_stride;
     uint32_t matte_ranks;
 } adi_layers_request;
+
+/* ---- the near layer (libddof/src/passes/near_layer.h) ------------------------------------- */
+
+/* An image that a backend's split_near left on its device, where the layers' run that follows
+ * reads it: a mark in place of a host pointer, never to be read through (the address is none
+ * the host maps). */
+#define ADI_ON_DEVICE ((const float *)(uintptr_t)-64)
+
+/* The near field of one frame split off as a foreground element, and what it hid filled in
+ * (ddof_split_near's rules), with the analysis of the rest the layers need. */
+typedef struct adi_near_request {
+    adi_request base;          /* the frame: colour (3 or 4 channels), signed CoC; sizes     */
+    float threshold;           /* |CoC| from which a near pixel is wholly in the element      */
+    /* the rest's background edges: far CoC >= background_threshold_px beside a pixel of |CoC|
+     * below background_ramp_start_px (the planner's rule) */
+    float background_threshold_px, background_ramp_start_px;
+} adi_near_request;
+
+typedef struct adi_near_split {
+    /* The split's images (near_layer.h's near_split), w x h tightly packed: the rest's colour
+     * (the frame's channels), its signed CoC, the element's premultiplied RGBA and |CoC|, the
+     * alpha it carries (4 channels; NULL where every element pixel's alpha is 1). In the
+     * backend's host memory, or ADI_ON_DEVICE where the device keeps them for run_layers. */
+    const float *rest, *rest_coc, *element, *element_coc, *carried_alpha;
+    adi_box box;               /* where the element's alpha is above 0                         */
+    float max_coc;             /* the element's largest |CoC|                                  */
+    uint64_t element_pixels;   /* pixels with matte > 0                                        */
+    uint64_t holes;            /* pixels with matte 1 (filled in the rest)                      */
+    uint32_t filled;           /* 0: no pixel could serve as the fill's source                 */
+    adi_box rest_background_box; /* where the rest's background edges are (empty: none)        */
+    adi_box rest_near_box;     /* where the rest's CoC is negative                              */
+} adi_near_split;
 
 typedef struct adi_layers_report {
     adi_report adi;           /* summed over every diffusion (maxima for max_coc, bytes)     */
@@ -256,7 +290,7 @@ typedef struct adi_cards_request {
 /* ---- the backend's table ------------------------------------------------------------------ */
 
 /* Bump when adi_request, adi_report or this table change layout or meaning. */
-#define DDOF_BACKEND_ABI 8
+#define DDOF_BACKEND_ABI 9
 #define DDOF_BACKEND_ENTRY_SYMBOL "ddof_gl_backend_table"
 
 typedef struct ddof_device ddof_device; /* a backend's opened state, opaque to the core */
@@ -300,8 +334,8 @@ typedef struct ddof_backend_table {
     /* Whether run() takes requests with `disc` set (DDOF_SOLVER_THOMAS, float). */
     int (*supports_disc)(const ddof_device *device);
 
-    /* The whole layered frame (on a GL device: one upload of the images, one read-back of
-     * the result), with run()'s contract: the same answer as the CPU table's (the core's
+    /* The whole layered frame (on a GL device: one upload of the images, none of those a
+     * split_near left there, and one read-back of the result), with run()'s contract: the same answer as the CPU table's (the core's
      * layers.c) within float rounding, out untouched on failure unless cancelled. */
     ddof_status (*run_layers)(ddof_device *device, const adi_layers_request *request,
                               adi_layers_report *report, char *message, size_t message_size);
@@ -317,6 +351,16 @@ typedef struct ddof_backend_table {
      * as the CPU table's within float rounding; out untouched on failure. */
     ddof_status (*render_cards)(ddof_device *device, const adi_cards_request *request,
                                 char *message, size_t message_size);
+
+    /* The near layer's split of a frame whose layers this table runs next (run_layers, with
+     * near_resident where the images stay on the device), with the CPU's answer within float
+     * rounding: the same element pixels and holes, the same boxes. report: the call's device
+     * memory and transfers. DDOF_ERROR_UNSUPPORTED (with a sentence) where the element
+     * carries part of the frame's alpha, which a device's layers do not hold: the core then
+     * splits on the CPU. */
+    ddof_status (*split_near)(ddof_device *device, const adi_near_request *request,
+                              adi_near_split *split, adi_report *report, char *message,
+                              size_t message_size);
 } ddof_backend_table;
 
 /* The plugin's one exported function. */

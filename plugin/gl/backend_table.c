@@ -1,13 +1,14 @@
 /* SPDX-License-Identifier: MIT */
 /* backend_table.c - the plugin's one exported symbol: the table libddof/src/backends/backend.c
  * loads (open, close, describe, supports, run, supports_disc, run_layers, supports_cards,
- * render_cards), and run() itself: upload, ADI (heat or disc kernel), read back, with the
- * device's context current only for the call; run_layers and render_cards the same bracket
- * around gl_layers.c and gl_cards.c. */
+ * render_cards, split_near), and run() itself: upload, ADI (heat or disc kernel), read back,
+ * with the device's context current only for the call; run_layers, render_cards and
+ * split_near the same bracket around gl_layers.c, gl_cards.c and gl_near_layer.c. */
 #include "gl_adi.h"
 #include "gl_cards.h"
 #include "gl_io.h"
 #include "gl_layers.h"
+#include "gl_passes.h"
 #include "gl_solvers.h"
 
 #include <stdio.h>
@@ -176,10 +177,26 @@ static ddof_status table_render_cards(ddof_device *device, const adi_cards_reque
     return end_call(device, &none, status, &report, message, size);
 }
 
+/* The near layer's split (gl_near_layer.c), bracketed as run() is; the images stay on the
+ * device for the layers' run that follows. */
+static ddof_status table_split_near(ddof_device *device, const adi_near_request *q,
+                                    adi_near_split *split, adi_report *report, char *message,
+                                    size_t size)
+{
+    if (!begin_call(device, message, size))
+        return DDOF_ERROR_BACKEND_FAILED;
+    int declined = 0;
+    ddof_status status = gl_split_near(device, q, split, &declined, message, size)
+                             ? DDOF_OK
+                             : declined ? DDOF_ERROR_UNSUPPORTED : DDOF_ERROR_BACKEND_FAILED;
+    const adi_request none = {0}; /* its progress is the layers' run's */
+    return end_call(device, &none, status, report, message, size);
+}
+
 static const ddof_backend_table table = {
     DDOF_BACKEND_ABI, sizeof(ddof_backend_table), table_open, gl_device_close, table_describe,
     table_supports, table_run, table_supports_disc, table_run_layers, table_supports_cards,
-    table_render_cards,
+    table_render_cards, table_split_near,
 };
 
 DDOF_GL_EXPORT const ddof_backend_table *ddof_gl_backend_table(void);

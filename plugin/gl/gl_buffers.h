@@ -64,6 +64,17 @@ typedef enum gl_buffer_slot {
     GL_BUF_HLF_KEPT,    /* those the budget keeps                */
     GL_BUF_HLF_ALL,     /* both lists in row order               */
     GL_BUF_HLF_CLASSES, /* the size classes' counts and boxes    */
+    GL_BUF_NEAR_REST,   /* the near layer (gl_near_layer.c): the rest's colour, kept for */
+    GL_BUF_NEAR_REST_COC, /* the layers' run, its CoC, the element (premultiplied RGBA) */
+    GL_BUF_NEAR_ELEMENT,
+    GL_BUF_NEAR_ELEMENT_COC, /* its |CoC|                              */
+    GL_BUF_NEAR_MAPS,   /* the split's maps                      */
+    GL_BUF_NEAR_PYRAMID, /* the pull-push levels                 */
+    GL_BUF_NEAR_FACTS,  /* the split's figures and boxes         */
+    GL_BUF_NEAR_OFF_LEVEL,  /* the offset fill: its search level    */
+    GL_BUF_NEAR_OFF_BOX,    /* box sums                              */
+    GL_BUF_NEAR_OFF_SEARCH, /* the search's planes and errors        */
+    GL_BUF_NEAR_OFF_INTS,   /* counts, band samples, offsets to search */
     GL_BUF_COUNT
 } gl_buffer_slot;
 

@@ -8,6 +8,7 @@
 #include "ddof_backend_seam.h"
 #include "ddof_far_rules.h"
 #include "ddof_highlight_rules.h"
+#include "ddof_near_rules.h"
 #include "ddof_silhouette_rules.h"
 
 #include "gl_shader_sources.h"
@@ -46,6 +47,25 @@ enum { PART_LINE = 1, PART_PYRAMID = 2 };
     "#define DDOF_ROWS_PER_CHUNK " GL_STRING(DDOF_HIGHLIGHT_CHUNK_ROWS) "\n"                  \
     "#define DDOF_MAX_DIMENSION " GL_STRING(DDOF_MAX_DIMENSION) "\n"
 
+/* The near layer's (ddof_near_rules.h); the two the CPU keeps in double, as doubles. */
+#define NEAR_DEFINES                                                                         \
+    "#define DDOF_NEAR_FRINGE_CONTRAST " GL_STRING(DDOF_NEAR_FRINGE_CONTRAST) "\n"            \
+    "#define DDOF_NEAR_FRINGE_MAX_SHARE " GL_STRING(DDOF_NEAR_FRINGE_MAX_SHARE) "\n"          \
+    "#define DDOF_NEAR_END_LEVEL " GL_STRING(DDOF_NEAR_END_LEVEL) "\n"                        \
+    "#define DDOF_NEAR_MEAN_LIMIT " GL_STRING(DDOF_NEAR_MEAN_LIMIT) "lf\n"                    \
+    "#define DDOF_NEAR_MIN_OVERLAP " GL_STRING(DDOF_NEAR_MIN_OVERLAP) "lf\n"                  \
+    "#define DDOF_NEAR_KEPT " GL_STRING(DDOF_NEAR_KEPT) "\n"                                  \
+    "#define DDOF_NEAR_CANDIDATES " GL_STRING(DDOF_NEAR_CANDIDATES) "\n"                      \
+    "#define DDOF_NEAR_MIN_OFFSET " GL_STRING(DDOF_NEAR_MIN_OFFSET) "\n"                      \
+    "#define DDOF_NEAR_OFFSET_STEP " GL_STRING(DDOF_NEAR_OFFSET_STEP) "\n"                    \
+    "#define DDOF_NEAR_SAMPLE_STRIDE " GL_STRING(DDOF_NEAR_SAMPLE_STRIDE) "\n"                \
+    "#define DDOF_NEAR_MAX_BOX_MAPS " GL_STRING(DDOF_NEAR_MAX_BOX_MAPS) "\n"                  \
+    "#define DDOF_NEAR_REFINE_SAMPLES " GL_STRING(DDOF_NEAR_REFINE_SAMPLES) "\n"              \
+    "#define DDOF_NEAR_SEARCH_LANES " GL_STRING(DDOF_NEAR_SEARCH_LANES) "\n"                  \
+    "#define DDOF_NEAR_MIN_BAND_SAMPLES " GL_STRING(DDOF_NEAR_MIN_BAND_SAMPLES) "\n"          \
+    "#define DDOF_NEAR_SOFTNESS " GL_STRING(DDOF_NEAR_SOFTNESS) "\n"                          \
+    "#define DDOF_NEAR_SOFT_FLOOR " GL_STRING(DDOF_NEAR_SOFT_FLOOR) "\n"
+
 typedef struct program_recipe {
     const char *kernel;
     unsigned parts;
@@ -59,6 +79,8 @@ typedef struct program_recipe {
 #define SILHOUETTE_STEP(s) STEP(GL_PROG_SIL_##s, "silhouettes.comp", SILHOUETTE_DEFINES, s)
 #define HIGHLIGHT_STEP(s) STEP(GL_PROG_HL_##s, "highlights.comp", "", s)
 #define FIND_STEP(s) STEP(GL_PROG_HLF_##s, "highlights_find.comp", FIND_DEFINES, s)
+#define NEAR_STEP(s) STEP(GL_PROG_NEAR_##s, "near_layer.comp", NEAR_DEFINES, s)
+#define OFFSETS_STEP(s) STEP(GL_PROG_NOFF_##s, "near_offsets.comp", NEAR_DEFINES, s)
 
 static const program_recipe recipes[GL_PROG_COUNT] = {
     [GL_PROG_PACK] = {"pack.comp", 0, ""},
@@ -108,6 +130,13 @@ static const program_recipe recipes[GL_PROG_COUNT] = {
     FIND_STEP(MARK), FIND_STEP(SCAN_BLOCKS), FIND_STEP(SCAN_TOP), FIND_STEP(SCAN_NUMBER),
     FIND_STEP(GATHER), FIND_STEP(SPEND), FIND_STEP(MERGE), FIND_STEP(SORT_COUNT),
     FIND_STEP(SORT_TOP), FIND_STEP(SORT_FIRST), FIND_STEP(SORT_PLACE), FIND_STEP(SORT_BOXES),
+    NEAR_STEP(MATTE), NEAR_STEP(PULL), NEAR_STEP(PUSH), NEAR_STEP(LINES), NEAR_STEP(SETTLE),
+    NEAR_STEP(FINISH), NEAR_STEP(ANALYSE),
+    OFFSETS_STEP(REDUCE), OFFSETS_STEP(BOX_ROWS), OFFSETS_STEP(BOX_COLUMNS), OFFSETS_STEP(BAND),
+    OFFSETS_STEP(PHASES), OFFSETS_STEP(GRID), OFFSETS_STEP(BAND_ROWS), OFFSETS_STEP(BAND_TOTAL),
+    OFFSETS_STEP(BAND_SAMPLES), OFFSETS_STEP(SEARCH), OFFSETS_STEP(REFINE),
+    OFFSETS_STEP(VARIANCE_MAPS), OFFSETS_STEP(VARIANCE), OFFSETS_STEP(CANDIDATE),
+    OFFSETS_STEP(KEEP), OFFSETS_STEP(COPY),
 };
 
 const char *gl_shader_text(const char *name)

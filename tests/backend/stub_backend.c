@@ -73,6 +73,18 @@ static ddof_status stub_run_layers(ddof_device *device, const adi_layers_request
     return DDOF_ERROR_UNSUPPORTED;
 }
 
+static ddof_status stub_split_near(ddof_device *device, const adi_near_request *request,
+                                   adi_near_split *split, adi_report *report, char *message,
+                                   size_t size)
+{
+    (void)device;
+    (void)request;
+    (void)split;
+    (void)report;
+    snprintf(message, size, "the stub splits no near layer");
+    return DDOF_ERROR_UNSUPPORTED;
+}
+
 static int stub_supports_cards(const ddof_device *device)
 {
     return device->kind == DDOF_BACKEND_EGL;
@@ -104,6 +116,7 @@ static const ddof_backend_table table = {
 #ifndef STUB_PARTIAL
     .render_cards = stub_render_cards,
 #endif
+    .split_near = stub_split_near,
 };
 
 __attribute__((visibility("default"))) const ddof_backend_table *ddof_gl_backend_table(void);

@@ -50,7 +50,7 @@ static void own_directory(char *dir, size_t size)
 int ddof_backend_table_whole(const ddof_backend_table *t)
 {
     return t->open && t->close && t->describe && t->supports && t->run && t->supports_disc &&
-           t->run_layers && t->supports_cards && t->render_cards;
+           t->run_layers && t->supports_cards && t->render_cards && t->split_near;
 }
 
 /* dlopen()s the plugin and returns its table, or NULL with a sentence in message. */
@@ -264,6 +264,24 @@ ddof_status ddof_backend_run_layers(ddof_context *context, int on_backend,
     char why[512] = "";
     memset(report, 0, sizeof *report);
     const ddof_status status = t->run_layers(device, request, report, why, sizeof why);
+    return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
+}
+
+ddof_status ddof_backend_split_near(ddof_context *context, const adi_near_request *request,
+                                    adi_near_split *split, adi_report *report)
+{
+    const ddof_backend_state *b = &context->backend;
+    char why[512] = "";
+    memset(report, 0, sizeof *report);
+    if (b->table != context->cpu && ddof_backend_runs_layers(context, &request->base)) {
+        const ddof_status status =
+            b->table->split_near(b->device, request, split, report, why, sizeof why);
+        if (status != DDOF_ERROR_UNSUPPORTED)
+            return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
+    }
+    adi_report cpu = {0};
+    const ddof_status status = context->cpu->split_near((ddof_device *)context, request, split,
+                                                        &cpu, why, sizeof why);
     return status == DDOF_OK ? DDOF_OK : failed(context, status, why);
 }
 

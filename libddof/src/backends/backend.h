@@ -29,6 +29,13 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
  * solver it runs, the disc kernel only where it runs it, a CoC image; else the CPU's table. */
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
 
+/* The near layer's split, on the context's device where it runs the frame's layers (the images
+ * then stay there: ADI_ON_DEVICE), else, or where the device declines (an element that carries
+ * alpha), on the CPU's table; a failure is recorded in the context. report: the device's
+ * memory and transfers. */
+ddof_status ddof_backend_split_near(ddof_context *context, const adi_near_request *request,
+                                    adi_near_split *split, adi_report *report);
+
 /* The whole layered frame on the context's backend (on_backend: where the planner put it,
  * which ddof_backend_runs_layers allowed), else on the CPU's table; a failure is recorded in
  * the context. */

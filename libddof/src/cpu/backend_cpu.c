@@ -9,8 +9,11 @@
 #include "adi/adi.h"
 #include "cards/cards.h"
 #include "layers/layers.h"
+#include "passes/near_layer.h"
+#include "planner/planner.h"
 
 #include <stdio.h>
+#include <string.h>
 
 static ddof_context *context_of(const ddof_device *device)
 {
@@ -84,6 +87,42 @@ static ddof_status cpu_run_layers(ddof_device *device, const adi_layers_request 
     return ddof_run_layers_on_cpu(context_of(device), request, report);
 }
 
+/* The near layer's split (passes/near_layer.c) in the context's scratch, and the rest's
+ * analysis by the planner's rules; failures are recorded in the context by the split. */
+static ddof_status cpu_split_near(ddof_device *device, const adi_near_request *request,
+                                  adi_near_split *out, adi_report *report, char *message,
+                                  size_t message_size)
+{
+    (void)message;
+    (void)message_size;
+    ddof_context *context = context_of(device);
+    const adi_request *r = &request->base;
+    memset(report, 0, sizeof *report);
+    near_split split;
+    const ddof_status status = ddof_split_near(context, r, request->threshold, &split);
+    if (status != DDOF_OK)
+        return status;
+    ddof_params rules;
+    ddof_params_init(&rules);
+    rules.background_threshold_px = request->background_threshold_px;
+    rules.background_ramp_start_px = request->background_ramp_start_px;
+    coc_analysis rest;
+    ddof_analyse_coc(context, split.rest_coc, r->width, 1, r->width, r->height, &rules, &rest);
+    *out = (adi_near_split){.rest = split.rest,
+                            .rest_coc = split.rest_coc,
+                            .element = split.element,
+                            .element_coc = split.element_coc,
+                            .carried_alpha = split.carried_alpha,
+                            .box = split.box,
+                            .max_coc = split.max_coc,
+                            .element_pixels = split.element_pixels,
+                            .holes = split.holes,
+                            .filled = (uint32_t)split.filled,
+                            .rest_background_box = rest.background_box,
+                            .rest_near_box = rest.near_box};
+    return DDOF_OK;
+}
+
 static int cpu_supports_cards(const ddof_device *device)
 {
     (void)device;
@@ -111,4 +150,5 @@ const ddof_backend_table ddof_cpu_backend = {
     .run_layers = cpu_run_layers,
     .supports_cards = cpu_supports_cards,
     .render_cards = cpu_render_cards,
+    .split_near = cpu_split_near,
 };

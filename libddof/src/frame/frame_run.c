@@ -212,15 +212,21 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
 /* ---- the frame ---------------------------------------------------------------------------- */
 
 /* The near layer: the frame's near field becomes the foreground element and the rest, with
- * what it hid filled in, the image the other layers blur (near_layer.h); the background
- * layer's area grows by the edges the fill made. */
+ * what it hid filled in, the image the other layers blur (near_layer.h), split by the backend
+ * that runs the layers (on a device the images stay there); the background layer's area grows
+ * by the edges the fill made. `transfers`: the split's device memory and transfers. */
 static ddof_status split_near_layer(ddof_context *context, layers_request *q,
-                                    coc_analysis *analysis, frame_plan *plan)
+                                    coc_analysis *analysis, frame_plan *plan,
+                                    adi_report *transfers)
 {
     adi_request *r = &q->base;
-    near_split split;
-    ddof_status status =
-        ddof_split_near(context, r, q->params->near_layer_threshold_px, &split);
+    const ddof_params *p = q->params;
+    const adi_near_request request = {.base = *r,
+                                      .threshold = p->near_layer_threshold_px,
+                                      .background_threshold_px = p->background_threshold_px,
+                                      .background_ramp_start_px = p->background_ramp_start_px};
+    adi_near_split split;
+    ddof_status status = ddof_backend_split_near(context, &request, &split, transfers);
     if (status != DDOF_OK)
         return status;
     q->fg.color = split.element;
@@ -233,16 +239,15 @@ static ddof_status split_near_layer(ddof_context *context, layers_request *q,
     q->fg.carried_stride = r->width;
     q->fg.box = split.box;
     q->fg.max_coc = split.max_coc;
+    q->near_resident = split.rest == ADI_ON_DEVICE;
     plan->foreground = split.element_pixels > 0;
     r->color = split.rest;
     r->color_stride = (size_t)r->width * r->channels;
     r->coc = split.rest_coc;
     r->coc_stride = r->width;
     r->coc_channels = 1;
-    coc_analysis rest;
-    ddof_analyse_coc(context, r->coc, r->coc_stride, 1, r->width, r->height, q->params, &rest);
-    analysis->background_box = box_union(analysis->background_box, rest.background_box);
-    analysis->near_box = rest.near_box;
+    analysis->background_box = box_union(analysis->background_box, split.rest_background_box);
+    analysis->near_box = split.rest_near_box;
     return DDOF_OK;
 }
 
@@ -266,9 +271,10 @@ ddof_status ddof_run_frame(ddof_context *context, frame_request *frame, ddof_sta
     ddof_plan_frame(&analysis, q->params, r->channels, fg_given, fg_visible, &plan);
     const double seconds_plan = ddof_seconds() - t_plan;
     double seconds_near_layer = 0.0;
+    adi_report split_transfers = {0};
     if (plan.near_layer && !plan.copy_only) {
         const double t0 = ddof_seconds();
-        ddof_status status = split_near_layer(context, q, &analysis, &plan);
+        ddof_status status = split_near_layer(context, q, &analysis, &plan, &split_transfers);
         if (status != DDOF_OK)
             return status;
         fg_visible = plan.foreground;
@@ -288,6 +294,12 @@ ddof_status ddof_run_frame(ddof_context *context, frame_request *frame, ddof_sta
         if (status != DDOF_OK)
             return status;
     }
+    /* The split's transfers are the frame's too; its device memory is freed of nothing before
+     * the layers run, so the frame's peak is the larger call's. */
+    report.adi.uploads += split_transfers.uploads;
+    report.adi.readbacks += split_transfers.readbacks;
+    if (split_transfers.device_bytes > report.adi.device_bytes)
+        report.adi.device_bytes = split_transfers.device_bytes;
     ddof_stats full = stats_from(context, &report.adi, r, t_start, seconds_coc);
     full.max_coc_px = analysis.max_coc;
     full.copied_only = plan.copy_only;

@@ -35,6 +35,8 @@ typedef struct layers_request {
     layers_element fg;         /* the foreground element; fg.color NULL: none                 */
     pixel_box background_box;  /* where far CoC >= threshold borders an in-focus pixel        */
     pixel_box near_box;        /* where the near-field pixels are (CoC < 0)                  */
+    int near_resident;         /* base's colour and CoC and fg are a device's near split      */
+                               /* (ADI_ON_DEVICE), read by that device's layers' run only     */
     highlight_aperture aperture; /* the highlights' shape (zero: a disc); the aperture ratio  */
                                /* is base.pixel_aspect's part                                  */
     object_matte matte;        /* ranks 0: none (ddof_render_frame_with_matte)               */

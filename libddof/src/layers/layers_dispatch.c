@@ -26,7 +26,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
     adi_layers_request d = {.base = *r, .near_spread = (uint32_t)plan->near_spread,
-                            .near_slope = DDOF_NEAR_SPREAD_SLOPE};
+                            .near_slope = DDOF_NEAR_SPREAD_SLOPE,
+                            .near_resident = (uint32_t)q->near_resident};
     if (plan->near_spread) {
         const uint32_t reach = ddof_near_spread_reach_px(max_near_coc);
         d.near_dilate = seam_box(box_grow(q->near_box, reach, r->width, r->height));

@@ -31,7 +31,7 @@
 
 /* The pyramid level whose means are the line fill's end values (2x2 pixels: one texel of a
  * textured surface no longer streaks across a run; coarser levels measured no better). */
-#define END_LEVEL 1u
+#define END_LEVEL DDOF_NEAR_END_LEVEL
 
 typedef struct level {
     uint32_t width, height;
@@ -76,8 +76,8 @@ typedef struct split_job {
  * than B the split is not made: there the first sample's depth already divides a silhouette's
  * mixed pixels about evenly, and splitting them too made the element heavier (near_railing
  * -0.45 dB). Returns whether the pixel was split (its element and rest written). */
-#define FRINGE_CONTRAST 4.0f
-#define FRINGE_MAX_SHARE 0.95f
+#define FRINGE_CONTRAST DDOF_NEAR_FRINGE_CONTRAST
+#define FRINGE_MAX_SHARE DDOF_NEAR_FRINGE_MAX_SHARE
 
 static int split_fringe(const split_job *j, uint32_t x, uint32_t y)
 {

@@ -8,16 +8,9 @@
 
 #include "adi/adi.h"
 
-/* The near layer's matte of a pixel of signed CoC c: 0 for in-focus, far or mildly blurred
- * near pixels, 1 for near pixels of |CoC| >= threshold, linear from threshold / 2. A soft
- * matte: a near surface that recedes to the focus plane has no seam where it leaves the
- * layer. The split adds the element's 1-px fringe (near_layer.c, matte_rows). */
-static inline float ddof_near_matte(float c, float threshold)
-{
-    const float t0 = 0.5f * threshold;
-    const float m = (-c - t0) / (threshold - t0);
-    return m <= 0.0f ? 0.0f : m >= 1.0f ? 1.0f : m;
-}
+/* The matte (ddof_near_matte) and the split's other rules, shared with the device. The split
+ * adds the element's 1-px fringe to the matte (near_layer.c, matte_rows). */
+#include "ddof_near_rules.h"
 
 /* A frame split into the near element and the rest. Images are w x h, tightly packed, in the
  * context's scratch memory (valid until the next call on the context). */

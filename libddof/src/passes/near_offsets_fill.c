@@ -25,14 +25,14 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define SEARCH_SIZE 512u
-#define BAND 4u
-#define SCORE_RADIUS 24u
-#define MIN_BAND_SAMPLES 3.0f
-#define KEPT 4u
-#define SOFTNESS 2.0f
-#define SOFT_FLOOR 1e-4f
-#define MEAN_LIMIT 1e18
+#define SEARCH_SIZE DDOF_NEAR_SEARCH_SIZE
+#define BAND DDOF_NEAR_BAND
+#define SCORE_RADIUS DDOF_NEAR_SCORE_RADIUS
+#define MIN_BAND_SAMPLES DDOF_NEAR_MIN_BAND_SAMPLES
+#define KEPT DDOF_NEAR_KEPT
+#define SOFTNESS DDOF_NEAR_SOFTNESS
+#define SOFT_FLOOR DDOF_NEAR_SOFT_FLOOR
+#define MEAN_LIMIT DDOF_NEAR_MEAN_LIMIT
 
 /* ---- the search level --------------------------------------------------------------------- */
 
@@ -261,23 +261,23 @@ static void copy_rows(void *user, uint32_t y0, uint32_t y1, uint32_t chunk)
 ddof_status ddof_fill_from_offsets(ddof_context *context, const offset_fill *f)
 {
     const adi_request *r = f->frame;
-    offsets_job j = {.f = f, .S = 1};
-    while ((r->width + j.S - 1) / j.S > SEARCH_SIZE || (r->height + j.S - 1) / j.S > SEARCH_SIZE)
-        j.S *= 2;
-    j.wl = (r->width + j.S - 1) / j.S;
-    j.hl = (r->height + j.S - 1) / j.S;
-    const uint32_t longest = j.wl > j.hl ? j.wl : j.hl;
-    j.reach = (int32_t)(longest / 5) / OFFSET_STEP * OFFSET_STEP;
-    j.reach = j.reach < MAX_OFFSET ? j.reach : MAX_OFFSET;
-    if (j.reach < MIN_OFFSET)
+    offsets_job j = {.f = f};
+    ddof_near_level level;
+    if (!ddof_near_search_level(r->width, r->height, &level))
         return DDOF_OK; /* too small a frame to repeat itself */
+    j.S = level.s;
+    j.wl = level.wl;
+    j.hl = level.hl;
+    j.reach = level.reach;
     const uint32_t side = ddof_offsets_grid_side(&j);
     const size_t n = (size_t)j.wl * j.hl, grid = (size_t)side * side;
     j.gw = (j.wl + SAMPLE_STRIDE - 1) / SAMPLE_STRIDE;
     j.gh = (j.hl + SAMPLE_STRIDE - 1) / SAMPLE_STRIDE;
     const size_t gn = (size_t)j.gw * j.gh;
     const size_t phases = (size_t)SAMPLE_STRIDE * 4 * j.gw * j.hl;
-    const size_t floats = n * (3 + 4 + 2 * KEPT + 2 * MAX_BOX_MAPS) + grid + 4 * gn + phases;
+    const size_t refine = (size_t)(2 * j.S + 1) * (2 * j.S + 1); /* ddof_near_refine_reach */
+    const size_t floats =
+        n * (3 + 4 + 2 * KEPT + 2 * MAX_BOX_MAPS) + grid + 4 * gn + phases + refine;
     const size_t bytes =
         floats * sizeof(float) + REFINE_SAMPLES * sizeof(uint32_t) + grid * sizeof(ranked) +
         9 * COARSE_KEPT * sizeof(uint32_t);
@@ -297,7 +297,8 @@ ddof_status ddof_fill_from_offsets(ddof_context *context, const offset_fill *f)
     j.search_error = j.box + 2 * MAX_BOX_MAPS * n;
     j.grid = j.search_error + grid;
     j.phases = j.grid + 4 * gn;
-    j.band_samples = (uint32_t *)(void *)(j.phases + phases);
+    j.refine_error = j.phases + phases;
+    j.band_samples = (uint32_t *)(void *)(j.refine_error + refine);
     ranked *rank = (ranked *)(void *)(j.band_samples + REFINE_SAMPLES);
     j.todo = (uint32_t *)(void *)(rank + grid);
 

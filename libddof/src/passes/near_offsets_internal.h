@@ -6,22 +6,21 @@
 
 #include "near_offsets.h"
 
+#include "ddof_near_rules.h"
+
 #include <stdint.h>
 
-/* Lengths in blocks of the search level (near_offsets_fill.c). Measured on the study's near scenes
- * (docs/design.md, the near layer). */
-#define CANDIDATES 24u
-#define MIN_OFFSET 8
-#define MAX_OFFSET 96
-#define OFFSET_STEP 2
-#define SAMPLE_STRIDE 4u
-#define MAX_BOX_MAPS 7u
-#define REFINE_SAMPLES 4096u
-#define COARSE_KEPT (3u * CANDIDATES) /* the coarse search's best, whose neighbours are tried */
+/* The rules' lengths (ddof_near_rules.h, shared with the device) under this file's names. */
+#define CANDIDATES DDOF_NEAR_CANDIDATES
+#define MIN_OFFSET DDOF_NEAR_MIN_OFFSET
+#define OFFSET_STEP DDOF_NEAR_OFFSET_STEP
+#define SAMPLE_STRIDE DDOF_NEAR_SAMPLE_STRIDE
+#define MAX_BOX_MAPS DDOF_NEAR_MAX_BOX_MAPS
+#define REFINE_SAMPLES DDOF_NEAR_REFINE_SAMPLES
+#define COARSE_KEPT DDOF_NEAR_COARSE_KEPT
 
-typedef struct offset {
-    int32_t dx, dy;
-} offset;
+typedef ddof_near_offset offset;
+typedef ddof_near_ranked ranked;
 
 typedef struct offsets_job {
     const offset_fill *f;
@@ -45,16 +44,12 @@ typedef struct offsets_job {
     uint32_t band_sample_count;
     int32_t reach; /* offsets from -reach to reach in steps of OFFSET_STEP       */
     float *search_error;
+    float *refine_error; /* a candidate's band errors around it, (2 S + 1)^2 */
     uint32_t *todo; /* the fine pass's grid offsets */
     /* the candidates */
     offset level[CANDIDATES], full[CANDIDATES];
     uint32_t candidates, current;
 } offsets_job;
-
-typedef struct ranked {
-    float error;
-    uint32_t index;
-} ranked;
 
 static inline int offsets_is_source(const offset_fill *f, int64_t x, int64_t y)
 {
@@ -81,10 +76,9 @@ static inline float offsets_sq_distance3(const float *a, const float *b)
  * Returns 0 when no sample of the search is known (nothing to search). */
 int ddof_offsets_find(ddof_context *context, offsets_job *j, ranked *rank);
 
-/* The search's grid: offsets -reach to reach in steps of OFFSET_STEP, side x side of them. */
 static inline uint32_t ddof_offsets_grid_side(const offsets_job *j)
 {
-    return (uint32_t)(2 * j->reach / OFFSET_STEP + 1);
+    return ddof_near_grid_side(j->reach);
 }
 
 #endif

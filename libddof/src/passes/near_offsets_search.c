@@ -13,12 +13,11 @@
 #include <stdlib.h>
 #include <string.h>
 
-#define MIN_OVERLAP 0.2
-#define SEPARATION 3
+#define MIN_OVERLAP DDOF_NEAR_MIN_OVERLAP
 
 /* ---- 1. the search ------------------------------------------------------------------------ */
 
-#define SEARCH_LANES 8
+#define SEARCH_LANES DDOF_NEAR_SEARCH_LANES
 
 /* Sum over a row of samples of known x known' x |mean - mean'|^2, and of known x known', in
  * SEARCH_LANES independent sums (in a fixed order: the result does not depend on the
@@ -128,66 +127,21 @@ static void search_planes(offsets_job *j)
         }
 }
 
-static int by_error(const void *a, const void *b)
-{
-    const ranked *x = a, *y = b;
-    if (x->error != y->error)
-        return x->error < y->error ? -1 : 1;
-    return x->index < y->index ? -1 : x->index > y->index;
-}
-
-/* The search's finite errors, ranked (best first); returns their count. */
-static uint32_t rank_offsets(const offsets_job *j, ranked *rank)
-{
-    const uint32_t side = ddof_offsets_grid_side(j);
-    uint32_t finite = 0;
-    for (uint32_t i = 0; i < side * side; i++)
-        if (j->search_error[i] < INFINITY)
-            rank[finite++] = (ranked){j->search_error[i], i};
-    qsort(rank, finite, sizeof *rank, by_error);
-    return finite;
-}
-
 /* Coarse to fine: every second grid offset, then the neighbours of the COARSE_KEPT best. */
-
 static void search(ddof_context *context, offsets_job *j, ranked *rank)
 {
     const uint32_t side = ddof_offsets_grid_side(j);
     ddof_parallel_rows(context, side, search_coarse_rows, j);
-    const uint32_t best = rank_offsets(j, rank);
-    uint32_t count = 0;
-    for (uint32_t i = 0; i < best && i < COARSE_KEPT; i++) {
-        const int64_t row = rank[i].index / side, col = rank[i].index % side;
-        for (int64_t r = row - 1; r <= row + 1; r++)
-            for (int64_t c = col - 1; c <= col + 1; c++)
-                if (r >= 0 && c >= 0 && r < side && c < side && (r % 2 || c % 2)) {
-                    const uint32_t g = (uint32_t)(r * side + c);
-                    int listed = 0; /* a neighbour of two: once (the list is short) */
-                    for (uint32_t k = 0; k < count && !listed; k++)
-                        listed = j->todo[k] == g;
-                    if (!listed)
-                        j->todo[count++] = g;
-                }
-    }
+    const uint32_t best = ddof_near_rank(j->search_error, side, rank);
+    const uint32_t count = ddof_near_fine_offsets(rank, best, side, j->todo);
     ddof_parallel_rows(context, count, search_fine, j);
 }
 
 /* The CANDIDATES best offsets of the search, SEPARATION apart. */
 static void choose_candidates(offsets_job *j, ranked *rank)
 {
-    const uint32_t side = ddof_offsets_grid_side(j);
-    const uint32_t finite = rank_offsets(j, rank);
-    j->candidates = 0;
-    for (uint32_t i = 0; i < finite && j->candidates < CANDIDATES; i++) {
-        const offset d = {-j->reach + (int32_t)(rank[i].index % side) * OFFSET_STEP,
-                          -j->reach + (int32_t)(rank[i].index / side) * OFFSET_STEP};
-        int apart = 1;
-        for (uint32_t k = 0; k < j->candidates && apart; k++)
-            apart = abs(d.dx - j->level[k].dx) >= SEPARATION ||
-                    abs(d.dy - j->level[k].dy) >= SEPARATION;
-        if (apart)
-            j->level[j->candidates++] = d;
-    }
+    const uint32_t finite = ddof_near_rank(j->search_error, ddof_offsets_grid_side(j), rank);
+    j->candidates = ddof_near_choose(rank, finite, j->reach, j->level);
 }
 
 /* ---- 2. refinement ------------------------------------------------------------------------ */
@@ -229,31 +183,15 @@ static void collect_band_samples(offsets_job *j)
 /* Each candidate to the pixel (the search's grid is OFFSET_STEP blocks); duplicates dropped. */
 static void refine_candidates(offsets_job *j)
 {
-    const int32_t reach = (int32_t)j->S * OFFSET_STEP / 2;
+    const int32_t reach = ddof_near_refine_reach(j->S), side = 2 * reach + 1;
     uint32_t kept = 0;
     for (uint32_t c = 0; c < j->candidates; c++) {
         const offset start = {j->level[c].dx * (int32_t)j->S, j->level[c].dy * (int32_t)j->S};
-        offset best = start;
-        float best_error = band_error(j, start);
         for (int32_t ey = -reach; ey <= reach; ey++)
-            for (int32_t ex = -reach; ex <= reach; ex++) {
-                const offset d = {start.dx + ex, start.dy + ey};
-                const float e = (ex || ey) ? band_error(j, d) : INFINITY;
-                if (e < best_error) {
-                    best_error = e;
-                    best = d;
-                }
-            }
-        int duplicate = 0;
-        for (uint32_t k = 0; k < kept; k++)
-            duplicate |= j->full[k].dx == best.dx && j->full[k].dy == best.dy;
-        if (duplicate)
-            continue;
-        j->full[kept] = best;
-        /* On the level, the refined offset to the nearest block. */
-        j->level[kept] = (offset){(int32_t)lround((double)best.dx / j->S),
-                                  (int32_t)lround((double)best.dy / j->S)};
-        kept++;
+            for (int32_t ex = -reach; ex <= reach; ex++)
+                j->refine_error[(ey + reach) * side + ex + reach] =
+                    band_error(j, (offset){start.dx + ex, start.dy + ey});
+        ddof_near_refine_keep(j->refine_error, start, j->S, j->full, j->level, &kept);
     }
     j->candidates = kept;
 }

@@ -61,9 +61,23 @@ static GLuint slot(const frame *f, gl_buffer_slot s)
     return b->name[s] ? b->name[s] : b->name[GL_BUF_DUMMY];
 }
 
-/* Image `offset` floats into section `in` of the upload. */
+/* The images a near split left on the device (gl_near_layer.c) in place of the colour, the
+ * CoC and the element's two (near_resident), each in its slot. */
+static const gl_buffer_slot resident[IN_FG_COC + 1] = {GL_BUF_NEAR_REST, GL_BUF_NEAR_REST_COC,
+                                                       GL_BUF_NEAR_ELEMENT,
+                                                       GL_BUF_NEAR_ELEMENT_COC};
+
+static int is_resident(const frame *f, int in)
+{
+    return f->q->near_resident && in <= IN_FG_COC;
+}
+
+/* Image `offset` floats into section `in` of the upload (or its resident slot). */
 static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride, uint32_t step)
 {
+    if (is_resident(f, in))
+        return (gl_image_ref){f->device->buffers.name[resident[in]], offset, (uint32_t)stride,
+                              step, 0, 0};
     return (gl_image_ref){f->device->buffers.name[GL_BUF_FRAME], offset, (uint32_t)stride, step,
                           f->at[in], f->bytes[in]};
 }
@@ -131,6 +145,8 @@ static int upload(frame *f)
         floats[IN_FG] = span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
         floats[IN_FG_COC] = span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
     }
+    for (int i = 0; i <= IN_FG_COC; i++) /* already on the device: no section */
+        floats[i] = is_resident(f, i) ? 0 : floats[i];
     const uint64_t align = f->device->buffer_alignment;
     uint64_t total = 0;
     for (int i = 0; i < IN_COUNT; i++) {
@@ -146,6 +162,8 @@ static int upload(frame *f)
             return 0;
         }
     }
+    if (total == 0)
+        return 1; /* every image already on the device (a near split's), nothing else */
     const gl_functions *gl = &f->device->gl;
     GLuint buffer = gl_buffers_get(gl, &f->device->buffers, GL_BUF_FRAME, total);
     if (!buffer) {

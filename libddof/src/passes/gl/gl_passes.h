@@ -60,6 +60,15 @@ int gl_clean_silhouettes(ddof_device *device, const gl_silhouettes_request *q, G
 int gl_split_silhouettes(ddof_device *device, const gl_silhouettes_request *q, GLuint out,
                          uint64_t *pixels, char *message, size_t message_size);
 
+/* ---- the near layer ---------------------------------------------------------------------- */
+
+/* ../near_layer.h's split of the request's frame on the device (gl_near_layer.c): the images
+ * stay in the NEAR slots (the rest, its CoC, the element, its |CoC|) for the layers' run; `split` gets the figures and boxes, its images ADI_ON_DEVICE. 0 with a
+ * sentence on failure; with *declined 1 the device does not take this frame (an element that
+ * carries alpha, lines longer than a software renderer walks) and the CPU splits it. */
+int gl_split_near(ddof_device *device, const adi_near_request *q, adi_near_split *split,
+                  int *declined, char *message, size_t message_size);
+
 /* ---- the highlights ---------------------------------------------------------------------- */
 
 /* A size class of highlights (highlights_draw.c): its place in the sorted list, where its
