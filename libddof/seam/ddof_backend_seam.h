@@ -167,6 +167,11 @@ typedef struct adi_layers_request {
     uint32_t fg_coc_channels;
     uint32_t fg_premultiplied;
     float fg_max_coc;         /* largest |CoC| where alpha > 0                               */
+    const float *fg_carried_alpha; /* with 4 channels: the element's part of the frame's alpha
+                               * (a near layer's: its matte times the frame's alpha), blurred
+                               * as its colour is and composited as the output's alpha; NULL:
+                               * its coverage. ADI_ON_DEVICE with near_resident              */
+    size_t fg_carried_stride; /* floats                                                      */
     adi_box fg_area;          /* where the element's blur can reach                          */
     uint32_t fg_gather;       /* 1: the far field gathers the element's blur with the lens's
                                * shape away from its own depth edges, before its composite    */
@@ -355,9 +360,9 @@ typedef struct ddof_backend_table {
     /* The near layer's split of a frame whose layers this table runs next (run_layers, with
      * near_resident where the images stay on the device), with the CPU's answer within float
      * rounding: the same element pixels and holes, the same boxes. report: the call's device
-     * memory and transfers. DDOF_ERROR_UNSUPPORTED (with a sentence) where the element
-     * carries part of the frame's alpha, which a device's layers do not hold: the core then
-     * splits on the CPU. */
+     * memory and transfers. DDOF_ERROR_UNSUPPORTED (with a sentence) where the device does
+     * not take the frame (a software renderer's loops too short for its lines): the core
+     * then splits on the CPU. */
     ddof_status (*split_near)(ddof_device *device, const adi_near_request *request,
                               adi_near_split *split, adi_report *report, char *message,
                               size_t message_size);

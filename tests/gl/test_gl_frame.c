@@ -80,53 +80,6 @@ static uint32_t expect_readbacks(void)
     return 1;
 }
 
-/* A frame whose element is composited after the passes: the layers on the device (one upload,
- * one read-back), then the element's diffusions, `diffusions` requests of one upload and one
- * read-back each (one request at a time for the whole frame before: 2 + 5 per background
- * level + 6 for the element up, one back per diffusion); the plan says so and why. A near
- * layer the device declined to split (its element carries alpha) cost one upload more. */
-static void expect_element_after(const char *name, const ddof_stats *sg, double e,
-                                 uint32_t diffusions, uint32_t declined, const char *because)
-{
-    if (verbose)
-        printf("  %-34s element after: GL vs CPU %.3g, uploads %u, read-backs %u\n", name, e,
-               sg->device_uploads, sg->device_readbacks);
-    CHECK_MSG(sg->device_uploads == 1 + declined + diffusions &&
-                  sg->device_readbacks == 1 + diffusions,
-              "%s: %u uploads and %u read-backs, wanted %u and %u", name, sg->device_uploads,
-              sg->device_readbacks, 1 + declined + diffusions, 1 + diffusions);
-    if (!because) /* the line is past the 512 bytes of ddof_stats.plan (test_planner_device) */
-        return;
-    char line[200];
-    snprintf(line, sizeof line, "layers: on %s; the element after the passes, by the CPU's "
-             "steps: %s", gl_name, because);
-    CHECK_MSG(strstr(sg->plan, line) != NULL, "%s: %s", name, sg->plan);
-}
-
-/* A frame whose element goes after the passes, on both backends: GL within TOL_FRAME of the
- * CPU, the effects `want` among the CPU's and the same on GL, and the transfers and plan line
- * of expect_element_after. */
-static void element_after_frame(const char *name, const ddof_params *p, const float *color,
-                                const float *coc, const ddof_foreground *fg, uint32_t want,
-                                uint32_t diffusions, const char *because)
-{
-    const size_t n = (size_t)W * H * CH;
-    float *ref = alloc_f(n), *out = alloc_f(n);
-    ddof_stats sc = stats_init(), sg = stats_init();
-    CHECK_EQ_INT(diffuse_layers(cpu, p, color, coc, fg, ref, W, H, CH, &sc), DDOF_OK);
-    CHECK_EQ_INT(diffuse_layers(gl, p, color, coc, fg, out, W, H, CH, &sg), DDOF_OK);
-    const double e = max_diff(out, ref, n);
-    CHECK_MSG(e <= TOL_FRAME, "%s %s: GL vs CPU %.3g", name, ddof_kernel_name(p->kernel), e);
-    CHECK_MSG((sc.effects & want) == want, "%s: effects %u, wanted %u (%s)", name, sc.effects,
-              want, sc.plan);
-    CHECK_EQ_INT(sg.effects, sc.effects);
-    CHECK_MSG(strstr(sc.plan, "layers: on") == NULL, "%s: the CPU's plan: %s", name, sc.plan);
-    expect_element_after(name, &sg, e, diffusions, (sc.effects & DDOF_EFFECT_NEAR_LAYER) != 0,
-                         because);
-    free(ref);
-    free(out);
-}
-
 /* What a frame's progress callback saw. */
 typedef struct progress_seen {
     float last;
@@ -368,11 +321,10 @@ static void far_field_frames(ddof_kernel kernel)
     free(coc);
 }
 
-/* HDR highlights (the highlight pass, ddof_params.highlights): found on the host, taken out and
- * drawn on the device (tests/gl/test_gl_highlights.c for the shapes), so 1 upload and 1
- * read-back, with an element over them too, and with highlights in the element itself (taken
- * out of it and drawn into its blur). Only the alpha a near layer carries keeps the element
- * after the layers, its diffusions one request at a time. */
+/* HDR highlights (the highlight pass, ddof_params.highlights): found, taken out and drawn on
+ * the device (tests/gl/test_gl_highlights.c for the shapes), so 1 upload and 1 read-back, with
+ * an element over them too, and with highlights in the element itself (taken out of it and
+ * drawn into its blur), and a near layer whose element carries part of the frame's alpha. */
 static void highlights(ddof_kernel kernel)
 {
     const size_t n = (size_t)W * H * CH;
@@ -416,26 +368,18 @@ static void highlights(ddof_kernel kernel)
             DDOF_EFFECT_HIGHLIGHTS | DDOF_EFFECT_FOREGROUND);
 
     /* The near layer of a frame whose alpha is not 1 under the near field: the element carries
-     * its part of the alpha channel, a fifth channel the device's frame does not have, so it
-     * comes after the layers again; and with highlights in the near field, as for an element. */
+     * its part of the alpha channel, blurred as its colour is (a fourth diffusion of the
+     * element's) and composited as the frame's alpha, in the one run; and with highlights in
+     * the near field, as for an element. */
     scene(color, coc, 1);
     p.coc_signed = 1;
-    for (int lights = 0; lights < 2; lights++) {
-        p.highlights = lights ? DDOF_LAYER_AUTO : DDOF_LAYER_OFF;
-        if (lights)
-            for (size_t i = 0; i < (size_t)W * H; i++)
-                color[i * CH + 3] = 1.0f;
-        /* Its alpha's part is a fourth diffusion of the element's; with alpha 1 and the
-         * lights, the near layer and its own highlights are all the device's. */
-        if (lights)
-            compare("near layer, highlights", p, color, coc, NULL,
-                    DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS);
-        else
-            element_after_frame("near layer, alpha not 1", &p, color, coc, NULL,
-                                DDOF_EFFECT_NEAR_LAYER, 4,
-                                "it carries the frame's alpha, which the layers' run does not "
-                                "hold");
-    }
+    p.highlights = DDOF_LAYER_OFF;
+    compare("near layer, alpha not 1", p, color, coc, NULL, DDOF_EFFECT_NEAR_LAYER);
+    for (size_t i = 0; i < (size_t)W * H; i++)
+        color[i * CH + 3] = 1.0f;
+    p.highlights = DDOF_LAYER_AUTO;
+    compare("near layer, highlights", p, color, coc, NULL,
+            DDOF_EFFECT_NEAR_LAYER | DDOF_EFFECT_HIGHLIGHTS);
     free(fg_color);
     free(fg_coc);
     free(color);

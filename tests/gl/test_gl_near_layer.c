@@ -175,7 +175,7 @@ static void declined(void)
     ddof_params p = every_pass();
     p.far_field = DDOF_LAYER_OFF;
     fresh_contexts();
-    compare("alpha 0.5 under the near field", &p, 160, 96, 4, 0.5f, 0);
+    compare("alpha 0.5 under the near field", &p, 160, 96, 4, 0.5f, 1);
     ddof_backend_info info = {.struct_size = sizeof info};
     ddof_context_backend_info(gl, &info);
     fresh_contexts();

@@ -30,9 +30,8 @@ ddof_status ddof_check_backend_supports(ddof_context *context, ddof_solver solve
 int ddof_backend_runs_layers(const ddof_context *context, const adi_request *request);
 
 /* The near layer's split, on the context's device where it runs the frame's layers (the images
- * then stay there: ADI_ON_DEVICE), else, or where the device declines (an element that carries
- * alpha), on the CPU's table; a failure is recorded in the context. report: the device's
- * memory and transfers. */
+ * then stay there: ADI_ON_DEVICE), else, or where the device declines the frame, on the CPU's
+ * table; a failure is recorded in the context. report: the device's memory and transfers. */
 ddof_status ddof_backend_split_near(ddof_context *context, const adi_near_request *request,
                                     adi_near_split *split, adi_report *report);
 

@@ -126,40 +126,21 @@ ddof_status ddof_run_one_diffusion(ddof_context *context, const adi_request *r,
 /* ---- where the layers run ---------------------------------------------------------------- */
 
 /* Where the layers run: what the planner needs to know, found here, and its decision. */
-static layers_placement place_layers(ddof_context *context, const layers_request *q,
-                                     frame_plan *plan)
+static int place_layers(ddof_context *context, const layers_request *q, frame_plan *plan)
 {
     const layers_device_facts facts = {
         .backend = ddof_backend_name(context->backend.kind),
         .takes = ddof_backend_runs_layers(context, &q->base),
-        .carried_alpha = q->fg.carried_alpha != NULL,
     };
     return ddof_plan_layers_device(plan, &facts);
 }
 
-/* The caller's progress for a layers' run that is the first `share` of the frame's stages. */
-typedef struct stage_share {
-    ddof_progress_fn progress;
-    void *user;
-    float share;
-} stage_share;
-
-static int shared_progress(void *user, float fraction)
-{
-    const stage_share *s = user;
-    return s->progress(s->user, fraction * s->share);
-}
-
-/* The planned frame's layers and the passes in their run. Where the layers run is decided
- * here, once (the layers' run takes the element unless it carries part of the frame's
- * alpha). */
+/* The planned frame's layers and every pass, in one run (the element last in it), on the
+ * table the planner places them on; the passes' plan lines from what the run found. */
 static ddof_status run_planned(ddof_context *context, const layers_request *q,
                                frame_plan *plan, float max_near_coc, layers_report *report)
 {
-    const adi_request *r = &q->base;
     memset(report, 0, sizeof *report);
-    ddof_status status = DDOF_OK;
-
     /* The layers' run finds the highlights, the frame's and the element's own, takes them out
      * of the colours and draws them into the results; an aperture image's table is built once
      * here for it. */
@@ -169,44 +150,18 @@ static ddof_status run_planned(ddof_context *context, const layers_request *q,
     if ((find || element_lights) && q->aperture.image &&
         !(sums = ddof_aperture_sums(context, &q->aperture)))
         return DDOF_ERROR_OUT_OF_MEMORY;
-
-    const layers_placement where = place_layers(context, q, plan);
-    layers_request layers_q = *q;
-
-    layer_stages st = ddof_layer_stages(q, plan);
-    /* With the element left for later, the layers' run is the stages before it. */
-    const uint32_t element_stages = where.element ? 0 : ddof_element_stages(q, plan);
-    stage_share share = {r->progress, r->progress_user,
-                         (float)(st.count - element_stages) / (float)st.count};
-    if (r->progress && element_stages) {
-        layers_q.base.progress = shared_progress;
-        layers_q.base.progress_user = &share;
-    }
-    if ((status = ddof_run_layers(context, &layers_q, plan, where, find, sums, max_near_coc,
-                                  report)) != DDOF_OK)
+    const int on_backend = place_layers(context, q, plan);
+    const ddof_status status =
+        ddof_run_layers(context, q, plan, on_backend, find, sums, max_near_coc, report);
+    if (status != DDOF_OK)
         return status;
-    st.current = st.count - element_stages;
     if (find)
         ddof_say_highlights(q, plan, &report->highlights);
     if (plan->far_field)
         ddof_say_far_field(q, plan, report);
     if (plan->silhouettes)
         ddof_say_silhouettes(q, plan, report->silhouette_pixels, report);
-    /* The element goes over all of it (unless the layers' run composited it already), its own
-     * highlights found for its steps here. */
-    if (!plan->foreground || where.element)
-        return DDOF_OK;
-    highlight_set found = {0};
-    const double t0 = ddof_seconds();
-    if (element_lights && (status = ddof_find_element_highlights(
-                               context, q, ddof_element_area(q), q->params->highlight_threshold,
-                               sums, &found)) != DDOF_OK)
-        return status;
-    report->seconds_highlights += ddof_seconds() - t0;
-    adi_highlights lights = ddof_request_highlights(q, element_lights, 0, sums);
-    lights.items = found.items;
-    lights.count = found.count;
-    return ddof_run_foreground_on_cpu(context, q, &lights, &st, report);
+    return DDOF_OK;
 }
 
 /* ---- the frame ---------------------------------------------------------------------------- */

@@ -573,7 +573,7 @@ static uint32_t element_diffusions(int carried_alpha)
     return carried_alpha ? 4u : 3u;
 }
 
-uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan)
+static uint32_t element_stages(const layers_request *q, const frame_plan *plan)
 {
     return plan->foreground ? element_diffusions(q->fg.carried_alpha != NULL) : 0u;
 }
@@ -583,7 +583,7 @@ layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan)
     const adi_request *r = &q->base;
     return (layer_stages){r->progress, r->progress_user, 0,
                           layer_diffusions(plan->background ? q->params->background_levels : 0) +
-                              ddof_element_stages(q, plan)};
+                              element_stages(q, plan)};
 }
 
 /* The element (q->fg, its area `area`) blurred and composited over q->base.out. */
@@ -749,7 +749,7 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
     layers_report report = {0};
     layer_stages st = {r->progress, r->progress_user, 0,
                        layer_diffusions(d->background_levels) +
-                           (d->fg_color ? element_diffusions(0) : 0u)};
+                           (d->fg_color ? element_diffusions(d->fg_carried_alpha != NULL) : 0u)};
     /* What the layers diffuse: the highlights and the silhouettes' objects taken out. */
     const object_matte matte = {d->matte, d->matte_stride, d->matte ? d->matte_ranks : 0u};
     adi_request base;
@@ -792,6 +792,8 @@ ddof_status ddof_run_layers_on_cpu(ddof_context *context, const adi_layers_reque
                                 .coc = d->fg_coc, .coc_stride = d->fg_coc_stride,
                                 .coc_channels = d->fg_coc_channels,
                                 .premultiplied = (int)d->fg_premultiplied,
+                                .carried_alpha = d->fg_carried_alpha,
+                                .carried_stride = d->fg_carried_stride,
                                 .max_coc = d->fg_max_coc};
         const element_extras extras = {.lights = &d->fg_highlights,
                                        .gather = (int)d->fg_gather};
@@ -850,11 +852,3 @@ adi_highlights ddof_request_highlights(const layers_request *q, int find, int co
                             .image_height = a->image_height};
 }
 
-ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
-                                       const adi_highlights *lights, layer_stages *st,
-                                       layers_report *report)
-{
-    const element_extras extras = {.lights = lights,
-                                   .gather = q->params->far_field != DDOF_LAYER_OFF};
-    return element(context, q, ddof_element_area(q), &extras, st, report);
-}

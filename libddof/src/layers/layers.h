@@ -65,9 +65,6 @@ typedef struct layer_stages {
 
 layer_stages ddof_layer_stages(const layers_request *q, const frame_plan *plan);
 
-/* Of those, the foreground element's (0 without one). */
-uint32_t ddof_element_stages(const layers_request *q, const frame_plan *plan);
-
 /* The seam's run_layers on the CPU (the CPU table's entry, cpu/backend_cpu.c): the request's
  * layers as the device runs them (the near spread, the midground, the background levels, the
  * element's blur and composite where it carries one), each diffusion through the dispatch, on
@@ -91,23 +88,15 @@ ddof_status ddof_find_element_highlights(ddof_context *context, const layers_req
 adi_highlights ddof_request_highlights(const layers_request *q, int find, int coc_signed,
                                        const double *aperture_sums);
 
-/* The foreground element blurred and composited over q->base.out by the CPU's steps, with its
- * own highlights (`lights`, found by ddof_find_element_highlights and set as the request
- * carries them; may be NULL), the far field's gather (q->params) and the part of the frame's
- * alpha it may carry: what a request cannot carry. */
-ddof_status ddof_run_foreground_on_cpu(ddof_context *context, const layers_request *q,
-                                       const adi_highlights *lights, layer_stages *st,
-                                       layers_report *report);
-
 /* Every layer and pass of the plan as the seam's request (layers_dispatch.c), on the backend
- * the planner chose (where.on_backend: the context's backend, else the CPU's table): the
- * highlights found in the run (`find_highlights`), taken out of q->base.color and drawn, the
- * plan's foreground element blurred and composited last where where.element says so (its own
- * highlights found in it unless the highlights are off), else left for
- * ddof_run_foreground_on_cpu; aperture_sums: the aperture image's table, or NULL. */
+ * the planner chose (on_backend: the context's backend, else the CPU's table): the highlights
+ * found in the run (`find_highlights`), taken out of q->base.color and drawn, the plan's
+ * foreground element blurred and composited last (its own highlights found in it unless the
+ * highlights are off, the part of the frame's alpha it may carry blurred with it);
+ * aperture_sums: the aperture image's table, or NULL. */
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
-                            const frame_plan *plan, layers_placement where,
-                            int find_highlights, const double *aperture_sums,
-                            float max_near_coc, layers_report *report);
+                            const frame_plan *plan, int on_backend, int find_highlights,
+                            const double *aperture_sums, float max_near_coc,
+                            layers_report *report);
 
 #endif

@@ -19,9 +19,9 @@ static adi_box seam_box(pixel_box b)
  * The background's area depends on the midground's largest CoC, so the backend grows its
  * edges itself. */
 ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
-                            const frame_plan *plan, layers_placement where,
-                            int find_highlights, const double *aperture_sums,
-                            float max_near_coc, layers_report *report)
+                            const frame_plan *plan, int on_backend, int find_highlights,
+                            const double *aperture_sums, float max_near_coc,
+                            layers_report *report)
 {
     const adi_request *r = &q->base;
     const ddof_params *p = q->params;
@@ -40,7 +40,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.background_edges = seam_box(box_is_empty(edges) ? (pixel_box){0, 0, r->width, r->height}
                                                           : edges);
     }
-    if (where.element) {
+    const int element = plan->foreground && q->fg.color;
+    if (element) {
         d.fg_color = q->fg.color;
         d.fg_color_stride = q->fg.color_stride;
         d.fg_coc = q->fg.coc;
@@ -48,6 +49,8 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.fg_coc_channels = q->fg.coc_channels;
         d.fg_premultiplied = (uint32_t)q->fg.premultiplied;
         d.fg_max_coc = q->fg.max_coc;
+        d.fg_carried_alpha = q->fg.carried_alpha;
+        d.fg_carried_stride = q->fg.carried_stride;
         d.fg_area = seam_box(ddof_element_area(q));
         d.fg_gather = p->far_field != DDOF_LAYER_OFF;
         d.fg_highlights = ddof_request_highlights(q, p->highlights != DDOF_LAYER_OFF, 0,
@@ -64,7 +67,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
         d.matte_ranks = q->matte.ranks;
     }
     adi_layers_report a = {0};
-    const ddof_status status = ddof_backend_run_layers(context, where.on_backend, &d, &a);
+    const ddof_status status = ddof_backend_run_layers(context, on_backend, &d, &a);
     if (status != DDOF_OK)
         return status;
     report->adi = a.adi;
@@ -86,7 +89,7 @@ ddof_status ddof_run_layers(ddof_context *context, const layers_request *q,
     report->effects |= DDOF_EFFECT_MIDGROUND |
                       (plan->near_spread ? (uint32_t)DDOF_EFFECT_NEAR_SPREAD : 0u) |
                       (plan->background ? (uint32_t)DDOF_EFFECT_BACKGROUND : 0u) |
-                      (where.element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u) |
+                      (element ? (uint32_t)DDOF_EFFECT_FOREGROUND : 0u) |
                       a.element_effects |
                       (a.highlights_count ? (uint32_t)DDOF_EFFECT_HIGHLIGHTS : 0u);
     return DDOF_OK;

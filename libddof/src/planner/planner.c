@@ -293,25 +293,15 @@ void ddof_plan_frame(const coc_analysis *a, const ddof_params *p, uint32_t color
         plan->silhouettes = 1;
 }
 
-layers_placement ddof_plan_layers_device(frame_plan *plan, const layers_device_facts *facts)
+int ddof_plan_layers_device(frame_plan *plan, const layers_device_facts *facts)
 {
-    const char *after_because = NULL;
-    if (plan->foreground && facts->carried_alpha)
-        after_because = "it carries the frame's alpha, which the layers' run does not hold";
-    const int element = plan->foreground && !after_because;
-    /* A CPU context had no choice to make: no line. The line is short (the element inside the
-     * run goes without saying; only its exception is spelled out), so that the passes' lines
-     * after it keep their room in ddof_stats.plan's 512 bytes. */
+    /* A CPU context had no choice to make: no line. */
     if (strcmp(facts->backend, "cpu") == 0)
-        return (layers_placement){facts->takes, element};
-    char why[96] = "";
-    if (!facts->takes)
-        snprintf(why, sizeof why, " (the %s device does not take this request)", facts->backend);
-    const char *where = facts->takes ? facts->backend : "cpu";
-    if (after_because)
-        ddof_plan_say(plan, "layers: on %s%s; the element after the passes, by the CPU's steps: %s",
-                      where, why, after_because);
+        return facts->takes;
+    if (facts->takes)
+        ddof_plan_say(plan, "layers: on %s", facts->backend);
     else
-        ddof_plan_say(plan, "layers: on %s%s", where, why);
-    return (layers_placement){facts->takes, element};
+        ddof_plan_say(plan, "layers: on cpu (the %s device does not take this request)",
+                      facts->backend);
+    return facts->takes;
 }

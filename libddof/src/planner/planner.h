@@ -56,31 +56,17 @@ void ddof_plan_frame(const coc_analysis *analysis, const ddof_params *params,
                      uint32_t color_channels, int foreground_given, int foreground_visible,
                      frame_plan *plan);
 
-/* What decides where a planned frame's layers run, once its highlights are found. */
+/* What decides where a planned frame's layers run. */
 typedef struct layers_device_facts {
     const char *backend; /* the context's backend ("cpu", "egl")                           */
     int takes;           /* it runs whole layered frames of this request
                           * (ddof_backend_runs_layers); else the CPU's table runs them       */
-    int carried_alpha;   /* the element carries part of the frame's alpha (a near layer split
-                          * off a frame whose alpha is not 1 there)                          */
 } layers_device_facts;
 
-/* Where a planned frame's layers run. The element is composited last, over every pass; a
- * run_layers request can only composite it at the end of the layers, so the request takes the
- * element only where no pass runs between them. */
-typedef struct layers_placement {
-    int on_backend; /* the layers on the context's backend (its run_layers), else the CPU's  */
-    int element;    /* the element blurred and composited inside that run_layers; else after
-                     * the passes, by the CPU's steps (its diffusions on the context's
-                     * backend)                                                             */
-} layers_placement;
-
-/* Decides the placement: on the context's backend wherever it takes the request, else on the
- * CPU's table; the element inside that run, on either, unless it carries part of the frame's
- * alpha (a fifth channel the run does not hold: the highlights, the far field, its gather of
- * the element and the silhouettes are all stages of the run, in order before the element).
- * Says which and why in the plan where the context has a device to choose (a CPU context's
- * plan has no line). */
-layers_placement ddof_plan_layers_device(frame_plan *plan, const layers_device_facts *facts);
+/* Where a planned frame's layers run, every stage of them (the highlights, the far field, the
+ * silhouettes, the element last, over every pass): on the context's backend wherever it takes
+ * the request, else on the CPU's table. Says which and why in the plan where the context has
+ * a device to choose (a CPU context's plan has no line). Returns whether on the backend. */
+int ddof_plan_layers_device(frame_plan *plan, const layers_device_facts *facts);
 
 #endif

@@ -26,6 +26,7 @@ enum {
     IN_COC,
     IN_FG,
     IN_FG_COC,
+    IN_FG_CARRIED, /* the part of the frame's alpha the element carries */
     IN_MATTE,
     IN_HL_SHAPE, /* the aperture the highlights are drawn with */
     IN_HL_SUMS,  /* an aperture image's table                  */
@@ -62,22 +63,25 @@ static GLuint slot(const frame *f, gl_buffer_slot s)
 }
 
 /* The images a near split left on the device (gl_near_layer.c) in place of the colour, the
- * CoC and the element's two (near_resident), each in its slot. */
-static const gl_buffer_slot resident[IN_FG_COC + 1] = {GL_BUF_NEAR_REST, GL_BUF_NEAR_REST_COC,
-                                                       GL_BUF_NEAR_ELEMENT,
-                                                       GL_BUF_NEAR_ELEMENT_COC};
+ * CoC and the element's three (near_resident), each in its slot, the carried alpha a plane
+ * of the split's maps. */
+static const gl_buffer_slot resident[IN_FG_CARRIED + 1] = {
+    GL_BUF_NEAR_REST, GL_BUF_NEAR_REST_COC, GL_BUF_NEAR_ELEMENT, GL_BUF_NEAR_ELEMENT_COC,
+    GL_BUF_NEAR_MAPS};
 
 static int is_resident(const frame *f, int in)
 {
-    return f->q->near_resident && in <= IN_FG_COC;
+    return f->q->near_resident && in <= IN_FG_CARRIED;
 }
 
 /* Image `offset` floats into section `in` of the upload (or its resident slot). */
 static gl_image_ref input(const frame *f, int in, uint32_t offset, size_t stride, uint32_t step)
 {
-    if (is_resident(f, in))
-        return (gl_image_ref){f->device->buffers.name[resident[in]], offset, (uint32_t)stride,
-                              step, 0, 0};
+    if (is_resident(f, in)) {
+        const uint32_t plane = in == IN_FG_CARRIED ? gl_near_carried_at(f->w, f->h) : 0;
+        return (gl_image_ref){f->device->buffers.name[resident[in]], plane + offset,
+                              (uint32_t)stride, step, 0, 0};
+    }
     return (gl_image_ref){f->device->buffers.name[GL_BUF_FRAME], offset, (uint32_t)stride, step,
                           f->at[in], f->bytes[in]};
 }
@@ -131,7 +135,8 @@ static int upload(frame *f)
     const adi_request *r = &q->base;
     const adi_highlights *hl = &q->highlights;
     const adi_highlights *fg_hl = &q->fg_highlights;
-    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc, q->matte,
+    const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc,
+                                    q->fg_carried_alpha, q->matte,
                                     NULL, hl->image_sums, NULL, fg_hl->image_sums};
     uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
                                  span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
@@ -144,8 +149,10 @@ static int upload(frame *f)
     if (q->fg_color) {
         floats[IN_FG] = span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
         floats[IN_FG_COC] = span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
+        if (q->fg_carried_alpha && f->c == 4)
+            floats[IN_FG_CARRIED] = span_floats(f->w, f->h, q->fg_carried_stride, 1, 1);
     }
-    for (int i = 0; i <= IN_FG_COC; i++) /* already on the device: no section */
+    for (int i = 0; i <= IN_FG_CARRIED; i++) /* already on the device: no section */
         floats[i] = is_resident(f, i) ? 0 : floats[i];
     const uint64_t align = f->device->buffer_alignment;
     uint64_t total = 0;
@@ -556,10 +563,24 @@ static ddof_status foreground(frame *f)
             return DDOF_ERROR_BACKEND_FAILED;
         f->report->element_effects |= DDOF_EFFECT_HIGHLIGHTS;
     }
+    /* The part of the frame's alpha the element carries, blurred as its colour is (into MAP_B,
+     * free since the spread), is the output's alpha where the element lies. */
+    const int carried = q->fg_carried_alpha && f->c == 4;
+    if (carried) {
+        const gl_image_ref alpha_in =
+            input(f, IN_FG_CARRIED, (uint32_t)(area.y0 * q->fg_carried_stride + area.x0),
+                  q->fg_carried_stride, 1);
+        gl_resident alpha = derived(f, area, alpha_in, 1, map_ref(f, GL_BUF_MAP_B, aw, 1));
+        alpha.coc = map_ref(f, GL_BUF_MAP_C, aw, 1);
+        if ((status = diffuse(f, &alpha)) != DDOF_OK)
+            return status;
+    }
     GLuint prog = step_program(f, GL_PROG_LAYER_COMPOSITE, area);
     if (!prog)
         return DDOF_ERROR_BACKEND_FAILED;
     gl_bind(&f->device->gl, 7, slot(f, blurred));
+    gl_bind(&f->device->gl, 6, slot(f, carried ? GL_BUF_MAP_B : GL_BUF_DUMMY));
+    gl_uniform_u(&f->device->gl, prog, "u_has_carried", (GLuint)carried);
     run_step(f, prog, area);
     return DDOF_OK;
 }
@@ -718,7 +739,8 @@ ddof_status gl_layers_run(ddof_device *device, const adi_layers_request *q,
     const adi_request *r = &q->base;
     frame f = {.device = device, .q = q, .w = r->width, .h = r->height, .c = r->channels,
                .report = report, .message = message, .size = size};
-    f.stages = 1 + 2 * q->background_levels + (q->fg_color ? 3u : 0u);
+    f.stages = 1 + 2 * q->background_levels +
+               (q->fg_color ? 3u + (q->fg_carried_alpha && f.c == 4) : 0u);
     if (!need(&f, GL_BUF_DUMMY, 4) || !upload(&f) ||
         !need(&f, GL_BUF_OUT, (uint64_t)f.w * f.h * f.c))
         return DDOF_ERROR_BACKEND_FAILED;

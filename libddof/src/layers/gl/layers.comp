@@ -16,7 +16,11 @@ layout(std430, binding = 1) readonly buffer FgColor { float fg_color[]; };
 layout(std430, binding = 6) readonly buffer FgCoc { float fg_coc[]; };
 #else
 layout(std430, binding = 1) buffer Out { float out_px[]; };            // the result so far
+#ifdef STEP_COMPOSITE // the alpha the element carries, blurred (area width a row)
+layout(std430, binding = 6) readonly buffer Carried { float carried[]; };
+#else
 layout(std430, binding = 6) buffer Spread { float spread[]; };         // near-spread CoC
+#endif
 #endif
 layout(std430, binding = 2) buffer MapA { float map_a[]; };
 layout(std430, binding = 3) buffer MapB { float map_b[]; };
@@ -35,6 +39,7 @@ uniform uint u_out_stride;
 uniform uint u_spread_base;  // spread[] index of the area's first value (frame width a row)
 uniform uint u_spread_stride;
 uniform uint u_has_spread;
+uniform uint u_has_carried;  // STEP_COMPOSITE: the element carries part of the frame's alpha
 uniform uint u_fg_base;      // fg_color[] index of the area's first element pixel
 uniform uint u_fg_stride;
 uniform uint u_fg_coc_base;
@@ -130,7 +135,7 @@ void main()
         out_px[o + k] = v;
     }
     if (u_channels == 4u) {
-        precise float v = alpha + (1.0 - alpha) * out_px[o + 3u];
+        precise float v = (u_has_carried != 0u ? carried[p] : alpha) + (1.0 - alpha) * out_px[o + 3u];
         out_px[o + 3u] = v;
     }
 #endif

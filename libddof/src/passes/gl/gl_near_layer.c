@@ -511,16 +511,11 @@ int gl_split_near(ddof_device *device, const adi_near_request *q, adi_near_split
     gl_uniform_f(&device->gl, prog, "u_bg_insulator", q->background_ramp_start_px);
     gl_dispatch(&device->gl, n, LOCAL);
     read_back(&s, GL_BUF_NEAR_FACTS, 0, facts, sizeof facts);
-    if (facts[7]) {
-        snprintf(message, size, "the near layer's element carries part of the frame's alpha, "
-                 "which the device's layers do not hold");
-        *declined = 1;
-        return 0;
-    }
     float max_coc;
     memcpy(&max_coc, &facts[4], sizeof max_coc);
     *split = (adi_near_split){.rest = ADI_ON_DEVICE, .rest_coc = ADI_ON_DEVICE,
                               .element = ADI_ON_DEVICE, .element_coc = ADI_ON_DEVICE,
+                              .carried_alpha = facts[7] ? ADI_ON_DEVICE : NULL,
                               .box = facts_box(facts), .max_coc = max_coc,
                               .element_pixels = facts[5], .holes = facts[6],
                               .filled = (uint32_t)filled,

@@ -63,11 +63,19 @@ int gl_split_silhouettes(ddof_device *device, const gl_silhouettes_request *q, G
 /* ---- the near layer ---------------------------------------------------------------------- */
 
 /* ../near_layer.h's split of the request's frame on the device (gl_near_layer.c): the images
- * stay in the NEAR slots (the rest, its CoC, the element, its |CoC|) for the layers' run; `split` gets the figures and boxes, its images ADI_ON_DEVICE. 0 with a
- * sentence on failure; with *declined 1 the device does not take this frame (an element that
- * carries alpha, lines longer than a software renderer walks) and the CPU splits it. */
+ * stay in the NEAR slots (the rest, its CoC, the element, its |CoC|, the alpha it carries in
+ * the maps) for the layers' run; `split` gets the figures and boxes, its images ADI_ON_DEVICE.
+ * 0 with a sentence on failure; with *declined 1 the device does not take this frame (lines
+ * longer than a software renderer walks) and the CPU splits it. */
 int gl_split_near(ddof_device *device, const adi_near_request *q, adi_near_split *split,
                   int *declined, char *message, size_t message_size);
+
+/* The alpha the element carries: a plane of the NEAR_MAPS slot (floats; near_layer.comp's
+ * CARRIED). */
+static inline uint32_t gl_near_carried_at(uint32_t width, uint32_t height)
+{
+    return width * height;
+}
 
 /* ---- the highlights ---------------------------------------------------------------------- */
 
