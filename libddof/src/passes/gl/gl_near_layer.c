@@ -10,7 +10,6 @@
 
 #include "ddof_near_rules.h"
 
-#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
