@@ -187,7 +187,7 @@ typedef struct adi_layers_request {
                                * silhouettes' clean), drawn into the result after the split
                                * (before it, through the split's scratch, with an object
                                * matte), before the element                                   */
-    uint32_t near_resident;   /* 1: base's colour and CoC and the element are the images a
+    uint32_t near_resident;   /* 1: base's colour and CoC and the element's images are those a
                                * split_near left on the device (each ADI_ON_DEVICE)           */
     const float *matte;       /* the object matte's (id, coverage) pairs, matte_ranks a pixel,
                                * matte_stride floats a row; NULL: the shares from the colours  */
@@ -340,8 +340,9 @@ typedef struct ddof_backend_table {
     int (*supports_disc)(const ddof_device *device);
 
     /* The whole layered frame (on a GL device: one upload of the images, none of those a
-     * split_near left there, and one read-back of the result), with run()'s contract: the same answer as the CPU table's (the core's
-     * layers.c) within float rounding, out untouched on failure unless cancelled. */
+     * split_near left there, and one read-back of the result), with run()'s contract: the
+     * same answer as the CPU table's (the core's layers.c) within float rounding, out
+     * untouched on failure unless cancelled. */
     ddof_status (*run_layers)(ddof_device *device, const adi_layers_request *request,
                               adi_layers_report *report, char *message, size_t message_size);
 
