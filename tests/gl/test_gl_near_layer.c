@@ -38,7 +38,8 @@ static void scene(float *color, float *coc, uint32_t w, uint32_t h, uint32_t ch,
             const uint32_t row = y / 4, shift = row % 2 ? 4 : 0;
             const int mortar = y % 4 == 0 || (x + shift) % 8 == 0;
             for (uint32_t k = 0; k < 3; k++)
-                color[i * ch + k] = mortar ? 0.8f : 0.25f + 0.1f * (float)k + 0.05f * (float)(row % 3);
+                color[i * ch + k] =
+                    mortar ? 0.8f : 0.25f + 0.1f * (float)k + 0.05f * (float)(row % 3);
             if ((x * 13 + y * 7) % 97 == 0)
                 color[i * ch] = 25.0f;
             if (ch == 4)
@@ -82,7 +83,8 @@ static void decisions(const char *plan, char *out, size_t size)
     for (const char *line = plan; *line;) {
         const size_t length = strcspn(line, "\n");
         const char *colon = memchr(line, ':', length);
-        const char *second = colon ? memchr(colon + 1, ':', length - (size_t)(colon + 1 - line)) : NULL;
+        const char *second =
+            colon ? memchr(colon + 1, ':', length - (size_t)(colon + 1 - line)) : NULL;
         const size_t keep = second ? (size_t)(second - line) : length;
         if (strncmp(line, "layers: ", 8) != 0 && used + keep + 2 < size) {
             memcpy(out + used, line, keep);

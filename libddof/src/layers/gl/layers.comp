@@ -135,7 +135,8 @@ void main()
         out_px[o + k] = v;
     }
     if (u_channels == 4u) {
-        precise float v = (u_has_carried != 0u ? carried[p] : alpha) + (1.0 - alpha) * out_px[o + 3u];
+        const float part = u_has_carried != 0u ? carried[p] : alpha;
+        precise float v = part + (1.0 - alpha) * out_px[o + 3u];
         out_px[o + 3u] = v;
     }
 #endif

@@ -426,11 +426,13 @@ static int fill_from_offsets(split_run *s)
     o.side = ddof_near_grid_side(o.l.reach);
     o.refine_side = 2 * (uint32_t)ddof_near_refine_reach(o.l.s) + 1;
     o.nb = o.l.wl * o.l.hl;
-    const uint64_t grid = (uint64_t)o.side * o.side, around = (uint64_t)o.refine_side * o.refine_side;
+    const uint64_t grid = (uint64_t)o.side * o.side;
+    const uint64_t around = (uint64_t)o.refine_side * o.refine_side;
     const uint64_t search_floats = 4ull * o.gw * o.gh +
                                    (uint64_t)DDOF_NEAR_SAMPLE_STRIDE * 4 * o.gw * o.l.hl + grid +
                                    DDOF_NEAR_CANDIDATES * around;
-    const uint64_t ints = 4ull + 2ull * o.l.hl + DDOF_NEAR_REFINE_SAMPLES + 9 * DDOF_NEAR_COARSE_KEPT;
+    const uint64_t ints =
+        4ull + 2ull * o.l.hl + DDOF_NEAR_REFINE_SAMPLES + 9 * DDOF_NEAR_COARSE_KEPT;
     if (!need(s, GL_BUF_NEAR_OFF_LEVEL, (7ull + 2 * DDOF_NEAR_KEPT) * o.nb * sizeof(float)) ||
         !need(s, GL_BUF_NEAR_OFF_BOX, 2ull * DDOF_NEAR_MAX_BOX_MAPS * o.nb * sizeof(float)) ||
         !need(s, GL_BUF_NEAR_OFF_SEARCH, search_floats * sizeof(float)) ||
@@ -485,7 +487,8 @@ int gl_split_near(ddof_device *device, const adi_near_request *q, adi_near_split
     const uint64_t pyramid = lay_out(&s);
     if (!upload(&s) || !need(&s, GL_BUF_NEAR_REST, n * s.c * 4) ||
         !need(&s, GL_BUF_NEAR_REST_COC, n * 4) || !need(&s, GL_BUF_NEAR_ELEMENT, n * 16) ||
-        !need(&s, GL_BUF_NEAR_ELEMENT_COC, n * 4) || !need(&s, GL_BUF_NEAR_MAPS, n * 5 * 4) || !need(&s, GL_BUF_NEAR_PYRAMID, pyramid * 4) ||
+        !need(&s, GL_BUF_NEAR_ELEMENT_COC, n * 4) || !need(&s, GL_BUF_NEAR_MAPS, n * 5 * 4) ||
+        !need(&s, GL_BUF_NEAR_PYRAMID, pyramid * 4) ||
         !need(&s, GL_BUF_NEAR_FACTS, FACTS * 4))
         return 0;
     int filled = 0;

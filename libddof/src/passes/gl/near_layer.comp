@@ -317,7 +317,8 @@ void main()
             return;
         dx = u_direction == 2u ? 1 : -1;
         dy = 1;
-        const uint sx = d < u_width ? (dx > 0 ? d : u_width - 1u - d) : (dx > 0 ? 0u : u_width - 1u);
+        const uint sx = d < u_width ? (dx > 0 ? d : u_width - 1u - d)
+                                    : (dx > 0 ? 0u : u_width - 1u);
         const uint sy = d < u_width ? 0u : d - u_width + 1u;
         const uint across = dx > 0 ? u_width - sx : sx + 1u, down = u_height - sy;
         x0 = int(sx), y0 = int(sy), length = across < down ? across : down;
