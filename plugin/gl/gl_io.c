@@ -11,13 +11,54 @@
 #include <stdio.h>
 #include <string.h>
 
-/* Floats from the first to the last one read of a strided image whose pixels are `step`
- * floats apart and of which `used` floats each are read (CoC and gamma: only the first of
- * their channels, and the pointer may be into the middle of a pixel, so no more may be read). */
-static uint64_t span_floats(uint32_t width, uint32_t height, size_t stride, uint32_t step,
-                            uint32_t used)
+uint64_t gl_span_floats(uint32_t width, uint32_t height, size_t stride, uint32_t step,
+                        uint32_t used)
 {
     return (uint64_t)(height - 1) * stride + (uint64_t)(width - 1) * step + used;
+}
+
+int gl_io_upload_sections(ddof_device *device, gl_buffer_slot slot, int count,
+                          const void *const *source, const uint64_t *floats, uint64_t *at,
+                          uint64_t *bytes, char *message, size_t size)
+{
+    const uint64_t align = device->buffer_alignment;
+    uint64_t total = 0;
+    for (int i = 0; i < count; i++) {
+        at[i] = (total + align - 1) / align * align;
+        bytes[i] = floats[i] * sizeof(float);
+        total = at[i] + bytes[i];
+        if (bytes[i] > device->max_buffer_bytes || floats[i] > UINT32_MAX) {
+            snprintf(message, size,
+                     "an image needs a %llu-byte buffer, more than this renderer's "
+                     "GL_MAX_SHADER_STORAGE_BLOCK_SIZE (%llu)",
+                     (unsigned long long)bytes[i], (unsigned long long)device->max_buffer_bytes);
+            return 0;
+        }
+    }
+    if (total == 0)
+        return 1;
+    const gl_functions *gl = &device->gl;
+    GLuint buffer = gl_buffers_get(gl, &device->buffers, slot, total);
+    if (!buffer) {
+        snprintf(message, size, "out of GPU memory (%llu-byte buffer)", (unsigned long long)total);
+        return 0;
+    }
+    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
+    unsigned char *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)total,
+                                               GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
+    if (!mapped) {
+        snprintf(message, size, "the frame's buffer could not be mapped for writing");
+        return 0;
+    }
+    device->uploads++;
+    for (int i = 0; i < count; i++)
+        if (bytes[i] && source[i])
+            memcpy(mapped + at[i], source[i], bytes[i]);
+    if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
+        snprintf(message, size, "the frame's upload was lost (buffer unmapped)");
+        return 0;
+    }
+    return 1;
 }
 
 int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_t size)
@@ -25,11 +66,11 @@ int gl_io_upload(ddof_device *device, const adi_request *r, char *message, size_
     const gl_functions *gl = &device->gl;
     const uint32_t w = r->width, h = r->height, C = r->channels;
     const uint64_t pixels = (uint64_t)w * h;
-    const uint64_t color_span = span_floats(w, h, r->color_stride, C, C);
-    const uint64_t out_span = span_floats(w, h, r->out_stride, C, C);
-    const uint64_t coc_span = r->coc ? span_floats(w, h, r->coc_stride, r->coc_channels, 1) : 0;
+    const uint64_t color_span = gl_span_floats(w, h, r->color_stride, C, C);
+    const uint64_t out_span = gl_span_floats(w, h, r->out_stride, C, C);
+    const uint64_t coc_span = r->coc ? gl_span_floats(w, h, r->coc_stride, r->coc_channels, 1) : 0;
     const uint64_t gamma_span =
-        r->gamma ? span_floats(w, h, r->gamma_stride, r->gamma_channels, 1) : 0;
+        r->gamma ? gl_span_floats(w, h, r->gamma_stride, r->gamma_channels, 1) : 0;
     /* One buffer, one mapped write: colour, CoC and gamma one after the other; the result
      * comes back through the same buffer. */
     const uint64_t in_floats = color_span + coc_span + gamma_span;
@@ -100,7 +141,7 @@ int gl_io_download(ddof_device *device, const adi_request *r, char *message, siz
 {
     const gl_functions *gl = &device->gl;
     const uint32_t w = r->width, h = r->height, C = r->channels;
-    const uint64_t out_span = span_floats(w, h, r->out_stride, C, C);
+    const uint64_t out_span = gl_span_floats(w, h, r->out_stride, C, C);
     GLuint unpack = gl_programs_get(gl, &device->programs, GL_PROG_UNPACK, message, size);
     if (!unpack)
         return 0;

@@ -7,6 +7,7 @@
 #include "ddof.h"
 #include "test_images.h"
 
+#include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
@@ -48,6 +49,35 @@ static inline double max_diff(const float *a, const float *b, size_t n)
             worst = isnan(d) ? INFINITY : d;
     }
     return worst;
+}
+
+/* RMS of got - want over n floats, as a share of want's mean magnitude; +inf where a value is
+ * not finite. */
+static inline double relative_rms(const float *got, const float *want, size_t n)
+{
+    double squares = 0.0, magnitude = 0.0;
+    for (size_t i = 0; i < n; i++) {
+        const double d = (double)got[i] - want[i];
+        squares += isfinite(d) ? d * d : INFINITY;
+        magnitude += fabs(want[i]);
+    }
+    return sqrt(squares / (double)n) / (magnitude / (double)n + 1e-6);
+}
+
+/* A device's plan without its "layers: on ..." line (where the layers ran), for comparing
+ * with the CPU's, which has none; into out (size bytes). */
+static inline void plan_without_device_line(const char *plan, char *out, size_t size)
+{
+    size_t used = 0;
+    for (const char *line = plan; *line;) {
+        const size_t length = strcspn(line, "\n") + (line[strcspn(line, "\n")] == '\n');
+        if (strncmp(line, "layers: ", 8) != 0 && used + length < size) {
+            memcpy(out + used, line, length);
+            used += length;
+        }
+        line += length;
+    }
+    out[used] = '\0';
 }
 
 /* A pass that runs on the device inside the frame's one upload and one read-back: the same

@@ -120,7 +120,7 @@ static void expect_plan_line(const char *name, const ddof_stats *sg)
     CHECK_MSG(at != NULL, "%s: the device's plan \"%s\"", name, gl_plan);
     if (!at)
         return;
-    snprintf(without, sizeof without, "%.*s%s", (int)(at - gl_plan), gl_plan, at + strlen(where));
+    plan_without_device_line(gl_plan, without, sizeof without);
     CHECK_MSG(strcmp(without, cpu_plan) == 0, "%s: the device's plan \"%s\", the CPU's \"%s\"",
               name, gl_plan, cpu_plan);
     CHECK_MSG(strstr(gl_plan, "(the plan goes on)") == NULL, "%s: a whole plan cut", name);

@@ -64,8 +64,8 @@ typedef struct frame_result {
 } frame_result;
 
 static ddof_status render(ddof_context *ctx, const ddof_params *p, const float *color,
-                         const float *coc, uint32_t w, uint32_t h, uint32_t ch, float *out,
-                         frame_result *r)
+                          const float *coc, uint32_t w, uint32_t h, uint32_t ch, float *out,
+                          frame_result *r)
 {
     r->stats = stats_init();
     const ddof_status s = diffuse_layers(ctx, p, color, coc, NULL, out, w, h, ch, &r->stats);
@@ -79,14 +79,16 @@ static ddof_status render(ddof_context *ctx, const ddof_params *p, const float *
  * at a threshold may then count on the other side. */
 static void decisions(const char *plan, char *out, size_t size)
 {
+    char kept[DDOF_PLAN_MAX_BYTES];
+    plan_without_device_line(plan, kept, sizeof kept);
     size_t used = 0;
-    for (const char *line = plan; *line;) {
+    for (const char *line = kept; *line;) {
         const size_t length = strcspn(line, "\n");
         const char *colon = memchr(line, ':', length);
         const char *second =
             colon ? memchr(colon + 1, ':', length - (size_t)(colon + 1 - line)) : NULL;
         const size_t keep = second ? (size_t)(second - line) : length;
-        if (strncmp(line, "layers: ", 8) != 0 && used + keep + 2 < size) {
+        if (used + keep + 2 < size) {
             memcpy(out + used, line, keep);
             used += keep;
             out[used++] = '\n';
@@ -96,16 +98,6 @@ static void decisions(const char *plan, char *out, size_t size)
     out[used] = '\0';
 }
 
-static double relative_rms(const float *got, const float *want, size_t n)
-{
-    double squares = 0.0, magnitude = 0.0;
-    for (size_t i = 0; i < n; i++) {
-        const double d = (double)got[i] - want[i];
-        squares += isfinite(d) ? d * d : INFINITY;
-        magnitude += fabs(want[i]);
-    }
-    return sqrt(squares / (double)n) / (magnitude / (double)n + 1e-6);
-}
 
 /* Runs the frame on both; `on_device`: the split and the layers ran on the device. */
 static void compare(const char *name, const ddof_params *p, uint32_t w, uint32_t h,

@@ -143,21 +143,6 @@ static ddof_status render(ddof_context *ctx, const frame_case *f, float *out, dd
                              &(ddof_image){out, f->w, f->h, f->ch, 0}, st);
 }
 
-/* The device's whole plan without its "layers:" line. */
-static void plan_without_device(const char *plan, char *out, size_t size)
-{
-    size_t used = 0;
-    for (const char *line = plan; *line;) {
-        const size_t length = strcspn(line, "\n") + (line[strcspn(line, "\n")] == '\n');
-        if (strncmp(line, "layers: ", 8) != 0 && used + length < size) {
-            memcpy(out + used, line, length);
-            used += length;
-        }
-        line += length;
-    }
-    out[used] = '\0';
-}
-
 static void run_case(ddof_context *cpu, ddof_context *gl, int seed)
 {
     test_rng rng = {0x9E3779B97F4A7C15ull * (unsigned long long)(seed + 1)};
@@ -181,22 +166,13 @@ static void run_case(ddof_context *cpu, ddof_context *gl, int seed)
     const ddof_status b = render(gl, &f, got, &sg);
     char cpu_plan[DDOF_PLAN_MAX_BYTES], gl_plan[DDOF_PLAN_MAX_BYTES];
     snprintf(cpu_plan, sizeof cpu_plan, "%s", ddof_context_last_plan(cpu));
-    plan_without_device(ddof_context_last_plan(gl), gl_plan, sizeof gl_plan);
+    plan_without_device_line(ddof_context_last_plan(gl), gl_plan, sizeof gl_plan);
     CHECK_MSG(a == b, "seed %d (%ux%ux%u): CPU %d (%s), GL %d (%s)", seed, f.w, f.h, f.ch,
               (int)a, ddof_status_string(a), (int)b, ddof_context_last_error(gl));
     if (a == DDOF_OK && b == DDOF_OK) {
-        double squares = 0.0, magnitude = 0.0;
-        size_t bad = 0;
-        for (size_t i = 0; i < n * f.ch; i++) {
-            const double d = (double)got[i] - want[i];
-            bad += !isfinite(got[i]);
-            squares += d * d;
-            magnitude += fabs(want[i]);
-        }
-        const double rel = sqrt(squares / (double)(n * f.ch)) /
-                           (magnitude / (double)(n * f.ch) + 1e-6);
-        CHECK_MSG(bad == 0 && rel <= REL_RMS, "seed %d (%ux%ux%u): %zu values not finite, "
-                  "RMS %.3g of the mean magnitude", seed, f.w, f.h, f.ch, bad, rel);
+        const double rel = relative_rms(got, want, n * f.ch);
+        CHECK_MSG(rel <= REL_RMS, "seed %d (%ux%ux%u): RMS %.3g of the mean magnitude (inf: a "
+                  "value not finite)", seed, f.w, f.h, f.ch, rel);
         CHECK_MSG(sg.effects == sc.effects, "seed %d: effects %u on GL, %u on the CPU", seed,
                   sg.effects, sc.effects);
         CHECK_MSG(strcmp(cpu_plan, gl_plan) == 0, "seed %d: the CPU's plan\n%s\nGL's\n%s", seed,

@@ -10,6 +10,7 @@
  * from the CPU's only by float rounding. */
 #include "gl_layers.h"
 
+#include "gl_io.h"
 #include "gl_passes.h"
 
 #include "ddof_layer_rules.h"
@@ -48,13 +49,6 @@ typedef struct frame {
     char *message;
     size_t size;
 } frame;
-
-/* Floats from the first to the last one read of a strided image (gl_io.c's span_floats). */
-static uint64_t span_floats(uint32_t width, uint32_t height, size_t stride, uint32_t step,
-                            uint32_t used)
-{
-    return (uint64_t)(height - 1) * stride + (uint64_t)(width - 1) * step + used;
-}
 
 static GLuint slot(const frame *f, gl_buffer_slot s)
 {
@@ -138,69 +132,33 @@ static int upload(frame *f)
     const void *source[IN_COUNT] = {r->color, r->coc, q->fg_color, q->fg_coc,
                                     q->fg_carried_alpha, q->matte,
                                     NULL, hl->image_sums, NULL, fg_hl->image_sums};
-    uint64_t floats[IN_COUNT] = {span_floats(f->w, f->h, r->color_stride, f->c, f->c),
-                                 span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
+    uint64_t floats[IN_COUNT] = {gl_span_floats(f->w, f->h, r->color_stride, f->c, f->c),
+                                 gl_span_floats(f->w, f->h, r->coc_stride, r->coc_channels, 1)};
     highlight_sections(hl, floats + IN_HL_SHAPE);
     if (q->fg_color)
         highlight_sections(fg_hl, floats + IN_FG_HL_SHAPE);
     if (q->silhouettes && q->matte && q->matte_ranks)
-        floats[IN_MATTE] = span_floats(f->w, f->h, q->matte_stride, 2 * q->matte_ranks,
-                                       2 * q->matte_ranks);
+        floats[IN_MATTE] = gl_span_floats(f->w, f->h, q->matte_stride, 2 * q->matte_ranks,
+                                          2 * q->matte_ranks);
     if (q->fg_color) {
-        floats[IN_FG] = span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
-        floats[IN_FG_COC] = span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
+        floats[IN_FG] = gl_span_floats(f->w, f->h, q->fg_color_stride, 4, 4);
+        floats[IN_FG_COC] = gl_span_floats(f->w, f->h, q->fg_coc_stride, q->fg_coc_channels, 1);
         if (q->fg_carried_alpha && f->c == 4)
-            floats[IN_FG_CARRIED] = span_floats(f->w, f->h, q->fg_carried_stride, 1, 1);
+            floats[IN_FG_CARRIED] = gl_span_floats(f->w, f->h, q->fg_carried_stride, 1, 1);
     }
     for (int i = 0; i <= IN_FG_CARRIED; i++) /* already on the device: no section */
         floats[i] = is_resident(f, i) ? 0 : floats[i];
-    const uint64_t align = f->device->buffer_alignment;
-    uint64_t total = 0;
-    for (int i = 0; i < IN_COUNT; i++) {
-        f->at[i] = (total + align - 1) / align * align;
-        f->bytes[i] = floats[i] * sizeof(float);
-        total = f->at[i] + f->bytes[i];
-        if (f->bytes[i] > f->device->max_buffer_bytes || floats[i] > UINT32_MAX) {
-            snprintf(f->message, f->size,
-                     "an image needs a %llu-byte buffer, more than this renderer's "
-                     "GL_MAX_SHADER_STORAGE_BLOCK_SIZE (%llu)",
-                     (unsigned long long)f->bytes[i],
-                     (unsigned long long)f->device->max_buffer_bytes);
-            return 0;
-        }
-    }
-    if (total == 0)
-        return 1; /* every image already on the device (a near split's), nothing else */
-    const gl_functions *gl = &f->device->gl;
-    GLuint buffer = gl_buffers_get(gl, &f->device->buffers, GL_BUF_FRAME, total);
-    if (!buffer) {
-        snprintf(f->message, f->size, "out of GPU memory (%llu-byte buffer)",
-                 (unsigned long long)total);
-        return 0;
-    }
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
-    unsigned char *mapped = gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)total,
-                                               GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
-    if (!mapped) {
-        snprintf(f->message, f->size, "the frame's buffer could not be mapped for writing");
-        return 0;
-    }
-    f->device->uploads++;
-    for (int i = 0; i < IN_COUNT; i++)
-        if (f->bytes[i] && source[i])
-            memcpy(mapped + f->at[i], source[i], f->bytes[i]);
     /* The apertures' shapes (the lists are found on the device). */
-    if (f->bytes[IN_HL_SHAPE])
-        *(ddof_highlight_shape *)(void *)(mapped + f->at[IN_HL_SHAPE]) =
-            gl_highlight_shape(hl, r->pixel_aspect);
-    if (f->bytes[IN_FG_HL_SHAPE])
-        *(ddof_highlight_shape *)(void *)(mapped + f->at[IN_FG_HL_SHAPE]) =
-            gl_highlight_shape(fg_hl, r->pixel_aspect);
-    if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
-        snprintf(f->message, f->size, "the frame's upload was lost (buffer unmapped)");
-        return 0;
-    }
-    return 1;
+    ddof_highlight_shape shapes[2];
+    memset(shapes, 0, sizeof shapes);
+    if (floats[IN_HL_SHAPE])
+        shapes[0] = gl_highlight_shape(hl, r->pixel_aspect);
+    if (floats[IN_FG_HL_SHAPE])
+        shapes[1] = gl_highlight_shape(fg_hl, r->pixel_aspect);
+    source[IN_HL_SHAPE] = &shapes[0];
+    source[IN_FG_HL_SHAPE] = &shapes[1];
+    return gl_io_upload_sections(f->device, GL_BUF_FRAME, IN_COUNT, source, floats, f->at,
+                                 f->bytes, f->message, f->size);
 }
 
 /* The one read-back: OUT (w x c floats a row) into the caller's out. */

@@ -6,6 +6,7 @@
  * for the layers' run (gl_layers.c binds them); the host reads only counts: whether a source
  * exists, the search's and the refinement's errors (which it ranks and picks from with
  * ddof_near_rules.h, as the CPU does), and the split's figures and boxes. */
+#include "gl_io.h"
 #include "gl_passes.h"
 
 #include "ddof_near_rules.h"
@@ -52,43 +53,16 @@ static GLuint need(split_run *s, gl_buffer_slot b, uint64_t bytes)
 static int upload(split_run *s)
 {
     const adi_request *r = &s->q->base;
-    const gl_functions *gl = &s->device->gl;
-    const uint64_t color_floats =
-        (uint64_t)(s->h - 1) * r->color_stride + (uint64_t)s->w * s->c;
-    const uint64_t coc_floats =
-        (uint64_t)(s->h - 1) * r->coc_stride + (uint64_t)(s->w - 1) * r->coc_channels + 1;
-    const uint64_t align = s->device->buffer_alignment;
-    const uint64_t color_bytes = color_floats * sizeof(float), coc_bytes = coc_floats * 4;
-    const uint64_t coc_at = (color_bytes + align - 1) / align * align;
-    if (color_bytes > s->device->max_buffer_bytes || coc_bytes > s->device->max_buffer_bytes) {
-        snprintf(s->message, s->size, "an image needs more than this renderer's "
-                 "GL_MAX_SHADER_STORAGE_BLOCK_SIZE (%llu bytes)",
-                 (unsigned long long)s->device->max_buffer_bytes);
+    const void *source[2] = {r->color, r->coc};
+    const uint64_t floats[2] = {gl_span_floats(s->w, s->h, r->color_stride, s->c, s->c),
+                                gl_span_floats(s->w, s->h, r->coc_stride, r->coc_channels, 1)};
+    uint64_t at[2], bytes[2];
+    if (!gl_io_upload_sections(s->device, GL_BUF_FRAME, 2, source, floats, at, bytes, s->message,
+                               s->size))
         return 0;
-    }
-    GLuint buffer = gl_buffers_get(gl, &s->device->buffers, GL_BUF_FRAME, coc_at + coc_bytes);
-    if (!buffer) {
-        snprintf(s->message, s->size, "out of GPU memory (the near layer's frame)");
-        return 0;
-    }
-    gl->BindBuffer(GL_SHADER_STORAGE_BUFFER, buffer);
-    unsigned char *mapped =
-        gl->MapBufferRange(GL_SHADER_STORAGE_BUFFER, 0, (GLsizeiptr)(coc_at + coc_bytes),
-                           GL_MAP_WRITE_BIT | GL_MAP_INVALIDATE_BUFFER_BIT);
-    if (!mapped) {
-        snprintf(s->message, s->size, "the frame's buffer could not be mapped for writing");
-        return 0;
-    }
-    s->device->uploads++;
-    memcpy(mapped, r->color, color_bytes);
-    memcpy(mapped + coc_at, r->coc, coc_bytes);
-    if (!gl->UnmapBuffer(GL_SHADER_STORAGE_BUFFER)) {
-        snprintf(s->message, s->size, "the frame's upload was lost (buffer unmapped)");
-        return 0;
-    }
-    s->color = (gl_image_ref){buffer, 0, (uint32_t)r->color_stride, s->c, 0, color_bytes};
-    s->coc = (gl_image_ref){buffer, 0, (uint32_t)r->coc_stride, r->coc_channels, coc_at,
-                            coc_bytes};
+    const GLuint buffer = slot(s, GL_BUF_FRAME);
+    s->color = (gl_image_ref){buffer, 0, (uint32_t)r->color_stride, s->c, at[0], bytes[0]};
+    s->coc = (gl_image_ref){buffer, 0, (uint32_t)r->coc_stride, r->coc_channels, at[1], bytes[1]};
     return 1;
 }
 
